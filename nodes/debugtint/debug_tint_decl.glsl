@@ -1,0 +1,1 @@
+uniform vec4 sgfx_debugTint; // rgb: linear tint colour, a: amount

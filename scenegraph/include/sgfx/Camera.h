@@ -1,0 +1,68 @@
+#pragma once
+#include "sgfx/Group.h"
+
+#include <glm/glm.hpp>
+
+namespace sgfx {
+
+struct Viewport {
+    int x = 0, y = 0, width = 640, height = 480;
+    float aspect() const { return height > 0 ? float(width) / float(height) : 1.0f; }
+    bool operator==(const Viewport&) const = default;
+};
+
+// A view into the graph: its children are the scene. View space looks down -Z.
+class Camera : public Group {
+public:
+    static std::shared_ptr<Camera> create() { return std::make_shared<Camera>(); }
+    void accept(NodeVisitor& v) override;
+
+    glm::mat4 viewMatrix{1.0f};
+    glm::mat4 projectionMatrix{1.0f};
+    Viewport viewport;
+    glm::vec4 clearColor{0.2f, 0.25f, 0.3f, 1.0f}; // linear RGBA
+    bool clearColorEnabled = true;
+    bool clearDepthEnabled = true;
+    bool cullingEnabled = true;
+    // When set, the projection's near/far come from the visible bounds each frame (OSG's
+    // COMPUTE_NEAR_FAR), clamped so near >= far * nearFarRatio.
+    bool computeNearFar = false;
+    float nearFarRatio = 1e-4f;
+
+    // Perspective projection kept symbolic so a resize can refresh the aspect ratio.
+    // Throws std::invalid_argument for fovy outside (0,180), near <= 0 or far <= near.
+    void setPerspective(float fovyDegrees, float zNear, float zFar);
+    void setLookAt(const glm::vec3& eye, const glm::vec3& center, const glm::vec3& up = {0, 0, 1});
+    void setViewport(int x, int y, int w, int h);
+
+    bool perspective() const { return perspective_; }
+    float fovy() const { return fovy_; }
+    float zNear() const { return zNear_; }
+    float zFar() const { return zFar_; }
+    glm::vec3 eyePosition() const;
+
+private:
+    bool perspective_ = false;
+    float fovy_ = 45.0f, zNear_ = 0.1f, zFar_ = 1000.0f;
+};
+
+enum class LightType : std::uint8_t { Directional, Point, Ambient };
+
+// A light placed in the graph; it illuminates the whole scene (positional state, as in OSG).
+class Light : public Node {
+public:
+    static std::shared_ptr<Light> create(LightType t = LightType::Directional) {
+        auto l = std::make_shared<Light>();
+        l->type = t;
+        return l;
+    }
+    void accept(NodeVisitor& v) override;
+
+    LightType type = LightType::Directional;
+    glm::vec3 color{1.0f};  // linear RGB, multiplied by intensity
+    float intensity = 1.0f;
+    glm::vec3 direction{0, 0, -1}; // direction the light travels (directional), local frame
+    glm::vec3 position{0.0f};      // point lights, local frame
+};
+
+} // namespace sgfx

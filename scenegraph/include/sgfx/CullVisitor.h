@@ -1,0 +1,56 @@
+#pragma once
+#include "sgfx/Math.h"
+#include "sgfx/NodeVisitor.h"
+#include "sgfx/RenderQueue.h"
+
+#include <unordered_set>
+
+namespace sgfx {
+
+class Camera;
+class FramePlan;
+
+// Walks the scene under a camera: frustum-culls bounding spheres, honours node masks,
+// accumulates transforms, state and active effects, and fills a RenderQueue.
+class CullVisitor : public NodeVisitor {
+public:
+    CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* plan = nullptr);
+
+    void apply(Node& node) override;
+    void apply(Transform& t) override;
+    void apply(Geometry& g) override;
+    void apply(Camera& c) override;
+    void apply(Light& l) override;
+    void apply(EffectNode& e) override;
+
+    // Visits the camera's children.
+    void run(Camera& camera);
+
+    // Nearest/farthest view depth of what was drawn (valid after traversal when anything was).
+    float computedNear = std::numeric_limits<float>::max();
+    float computedFar = 0.0f;
+    std::size_t culledNodes = 0;
+
+private:
+    // Returns false when the node's bound is outside the frustum; narrows the plane mask.
+    bool cullTest(const Node& n);
+    void pushState(const Node& n);
+    void popState(const Node& n);
+    void traverseWithState(Node& n);
+
+    RenderQueue& queue_;
+    FramePlan* plan_;
+    glm::mat4 view_;
+    Frustum viewFrustum_; // in view space
+    bool culling_;
+    std::vector<glm::mat4> modelView_;
+    std::vector<glm::mat4> model_;
+    std::vector<const ResolvedState*> state_;
+    std::vector<const EffectNode*> effects_;
+    std::vector<std::uint32_t> effectSet_;
+    std::vector<std::uint8_t> planeMask_;
+    std::unordered_set<const EffectNode*> planned_;
+    std::uint32_t sequence_ = 0;
+};
+
+} // namespace sgfx

@@ -1,0 +1,58 @@
+#pragma once
+#include "sgfx/Node.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace sgfx {
+
+enum class PrimitiveMode : std::uint8_t { Points, Lines, LineStrip, Triangles, TriangleStrip, TriangleFan };
+
+namespace gl {
+struct GeometryBuffers;
+}
+
+// Vertex arrays plus optional indices: a drawable leaf. Attributes other than positions may be
+// empty; a non-empty attribute must have one entry per position (checked at draw time).
+// After editing the arrays call dirty(): the GPU copy is refreshed at the next draw.
+class Geometry : public Node {
+public:
+    static std::shared_ptr<Geometry> create() { return std::make_shared<Geometry>(); }
+    Geometry();
+    ~Geometry() override;
+
+    void accept(NodeVisitor& v) override;
+
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+    std::vector<glm::vec4> tangents; // xyz tangent, w handedness
+    std::vector<glm::vec2> texcoords;
+    std::vector<glm::vec4> colors;
+    std::vector<std::uint32_t> indices;
+    PrimitiveMode mode = PrimitiveMode::Triangles;
+
+    void dirty();
+    std::uint64_t revision() const { return revision_; }
+
+    std::size_t elementCount() const { return indices.empty() ? positions.size() : indices.size(); }
+    std::size_t triangleCount() const;
+
+    // Throws std::invalid_argument naming the attribute and geometry when arrays disagree or
+    // an index is out of range.
+    void validate() const;
+
+    // Renderer-owned GPU copy (created lazily on the GL thread).
+    std::unique_ptr<gl::GeometryBuffers>& gpu() const { return gpu_; }
+
+protected:
+    BoundingSphere computeBound() const override;
+
+private:
+    std::uint64_t revision_ = 1;
+    mutable std::unique_ptr<gl::GeometryBuffers> gpu_;
+};
+
+} // namespace sgfx

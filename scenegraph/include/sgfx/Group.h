@@ -1,0 +1,53 @@
+#pragma once
+#include "sgfx/Node.h"
+
+namespace sgfx {
+
+class Group : public Node {
+public:
+    static std::shared_ptr<Group> create() { return std::make_shared<Group>(); }
+    ~Group() override;
+
+    void accept(NodeVisitor& v) override;
+    void traverse(NodeVisitor& v) override;
+
+    // Throws std::invalid_argument for a null child or one that would close a cycle.
+    void addChild(NodePtr child);
+    void insertChild(std::size_t index, NodePtr child);
+    bool removeChild(const Node* child);
+    void removeChildren();
+    void replaceChild(std::size_t index, NodePtr child);
+
+    std::size_t numChildren() const { return children_.size(); }
+    const NodePtr& child(std::size_t i) const { return children_.at(i); }
+    const std::vector<NodePtr>& children() const { return children_; }
+
+protected:
+    BoundingSphere computeBound() const override;
+
+private:
+    void checkAcyclic(const Node& child) const;
+    std::vector<NodePtr> children_;
+};
+
+// Local matrix relative to the parent; world matrices are accumulated during traversal.
+class Transform : public Group {
+public:
+    static std::shared_ptr<Transform> create(const glm::mat4& m = glm::mat4(1.0f)) {
+        auto t = std::make_shared<Transform>();
+        t->setMatrix(m);
+        return t;
+    }
+    void accept(NodeVisitor& v) override;
+
+    const glm::mat4& matrix() const { return matrix_; }
+    void setMatrix(const glm::mat4& m);
+
+protected:
+    BoundingSphere computeBound() const override;
+
+private:
+    glm::mat4 matrix_{1.0f};
+};
+
+} // namespace sgfx

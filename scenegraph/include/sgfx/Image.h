@@ -1,0 +1,28 @@
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace sgfx {
+
+// 8-bit image, rows stored top to bottom (the PNG order).
+struct Image {
+    int width = 0;
+    int height = 0;
+    int channels = 4; // 1..4
+    std::vector<std::uint8_t> pixels;
+
+    static std::shared_ptr<Image> create(int w, int h, int channels);
+    std::uint8_t* pixel(int x, int y) { return pixels.data() + (std::size_t(y) * width + x) * channels; }
+    const std::uint8_t* pixel(int x, int y) const {
+        return pixels.data() + (std::size_t(y) * width + x) * channels;
+    }
+};
+
+// Throws std::runtime_error with the path and the reason.
+void writePng(const std::filesystem::path& path, const Image& image);
+Image readPng(const std::filesystem::path& path);
+
+} // namespace sgfx

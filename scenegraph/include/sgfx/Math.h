@@ -1,0 +1,46 @@
+#pragma once
+// Value types for bounds and frusta. World is right-handed, Z up, metres.
+#include <glm/glm.hpp>
+
+#include <array>
+
+namespace sgfx {
+
+struct BoundingSphere {
+    glm::vec3 center{0.0f};
+    float radius = -1.0f; // negative = invalid (empty)
+
+    bool valid() const { return radius >= 0.0f; }
+    void expandBy(const glm::vec3& p);
+    void expandBy(const BoundingSphere& s);
+    BoundingSphere transformed(const glm::mat4& m) const;
+};
+
+// Axis-aligned box, used to build tight spheres from vertex data.
+struct BoundingBox {
+    glm::vec3 min{std::numeric_limits<float>::max()};
+    glm::vec3 max{-std::numeric_limits<float>::max()};
+    bool valid() const { return min.x <= max.x; }
+    void expandBy(const glm::vec3& p) {
+        min = glm::min(min, p);
+        max = glm::max(max, p);
+    }
+    glm::vec3 center() const { return (min + max) * 0.5f; }
+};
+
+struct Plane {
+    glm::vec3 n{0, 0, 1};
+    float d = 0; // n·p + d = signed distance
+    float distance(const glm::vec3& p) const { return glm::dot(n, p) + d; }
+};
+
+enum class Containment { Outside, Intersects, Inside };
+
+// Six planes from a view-projection matrix (Gribb/Hartmann), normals point inwards.
+struct Frustum {
+    std::array<Plane, 6> planes; // left, right, bottom, top, near, far
+    static Frustum fromMatrix(const glm::mat4& viewProj);
+    Containment classify(const BoundingSphere& s) const;
+};
+
+} // namespace sgfx

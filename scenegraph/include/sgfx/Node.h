@@ -1,0 +1,61 @@
+#pragma once
+#include "sgfx/Math.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sgfx {
+
+class NodeVisitor;
+class UpdateVisitor;
+class StateSet;
+class Group;
+
+using NodeMask = std::uint32_t;
+
+// Base of the graph. Nodes are shared (std::shared_ptr); a node may have several parents.
+// Parents are tracked as raw back-pointers: a Group clears them when it lets a child go.
+class Node : public std::enable_shared_from_this<Node> {
+public:
+    using UpdateCallback = std::function<void(Node&, UpdateVisitor&)>;
+
+    Node() = default;
+    Node(const Node&) = delete;
+    Node& operator=(const Node&) = delete;
+    virtual ~Node();
+
+    std::string name;
+    NodeMask nodeMask = ~NodeMask{0};
+    UpdateCallback updateCallback;
+
+    virtual void accept(NodeVisitor& v);
+    // Visits the children (none for a leaf).
+    virtual void traverse(NodeVisitor&) {}
+
+    const std::shared_ptr<StateSet>& stateSet() const { return stateSet_; }
+    void setStateSet(std::shared_ptr<StateSet> s) { stateSet_ = std::move(s); }
+    StateSet& getOrCreateStateSet();
+
+    // Bounding sphere in the node's parent frame; recomputed lazily after dirtyBound().
+    const BoundingSphere& bound() const;
+    void dirtyBound();
+
+    const std::vector<Group*>& parents() const { return parents_; }
+
+protected:
+    virtual BoundingSphere computeBound() const { return {}; }
+
+private:
+    friend class Group;
+    std::shared_ptr<StateSet> stateSet_;
+    std::vector<Group*> parents_;
+    mutable BoundingSphere bound_;
+    mutable bool boundDirty_ = true;
+};
+
+using NodePtr = std::shared_ptr<Node>;
+
+} // namespace sgfx

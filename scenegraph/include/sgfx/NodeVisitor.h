@@ -1,0 +1,44 @@
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace sgfx {
+
+class Node;
+class Group;
+class Transform;
+class Geometry;
+class Camera;
+class Light;
+class EffectNode;
+
+using NodeMask = std::uint32_t;
+
+// Double dispatch over node types. The default for each type forwards to its base's apply,
+// ending in apply(Node&), which traverses the children.
+class NodeVisitor {
+public:
+    enum class Mode { None, AllChildren, ActiveChildren };
+
+    explicit NodeVisitor(Mode m = Mode::AllChildren) : mode(m) {}
+    virtual ~NodeVisitor() = default;
+
+    virtual void apply(Node& node);
+    virtual void apply(Group& group);
+    virtual void apply(Transform& transform);
+    virtual void apply(Geometry& geometry);
+    virtual void apply(Camera& camera);
+    virtual void apply(Light& light);
+    virtual void apply(EffectNode& effect);
+
+    void traverse(Node& node);
+    // A node is visited if (node.nodeMask & traversalMask) != 0 (ActiveChildren mode only).
+    bool accepts(const Node& node) const;
+
+    Mode mode;
+    NodeMask traversalMask = ~NodeMask{0};
+    // Nodes from the root to the current one (the current node last).
+    std::vector<Node*> nodePath;
+};
+
+} // namespace sgfx

@@ -1,0 +1,58 @@
+#pragma once
+#include "sgfx/StateSet.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+namespace sgfx {
+
+class Geometry;
+class EffectNode;
+class ShaderProgram;
+
+// The effects active above an item, ordered by EffectNode::order(); interned per frame so items
+// share one entry. `signature` is equal for sets whose snippets are equal (same program variant).
+struct EffectSet {
+    std::vector<const EffectNode*> effects;
+    std::uint32_t signature = 0;
+};
+
+struct LightInfo {
+    glm::vec4 vector{0, 0, 1, 0}; // world: direction towards the light (w=0) or position (w=1)
+    glm::vec3 color{1.0f};        // colour × intensity
+};
+
+struct RenderItem {
+    const Geometry* geometry = nullptr;
+    glm::mat4 model{1.0f};
+    const ResolvedState* state = nullptr;
+    std::uint32_t effectSet = 0; // index into RenderQueue::effectSets
+    float depth = 0.0f;          // view-space distance of the bound's centre along -Z
+    std::uint32_t sequence = 0;  // cull order, keeps sorting stable
+    std::uint64_t programKey = 0;
+
+    const ShaderProgram* program() const;
+};
+
+class RenderQueue {
+public:
+    std::vector<RenderItem> opaque;      // drawn first; sorted by program, material, front to back
+    std::vector<RenderItem> transparent; // drawn last; sorted back to front
+    std::vector<EffectSet> effectSets{EffectSet{}}; // [0] = no effect
+    std::vector<LightInfo> lights;
+    glm::vec3 ambientLight{0.0f};
+    std::deque<ResolvedState> states; // stable addresses for items' state pointers
+
+    void clear();
+    void sort();
+    std::size_t size() const { return opaque.size() + transparent.size(); }
+    std::uint32_t internEffectSet(std::vector<const EffectNode*> effects);
+
+private:
+    std::vector<std::string> signatures_;
+};
+
+} // namespace sgfx

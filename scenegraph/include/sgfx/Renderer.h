@@ -1,0 +1,107 @@
+#pragma once
+#include "sgfx/Image.h"
+#include "sgfx/RenderQueue.h"
+#include "sgfx/ShaderComposer.h"
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sgfx {
+
+class Camera;
+class GraphicsContext;
+class Renderer;
+namespace gl {
+struct RenderTarget;
+class StateCache;
+} // namespace gl
+
+// Per-frame data every pass and effect can read.
+struct FrameData {
+    glm::mat4 view{1.0f}, projection{1.0f}, viewProjection{1.0f}, inverseViewProjection{1.0f};
+    glm::vec3 eye{0.0f};
+    int width = 0, height = 0;
+    double time = 0.0;
+    std::uint64_t frameNumber = 0;
+};
+
+// What an effect's applyUniforms sees for one draw.
+struct DrawContext {
+    const FrameData& frame;
+    const RenderItem& item;
+};
+
+enum class PassStage : std::uint8_t { Compute, PrePass, Post };
+
+// Work an effect adds to a frame (pre-passes before the main pass, post-passes after it).
+class RenderPass {
+public:
+    virtual ~RenderPass() = default;
+    virtual std::string_view name() const = 0;
+    virtual PassStage stage() const = 0;
+    virtual void execute(Renderer& renderer) = 0;
+};
+
+// Passes requested for this frame by the visible effects (each at most once).
+class FramePlan {
+public:
+    void add(std::shared_ptr<RenderPass> pass);
+    void clear() { passes.clear(); }
+    std::vector<std::shared_ptr<RenderPass>> passes;
+};
+
+struct FrameStats {
+    std::size_t drawCalls = 0;
+    std::size_t triangles = 0;
+    std::size_t programChanges = 0;
+    std::size_t stateChanges = 0; // program, material, blend/depth/cull and texture binds
+    std::size_t culledNodes = 0;
+    std::size_t items = 0;
+    double cullMs = 0.0, drawMs = 0.0;
+};
+
+// Owns GL-side resources for one context: composed programs, the scene target, the state cache.
+class Renderer {
+public:
+    explicit Renderer(GraphicsContext& context);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Culls and draws the camera's scene into the scene target.
+    void render(Camera& camera, double time = 0.0, std::uint64_t frameNumber = 0);
+    // The last frame as 8-bit sRGB RGBA, top row first.
+    Image readPixels();
+    // Copies the scene target to the window's framebuffer (window contexts).
+    void present();
+
+    // Draws the queue's items with each item's composed program (the main pass), or with
+    // `override` for geometry-only passes (depth pre-pass, G-buffer).
+    void drawItems(std::span<const RenderItem> items, gl::Program* override = nullptr);
+
+    ShaderComposer& composer() { return composer_; }
+    const RenderQueue& queue() const { return queue_; }
+    const FrameData& frame() const { return frame_; }
+    const FrameStats& stats() const { return stats_; }
+    gl::RenderTarget& sceneTarget();
+    GraphicsContext& context() { return context_; }
+
+    // GL errors and high-severity KHR_debug messages seen since the last call.
+    std::vector<std::string> takeGlErrors();
+
+private:
+    struct Impl;
+    GraphicsContext& context_;
+    ShaderComposer composer_;
+    RenderQueue queue_;
+    FramePlan plan_;
+    FrameData frame_;
+    FrameStats stats_;
+    std::unique_ptr<Impl> impl_;
+};
+
+} // namespace sgfx

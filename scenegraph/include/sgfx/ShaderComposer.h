@@ -1,0 +1,95 @@
+#pragma once
+#include "sgfx/Effect.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+namespace sgfx {
+
+namespace gl {
+class Program;
+}
+
+// The application's own GLSL 450 program. sgfx feeds it:
+//  attributes: location 0 position, 1 normal, 2 tangent, 3 texcoord, 4 colour
+//  uniforms:   mat4 sgfx_model, sgfx_normalMatrix (mat3) and the std140 block `SgfxFrame`
+//              (declare it with `#include`-free text from docs, or leave it: the wrap adds it)
+// Its fragment `main` is renamed and wrapped so active effects apply to its colour output.
+class ShaderProgram {
+public:
+    static std::shared_ptr<ShaderProgram> create(std::string name, std::string vertexSource,
+                                                 std::string fragmentSource) {
+        auto p = std::make_shared<ShaderProgram>();
+        p->name = std::move(name);
+        p->vertexSource = std::move(vertexSource);
+        p->fragmentSource = std::move(fragmentSource);
+        return p;
+    }
+    std::string name;
+    std::string vertexSource;
+    std::string fragmentSource;
+};
+
+// A compile or link failure; what() names the base shader, the snippets and the original line.
+class ShaderError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct ComposedProgram {
+    std::string vertex;
+    std::string fragment;
+    // Per stage: source-string numbers used in #line directives → names
+    // ("blinn_phong.frag", "debug_tint.colorCode").
+    std::vector<std::string> vertexSources;
+    std::vector<std::string> fragmentSources;
+    std::string description; // "blinn_phong + [debug_tint]"
+};
+
+// A material shader written once with hook markers (`// @sgfx:NAME` lines).
+struct BaseShader {
+    std::string name;
+    std::string vertexName, vertexSource;
+    std::string fragmentName, fragmentSource;
+};
+
+// Builds program variants for (base shader, snippets) and caches them.
+class ShaderComposer {
+public:
+    ShaderComposer();
+    ~ShaderComposer();
+
+    // Text only (no GL): testable anywhere.
+    static ComposedProgram composeBuiltin(const BaseShader& base, std::span<const ShaderSnippet* const> snippets);
+    static ComposedProgram composeForeign(const ShaderProgram& program,
+                                          std::span<const ShaderSnippet* const> snippets);
+    // Rewrites "S:L(C): msg" / "S(L) : msg" driver lines into "name:line: msg".
+    static std::string translateLog(std::string_view log, std::span<const std::string> sourceNames);
+
+    // The built-in Blinn-Phong material.
+    static const BaseShader& blinnPhong();
+
+    // Compiles on a miss (GL thread). `foreign` null = built-in material.
+    gl::Program& program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets);
+    gl::Program& program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets);
+
+    std::size_t hits() const { return hits_; }
+    std::size_t misses() const { return misses_; }
+    std::size_t size() const { return cache_.size(); }
+    void clear();
+
+private:
+    gl::Program& cached(std::string key, std::span<const ShaderSnippet* const> snippets,
+                        const std::function<ComposedProgram()>& compose);
+    std::unordered_map<std::string, std::unique_ptr<gl::Program>> cache_;
+    std::size_t hits_ = 0, misses_ = 0;
+};
+
+} // namespace sgfx

@@ -1,0 +1,92 @@
+#pragma once
+#include "sgfx/Material.h"
+#include "sgfx/Texture.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+
+namespace sgfx {
+
+class ShaderProgram;
+
+// OSG-style inheritance flags. A parent's Override beats a child's plain value; a child's
+// Protected value beats the parent's Override.
+enum StateFlags : std::uint8_t { Inherit = 0, Override = 1, Protected = 2 };
+
+template <class T> struct StateAttr {
+    std::optional<T> value;
+    std::uint8_t flags = Inherit;
+    void set(T v, std::uint8_t f = Inherit) {
+        value = std::move(v);
+        flags = f;
+    }
+    void clear() { value.reset(), flags = Inherit; }
+    explicit operator bool() const { return value.has_value(); }
+};
+
+enum class BlendMode : std::uint8_t { Off, Alpha, Premultiplied, Additive, Multiply };
+enum class CompareFunc : std::uint8_t { Never, Less, Equal, LessEqual, Greater, NotEqual, GreaterEqual, Always };
+enum class CullFace : std::uint8_t { None, Back, Front };
+enum class RenderBin : std::uint8_t { Opaque, Transparent };
+
+struct DepthState {
+    bool test = true;
+    bool write = true;
+    CompareFunc func = CompareFunc::Less;
+    bool operator==(const DepthState&) const = default;
+};
+
+using UniformValue = std::variant<int, float, glm::vec2, glm::vec3, glm::vec4, glm::mat3, glm::mat4>;
+
+class StateSet {
+public:
+    static std::shared_ptr<StateSet> create() { return std::make_shared<StateSet>(); }
+
+    StateAttr<std::shared_ptr<Material>> material;
+    StateAttr<std::shared_ptr<ShaderProgram>> program; // foreign shader; built-in material when unset
+    StateAttr<BlendMode> blend;
+    StateAttr<DepthState> depth;
+    StateAttr<CullFace> cullFace;
+    StateAttr<RenderBin> renderBin;
+    // Named uniforms and sampler textures for foreign shaders (and effect tuning).
+    std::map<std::string, StateAttr<UniformValue>, std::less<>> uniforms;
+    std::map<std::string, StateAttr<std::shared_ptr<Texture>>, std::less<>> textures;
+
+    void setUniform(std::string name, UniformValue v, std::uint8_t flags = Inherit) {
+        uniforms[std::move(name)].set(std::move(v), flags);
+    }
+    void setTexture(std::string samplerName, std::shared_ptr<Texture> t, std::uint8_t flags = Inherit) {
+        textures[std::move(samplerName)].set(std::move(t), flags);
+    }
+};
+
+// The state in force at a point of the graph: every attribute resolved, with its flags kept so
+// deeper StateSets merge correctly.
+struct ResolvedState {
+    StateAttr<std::shared_ptr<Material>> material;
+    StateAttr<std::shared_ptr<ShaderProgram>> program;
+    StateAttr<BlendMode> blend;
+    StateAttr<DepthState> depth;
+    StateAttr<CullFace> cullFace;
+    StateAttr<RenderBin> renderBin;
+    std::map<std::string, StateAttr<UniformValue>, std::less<>> uniforms;
+    std::map<std::string, StateAttr<std::shared_ptr<Texture>>, std::less<>> textures;
+
+    static ResolvedState defaults();
+    ResolvedState merged(const StateSet& child) const;
+
+    const std::shared_ptr<Material>& materialOrNull() const {
+        static const std::shared_ptr<Material> none;
+        return material.value ? *material.value : none;
+    }
+    BlendMode blendMode() const { return blend.value.value_or(BlendMode::Off); }
+    bool transparent() const;
+};
+
+} // namespace sgfx

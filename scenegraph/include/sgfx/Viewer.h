@@ -1,0 +1,44 @@
+#pragma once
+#include "sgfx/Camera.h"
+#include "sgfx/GraphicsContext.h"
+#include "sgfx/Renderer.h"
+#include "sgfx/Visitors.h"
+
+#include <filesystem>
+#include <memory>
+
+namespace sgfx {
+
+// One context, one camera, one scene: update → cull → render → present, each frame.
+// Destroy the scene before or with the Viewer; GL objects die with their owners while the
+// Viewer's context is current.
+class Viewer {
+public:
+    explicit Viewer(std::unique_ptr<GraphicsContext> context);
+    // Headless viewer on OSMesa with the given target size.
+    static std::unique_ptr<Viewer> createHeadless(int width, int height);
+    ~Viewer();
+
+    void setSceneData(NodePtr scene);
+    const NodePtr& sceneData() const { return scene_; }
+    const std::shared_ptr<Camera>& camera() const { return camera_; }
+
+    // Advances the clock by dt seconds, then updates, culls and renders one frame.
+    void frame(double dt = 1.0 / 60.0);
+    Image capture() { return renderer_->readPixels(); }
+    void writeScreenshot(const std::filesystem::path& png) { writePng(png, capture()); }
+
+    Renderer& renderer() { return *renderer_; }
+    GraphicsContext& context() { return *context_; }
+    const FrameStats& stats() const { return renderer_->stats(); }
+    double simulationTime() const { return update_.simulationTime; }
+
+private:
+    std::unique_ptr<GraphicsContext> context_;
+    std::shared_ptr<Camera> camera_;
+    NodePtr scene_;
+    UpdateVisitor update_;
+    std::unique_ptr<Renderer> renderer_;
+};
+
+} // namespace sgfx

@@ -1,0 +1,50 @@
+#pragma once
+#include "sgfx/NodeVisitor.h"
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace sgfx {
+
+// Runs update callbacks; carries the frame clock.
+class UpdateVisitor : public NodeVisitor {
+public:
+    UpdateVisitor() : NodeVisitor(Mode::ActiveChildren) {}
+    void apply(Node& node) override;
+
+    double simulationTime = 0.0; // seconds
+    double deltaTime = 0.0;
+    std::uint64_t frameNumber = 0;
+};
+
+// World-space bounds of everything below the visited node (accumulating transforms).
+class ComputeBoundsVisitor : public NodeVisitor {
+public:
+    ComputeBoundsVisitor() : NodeVisitor(Mode::ActiveChildren) {}
+    void apply(Transform& t) override;
+    void apply(Geometry& g) override;
+
+    glm::vec3 min{std::numeric_limits<float>::max()};
+    glm::vec3 max{-std::numeric_limits<float>::max()};
+    bool valid() const { return min.x <= max.x; }
+
+private:
+    glm::mat4 matrix_{1.0f};
+};
+
+// Counts what a traversal reaches: each shared subgraph counts once per parent path.
+class StatsVisitor : public NodeVisitor {
+public:
+    StatsVisitor() : NodeVisitor(Mode::ActiveChildren) {}
+    void apply(Node& n) override;
+    void apply(Geometry& g) override;
+
+    std::size_t nodes = 0;
+    std::size_t drawables = 0;
+    std::size_t triangles = 0;
+    std::size_t vertices = 0;
+};
+
+} // namespace sgfx

@@ -1,0 +1,121 @@
+#pragma once
+// RAII wrappers for GL objects. Each owns one name, deletes it on destruction, and is counted
+// in liveObjects() so tests can prove a scene and viewer leave nothing behind.
+#include "sgfx/ShaderComposer.h"
+#include "sgfx/StateSet.h"
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+
+namespace sgfx::gl {
+
+using Name = unsigned int;
+
+enum class Kind : std::uint8_t { Buffer, VertexArray, Texture, Framebuffer, Renderbuffer, Shader, Program, Query, Count };
+
+struct LiveCounts {
+    std::array<std::atomic<long>, std::size_t(Kind::Count)> counts{};
+    long total() const;
+    long operator[](Kind k) const { return counts[std::size_t(k)].load(); }
+};
+LiveCounts& liveObjects();
+
+// Move-only owner of one GL name of kind K.
+template <Kind K> class Object {
+public:
+    Object() = default;
+    explicit Object(Name n) : name_(n) {
+        if (n) ++liveObjects().counts[std::size_t(K)];
+    }
+    Object(Object&& o) noexcept : name_(std::exchange(o.name_, 0)) {}
+    Object& operator=(Object&& o) noexcept {
+        if (this != &o) {
+            reset();
+            name_ = std::exchange(o.name_, 0);
+        }
+        return *this;
+    }
+    Object(const Object&) = delete;
+    Object& operator=(const Object&) = delete;
+    ~Object() { reset(); }
+
+    Name get() const { return name_; }
+    explicit operator bool() const { return name_ != 0; }
+    void reset();
+
+private:
+    Name name_ = 0;
+};
+
+using BufferObject = Object<Kind::Buffer>;
+using VertexArrayObject = Object<Kind::VertexArray>;
+using TextureObject = Object<Kind::Texture>;
+using FramebufferObject = Object<Kind::Framebuffer>;
+using RenderbufferObject = Object<Kind::Renderbuffer>;
+using QueryObject = Object<Kind::Query>;
+
+BufferObject createBuffer();
+VertexArrayObject createVertexArray();
+TextureObject createTexture(unsigned target);
+FramebufferObject createFramebuffer();
+QueryObject createQuery(unsigned target);
+
+// Linked program with a uniform-location cache.
+class Program {
+public:
+    // Compiles and links; throws ShaderError with the driver log translated to original lines.
+    explicit Program(const ComposedProgram& composed);
+    Program(Program&&) = delete;
+    ~Program();
+
+    Name get() const { return name_; }
+    const std::string& description() const { return description_; }
+    int location(std::string_view uniform);
+    void set(std::string_view uniform, const UniformValue& v);
+    void set(int location, const UniformValue& v);
+
+    // Renderer bookkeeping: which frame's per-program uniforms were last uploaded.
+    std::uint64_t frameStamp = 0;
+
+private:
+    Name name_ = 0;
+    std::string description_;
+    std::unordered_map<std::string, int> locations_;
+};
+
+class Texture {
+public:
+    TextureObject object;
+    unsigned target = 0;
+    std::uint64_t revision = 0;
+};
+
+// A Geometry's GPU copy: one interleaved-free VBO per attribute, an index buffer and a VAO.
+struct GeometryBuffers {
+    VertexArrayObject vao;
+    std::array<BufferObject, 5> attributes; // position, normal, tangent, texcoord, colour
+    BufferObject indices;
+    std::uint64_t revision = 0;
+    std::uint32_t count = 0;
+    bool indexed = false;
+    unsigned mode = 0;
+};
+
+// A colour + depth render target whose attachments are textures (readable by later passes).
+struct RenderTarget {
+    FramebufferObject fbo;
+    TextureObject color;
+    TextureObject depth;
+    int width = 0, height = 0;
+    // (Re)allocates for a new size; throws std::runtime_error naming attachment formats when the
+    // framebuffer is incomplete.
+    void resize(int w, int h);
+};
+
+} // namespace sgfx::gl

@@ -1,0 +1,156 @@
+#include "sgfx/CullVisitor.h"
+
+#include "sgfx/Camera.h"
+#include "sgfx/Effect.h"
+#include "sgfx/Geometry.h"
+#include "sgfx/Group.h"
+#include "sgfx/Renderer.h"
+
+#include <algorithm>
+
+namespace sgfx {
+
+namespace {
+constexpr std::uint8_t kAllPlanes = 0x3f;
+}
+
+CullVisitor::CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* plan)
+    : NodeVisitor(Mode::ActiveChildren)
+    , queue_(queue)
+    , plan_(plan)
+    , view_(camera.viewMatrix)
+    , viewFrustum_(Frustum::fromMatrix(camera.projectionMatrix))
+    , culling_(camera.cullingEnabled) {
+    modelView_.push_back(view_);
+    model_.push_back(glm::mat4(1.0f));
+    queue_.states.push_back(ResolvedState::defaults());
+    state_.push_back(&queue_.states.back());
+    effectSet_.push_back(0);
+    planeMask_.push_back(culling_ ? kAllPlanes : 0);
+}
+
+void CullVisitor::run(Camera& camera) {
+    pushState(camera);
+    traverse(camera);
+    popState(camera);
+}
+
+bool CullVisitor::cullTest(const Node& n) {
+    const std::uint8_t mask = planeMask_.back();
+    if (mask == 0) {
+        planeMask_.push_back(0);
+        return true;
+    }
+    const BoundingSphere& local = n.bound();
+    if (!local.valid()) {
+        ++culledNodes;
+        return false;
+    }
+    const BoundingSphere s = local.transformed(modelView_.back());
+    std::uint8_t out = mask;
+    for (int i = 0; i < 6; ++i) {
+        if (!(mask & (1u << i))) continue;
+        const float d = viewFrustum_.planes[std::size_t(i)].distance(s.center);
+        if (d < -s.radius) {
+            ++culledNodes;
+            return false;
+        }
+        if (d >= s.radius) out &= std::uint8_t(~(1u << i)); // wholly inside this plane
+    }
+    planeMask_.push_back(out);
+    return true;
+}
+
+void CullVisitor::pushState(const Node& n) {
+    if (!n.stateSet()) return;
+    queue_.states.push_back(state_.back()->merged(*n.stateSet()));
+    state_.push_back(&queue_.states.back());
+}
+
+void CullVisitor::popState(const Node& n) {
+    if (n.stateSet()) state_.pop_back();
+}
+
+void CullVisitor::traverseWithState(Node& n) {
+    pushState(n);
+    traverse(n);
+    popState(n);
+}
+
+void CullVisitor::apply(Node& node) {
+    if (!cullTest(node)) return;
+    traverseWithState(node);
+    planeMask_.pop_back();
+}
+
+void CullVisitor::apply(Transform& t) {
+    if (!cullTest(t)) return;
+    model_.push_back(model_.back() * t.matrix());
+    modelView_.push_back(view_ * model_.back());
+    traverseWithState(t);
+    modelView_.pop_back();
+    model_.pop_back();
+    planeMask_.pop_back();
+}
+
+void CullVisitor::apply(Camera& c) {
+    // A nested camera is traversed as a plain group (render-to-texture cameras come later).
+    apply(static_cast<Node&>(c));
+}
+
+void CullVisitor::apply(Light& l) {
+    const glm::mat4& m = model_.back();
+    const glm::vec3 color = l.color * l.intensity;
+    switch (l.type) {
+    case LightType::Ambient: queue_.ambientLight += color; break;
+    case LightType::Directional: {
+        const glm::vec3 d = glm::normalize(glm::mat3(m) * l.direction);
+        queue_.lights.push_back({glm::vec4(-d, 0.0f), color});
+        break;
+    }
+    case LightType::Point: queue_.lights.push_back({glm::vec4(glm::vec3(m * glm::vec4(l.position, 1.0f)), 1.0f), color}); break;
+    }
+}
+
+void CullVisitor::apply(EffectNode& e) {
+    if (!e.enabled) {
+        apply(static_cast<Node&>(e));
+        return;
+    }
+    if (!cullTest(e)) return;
+    // Inner effect of the same kind replaces the outer one for this subtree.
+    std::vector<const EffectNode*> set;
+    for (const EffectNode* a : queue_.effectSets[effectSet_.back()].effects)
+        if (a->kind() != e.kind()) set.push_back(a);
+    set.push_back(&e);
+    std::stable_sort(set.begin(), set.end(), [](const EffectNode* a, const EffectNode* b) { return a->order() < b->order(); });
+    effectSet_.push_back(queue_.internEffectSet(std::move(set)));
+    if (plan_ && planned_.insert(&e).second) e.planFrame(*plan_);
+    traverseWithState(e);
+    effectSet_.pop_back();
+    planeMask_.pop_back();
+}
+
+void CullVisitor::apply(Geometry& g) {
+    if (!cullTest(g)) return;
+    planeMask_.pop_back();
+    if (g.positions.empty()) return;
+    pushState(g);
+    const ResolvedState* state = state_.back();
+    const BoundingSphere vs = g.bound().transformed(modelView_.back());
+    RenderItem item;
+    item.geometry = &g;
+    item.model = model_.back();
+    item.state = state;
+    item.effectSet = effectSet_.back();
+    item.depth = -vs.center.z;
+    item.sequence = sequence_++;
+    const auto prog = reinterpret_cast<std::uintptr_t>(item.program());
+    item.programKey = (std::uint64_t(prog) << 16) ^ queue_.effectSets[item.effectSet].signature;
+    computedNear = std::min(computedNear, item.depth - vs.radius);
+    computedFar = std::max(computedFar, item.depth + vs.radius);
+    (state->transparent() ? queue_.transparent : queue_.opaque).push_back(item);
+    popState(g);
+}
+
+} // namespace sgfx

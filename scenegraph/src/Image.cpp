@@ -1,0 +1,61 @@
+#include "sgfx/Image.h"
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include <stdexcept>
+
+namespace sgfx {
+
+std::shared_ptr<Image> Image::create(int w, int h, int channels) {
+    if (w <= 0 || h <= 0 || channels < 1 || channels > 4)
+        throw std::invalid_argument("sgfx: Image::create(" + std::to_string(w) + ", " + std::to_string(h) + ", " +
+                                    std::to_string(channels) + "): size must be positive, channels 1..4");
+    auto img = std::make_shared<Image>();
+    img->width = w;
+    img->height = h;
+    img->channels = channels;
+    img->pixels.assign(std::size_t(w) * h * channels, 0);
+    return img;
+}
+
+void writePng(const std::filesystem::path& path, const Image& image) {
+    if (image.width <= 0 || image.height <= 0 ||
+        image.pixels.size() != std::size_t(image.width) * image.height * image.channels)
+        throw std::invalid_argument("sgfx: cannot write " + path.string() + ": image is empty or inconsistent");
+    if (!stbi_write_png(path.c_str(), image.width, image.height, image.channels, image.pixels.data(),
+                        image.width * image.channels))
+        throw std::runtime_error("sgfx: could not write PNG " + path.string());
+}
+
+Image readPng(const std::filesystem::path& path) {
+    int w = 0, h = 0, c = 0;
+    stbi_uc* data = stbi_load(path.c_str(), &w, &h, &c, 0);
+    if (!data) {
+        const char* why = stbi_failure_reason();
+        throw std::runtime_error("sgfx: could not read image " + path.string() + ": " + (why ? why : "unknown"));
+    }
+    Image img;
+    img.width = w;
+    img.height = h;
+    img.channels = c;
+    img.pixels.assign(data, data + std::size_t(w) * h * c);
+    stbi_image_free(data);
+    return img;
+}
+
+} // namespace sgfx
+
+#include "sgfx/Texture.h"
+#include "sgfx/gl/Objects.h"
+
+namespace sgfx {
+Texture::Texture() = default;
+Texture::~Texture() = default;
+std::shared_ptr<Texture> Texture::create(std::shared_ptr<Image> image, bool srgb) {
+    auto t = std::make_shared<Texture>();
+    t->image = std::move(image);
+    t->srgb = srgb;
+    return t;
+}
+} // namespace sgfx

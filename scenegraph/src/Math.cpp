@@ -1,0 +1,78 @@
+#include "sgfx/Math.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sgfx {
+
+void BoundingSphere::expandBy(const glm::vec3& p) {
+    if (!valid()) {
+        center = p;
+        radius = 0.0f;
+        return;
+    }
+    const glm::vec3 d = p - center;
+    const float dist = glm::length(d);
+    if (dist <= radius) return;
+    // Smallest sphere holding the old one and p.
+    const float newRadius = 0.5f * (dist + radius);
+    center += d * ((newRadius - radius) / dist);
+    radius = newRadius;
+}
+
+void BoundingSphere::expandBy(const BoundingSphere& s) {
+    if (!s.valid()) return;
+    if (!valid()) {
+        *this = s;
+        return;
+    }
+    const glm::vec3 d = s.center - center;
+    const float dist = glm::length(d);
+    if (dist + s.radius <= radius) return;
+    if (dist + radius <= s.radius) {
+        *this = s;
+        return;
+    }
+    const float newRadius = 0.5f * (dist + radius + s.radius);
+    center += d * ((newRadius - radius) / dist);
+    radius = newRadius;
+}
+
+BoundingSphere BoundingSphere::transformed(const glm::mat4& m) const {
+    if (!valid()) return *this;
+    BoundingSphere out;
+    out.center = glm::vec3(m * glm::vec4(center, 1.0f));
+    // The largest axis scale bounds any shear or non-uniform scale.
+    const float sx = glm::length(glm::vec3(m[0]));
+    const float sy = glm::length(glm::vec3(m[1]));
+    const float sz = glm::length(glm::vec3(m[2]));
+    out.radius = radius * std::max({sx, sy, sz});
+    return out;
+}
+
+Frustum Frustum::fromMatrix(const glm::mat4& vp) {
+    // Row i of the matrix is (vp[0][i], vp[1][i], vp[2][i], vp[3][i]) in GLM's column-major layout.
+    auto row = [&](int i) { return glm::vec4(vp[0][i], vp[1][i], vp[2][i], vp[3][i]); };
+    const glm::vec4 r0 = row(0), r1 = row(1), r2 = row(2), r3 = row(3);
+    const glm::vec4 p[6] = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 + r2, r3 - r2};
+    Frustum f;
+    for (int i = 0; i < 6; ++i) {
+        const float len = glm::length(glm::vec3(p[i]));
+        f.planes[i].n = glm::vec3(p[i]) / len;
+        f.planes[i].d = p[i].w / len;
+    }
+    return f;
+}
+
+Containment Frustum::classify(const BoundingSphere& s) const {
+    if (!s.valid()) return Containment::Outside;
+    Containment result = Containment::Inside;
+    for (const Plane& p : planes) {
+        const float d = p.distance(s.center);
+        if (d < -s.radius) return Containment::Outside;
+        if (d < s.radius) result = Containment::Intersects;
+    }
+    return result;
+}
+
+} // namespace sgfx

@@ -1,0 +1,293 @@
+#include "sgfx/Camera.h"
+#include "sgfx/Effect.h"
+#include "sgfx/Geometry.h"
+#include "sgfx/Group.h"
+#include "sgfx/NodeVisitor.h"
+#include "sgfx/StateSet.h"
+#include "sgfx/gl/Objects.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace sgfx {
+
+namespace {
+std::string label(const Node& n) { return n.name.empty() ? std::string("<unnamed>") : "'" + n.name + "'"; }
+} // namespace
+
+// ---------------------------------------------------------------- Node
+Node::~Node() = default;
+
+void Node::accept(NodeVisitor& v) { v.apply(*this); }
+
+StateSet& Node::getOrCreateStateSet() {
+    if (!stateSet_) stateSet_ = StateSet::create();
+    return *stateSet_;
+}
+
+const BoundingSphere& Node::bound() const {
+    if (boundDirty_) {
+        bound_ = computeBound();
+        boundDirty_ = false;
+    }
+    return bound_;
+}
+
+void Node::dirtyBound() {
+    if (boundDirty_) return; // parents were told already
+    boundDirty_ = true;
+    for (Group* p : parents_) p->dirtyBound();
+}
+
+// ---------------------------------------------------------------- Group
+Group::~Group() {
+    for (auto& c : children_) {
+        auto& ps = c->parents_;
+        ps.erase(std::find(ps.begin(), ps.end(), this));
+    }
+}
+
+void Group::accept(NodeVisitor& v) { v.apply(*this); }
+
+void Group::traverse(NodeVisitor& v) {
+    for (const auto& c : children_) {
+        if (v.accepts(*c)) c->accept(v);
+    }
+}
+
+void Group::checkAcyclic(const Node& child) const {
+    // A cycle appears when `child` is this group or one of its ancestors.
+    std::vector<const Node*> stack{this};
+    while (!stack.empty()) {
+        const Node* n = stack.back();
+        stack.pop_back();
+        if (n == &child) {
+            throw std::invalid_argument("sgfx: adding " + label(child) + " under " + label(*this) +
+                                        " would create a cycle in the scene graph");
+        }
+        for (const Group* p : n->parents()) stack.push_back(p);
+    }
+}
+
+void Group::addChild(NodePtr child) { insertChild(children_.size(), std::move(child)); }
+
+void Group::insertChild(std::size_t index, NodePtr child) {
+    if (!child) throw std::invalid_argument("sgfx: null child added to group " + label(*this));
+    checkAcyclic(*child);
+    index = std::min(index, children_.size());
+    child->parents_.push_back(this);
+    children_.insert(children_.begin() + std::ptrdiff_t(index), std::move(child));
+    dirtyBound();
+}
+
+bool Group::removeChild(const Node* child) {
+    auto it = std::find_if(children_.begin(), children_.end(), [&](const NodePtr& c) { return c.get() == child; });
+    if (it == children_.end()) return false;
+    auto& ps = (*it)->parents_;
+    ps.erase(std::find(ps.begin(), ps.end(), this));
+    children_.erase(it);
+    dirtyBound();
+    return true;
+}
+
+void Group::removeChildren() {
+    while (!children_.empty()) removeChild(children_.back().get());
+}
+
+void Group::replaceChild(std::size_t index, NodePtr child) {
+    if (index >= children_.size())
+        throw std::out_of_range("sgfx: replaceChild index " + std::to_string(index) + " out of range in " +
+                                label(*this));
+    if (!child) throw std::invalid_argument("sgfx: null child given to replaceChild in " + label(*this));
+    checkAcyclic(*child);
+    auto& ps = children_[index]->parents_;
+    ps.erase(std::find(ps.begin(), ps.end(), this));
+    child->parents_.push_back(this);
+    children_[index] = std::move(child);
+    dirtyBound();
+}
+
+BoundingSphere Group::computeBound() const {
+    // Centre from the children's box, then a radius that holds every child sphere: tighter
+    // than growing a sphere child by child.
+    BoundingBox box;
+    for (const auto& c : children_) {
+        const BoundingSphere& s = c->bound();
+        if (!s.valid()) continue;
+        box.expandBy(s.center - glm::vec3(s.radius));
+        box.expandBy(s.center + glm::vec3(s.radius));
+    }
+    BoundingSphere out;
+    if (!box.valid()) return out;
+    out.center = box.center();
+    out.radius = 0.0f;
+    for (const auto& c : children_) {
+        const BoundingSphere& s = c->bound();
+        if (s.valid()) out.radius = std::max(out.radius, glm::length(s.center - out.center) + s.radius);
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------- Transform
+void Transform::accept(NodeVisitor& v) { v.apply(*this); }
+
+void Transform::setMatrix(const glm::mat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r]))
+                throw std::invalid_argument("sgfx: Transform " + label(*this) + " given a non-finite matrix");
+    matrix_ = m;
+    dirtyBound();
+}
+
+BoundingSphere Transform::computeBound() const { return Group::computeBound().transformed(matrix_); }
+
+// ---------------------------------------------------------------- Geometry
+Geometry::Geometry() = default;
+Geometry::~Geometry() = default;
+
+void Geometry::accept(NodeVisitor& v) { v.apply(*this); }
+
+void Geometry::dirty() {
+    ++revision_;
+    dirtyBound();
+}
+
+std::size_t Geometry::triangleCount() const {
+    const std::size_t n = elementCount();
+    switch (mode) {
+    case PrimitiveMode::Triangles: return n / 3;
+    case PrimitiveMode::TriangleStrip:
+    case PrimitiveMode::TriangleFan: return n >= 3 ? n - 2 : 0;
+    default: return 0;
+    }
+}
+
+void Geometry::validate() const {
+    const std::size_t n = positions.size();
+    auto check = [&](std::size_t size, const char* what) {
+        if (size != 0 && size != n)
+            throw std::invalid_argument("sgfx: geometry " + label(*this) + " has " + std::to_string(size) + " " +
+                                        what + " for " + std::to_string(n) + " positions");
+    };
+    check(normals.size(), "normals");
+    check(tangents.size(), "tangents");
+    check(texcoords.size(), "texcoords");
+    check(colors.size(), "colors");
+    for (std::size_t i = 0; i < indices.size(); ++i) {
+        if (indices[i] >= n)
+            throw std::invalid_argument("sgfx: geometry " + label(*this) + " index[" + std::to_string(i) +
+                                        "] = " + std::to_string(indices[i]) + " is out of range (" +
+                                        std::to_string(n) + " vertices)");
+    }
+}
+
+BoundingSphere Geometry::computeBound() const {
+    BoundingBox box;
+    for (const auto& p : positions) box.expandBy(p);
+    BoundingSphere s;
+    if (!box.valid()) return s;
+    s.center = box.center();
+    float r2 = 0.0f;
+    for (const auto& p : positions) {
+        const glm::vec3 d = p - s.center;
+        r2 = std::max(r2, glm::dot(d, d));
+    }
+    s.radius = std::sqrt(r2);
+    return s;
+}
+
+// ---------------------------------------------------------------- Camera, Light, EffectNode
+void Camera::accept(NodeVisitor& v) { v.apply(*this); }
+
+void Camera::setPerspective(float fovyDegrees, float zNear, float zFar) {
+    if (!(fovyDegrees > 0.0f && fovyDegrees < 180.0f))
+        throw std::invalid_argument("sgfx: Camera::setPerspective: fovy " + std::to_string(fovyDegrees) +
+                                    " must be in (0, 180) degrees");
+    if (!(zNear > 0.0f) || !(zFar > zNear) || !std::isfinite(zFar))
+        throw std::invalid_argument("sgfx: Camera::setPerspective: need 0 < near < far (got near " +
+                                    std::to_string(zNear) + ", far " + std::to_string(zFar) + ")");
+    perspective_ = true;
+    fovy_ = fovyDegrees;
+    zNear_ = zNear;
+    zFar_ = zFar;
+    projectionMatrix = glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
+}
+
+void Camera::setLookAt(const glm::vec3& eye, const glm::vec3& center, const glm::vec3& up) {
+    const glm::vec3 f = center - eye;
+    if (!(glm::length(f) > 0.0f) || !(glm::length(glm::cross(f, up)) > 1e-12f))
+        throw std::invalid_argument("sgfx: Camera::setLookAt: eye equals centre or view direction is parallel to up");
+    viewMatrix = glm::lookAt(eye, center, up);
+}
+
+void Camera::setViewport(int x, int y, int w, int h) {
+    if (w <= 0 || h <= 0)
+        throw std::invalid_argument("sgfx: Camera::setViewport: size " + std::to_string(w) + "x" +
+                                    std::to_string(h) + " must be positive");
+    viewport = {x, y, w, h};
+    if (perspective_) projectionMatrix = glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
+}
+
+glm::vec3 Camera::eyePosition() const { return glm::vec3(glm::inverse(viewMatrix)[3]); }
+
+void Light::accept(NodeVisitor& v) { v.apply(*this); }
+void EffectNode::accept(NodeVisitor& v) { v.apply(*this); }
+
+// ---------------------------------------------------------------- StateSet
+namespace {
+template <class T> void mergeAttr(StateAttr<T>& inherited, const StateAttr<T>& child) {
+    if (!child.value) return;
+    if (inherited.value && (inherited.flags & Override) && !(child.flags & Protected)) return;
+    inherited = child;
+}
+} // namespace
+
+ResolvedState ResolvedState::defaults() {
+    ResolvedState s;
+    s.material.set(Material::create());
+    s.blend.set(BlendMode::Off);
+    s.depth.set(DepthState{});
+    s.cullFace.set(CullFace::Back);
+    s.renderBin.set(RenderBin::Opaque);
+    return s;
+}
+
+ResolvedState ResolvedState::merged(const StateSet& c) const {
+    ResolvedState s = *this;
+    mergeAttr(s.material, c.material);
+    mergeAttr(s.program, c.program);
+    mergeAttr(s.blend, c.blend);
+    mergeAttr(s.depth, c.depth);
+    mergeAttr(s.cullFace, c.cullFace);
+    mergeAttr(s.renderBin, c.renderBin);
+    for (const auto& [name, attr] : c.uniforms) mergeAttr(s.uniforms[name], attr);
+    for (const auto& [name, attr] : c.textures) mergeAttr(s.textures[name], attr);
+    return s;
+}
+
+bool ResolvedState::transparent() const {
+    if (renderBin.value) return *renderBin.value == RenderBin::Transparent;
+    return blendMode() != BlendMode::Off;
+}
+
+void Material::validate() const {
+    auto finiteNonNeg = [](glm::vec4 v) {
+        for (int i = 0; i < 4; ++i)
+            if (!std::isfinite(v[i]) || v[i] < 0.0f) return false;
+        return true;
+    };
+    if (!finiteNonNeg(glm::vec4(ambient, 0)) || !finiteNonNeg(diffuse) || !finiteNonNeg(glm::vec4(specular, 0)) ||
+        !finiteNonNeg(glm::vec4(emissive, 0)))
+        throw std::invalid_argument("sgfx: Material colours must be finite and non-negative");
+    if (!std::isfinite(shininess) || shininess < 0.0f)
+        throw std::invalid_argument("sgfx: Material shininess must be finite and >= 0");
+    if (alphaCutoff && !(*alphaCutoff >= 0.0f && *alphaCutoff <= 1.0f))
+        throw std::invalid_argument("sgfx: Material alphaCutoff must be in [0, 1]");
+}
+
+} // namespace sgfx

@@ -1,0 +1,461 @@
+#include "sgfx/Renderer.h"
+
+#include "sgfx/Camera.h"
+#include "sgfx/CullVisitor.h"
+#include "sgfx/Geometry.h"
+#include "sgfx/GraphicsContext.h"
+#include "sgfx/gl/Objects.h"
+
+#include <glad/gl.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+namespace sgfx {
+
+void FramePlan::add(std::shared_ptr<RenderPass> pass) {
+    if (pass && std::find(passes.begin(), passes.end(), pass) == passes.end()) passes.push_back(std::move(pass));
+}
+
+namespace {
+
+// std140 mirror of shaders/frame_block.glsl.
+struct FrameBlock {
+    glm::mat4 view, projection, viewProjection, invViewProjection;
+    glm::vec4 eye, viewport, ambientLight, time;
+    glm::ivec4 lightCount;
+    glm::vec4 lightVector[8];
+    glm::vec4 lightColor[8];
+};
+constexpr int kMaxLights = 8;
+
+enum Flags : int { BaseMap = 1, AlphaMap = 2, NormalMap = 4, VertexColor = 8, HasNormals = 16, HasTangents = 32 };
+enum Unit : unsigned { BaseUnit = 0, AlphaUnit = 1, NormalUnit = 2, FirstUserUnit = 4 };
+
+GLenum glMode(PrimitiveMode m) {
+    switch (m) {
+    case PrimitiveMode::Points: return GL_POINTS;
+    case PrimitiveMode::Lines: return GL_LINES;
+    case PrimitiveMode::LineStrip: return GL_LINE_STRIP;
+    case PrimitiveMode::Triangles: return GL_TRIANGLES;
+    case PrimitiveMode::TriangleStrip: return GL_TRIANGLE_STRIP;
+    case PrimitiveMode::TriangleFan: return GL_TRIANGLE_FAN;
+    }
+    return GL_TRIANGLES;
+}
+
+GLenum glCompare(CompareFunc f) {
+    static const GLenum map[] = {GL_NEVER, GL_LESS, GL_EQUAL, GL_LEQUAL, GL_GREATER, GL_NOTEQUAL, GL_GEQUAL, GL_ALWAYS};
+    return map[std::size_t(f)];
+}
+
+GLint glFilter(Filter f) {
+    switch (f) {
+    case Filter::Nearest: return GL_NEAREST;
+    case Filter::Linear: return GL_LINEAR;
+    case Filter::LinearMipmapLinear: return GL_LINEAR_MIPMAP_LINEAR;
+    }
+    return GL_LINEAR;
+}
+
+GLint glWrap(Wrap w) {
+    switch (w) {
+    case Wrap::Repeat: return GL_REPEAT;
+    case Wrap::ClampToEdge: return GL_CLAMP_TO_EDGE;
+    case Wrap::MirroredRepeat: return GL_MIRRORED_REPEAT;
+    }
+    return GL_REPEAT;
+}
+
+template <class T>
+void uploadAttribute(gl::GeometryBuffers& b, GLuint index, const std::vector<T>& data, GLint components) {
+    if (data.empty()) {
+        glDisableVertexArrayAttrib(b.vao.get(), index);
+        return;
+    }
+    auto& buf = b.attributes[index];
+    if (!buf) buf = gl::createBuffer();
+    glNamedBufferData(buf.get(), GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STATIC_DRAW);
+    glVertexArrayVertexBuffer(b.vao.get(), index, buf.get(), 0, sizeof(T));
+    glVertexArrayAttribFormat(b.vao.get(), index, components, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(b.vao.get(), index, index);
+    glEnableVertexArrayAttrib(b.vao.get(), index);
+}
+
+gl::GeometryBuffers& buffersFor(const Geometry& g) {
+    auto& gpu = g.gpu();
+    if (gpu && gpu->revision == g.revision()) return *gpu;
+    g.validate();
+    if (!gpu) {
+        gpu = std::make_unique<gl::GeometryBuffers>();
+        gpu->vao = gl::createVertexArray();
+    }
+    gl::GeometryBuffers& b = *gpu;
+    uploadAttribute(b, 0, g.positions, 3);
+    uploadAttribute(b, 1, g.normals, 3);
+    uploadAttribute(b, 2, g.tangents, 4);
+    uploadAttribute(b, 3, g.texcoords, 2);
+    uploadAttribute(b, 4, g.colors, 4);
+    b.indexed = !g.indices.empty();
+    if (b.indexed) {
+        if (!b.indices) b.indices = gl::createBuffer();
+        glNamedBufferData(b.indices.get(), GLsizeiptr(g.indices.size() * sizeof(std::uint32_t)), g.indices.data(),
+                          GL_STATIC_DRAW);
+        glVertexArrayElementBuffer(b.vao.get(), b.indices.get());
+    }
+    b.count = std::uint32_t(g.elementCount());
+    b.mode = glMode(g.mode);
+    b.revision = g.revision();
+    return b;
+}
+
+GLuint textureFor(const Texture& t) {
+    auto& gpu = t.gpu();
+    if (gpu && gpu->revision == t.revision()) return gpu->object.get();
+    const Image* img = t.image.get();
+    if (!img || img->width <= 0 || img->height <= 0 || img->channels < 1 || img->channels > 4 ||
+        img->pixels.size() < std::size_t(img->width) * img->height * img->channels)
+        throw std::invalid_argument("sgfx: texture image is empty or smaller than width*height*channels");
+    if (!gpu) gpu = std::make_unique<gl::Texture>();
+    gpu->object = gl::createTexture(GL_TEXTURE_2D);
+    gpu->target = GL_TEXTURE_2D;
+    const GLuint name = gpu->object.get();
+    static const GLenum linearFormats[] = {GL_R8, GL_RG8, GL_RGB8, GL_RGBA8};
+    static const GLenum srgbFormats[] = {GL_R8, GL_RG8, GL_SRGB8, GL_SRGB8_ALPHA8};
+    static const GLenum dataFormats[] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+    const int c = img->channels - 1;
+    const bool mip = t.minFilter == Filter::LinearMipmapLinear;
+    const int levels = mip ? 1 + int(std::floor(std::log2(std::max(img->width, img->height)))) : 1;
+    glTextureStorage2D(name, levels, (t.srgb ? srgbFormats : linearFormats)[c], img->width, img->height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(name, 0, 0, 0, img->width, img->height, dataFormats[c], GL_UNSIGNED_BYTE, img->pixels.data());
+    if (mip) glGenerateTextureMipmap(name);
+    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, glFilter(t.minFilter));
+    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, t.magFilter == Filter::Nearest ? GL_NEAREST : GL_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_S, glWrap(t.wrapS));
+    glTextureParameteri(name, GL_TEXTURE_WRAP_T, glWrap(t.wrapT));
+    gpu->revision = t.revision();
+    return name;
+}
+
+void GLAPIENTRY onDebugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
+                               const void* user) {
+    if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH) {
+        auto* sink = static_cast<std::vector<std::string>*>(const_cast<void*>(user));
+        if (sink->size() < 64) sink->emplace_back(message);
+    }
+}
+
+} // namespace
+
+// Redundant-state filter; every real change is counted as a state change.
+struct Renderer::Impl {
+    gl::RenderTarget scene;
+    gl::BufferObject frameUbo;
+    std::vector<std::string> glMessages;
+
+    GLuint program = 0;
+    int blend = -1;
+    int cull = -1;
+    DepthState depth{};
+    bool depthKnown = false;
+    std::array<GLuint, 16> units{};
+    std::size_t* stateChanges = nullptr;
+
+    void bindTexture(unsigned unit, GLuint name) {
+        if (units[unit] == name) return;
+        glBindTextureUnit(unit, name);
+        units[unit] = name;
+        ++*stateChanges;
+    }
+    void setBlend(BlendMode m) {
+        if (blend == int(m)) return;
+        blend = int(m);
+        ++*stateChanges;
+        if (m == BlendMode::Off) {
+            glDisable(GL_BLEND);
+            return;
+        }
+        glEnable(GL_BLEND);
+        glBlendEquation(GL_FUNC_ADD);
+        switch (m) {
+        case BlendMode::Alpha: glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); break;
+        case BlendMode::Premultiplied: glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); break;
+        case BlendMode::Additive: glBlendFunc(GL_SRC_ALPHA, GL_ONE); break;
+        case BlendMode::Multiply: glBlendFunc(GL_DST_COLOR, GL_ZERO); break;
+        case BlendMode::Off: break;
+        }
+    }
+    void setCull(CullFace c) {
+        if (cull == int(c)) return;
+        cull = int(c);
+        ++*stateChanges;
+        if (c == CullFace::None) {
+            glDisable(GL_CULL_FACE);
+            return;
+        }
+        glEnable(GL_CULL_FACE);
+        glCullFace(c == CullFace::Back ? GL_BACK : GL_FRONT);
+    }
+    void setDepth(const DepthState& d) {
+        if (depthKnown && depth == d) return;
+        depth = d;
+        depthKnown = true;
+        ++*stateChanges;
+        if (d.test) glEnable(GL_DEPTH_TEST);
+        else glDisable(GL_DEPTH_TEST);
+        glDepthMask(d.write ? GL_TRUE : GL_FALSE);
+        glDepthFunc(glCompare(d.func));
+    }
+    void invalidate() {
+        program = 0;
+        blend = cull = -1;
+        depthKnown = false;
+        units.fill(0);
+    }
+};
+
+Renderer::Renderer(GraphicsContext& context) : context_(context), impl_(std::make_unique<Impl>()) {
+    context_.makeCurrent();
+    impl_->stateChanges = &stats_.stateChanges;
+    impl_->frameUbo = gl::createBuffer();
+    glNamedBufferData(impl_->frameUbo.get(), sizeof(FrameBlock), nullptr, GL_DYNAMIC_DRAW);
+#ifdef SGFX_GL_DEBUG
+    glEnable(GL_DEBUG_OUTPUT);
+    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+    glDebugMessageCallback(onDebugMessage, &impl_->glMessages);
+#endif
+    // Defaults for attributes a geometry leaves out (context state, not VAO state).
+    glVertexAttrib3f(1, 0.0f, 0.0f, 1.0f);
+    glVertexAttrib4f(2, 1.0f, 0.0f, 0.0f, 1.0f);
+    glVertexAttrib2f(3, 0.0f, 0.0f);
+    glVertexAttrib4f(4, 1.0f, 1.0f, 1.0f, 1.0f);
+}
+
+Renderer::~Renderer() {
+    context_.makeCurrent();
+#ifdef SGFX_GL_DEBUG
+    glDebugMessageCallback(nullptr, nullptr);
+#endif
+    composer_.clear();
+}
+
+gl::RenderTarget& Renderer::sceneTarget() { return impl_->scene; }
+
+std::vector<std::string> Renderer::takeGlErrors() {
+    for (GLenum e; (e = glGetError()) != GL_NO_ERROR;) {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, "glGetError: 0x%04x", unsigned(e));
+        impl_->glMessages.emplace_back(buf);
+    }
+    return std::exchange(impl_->glMessages, {});
+}
+
+void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
+    using clock = std::chrono::steady_clock;
+    context_.assertOwnerThread();
+    const auto t0 = clock::now();
+    stats_ = {};
+    const Viewport vp = camera.viewport;
+    impl_->scene.resize(vp.width, vp.height);
+
+    // ---- cull
+    queue_.clear();
+    plan_.clear();
+    CullVisitor cull(camera, queue_, &plan_);
+    cull.run(camera);
+    queue_.sort();
+    stats_.culledNodes = cull.culledNodes;
+    stats_.items = queue_.size();
+
+    glm::mat4 projection = camera.projectionMatrix;
+    if (camera.computeNearFar && camera.perspective() && cull.computedFar > 0.0f) {
+        const float zFar = cull.computedFar * 1.01f;
+        const float zNear = std::max(cull.computedNear * 0.99f, zFar * camera.nearFarRatio);
+        projection = glm::perspective(glm::radians(camera.fovy()), vp.aspect(), zNear, zFar);
+    }
+    frame_.view = camera.viewMatrix;
+    frame_.projection = projection;
+    frame_.viewProjection = projection * camera.viewMatrix;
+    frame_.inverseViewProjection = glm::inverse(frame_.viewProjection);
+    frame_.eye = glm::vec3(glm::inverse(camera.viewMatrix)[3]);
+    frame_.width = vp.width;
+    frame_.height = vp.height;
+    frame_.time = time;
+    frame_.frameNumber = frameNumber;
+    const auto t1 = clock::now();
+
+    // ---- per-frame uniforms, shared by every program through binding 0
+    FrameBlock fb{};
+    fb.view = frame_.view;
+    fb.projection = frame_.projection;
+    fb.viewProjection = frame_.viewProjection;
+    fb.invViewProjection = frame_.inverseViewProjection;
+    fb.eye = glm::vec4(frame_.eye, 1.0f);
+    fb.viewport = glm::vec4(0.0f, 0.0f, float(vp.width), float(vp.height));
+    fb.ambientLight = glm::vec4(queue_.ambientLight, 0.0f);
+    fb.time = glm::vec4(float(time), 0, 0, 0);
+    const int nLights = std::min<int>(int(queue_.lights.size()), kMaxLights);
+    fb.lightCount = glm::ivec4(nLights, 0, 0, 0);
+    for (int i = 0; i < nLights; ++i) {
+        fb.lightVector[i] = queue_.lights[std::size_t(i)].vector;
+        fb.lightColor[i] = glm::vec4(queue_.lights[std::size_t(i)].color, 0.0f);
+    }
+    glNamedBufferSubData(impl_->frameUbo.get(), 0, sizeof fb, &fb);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, impl_->frameUbo.get());
+    impl_->invalidate();
+
+    for (auto& p : plan_.passes)
+        if (p->stage() != PassStage::Post) p->execute(*this);
+
+    // ---- main pass: linear shading, sRGB-encoded once by the framebuffer on write
+    glBindFramebuffer(GL_FRAMEBUFFER, impl_->scene.fbo.get());
+    glViewport(0, 0, vp.width, vp.height);
+    glEnable(GL_FRAMEBUFFER_SRGB);
+    glDepthMask(GL_TRUE);
+    impl_->depthKnown = false;
+    const glm::vec4 cc = camera.clearColor;
+    glClearColor(cc.r, cc.g, cc.b, cc.a);
+    GLbitfield mask = (camera.clearColorEnabled ? GL_COLOR_BUFFER_BIT : 0u) | (camera.clearDepthEnabled ? GL_DEPTH_BUFFER_BIT : 0u);
+    if (mask) glClear(mask);
+    drawItems(queue_.opaque);
+    drawItems(queue_.transparent);
+
+    for (auto& p : plan_.passes)
+        if (p->stage() == PassStage::Post) p->execute(*this);
+    const auto t2 = clock::now();
+    stats_.cullMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    stats_.drawMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
+}
+
+void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override) {
+    Impl& s = *impl_;
+    gl::Program* program = override;
+    std::uint64_t programKey = ~0ull;
+    const ResolvedState* state = nullptr;
+    const Material* material = nullptr;
+    std::uint32_t effectSet = ~0u;
+    int flags = -1;
+    std::vector<const ShaderSnippet*> snippets;
+    for (const RenderItem& item : items) {
+        bool programChanged = false;
+        if (!override && item.programKey != programKey) {
+            const EffectSet& set = queue_.effectSets[item.effectSet];
+            snippets.clear();
+            for (const EffectNode* e : set.effects) snippets.push_back(&e->snippet());
+            program = &composer_.program(item.program(), snippets);
+            programKey = item.programKey;
+            programChanged = true;
+        }
+        if (program->get() != s.program) {
+            glUseProgram(program->get());
+            s.program = program->get();
+            ++stats_.programChanges;
+            ++stats_.stateChanges;
+            programChanged = true;
+        }
+        if (programChanged) {
+            state = nullptr;
+            material = nullptr;
+            effectSet = ~0u;
+            flags = -1;
+        }
+        if (item.effectSet != effectSet) {
+            effectSet = item.effectSet;
+            const DrawContext ctx{frame_, item};
+            for (const EffectNode* e : queue_.effectSets[effectSet].effects) e->applyUniforms(*program, ctx);
+        }
+        if (item.state != state) {
+            state = item.state;
+            s.setBlend(state->blendMode());
+            s.setDepth(state->depth.value.value_or(DepthState{}));
+            s.setCull(state->cullFace.value.value_or(CullFace::Back));
+            unsigned unit = FirstUserUnit;
+            for (const auto& [name, tex] : state->textures) {
+                if (!tex.value || !*tex.value || unit >= s.units.size()) continue;
+                s.bindTexture(unit, textureFor(**tex.value));
+                program->set(name, int(unit++));
+            }
+            for (const auto& [name, value] : state->uniforms)
+                if (value.value) program->set(name, *value.value);
+        }
+        int matFlags = 0;
+        const Material* m = state->material.value ? state->material.value->get() : nullptr;
+        if (m) {
+            if (m->baseColorTexture) matFlags |= BaseMap;
+            if (m->alphaTexture) matFlags |= AlphaMap;
+            if (m->normalTexture) matFlags |= NormalMap;
+        }
+        if (m != material) {
+            material = m;
+            if (m) {
+                program->set("sgfx_matAmbient", m->ambient);
+                program->set("sgfx_matDiffuse", m->diffuse);
+                program->set("sgfx_matSpecular", m->specular);
+                program->set("sgfx_matShininess", m->shininess);
+                program->set("sgfx_matEmissive", m->emissive);
+                program->set("sgfx_alphaCutoff", m->alphaCutoff.value_or(-1.0f));
+                if (m->baseColorTexture) s.bindTexture(BaseUnit, textureFor(*m->baseColorTexture));
+                if (m->alphaTexture) s.bindTexture(AlphaUnit, textureFor(*m->alphaTexture));
+                if (m->normalTexture) s.bindTexture(NormalUnit, textureFor(*m->normalTexture));
+            }
+            ++stats_.stateChanges;
+        }
+        const Geometry& g = *item.geometry;
+        gl::GeometryBuffers& b = buffersFor(g);
+        const int drawFlags = matFlags | (g.colors.empty() ? 0 : VertexColor) | (g.normals.empty() ? 0 : HasNormals) |
+                              (g.tangents.empty() ? 0 : HasTangents);
+        if (drawFlags != flags) {
+            flags = drawFlags;
+            program->set("sgfx_flags", drawFlags);
+        }
+        program->set("sgfx_model", item.model);
+        program->set("sgfx_normalMatrix", glm::mat3(glm::transpose(glm::inverse(item.model))));
+        glBindVertexArray(b.vao.get());
+        if (b.indexed) glDrawElements(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr);
+        else glDrawArrays(b.mode, 0, GLsizei(b.count));
+        ++stats_.drawCalls;
+        stats_.triangles += g.triangleCount();
+    }
+    glBindVertexArray(0);
+}
+
+Image Renderer::readPixels() {
+    context_.assertOwnerThread();
+    gl::RenderTarget& t = impl_->scene;
+    Image img;
+    img.width = t.width;
+    img.height = t.height;
+    img.channels = 4;
+    img.pixels.resize(std::size_t(t.width) * t.height * 4);
+    if (!t.fbo) return img;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t.fbo.get());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
+    // GL's rows run bottom to top; images are stored top row first.
+    const std::size_t row = std::size_t(t.width) * 4;
+    std::vector<std::uint8_t> tmp(row);
+    for (int y = 0; y < t.height / 2; ++y) {
+        std::uint8_t* a = img.pixels.data() + std::size_t(y) * row;
+        std::uint8_t* b = img.pixels.data() + std::size_t(t.height - 1 - y) * row;
+        std::memcpy(tmp.data(), a, row);
+        std::memcpy(a, b, row);
+        std::memcpy(b, tmp.data(), row);
+    }
+    return img;
+}
+
+void Renderer::present() {
+    gl::RenderTarget& t = impl_->scene;
+    if (!context_.isWindow() || !t.fbo) return;
+    // The target already holds sRGB-encoded values: copy them without conversion.
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    glBlitNamedFramebuffer(t.fbo.get(), 0, 0, 0, t.width, t.height, 0, 0, context_.width(), context_.height(),
+                           GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    context_.swapBuffers();
+}
+
+} // namespace sgfx

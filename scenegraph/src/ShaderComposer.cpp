@@ -1,0 +1,222 @@
+#include "sgfx/ShaderComposer.h"
+
+#include "EmbeddedShaders.h"
+#include "sgfx/gl/Objects.h"
+
+#include <regex>
+#include <sstream>
+
+namespace sgfx {
+
+namespace {
+
+// Which snippet field feeds which marker of the base shader.
+struct Hook {
+    std::string_view marker;
+    std::string ShaderSnippet::*field;
+    std::string_view label;
+};
+constexpr std::string_view kMarker = "// @sgfx:";
+const Hook kVertexHooks[] = {{"vertex_decl", &ShaderSnippet::vertexDecl, "vertexDecl"},
+                             {"vertex", &ShaderSnippet::vertexCode, "vertexCode"}};
+const Hook kFragmentHooks[] = {{"fragment_decl", &ShaderSnippet::fragmentDecl, "fragmentDecl"},
+                               {"ambient", &ShaderSnippet::ambientCode, "ambientCode"},
+                               {"color", &ShaderSnippet::colorCode, "colorCode"}};
+
+std::string lineDirective(int line, std::size_t source) {
+    return "#line " + std::to_string(line) + " " + std::to_string(source) + "\n";
+}
+
+// Emits `text` as its own source string so driver messages point into it.
+void appendChunk(std::string& out, std::vector<std::string>& names, std::string name, std::string_view text) {
+    out += lineDirective(1, names.size());
+    names.push_back(std::move(name));
+    out += text;
+    if (!text.empty() && text.back() != '\n') out += '\n';
+}
+
+std::string preamble(std::span<const ShaderSnippet* const> snippets) {
+    std::string p;
+    for (const ShaderSnippet* s : snippets) p += s->defines.empty() ? "" : s->defines + "\n";
+    p += shaders::embedded("frame_block.glsl");
+    return p;
+}
+
+std::string splitVersion(std::string_view& src, std::string_view shaderName) {
+    const auto start = src.find_first_not_of(" \t\r\n");
+    if (start == std::string_view::npos || src.compare(start, 8, "#version") != 0)
+        throw ShaderError("sgfx: shader '" + std::string(shaderName) + "' must start with a #version line");
+    const auto eol = src.find('\n', start);
+    std::string version(src.substr(start, eol - start));
+    src = eol == std::string_view::npos ? std::string_view{} : src.substr(eol + 1);
+    return version + "\n";
+}
+
+// Copies a base stage line by line, expanding hook markers with the snippets' code.
+std::string composeStage(std::string_view name, std::string_view src, std::span<const Hook> hooks,
+                         std::span<const ShaderSnippet* const> snippets, std::vector<std::string>& names) {
+    std::string out = splitVersion(src, name);
+    appendChunk(out, names, "<sgfx preamble>", preamble(snippets));
+    const std::size_t baseSource = names.size();
+    names.emplace_back(name);
+    out += lineDirective(2, baseSource);
+    int line = 2;
+    std::istringstream in{std::string(src)};
+    for (std::string text; std::getline(in, text); ++line) {
+        const auto pos = text.find(kMarker);
+        if (pos == std::string::npos) {
+            out += text;
+            out += '\n';
+            continue;
+        }
+        const std::string marker = text.substr(pos + kMarker.size());
+        const Hook* hook = nullptr;
+        for (const Hook& h : hooks)
+            if (marker == h.marker) hook = &h;
+        if (!hook)
+            throw ShaderError("sgfx: shader '" + std::string(name) + "' line " + std::to_string(line) +
+                              ": unknown hook marker '" + marker + "'");
+        const bool fileScope = hook->marker.ends_with("_decl");
+        for (const ShaderSnippet* s : snippets) {
+            const std::string& code = s->*(hook->field);
+            if (code.empty()) continue;
+            // Statement hooks get their own scope so snippets' locals never collide.
+            appendChunk(out, names, s->name + "." + std::string(hook->label), fileScope ? code : "{\n" + code + "\n}");
+        }
+        out += lineDirective(line + 1, baseSource);
+    }
+    return out;
+}
+
+std::string describe(std::string_view base, std::span<const ShaderSnippet* const> snippets) {
+    std::string d = std::string(base) + " + [";
+    for (std::size_t i = 0; i < snippets.size(); ++i) d += (i ? ", " : "") + snippets[i]->name;
+    return d + "]";
+}
+
+} // namespace
+
+ShaderComposer::ShaderComposer() = default;
+ShaderComposer::~ShaderComposer() = default;
+
+const BaseShader& ShaderComposer::blinnPhong() {
+    static const BaseShader base{"blinn_phong", "blinn_phong.vert", std::string(shaders::embedded("blinn_phong.vert")),
+                                 "blinn_phong.frag", std::string(shaders::embedded("blinn_phong.frag"))};
+    return base;
+}
+
+ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base, std::span<const ShaderSnippet* const> snippets) {
+    ComposedProgram p;
+    p.vertex = composeStage(base.vertexName, base.vertexSource, kVertexHooks, snippets, p.vertexSources);
+    p.fragment = composeStage(base.fragmentName, base.fragmentSource, kFragmentHooks, snippets, p.fragmentSources);
+    p.description = describe(base.name, snippets);
+    return p;
+}
+
+ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog, std::span<const ShaderSnippet* const> snippets) {
+    ComposedProgram p;
+    p.description = describe(prog.name, snippets);
+    // Vertex stage: the application's, untouched (snippets' vertex code does not apply to it).
+    p.vertexSources = {prog.name + ".vert"};
+    p.vertex = prog.vertexSource;
+    if (snippets.empty()) {
+        p.fragmentSources = {prog.name + ".frag"};
+        p.fragment = prog.fragmentSource;
+        return p;
+    }
+    static const std::regex mainRe(R"(\bvoid\s+main\s*\(\s*(void)?\s*\))");
+    static const std::regex outRe(R"((layout\s*\(\s*location\s*=\s*0\s*\)\s*)?out\s+vec4\s+([A-Za-z_][A-Za-z0-9_]*)\s*;)");
+    const std::string& src = prog.fragmentSource;
+    if (!std::regex_search(src, mainRe))
+        throw ShaderError("sgfx: foreign fragment shader '" + prog.name + "' has no `void main()` to wrap");
+    std::string output;
+    for (auto it = std::sregex_iterator(src.begin(), src.end(), outRe); it != std::sregex_iterator(); ++it) {
+        if (output.empty() || (*it)[1].matched) output = (*it)[2].str();
+        if ((*it)[1].matched) break;
+    }
+    if (output.empty())
+        throw ShaderError("sgfx: foreign fragment shader '" + prog.name +
+                          "' declares no `out vec4` colour output for the effects to modify");
+    std::string_view body = src;
+    std::string out = splitVersion(body, prog.name);
+    for (const ShaderSnippet* s : snippets) out += s->defines.empty() ? "" : s->defines + "\n";
+    p.fragmentSources.push_back(prog.name + ".frag");
+    out += lineDirective(2, 0);
+    out += std::regex_replace(std::string(body), mainRe, "void sgfx_user_main()");
+    out += '\n';
+    if (src.find("SgfxFrame") == std::string::npos)
+        appendChunk(out, p.fragmentSources, "<sgfx frame block>", shaders::embedded("frame_block.glsl"));
+    for (const ShaderSnippet* s : snippets)
+        if (!s->fragmentDecl.empty()) appendChunk(out, p.fragmentSources, s->name + ".fragmentDecl", s->fragmentDecl);
+    // The wrapper: run the application's main, then the effects on its output. The world
+    // position comes from the window position and depth through the inverse view-projection.
+    std::string wrap = "void main() {\n    sgfx_user_main();\n"
+                       "    vec4 sgfx_ndc = vec4((gl_FragCoord.xy - sgfx_viewport.xy) / sgfx_viewport.zw * 2.0 - 1.0,"
+                       " gl_FragCoord.z * 2.0 - 1.0, 1.0);\n"
+                       "    vec4 sgfx_world4 = sgfx_invViewProjection * sgfx_ndc;\n"
+                       "    vec3 sgfx_worldPos = sgfx_world4.xyz / sgfx_world4.w;\n"
+                       "    vec3 sgfx_eyePos = sgfx_eye.xyz;\n"
+                       "    vec4 sgfx_color = " + output + ";\n";
+    appendChunk(out, p.fragmentSources, "<sgfx wrapper>", wrap);
+    for (const ShaderSnippet* s : snippets)
+        if (!s->colorCode.empty()) appendChunk(out, p.fragmentSources, s->name + ".colorCode", "{\n" + s->colorCode + "\n}");
+    appendChunk(out, p.fragmentSources, "<sgfx wrapper>", "    " + output + " = sgfx_color;\n}\n");
+    p.fragment = std::move(out);
+    return p;
+}
+
+std::string ShaderComposer::translateLog(std::string_view log, std::span<const std::string> names) {
+    // Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error ...".
+    static const std::regex mesa(R"(^(\d+):(\d+)\((\d+)\):\s*(.*)$)");
+    static const std::regex nvidia(R"(^(\d+)\((\d+)\)\s*:\s*(.*)$)");
+    std::string out;
+    std::istringstream in{std::string(log)};
+    for (std::string line; std::getline(in, line);) {
+        std::smatch m;
+        std::size_t src = 0;
+        std::string lineNo, msg;
+        if (std::regex_match(line, m, mesa)) {
+            src = std::stoul(m[1]);
+            lineNo = m[2];
+            msg = m[4];
+        } else if (std::regex_match(line, m, nvidia)) {
+            src = std::stoul(m[1]);
+            lineNo = m[2];
+            msg = m[3];
+        } else {
+            if (!line.empty()) out += line + "\n";
+            continue;
+        }
+        const std::string name = src < names.size() ? names[src] : "source " + std::to_string(src);
+        out += name + ":" + lineNo + ": " + msg + "\n";
+    }
+    return out;
+}
+
+gl::Program& ShaderComposer::cached(std::string key, std::span<const ShaderSnippet* const> snippets,
+                                    const std::function<ComposedProgram()>& compose) {
+    for (const ShaderSnippet* s : snippets) key += "|" + s->name;
+    if (auto it = cache_.find(key); it != cache_.end()) {
+        ++hits_;
+        return *it->second;
+    }
+    ++misses_;
+    auto prog = std::make_unique<gl::Program>(compose());
+    return *cache_.emplace(std::move(key), std::move(prog)).first->second;
+}
+
+gl::Program& ShaderComposer::program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets) {
+    return cached("base:" + base.name, snippets, [&] { return composeBuiltin(base, snippets); });
+}
+
+gl::Program& ShaderComposer::program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets) {
+    if (!foreign) return program(blinnPhong(), snippets);
+    // Keyed by identity and text, so editing a ShaderProgram's source yields a new variant.
+    std::string key = "foreign:" + std::to_string(reinterpret_cast<std::uintptr_t>(foreign)) + ":" +
+                      std::to_string(std::hash<std::string>{}(foreign->vertexSource + foreign->fragmentSource));
+    return cached(std::move(key), snippets, [&] { return composeForeign(*foreign, snippets); });
+}
+
+void ShaderComposer::clear() { cache_.clear(); }
+
+} // namespace sgfx

@@ -1,0 +1,85 @@
+#include "sgfx/Viewer.h"
+
+#include "sgfx/Effect.h"
+#include "sgfx/Geometry.h"
+#include "sgfx/StateSet.h"
+#include "sgfx/gl/Objects.h"
+
+namespace sgfx {
+
+namespace {
+// Releases the GPU copies held by geometry and textures while the context is still current
+// (OSG's releaseGLObjects), so a scene may outlive its viewer without leaking GL objects.
+class ReleaseVisitor : public NodeVisitor {
+public:
+    ReleaseVisitor() : NodeVisitor(Mode::AllChildren) {}
+    void apply(Node& n) override {
+        release(n.stateSet().get());
+        traverse(n);
+    }
+    void apply(Geometry& g) override {
+        g.gpu().reset();
+        apply(static_cast<Node&>(g));
+    }
+
+private:
+    static void release(const Texture* t) {
+        if (t) t->gpu().reset();
+    }
+    static void release(const StateSet* s) {
+        if (!s) return;
+        if (s->material.value && *s->material.value) {
+            const Material& m = **s->material.value;
+            release(m.baseColorTexture.get());
+            release(m.alphaTexture.get());
+            release(m.normalTexture.get());
+        }
+        for (const auto& [name, t] : s->textures)
+            if (t.value) release(t.value->get());
+    }
+};
+} // namespace
+
+Viewer::Viewer(std::unique_ptr<GraphicsContext> context)
+    : context_(std::move(context)), camera_(Camera::create()), renderer_(std::make_unique<Renderer>(*context_)) {
+    if (context_->isWindow()) camera_->setViewport(0, 0, std::max(1, context_->width()), std::max(1, context_->height()));
+    camera_->setPerspective(45.0f, 0.1f, 10000.0f);
+}
+
+std::unique_ptr<Viewer> Viewer::createHeadless(int width, int height) {
+    auto v = std::make_unique<Viewer>(std::make_unique<OsmesaContext>());
+    v->camera()->setViewport(0, 0, width, height);
+    return v;
+}
+
+Viewer::~Viewer() {
+    context_->makeCurrent();
+    ReleaseVisitor release;
+    camera_->accept(release);
+    camera_.reset();
+    scene_.reset();
+    renderer_.reset();
+}
+
+void Viewer::setSceneData(NodePtr scene) {
+    if (scene_) camera_->removeChild(scene_.get());
+    scene_ = std::move(scene);
+    if (scene_) camera_->addChild(scene_);
+}
+
+void Viewer::frame(double dt) {
+    context_->makeCurrent();
+    update_.deltaTime = dt;
+    update_.simulationTime += dt;
+    ++update_.frameNumber;
+    camera_->accept(update_);
+    if (context_->isWindow()) {
+        const int w = context_->width(), h = context_->height();
+        if (w > 0 && h > 0 && (w != camera_->viewport.width || h != camera_->viewport.height))
+            camera_->setViewport(0, 0, w, h);
+    }
+    renderer_->render(*camera_, update_.simulationTime, update_.frameNumber);
+    renderer_->present();
+}
+
+} // namespace sgfx

@@ -1,0 +1,65 @@
+#include "sgfx/Visitors.h"
+
+#include "sgfx/Camera.h"
+#include "sgfx/Effect.h"
+#include "sgfx/Geometry.h"
+#include "sgfx/Group.h"
+
+namespace sgfx {
+
+// ---------------------------------------------------------------- NodeVisitor
+void NodeVisitor::apply(Node& node) { traverse(node); }
+void NodeVisitor::apply(Group& g) { apply(static_cast<Node&>(g)); }
+void NodeVisitor::apply(Transform& t) { apply(static_cast<Group&>(t)); }
+void NodeVisitor::apply(Geometry& g) { apply(static_cast<Node&>(g)); }
+void NodeVisitor::apply(Camera& c) { apply(static_cast<Group&>(c)); }
+void NodeVisitor::apply(Light& l) { apply(static_cast<Node&>(l)); }
+void NodeVisitor::apply(EffectNode& e) { apply(static_cast<Group&>(e)); }
+
+bool NodeVisitor::accepts(const Node& node) const {
+    return mode != Mode::ActiveChildren || (node.nodeMask & traversalMask) != 0;
+}
+
+void NodeVisitor::traverse(Node& node) {
+    if (mode == Mode::None) return;
+    nodePath.push_back(&node);
+    node.traverse(*this);
+    nodePath.pop_back();
+}
+
+// ---------------------------------------------------------------- UpdateVisitor
+void UpdateVisitor::apply(Node& node) {
+    if (node.updateCallback) node.updateCallback(node, *this);
+    traverse(node);
+}
+
+// ---------------------------------------------------------------- ComputeBoundsVisitor
+void ComputeBoundsVisitor::apply(Transform& t) {
+    const glm::mat4 saved = matrix_;
+    matrix_ = matrix_ * t.matrix();
+    traverse(t);
+    matrix_ = saved;
+}
+
+void ComputeBoundsVisitor::apply(Geometry& g) {
+    for (const auto& p : g.positions) {
+        const glm::vec3 w = glm::vec3(matrix_ * glm::vec4(p, 1.0f));
+        min = glm::min(min, w);
+        max = glm::max(max, w);
+    }
+}
+
+// ---------------------------------------------------------------- StatsVisitor
+void StatsVisitor::apply(Node& n) {
+    ++nodes;
+    traverse(n);
+}
+
+void StatsVisitor::apply(Geometry& g) {
+    ++nodes;
+    ++drawables;
+    triangles += g.triangleCount();
+    vertices += g.positions.size();
+}
+
+} // namespace sgfx

@@ -1,0 +1,204 @@
+#include "sgfx/gl/Objects.h"
+
+#include <glad/gl.h>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <stdexcept>
+#include <string>
+
+namespace sgfx::gl {
+
+LiveCounts& liveObjects() {
+    static LiveCounts counts;
+    return counts;
+}
+
+long LiveCounts::total() const {
+    long t = 0;
+    for (const auto& c : counts) t += c.load();
+    return t;
+}
+
+template <Kind K> void Object<K>::reset() {
+    if (!name_) return;
+    // Deleting needs the owning context current; GL silently ignores calls without one, so a
+    // late destruction leaks on the driver side but never crashes.
+    if (glad_glGetString) {
+        switch (K) {
+        case Kind::Buffer: glDeleteBuffers(1, &name_); break;
+        case Kind::VertexArray: glDeleteVertexArrays(1, &name_); break;
+        case Kind::Texture: glDeleteTextures(1, &name_); break;
+        case Kind::Framebuffer: glDeleteFramebuffers(1, &name_); break;
+        case Kind::Renderbuffer: glDeleteRenderbuffers(1, &name_); break;
+        case Kind::Shader: glDeleteShader(name_); break;
+        case Kind::Program: glDeleteProgram(name_); break;
+        case Kind::Query: glDeleteQueries(1, &name_); break;
+        case Kind::Count: break;
+        }
+    }
+    --liveObjects().counts[std::size_t(K)];
+    name_ = 0;
+}
+
+template class Object<Kind::Buffer>;
+template class Object<Kind::VertexArray>;
+template class Object<Kind::Texture>;
+template class Object<Kind::Framebuffer>;
+template class Object<Kind::Renderbuffer>;
+template class Object<Kind::Shader>;
+template class Object<Kind::Program>;
+template class Object<Kind::Query>;
+
+BufferObject createBuffer() {
+    GLuint n = 0;
+    glCreateBuffers(1, &n);
+    return BufferObject(n);
+}
+VertexArrayObject createVertexArray() {
+    GLuint n = 0;
+    glCreateVertexArrays(1, &n);
+    return VertexArrayObject(n);
+}
+TextureObject createTexture(unsigned target) {
+    GLuint n = 0;
+    glCreateTextures(target, 1, &n);
+    return TextureObject(n);
+}
+FramebufferObject createFramebuffer() {
+    GLuint n = 0;
+    glCreateFramebuffers(1, &n);
+    return FramebufferObject(n);
+}
+QueryObject createQuery(unsigned target) {
+    GLuint n = 0;
+    glCreateQueries(target, 1, &n);
+    return QueryObject(n);
+}
+
+// ---------------------------------------------------------------- Program
+namespace {
+using ShaderObject = Object<Kind::Shader>;
+
+ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::string> names,
+                     std::string_view description) {
+    ShaderObject s(glCreateShader(stage));
+    const char* text = src.c_str();
+    glShaderSource(s.get(), 1, &text, nullptr);
+    glCompileShader(s.get());
+    GLint ok = 0;
+    glGetShaderiv(s.get(), GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetShaderiv(s.get(), GL_INFO_LOG_LENGTH, &len);
+        std::string log(std::size_t(std::max(len, 1)), '\0');
+        glGetShaderInfoLog(s.get(), len, nullptr, log.data());
+        throw ShaderError("sgfx: " + std::string(stage == GL_VERTEX_SHADER ? "vertex" : "fragment") +
+                          " shader of " + std::string(description) + " failed to compile:\n" +
+                          ShaderComposer::translateLog(log.c_str(), names));
+    }
+    return s;
+}
+} // namespace
+
+Program::Program(const ComposedProgram& c) : description_(c.description) {
+    ShaderObject vs = compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description);
+    ShaderObject fs = compile(GL_FRAGMENT_SHADER, c.fragment, c.fragmentSources, c.description);
+    name_ = glCreateProgram();
+    ++liveObjects().counts[std::size_t(Kind::Program)];
+    glAttachShader(name_, vs.get());
+    glAttachShader(name_, fs.get());
+    glLinkProgram(name_);
+    glDetachShader(name_, vs.get());
+    glDetachShader(name_, fs.get());
+    GLint ok = 0;
+    glGetProgramiv(name_, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetProgramiv(name_, GL_INFO_LOG_LENGTH, &len);
+        std::string log(std::size_t(std::max(len, 1)), '\0');
+        glGetProgramInfoLog(name_, len, nullptr, log.data());
+        glDeleteProgram(name_);
+        --liveObjects().counts[std::size_t(Kind::Program)];
+        name_ = 0;
+        throw ShaderError("sgfx: program " + description_ + " failed to link:\n" + std::string(log.c_str()));
+    }
+}
+
+Program::~Program() {
+    if (!name_) return;
+    if (glad_glGetString) glDeleteProgram(name_);
+    --liveObjects().counts[std::size_t(Kind::Program)];
+}
+
+int Program::location(std::string_view uniform) {
+    auto it = locations_.find(std::string(uniform));
+    if (it != locations_.end()) return it->second;
+    const int loc = glGetUniformLocation(name_, std::string(uniform).c_str());
+    locations_.emplace(std::string(uniform), loc);
+    return loc;
+}
+
+void Program::set(std::string_view uniform, const UniformValue& v) { set(location(uniform), v); }
+
+void Program::set(int loc, const UniformValue& v) {
+    if (loc < 0) return;
+    std::visit(
+        [&](const auto& x) {
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, int>) glProgramUniform1i(name_, loc, x);
+            else if constexpr (std::is_same_v<T, float>) glProgramUniform1f(name_, loc, x);
+            else if constexpr (std::is_same_v<T, glm::vec2>) glProgramUniform2fv(name_, loc, 1, glm::value_ptr(x));
+            else if constexpr (std::is_same_v<T, glm::vec3>) glProgramUniform3fv(name_, loc, 1, glm::value_ptr(x));
+            else if constexpr (std::is_same_v<T, glm::vec4>) glProgramUniform4fv(name_, loc, 1, glm::value_ptr(x));
+            else if constexpr (std::is_same_v<T, glm::mat3>)
+                glProgramUniformMatrix3fv(name_, loc, 1, GL_FALSE, glm::value_ptr(x));
+            else glProgramUniformMatrix4fv(name_, loc, 1, GL_FALSE, glm::value_ptr(x));
+        },
+        v);
+}
+
+// ---------------------------------------------------------------- RenderTarget
+namespace {
+std::string statusName(GLenum s) {
+    switch (s) {
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "INCOMPLETE_ATTACHMENT";
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT: return "INCOMPLETE_MISSING_ATTACHMENT";
+    case GL_FRAMEBUFFER_UNSUPPORTED: return "UNSUPPORTED";
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "INCOMPLETE_MULTISAMPLE";
+    default: return "status 0x" + std::to_string(s);
+    }
+}
+} // namespace
+
+void RenderTarget::resize(int w, int h) {
+    if (w == width && h == height && fbo) return;
+    GLint maxSize = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+    if (w <= 0 || h <= 0 || w > maxSize || h > maxSize)
+        throw std::invalid_argument("sgfx: render target size " + std::to_string(w) + "x" + std::to_string(h) +
+                                    " is outside 1.." + std::to_string(maxSize));
+    color = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(color.get(), 1, GL_SRGB8_ALPHA8, w, h);
+    glTextureParameteri(color.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(color.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(color.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(color.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    depth = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    glTextureParameteri(depth.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(depth.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(depth.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(depth.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    fbo = createFramebuffer();
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+    glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
+    const GLenum status = glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("sgfx: scene framebuffer " + std::to_string(w) + "x" + std::to_string(h) +
+                                 " (colour SRGB8_ALPHA8, depth DEPTH_COMPONENT32F) is incomplete: " +
+                                 statusName(status));
+    width = w;
+    height = h;
+}
+
+} // namespace sgfx::gl

@@ -1,0 +1,14 @@
+// Per-frame data shared by every program (std140 uniform block at binding 0).
+layout(std140, binding = 0) uniform SgfxFrame {
+    mat4 sgfx_view;
+    mat4 sgfx_projection;
+    mat4 sgfx_viewProjection;
+    mat4 sgfx_invViewProjection;
+    vec4 sgfx_eye;          // xyz: camera position, world
+    vec4 sgfx_viewport;     // x, y, width, height in pixels
+    vec4 sgfx_ambientLight; // rgb: sum of ambient lights
+    vec4 sgfx_time;         // x: seconds
+    ivec4 sgfx_lightCount;  // x: number of lights below
+    vec4 sgfx_lightVector[8]; // w = 0: direction towards the light; w = 1: position
+    vec4 sgfx_lightColor[8];
+};
