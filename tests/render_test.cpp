@@ -1,12 +1,255 @@
-#include <sgfx/Viewer.h>
+// Headless render tests on OSMesa (llvmpipe), ≤ 256×256, compared with analytic values.
+#include "TestUtil.h"
+
+#include <debugtint/DebugTintNode.h>
+#include <sgfx/Geometry.h>
+#include <sgfx/Group.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/gl/Objects.h>
+
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
-TEST(Smoke, Clear) {
-    auto v = sgfx::Viewer::createHeadless(64, 64);
-    v->camera()->clearColor = {0.5f, 0.25f, 1.0f, 1.0f};
+
+#include <filesystem>
+
+using namespace sgfx;
+using namespace sgfx::test;
+
+namespace {
+
+constexpr int kSize = 64;
+constexpr float kHalf = 2.0f; // ortho half-extent in metres
+
+// World position of a pixel centre on the z = 0 plane for orthoTopViewer(kSize, kHalf).
+glm::vec3 worldOfPixel(int px, int py) {
+    return {-kHalf + (float(px) + 0.5f) / kSize * 2 * kHalf, kHalf - (float(py) + 0.5f) / kSize * 2 * kHalf, 0.0f};
+}
+
+std::shared_ptr<Material> flat(glm::vec3 c) {
+    auto m = Material::create();
+    m->ambient = glm::vec3(0);
+    m->diffuse = glm::vec4(0, 0, 0, 1);
+    m->emissive = c;
+    return m;
+}
+
+std::shared_ptr<Node> quadAt(float w, float h, glm::vec3 pos, std::shared_ptr<Material> m) {
+    auto t = Transform::create(glm::translate(glm::mat4(1.0f), pos));
+    auto q = shapes::quad(w, h);
+    q->getOrCreateStateSet().material.set(std::move(m));
+    t->addChild(q);
+    return t;
+}
+
+void expectPixel(const Image& img, int x, int y, glm::dvec3 linear, int tol = 2) {
+    const glm::ivec4 p = pixelAt(img, x, y);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(p[c], srgbByte(linear[c]), tol) << "pixel (" << x << "," << y << ") channel " << c;
+}
+
+void expectNoGlErrors(Viewer& v) {
+    for (const auto& e : v.renderer().takeGlErrors()) ADD_FAILURE() << "GL: " << e;
+}
+
+} // namespace
+
+TEST(Render, ClearColourIsSrgbEncodedOnce) {
+    auto v = Viewer::createHeadless(32, 32);
+    for (glm::vec3 c : {glm::vec3(0.5f, 0.25f, 1.0f), glm::vec3(0.0f, 0.002f, 0.8f), glm::vec3(1.0f, 0.05f, 0.0f)}) {
+        v->camera()->clearColor = glm::vec4(c, 1.0f);
+        v->frame();
+        const Image img = v->capture();
+        ASSERT_EQ(img.width, 32);
+        expectPixel(img, 0, 0, c, 1);
+        expectPixel(img, 31, 31, c, 1);
+    }
+    EXPECT_NE(v->context().renderer().find("llvmpipe"), std::string::npos) << v->context().renderer();
+    expectNoGlErrors(*v);
+}
+
+TEST(Render, LitQuadMatchesBlinnPhong) {
+    auto v = orthoTopViewer(kSize, kHalf);
+    auto root = Group::create();
+    auto m = Material::create();
+    m->ambient = {0.2f, 0.3f, 0.4f};
+    m->diffuse = {0.6f, 0.4f, 0.2f, 1.0f};
+    m->specular = {0.5f, 0.5f, 0.5f};
+    m->shininess = 16.0f;
+    m->emissive = {0.01f, 0.02f, 0.0f};
+    root->addChild(quadAt(4.0f, 4.0f, {0, 0, 0}, m));
+    auto sun = Light::create(LightType::Directional);
+    sun->direction = glm::normalize(glm::vec3(-0.3f, -0.2f, -1.0f));
+    sun->color = {0.9f, 0.8f, 0.7f};
+    auto amb = Light::create(LightType::Ambient);
+    amb->color = glm::vec3(0.25f);
+    root->addChild(sun);
+    root->addChild(amb);
+    v->setSceneData(root);
     v->frame();
-    auto img = v->capture();
-    auto* p = img.pixel(10, 10);
-    printf("%d %d %d %d\n", p[0], p[1], p[2], p[3]);
-    printf("%s | %s\n", v->context().renderer().c_str(), v->context().version().c_str());
-    for (auto& e : v->renderer().takeGlErrors()) printf("GLERR %s\n", e.c_str());
+    const Image img = v->capture();
+    const glm::dvec3 N(0, 0, 1), L = glm::normalize(-glm::dvec3(sun->direction));
+    const glm::dvec3 eye(0, 0, 10);
+    for (auto [px, py] : {std::pair{5, 5}, {32, 32}, {60, 10}, {20, 50}, {45, 45}}) {
+        const glm::dvec3 P = worldOfPixel(px, py);
+        const glm::dvec3 V = glm::normalize(eye - P);
+        const glm::dvec3 H = glm::normalize(L + V);
+        const double ndotl = std::max(glm::dot(N, L), 0.0);
+        const double spec = std::pow(std::max(glm::dot(N, H), 0.0), double(m->shininess));
+        const glm::dvec3 expected = glm::dvec3(m->emissive) + 0.25 * glm::dvec3(m->ambient) +
+                                    glm::dvec3(sun->color) * (glm::dvec3(m->diffuse) * ndotl + glm::dvec3(m->specular) * spec);
+        expectPixel(img, px, py, expected);
+    }
+    expectNoGlErrors(*v);
+}
+
+TEST(Render, DepthTestKeepsNearestWhateverTheOrder) {
+    for (bool nearFirst : {true, false}) {
+        auto v = orthoTopViewer(kSize, kHalf);
+        auto root = Group::create();
+        auto nearQuad = quadAt(2.0f, 2.0f, {0, 0, 1}, flat({1, 0, 0}));
+        auto farQuad = quadAt(4.0f, 4.0f, {0, 0, 0}, flat({0, 0, 1}));
+        root->addChild(nearFirst ? nearQuad : farQuad);
+        root->addChild(nearFirst ? farQuad : nearQuad);
+        v->setSceneData(root);
+        v->frame();
+        const Image img = v->capture();
+        expectPixel(img, 32, 32, {1, 0, 0}, 0);
+        expectPixel(img, 4, 4, {0, 0, 1}, 0);
+    }
+}
+
+TEST(Render, AlphaMaskCutsBelowTheCutoff) {
+    auto v = orthoTopViewer(kSize, kHalf);
+    auto root = Group::create();
+    // Alpha texture: left half 0.2, right half 0.9 (linear, nearest-sampled).
+    auto mask = Image::create(2, 1, 1);
+    mask->pixels = {51, 230};
+    auto tex = Texture::create(mask, false);
+    tex->minFilter = tex->magFilter = Filter::Nearest;
+    auto m = flat({1, 0, 0});
+    m->alphaTexture = tex;
+    m->alphaCutoff = 0.5f;
+    root->addChild(quadAt(4.0f, 4.0f, {0, 0, 1}, m));
+    root->addChild(quadAt(4.0f, 4.0f, {0, 0, 0}, flat({0, 1, 0})));
+    v->setSceneData(root);
+    v->frame();
+    const Image img = v->capture();
+    expectPixel(img, 10, 32, {0, 1, 0}, 0); // cut: the green quad behind shows
+    expectPixel(img, 54, 32, {1, 0, 0}, 0); // kept
+    // Raising the cutoff above 0.9 cuts everything.
+    m->alphaCutoff = 0.95f;
+    v->frame();
+    expectPixel(v->capture(), 54, 32, {0, 1, 0}, 0);
+    expectNoGlErrors(*v);
+}
+
+TEST(Render, PngRoundTripKeepsPixelsAndOrientation) {
+    auto v = orthoTopViewer(kSize, kHalf);
+    auto root = Group::create();
+    root->addChild(quadAt(4.0f, 2.0f, {0, 1, 0}, flat({1, 1, 0}))); // top half of the view (+Y is up)
+    v->setSceneData(root);
+    v->frame();
+    const Image img = v->capture();
+    expectPixel(img, 32, 5, {1, 1, 0}, 0);  // top row region
+    expectPixel(img, 32, 58, {0, 0, 0}, 0); // bottom
+    const auto path = std::filesystem::temp_directory_path() / "sgfx_roundtrip.png";
+    writePng(path, img);
+    const Image back = readPng(path);
+    std::filesystem::remove(path);
+    ASSERT_EQ(back.width, img.width);
+    ASSERT_EQ(back.height, img.height);
+    ASSERT_EQ(back.channels, 4);
+    EXPECT_EQ(back.pixels, img.pixels);
+    EXPECT_THROW(readPng("/nonexistent/x.png"), std::runtime_error);
+    EXPECT_THROW(writePng("/nonexistent/dir/x.png", img), std::runtime_error);
+}
+
+TEST(Render, DebugTintAppliesThroughTheBuiltInMaterial) {
+    auto v = orthoTopViewer(kSize, kHalf);
+    auto tint = DebugTintNode::create({0, 0, 1, 0.25f});
+    tint->addChild(quadAt(2.0f, 4.0f, {-1, 0, 0}, flat({1, 0.5f, 0})));
+    auto root = Group::create();
+    root->addChild(tint);
+    root->addChild(quadAt(2.0f, 4.0f, {1, 0, 0}, flat({1, 0.5f, 0})));
+    v->setSceneData(root);
+    v->frame();
+    const Image img = v->capture();
+    expectPixel(img, 10, 32, glm::mix(glm::dvec3(1, 0.5, 0), glm::dvec3(0, 0, 1), 0.25));
+    expectPixel(img, 54, 32, {1, 0.5, 0});
+    EXPECT_THROW(tint->setTint({0, 0, 0, 2}), std::invalid_argument);
+    EXPECT_THROW(tint->setTint({std::nanf(""), 0, 0, 0.5f}), std::invalid_argument);
+    EXPECT_FLOAT_EQ(tint->tint().a, 0.25f); // unchanged after the refusals
+    expectNoGlErrors(*v);
+}
+
+TEST(Render, LiveGlObjectCountReturnsToZeroAfterTeardown) {
+    ASSERT_EQ(gl::liveObjects().total(), 0);
+    {
+        auto v = orthoTopViewer(kSize, kHalf);
+        auto root = Group::create();
+        auto m = flat({1, 0, 0});
+        m->baseColorTexture = Texture::create(Image::create(4, 4, 4));
+        root->addChild(quadAt(2, 2, {0, 0, 0}, m));
+        auto tint = DebugTintNode::create();
+        tint->addChild(quadAt(1, 1, {1, 1, 0.5f}, flat({0, 1, 0})));
+        root->addChild(tint);
+        v->setSceneData(root);
+        v->frame();
+        v->frame();
+        EXPECT_GT(gl::liveObjects().total(), 5);
+        EXPECT_GE(gl::liveObjects()[gl::Kind::Program], 2);
+        // The scene outlives the viewer here: the viewer must release its GPU copies itself.
+        static std::shared_ptr<Node> keepAlive;
+        keepAlive = root;
+        v.reset();
+        EXPECT_EQ(gl::liveObjects().total(), 0);
+        keepAlive.reset();
+    }
+    EXPECT_EQ(gl::liveObjects().total(), 0);
+}
+
+TEST(Render, GeometryEditsReachTheGpu) {
+    auto v = orthoTopViewer(kSize, kHalf);
+    auto q = shapes::quad(1.0f, 1.0f);
+    q->getOrCreateStateSet().material.set(flat({1, 1, 1}));
+    v->setSceneData(q);
+    v->frame();
+    expectPixel(v->capture(), 32, 32, {1, 1, 1}, 0);
+    for (auto& p : q->positions) p += glm::vec3(1.5f, 0, 0);
+    q->dirty();
+    v->frame();
+    const Image img = v->capture();
+    expectPixel(img, 32, 32, {0, 0, 0}, 0);
+    expectPixel(img, 56, 32, {1, 1, 1}, 0);
+}
+
+TEST(Contexts, EglHeadlessWhereAvailable) {
+    std::unique_ptr<GraphicsContext> ctx;
+    try {
+        ctx = std::make_unique<EglContext>();
+    } catch (const ContextError& e) {
+        GTEST_SKIP() << "EGL unavailable here: " << e.what();
+    }
+    Viewer v(std::move(ctx));
+    v.camera()->setViewport(0, 0, 16, 16);
+    v.camera()->clearColor = {0.25f, 0.5f, 0.75f, 1};
+    v.frame();
+    expectPixel(v.capture(), 8, 8, {0.25, 0.5, 0.75}, 1);
+}
+
+TEST(Contexts, WindowWithoutDisplaySaysSo) {
+    const char* saved = std::getenv("DISPLAY");
+    const std::string keep = saved ? saved : "";
+    unsetenv("DISPLAY");
+    const char* wl = std::getenv("WAYLAND_DISPLAY");
+    const std::string keepWl = wl ? wl : "";
+    unsetenv("WAYLAND_DISPLAY");
+    try {
+        GlfwWindow w(64, 64, "test");
+        ADD_FAILURE() << "a window opened without a display";
+    } catch (const ContextError& e) {
+        EXPECT_NE(std::string(e.what()).find("no display"), std::string::npos) << e.what();
+    }
+    if (saved) setenv("DISPLAY", keep.c_str(), 1);
+    if (wl) setenv("WAYLAND_DISPLAY", keepWl.c_str(), 1);
 }

@@ -253,7 +253,6 @@ ResolvedState ResolvedState::defaults() {
     s.blend.set(BlendMode::Off);
     s.depth.set(DepthState{});
     s.cullFace.set(CullFace::Back);
-    s.renderBin.set(RenderBin::Opaque);
     return s;
 }
 

@@ -23,8 +23,12 @@ const Hook kFragmentHooks[] = {{"fragment_decl", &ShaderSnippet::fragmentDecl, "
                                {"ambient", &ShaderSnippet::ambientCode, "ambientCode"},
                                {"color", &ShaderSnippet::colorCode, "colorCode"}};
 
+// Mesa drops the source-string number of #line from its messages, so the source is also
+// encoded in the line number itself: source k, line n → k * kLinesPerSource + n.
+constexpr long kLinesPerSource = 10000;
+
 std::string lineDirective(int line, std::size_t source) {
-    return "#line " + std::to_string(line) + " " + std::to_string(source) + "\n";
+    return "#line " + std::to_string(long(source) * kLinesPerSource + line) + " " + std::to_string(source) + "\n";
 }
 
 // Emits `text` as its own source string so driver messages point into it.
@@ -81,7 +85,7 @@ std::string composeStage(std::string_view name, std::string_view src, std::span<
             const std::string& code = s->*(hook->field);
             if (code.empty()) continue;
             // Statement hooks get their own scope so snippets' locals never collide.
-            appendChunk(out, names, s->name + "." + std::string(hook->label), fileScope ? code : "{\n" + code + "\n}");
+            appendChunk(out, names, s->name + "." + std::string(hook->label), fileScope ? code : "{ " + code + "\n}");
         }
         out += lineDirective(line + 1, baseSource);
     }
@@ -159,7 +163,7 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog, std::s
                        "    vec4 sgfx_color = " + output + ";\n";
     appendChunk(out, p.fragmentSources, "<sgfx wrapper>", wrap);
     for (const ShaderSnippet* s : snippets)
-        if (!s->colorCode.empty()) appendChunk(out, p.fragmentSources, s->name + ".colorCode", "{\n" + s->colorCode + "\n}");
+        if (!s->colorCode.empty()) appendChunk(out, p.fragmentSources, s->name + ".colorCode", "{ " + s->colorCode + "\n}");
     appendChunk(out, p.fragmentSources, "<sgfx wrapper>", "    " + output + " = sgfx_color;\n}\n");
     p.fragment = std::move(out);
     return p;
@@ -187,8 +191,13 @@ std::string ShaderComposer::translateLog(std::string_view log, std::span<const s
             if (!line.empty()) out += line + "\n";
             continue;
         }
+        long n = std::stol(lineNo);
+        if (n >= kLinesPerSource) {
+            src = std::size_t(n / kLinesPerSource);
+            n %= kLinesPerSource;
+        }
         const std::string name = src < names.size() ? names[src] : "source " + std::to_string(src);
-        out += name + ":" + lineNo + ": " + msg + "\n";
+        out += name + ":" + std::to_string(n) + ": " + msg + "\n";
     }
     return out;
 }

@@ -52,7 +52,7 @@ public:
     std::uint32_t internEffectSet(std::vector<const EffectNode*> effects);
 
 private:
-    std::vector<std::string> signatures_;
+    std::vector<std::string> signatures_{std::string()}; // [0] = no snippet
 };
 
 } // namespace sgfx

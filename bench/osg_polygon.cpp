@@ -1,0 +1,383 @@
+// Peer benchmark: renders an OBJ exported by the sgfx "polygon" demo (`polygon --export-obj FILE`)
+// with OpenSceneGraph 3.6 on Mesa's software rasterizer (llvmpipe through OSMesa), along the same
+// deterministic camera path, so sgfx/OSG frame-time ratios can be reported on the same machine.
+//
+//   osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize] [--osg-culling]
+//               [--no-srgb] [--ambient A] [--sun I]
+//
+// Headless, no display: we create the OSMesa context ourselves and run osgViewer::Viewer
+// "embedded" in it (GraphicsWindowEmbedded, single-threaded), calling viewer.frame() ourselves.
+//
+// libGL vs OSMesa: Debian's libosg links libGL.so.1 (glvnd). Two things must resolve to OSMesa:
+//  1. Plain gl* calls from libosg: the dynamic linker binds them to the first library in the global
+//     scope that defines them. OSMesa is linked first (before any OSG library), so it comes before
+//     libGL (which is only an indirect dependency) and its gl* win. Checked at start-up below.
+//  2. Extension/core-2.0+ entry points that OSG looks up at run time: on Linux
+//     osg::getGLExtensionFuncPtr() calls dlsym(RTLD_DEFAULT, "glXGetProcAddressARB"), which would
+//     be glvnd's and hand back libGLdispatch stubs that are no-ops without a GLX context (VBOs,
+//     shaders... would silently do nothing). This executable therefore defines and exports
+//     glXGetProcAddressARB/glXGetProcAddress forwarding to OSMesaGetProcAddress; being in the
+//     executable they come first in the global scope. Also checked at start-up.
+// If either check fails the program stops, rather than time a context that draws nothing.
+#include <GL/osmesa.h>
+
+#include <osg/CullFace>
+#include <osg/Geode>
+#include <osg/Geometry>
+#include <osg/GLExtensions>
+#include <osg/Light>
+#include <osg/LightModel>
+#include <osg/Material>
+#include <osg/NodeVisitor>
+#include <osg/TriangleFunctor>
+#include <osgDB/ReadFile>
+#include <osgUtil/Optimizer>
+#include <osgUtil/SceneView>
+#include <osgUtil/Statistics>
+#include <osgViewer/Renderer>
+#include <osgViewer/Viewer>
+
+#include <stb/stb_image_write.h>
+
+#include "../demos/polygon/CameraPath.h"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <numeric>
+#include <string>
+#include <vector>
+
+// ---- see the header comment, point 2
+extern "C" {
+__attribute__((visibility("default"))) void (*glXGetProcAddressARB(const unsigned char* name))(void) {
+    return reinterpret_cast<void (*)(void)>(OSMesaGetProcAddress(reinterpret_cast<const char*>(name)));
+}
+__attribute__((visibility("default"))) void (*glXGetProcAddress(const unsigned char* name))(void) {
+    return reinterpret_cast<void (*)(void)>(OSMesaGetProcAddress(reinterpret_cast<const char*>(name)));
+}
+}
+
+namespace {
+
+struct Options {
+    std::string file;
+    int width = 1280, height = 720;
+    int frames = 300;
+    std::string out;
+    bool optimize = false;   // run osgUtil::Optimizer (DEFAULT_OPTIMIZATIONS) after loading
+    bool osgCulling = false; // keep OSG's DEFAULT_CULLING (adds small-feature culling, no near/far planes)
+    bool srgb = true;        // sRGB-encode on write like sgfx's main pass (GL_FRAMEBUFFER_SRGB)
+    float ambient = 0.25f;   // ambient light (LightModel), multiplies material Ka
+    float sun = 1.0f;        // directional light colour (diffuse and specular)
+};
+
+[[noreturn]] void usage(const char* msg) {
+    if (msg) std::fprintf(stderr, "osg_polygon: %s\n", msg);
+    std::fprintf(stderr,
+                 "usage: osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize]\n"
+                 "                   [--osg-culling] [--no-srgb] [--ambient A] [--sun I]\n");
+    std::exit(2);
+}
+
+Options parse(int argc, char** argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&]() -> std::string {
+            if (i + 1 >= argc) usage(("missing value after " + a).c_str());
+            return argv[++i];
+        };
+        if (a == "--size") {
+            const std::string v = next();
+            if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width <= 0 || o.height <= 0)
+                usage("--size expects WxH, e.g. 1280x720");
+        } else if (a == "--frames") {
+            o.frames = std::atoi(next().c_str());
+            if (o.frames <= 0) usage("--frames expects a positive count");
+        } else if (a == "--out") {
+            o.out = next();
+        } else if (a == "--optimize") {
+            o.optimize = true;
+        } else if (a == "--osg-culling") {
+            o.osgCulling = true;
+        } else if (a == "--no-srgb") {
+            o.srgb = false;
+        } else if (a == "--ambient") {
+            o.ambient = float(std::atof(next().c_str()));
+        } else if (a == "--sun") {
+            o.sun = float(std::atof(next().c_str()));
+        } else if (a == "-h" || a == "--help") {
+            usage(nullptr);
+        } else if (!a.empty() && a[0] == '-') {
+            usage(("unknown option " + a).c_str());
+        } else if (o.file.empty()) {
+            o.file = a;
+        } else {
+            usage("more than one input file");
+        }
+    }
+    if (o.file.empty()) usage("no OBJ file given");
+    return o;
+}
+
+// Counts triangles of any triangle-type primitive set.
+struct TriangleCounter {
+    std::size_t n = 0;
+    void operator()(const osg::Vec3&, const osg::Vec3&, const osg::Vec3&) { ++n; }
+};
+
+// Makes every geometry draw through VBOs (no display lists, the 3.6 default made explicit), counts
+// drawables/triangles, and restores the OBJ specular exponent: the obj plugin maps Ns (a Phong
+// exponent, as sgfx::writeObj writes it) to Ns/1000*128, which is not what sgfx renders.
+class PrepareVisitor : public osg::NodeVisitor {
+public:
+    PrepareVisitor() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
+
+    void apply(osg::Node& node) override {
+        fixMaterial(node.getStateSet());
+        traverse(node);
+    }
+    void apply(osg::Drawable& d) override {
+        fixMaterial(d.getStateSet());
+        ++drawables;
+        if (osg::Geometry* g = d.asGeometry()) {
+            g->setUseDisplayList(false);
+            g->setUseVertexBufferObjects(true);
+            osg::TriangleFunctor<TriangleCounter> tc;
+            g->accept(tc);
+            triangles += tc.n;
+            if (const osg::Array* v = g->getVertexArray()) vertices += v->getNumElements();
+            primitiveSets += g->getNumPrimitiveSets();
+        }
+    }
+
+    std::size_t drawables = 0, triangles = 0, vertices = 0, primitiveSets = 0, materials = 0;
+
+private:
+    void fixMaterial(osg::StateSet* ss) {
+        if (!ss) return;
+        auto* m = dynamic_cast<osg::Material*>(ss->getAttribute(osg::StateAttribute::MATERIAL));
+        if (!m || !fixed_.insert({m, true}).second) return;
+        ++materials;
+        const float ns = m->getShininess(osg::Material::FRONT) * 1000.0f / 128.0f;
+        m->setShininess(osg::Material::FRONT_AND_BACK, std::clamp(ns, 0.0f, 128.0f));
+    }
+    std::map<osg::Material*, bool> fixed_;
+};
+
+bool symbolFrom(void* lib, const char* name) {
+    void* global = dlsym(RTLD_DEFAULT, name);
+    return global && global == dlsym(lib, name);
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const Options opt = parse(argc, argv);
+    using clock = std::chrono::steady_clock;
+
+    // ---- OSMesa context (compatibility profile, OSG 3.6 as packaged uses the fixed-function path)
+    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+    if (!ctx) {
+        std::fprintf(stderr, "osg_polygon: OSMesaCreateContextExt failed\n");
+        return 1;
+    }
+    struct ContextGuard {
+        OSMesaContext c;
+        ~ContextGuard() { OSMesaDestroyContext(c); }
+    } contextGuard{ctx};
+    std::vector<unsigned char> buffer(std::size_t(opt.width) * std::size_t(opt.height) * 4);
+    if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, opt.width, opt.height)) {
+        std::fprintf(stderr, "osg_polygon: OSMesaMakeCurrent failed\n");
+        return 1;
+    }
+
+    // ---- make sure we really talk to OSMesa (see the header comment)
+    void* osmesaLib = dlopen("libOSMesa.so.8", RTLD_LAZY | RTLD_NOLOAD);
+    const char* probes[] = {"glGetString", "glDrawElements", "glClear", "glEnable"};
+    bool bound = osmesaLib != nullptr;
+    for (const char* p : probes) bound = bound && symbolFrom(osmesaLib, p);
+    if (!bound) {
+        std::fprintf(stderr, "osg_polygon: gl* symbols do not resolve to libOSMesa.so.8 (libGL's dispatch won?); "
+                             "run through bench/run_osg_polygon.sh (LD_PRELOAD=libOSMesa.so.8)\n");
+        return 1;
+    }
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    if (!renderer || !version) {
+        std::fprintf(stderr, "osg_polygon: glGetString returned NULL: GL calls are not reaching OSMesa\n");
+        return 1;
+    }
+    std::printf("GL_RENDERER: %s\nGL_VERSION: %s\n", renderer, version);
+    if (!std::strstr(renderer, "llvmpipe"))
+        std::fprintf(stderr, "osg_polygon: warning: renderer is not llvmpipe, timings are not comparable\n");
+    if (osg::getGLExtensionFuncPtr("glBindBuffer") != reinterpret_cast<void*>(OSMesaGetProcAddress("glBindBuffer"))) {
+        std::fprintf(stderr, "osg_polygon: OSG resolves GL entry points through libGL's glXGetProcAddressARB, not "
+                             "OSMesa's (is glXGetProcAddressARB exported from the executable?)\n");
+        return 1;
+    }
+    if (const char* t = std::getenv("LP_NUM_THREADS")) std::printf("LP_NUM_THREADS=%s\n", t);
+
+    // ---- load: the obj plugin makes one Geode+Geometry per (object, material) state, so objects stay
+    // separate drawables. "noRotation": our OBJ is Z up already (the plugin rotates Y-up to Z-up by
+    // default). Its default mesh optimisation (osgUtil::optimizeMesh: indexing + vertex cache order)
+    // stays on; without it every face would be its own DrawArrays.
+    const auto tl0 = clock::now();
+    osg::ref_ptr<osgDB::Options> readOptions = new osgDB::Options("noRotation");
+    osg::ref_ptr<osg::Node> model = osgDB::readRefNodeFile(opt.file, readOptions.get());
+    if (!model) {
+        std::fprintf(stderr, "osg_polygon: cannot load %s\n", opt.file.c_str());
+        return 1;
+    }
+    const double loadMs = std::chrono::duration<double, std::milli>(clock::now() - tl0).count();
+    PrepareVisitor before;
+    model->accept(before);
+    std::printf("loaded %s in %.0f ms: %zu drawables, %zu triangles, %zu vertices, %zu primitive sets, %zu materials\n",
+                opt.file.c_str(), loadMs, before.drawables, before.triangles, before.vertices, before.primitiveSets,
+                before.materials);
+    if (opt.optimize) {
+        const auto to0 = clock::now();
+        osgUtil::Optimizer optimizer;
+        optimizer.optimize(model.get(), osgUtil::Optimizer::DEFAULT_OPTIMIZATIONS);
+        PrepareVisitor after;
+        model->accept(after);
+        std::printf("osgUtil::Optimizer DEFAULT_OPTIMIZATIONS in %.0f ms: %zu drawables, %zu triangles\n",
+                    std::chrono::duration<double, std::milli>(clock::now() - to0).count(), after.drawables,
+                    after.triangles);
+    } else {
+        std::printf("osgUtil::Optimizer: not run (scene graph as loaded; --optimize to run it)\n");
+    }
+
+    // ---- global state: lighting on, one-sided, back faces culled (sgfx's default), local viewer like
+    // sgfx's Blinn-Phong (which uses the true view vector)
+    osg::ref_ptr<osg::Group> root = new osg::Group;
+    root->addChild(model.get());
+    osg::StateSet* ss = root->getOrCreateStateSet();
+    osg::ref_ptr<osg::LightModel> lightModel = new osg::LightModel;
+    lightModel->setTwoSided(false);
+    lightModel->setLocalViewer(true);
+    lightModel->setAmbientIntensity(osg::Vec4(opt.ambient, opt.ambient, opt.ambient, 1.0f));
+    ss->setAttributeAndModes(lightModel.get(), osg::StateAttribute::ON);
+    ss->setMode(GL_LIGHTING, osg::StateAttribute::ON);
+    ss->setAttributeAndModes(new osg::CullFace(osg::CullFace::BACK), osg::StateAttribute::ON);
+
+    // ---- viewer embedded in our context
+    osgViewer::Viewer viewer;
+    viewer.setThreadingModel(osgViewer::Viewer::SingleThreaded);
+    viewer.setUpViewerAsEmbeddedInWindow(0, 0, opt.width, opt.height);
+    viewer.setSceneData(root.get());
+    // Sun: fixed in world space; position (w=0) points towards the light, i.e. minus the travel
+    // direction normalize(-0.4,-0.3,-0.85) used by the sgfx demo.
+    viewer.setLightingMode(osg::View::SKY_LIGHT);
+    osg::Light* sun = viewer.getLight();
+    osg::Vec3 toSun(0.4f, 0.3f, 0.85f);
+    toSun.normalize();
+    sun->setPosition(osg::Vec4(toSun, 0.0f));
+    sun->setAmbient(osg::Vec4(0, 0, 0, 1));
+    sun->setDiffuse(osg::Vec4(opt.sun, opt.sun, opt.sun, 1));
+    sun->setSpecular(osg::Vec4(opt.sun, opt.sun, opt.sun, 1));
+
+    osg::Camera* camera = viewer.getCamera();
+    camera->setClearColor(osg::Vec4(0.45f, 0.62f, 0.85f, 1.0f)); // linear sky blue
+    camera->setComputeNearFarMode(osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
+    // sgfx culls each node's bounding sphere against all six frustum planes and nothing else; OSG's
+    // default culls against the sides only (it expects to compute near/far) and adds small-feature
+    // culling. Match sgfx unless --osg-culling.
+    if (!opt.osgCulling) camera->setCullingMode(osg::CullSettings::VIEW_FRUSTUM_CULLING);
+    const double aspect = double(opt.width) / double(opt.height);
+    camera->setProjectionMatrixAsPerspective(polygon::kPathFovyDegrees, aspect, polygon::kPathNear,
+                                             polygon::kPathFar);
+    viewer.realize();
+    if (opt.srgb) glEnable(GL_FRAMEBUFFER_SRGB); // OSG never touches it, so it stays on
+
+    auto setPose = [&](int i) {
+        const float t = float(i) / float(opt.frames);
+        const polygon::CameraPose p = polygon::cameraPose(t, 800.f);
+        camera->setViewMatrixAsLookAt(osg::Vec3d(p.eye.x, p.eye.y, p.eye.z),
+                                      osg::Vec3d(p.target.x, p.target.y, p.target.z),
+                                      osg::Vec3d(p.up.x, p.up.y, p.up.z));
+    };
+    auto frame = [&]() {
+        viewer.frame();
+        glFinish();
+    };
+
+    // Draw statistics of the last frame (outside the timed region).
+    auto* osgRenderer = dynamic_cast<osgViewer::Renderer*>(camera->getRenderer());
+    auto lastFrameStats = [&](osgUtil::Statistics& stats) {
+        if (!osgRenderer) return false;
+        for (unsigned k = 0; k < 2; ++k) {
+            osgUtil::SceneView* sv = osgRenderer->getSceneView(k);
+            stats.reset();
+            if (sv && sv->getStats(stats) && stats.numDrawables > 0) return true;
+        }
+        return false;
+    };
+
+    // ---- warm-up (GL objects are compiled on first draw), then the timed lap
+    for (int i = 0; i < 3; ++i) {
+        setPose(i * opt.frames / 3);
+        frame();
+    }
+    std::vector<double> ms;
+    ms.reserve(std::size_t(opt.frames));
+    double drawablesSum = 0, trianglesSum = 0;
+    int statFrames = 0;
+    for (int i = 0; i < opt.frames; ++i) {
+        setPose(i);
+        const auto t0 = clock::now();
+        frame();
+        ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+        osgUtil::Statistics stats;
+        if (lastFrameStats(stats)) {
+            ++statFrames;
+            drawablesSum += stats.numDrawables;
+            unsigned tris = 0;
+            for (const auto& [mode, count] : stats.getPrimitiveCountMap())
+                if (mode == GL_TRIANGLES || mode == GL_TRIANGLE_STRIP || mode == GL_TRIANGLE_FAN) tris += count;
+            trianglesSum += tris;
+        }
+    }
+
+    const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / double(ms.size());
+    const double med = median(ms);
+    std::printf("frames: %d at %dx%d (after 3 warm-up frames)\n", opt.frames, opt.width, opt.height);
+    std::printf("ms/frame: mean %.3f  median %.3f  min %.3f  max %.3f\n", mean, med,
+                *std::min_element(ms.begin(), ms.end()), *std::max_element(ms.begin(), ms.end()));
+    std::printf("fps: %.2f (from mean)\n", 1000.0 / mean);
+    if (statFrames > 0)
+        std::printf("per frame (mean over %d frames): %.0f drawables drawn, %.0f triangles submitted\n", statFrames,
+                    drawablesSum / statFrames, trianglesSum / statFrames);
+    std::printf("BENCH osg ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f size=%dx%d\n", mean, 1000.0 / mean,
+                opt.frames, med, opt.width, opt.height);
+
+    // ---- the last frame as PNG, top row first
+    if (!opt.out.empty()) {
+        const std::size_t row = std::size_t(opt.width) * 3;
+        std::vector<unsigned char> px(row * std::size_t(opt.height)), flipped(px.size());
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0, 0, opt.width, opt.height, GL_RGB, GL_UNSIGNED_BYTE, px.data());
+        for (int y = 0; y < opt.height; ++y)
+            std::memcpy(flipped.data() + std::size_t(y) * row, px.data() + std::size_t(opt.height - 1 - y) * row, row);
+        if (!stbi_write_png(opt.out.c_str(), opt.width, opt.height, 3, flipped.data(), int(row))) {
+            std::fprintf(stderr, "osg_polygon: cannot write %s\n", opt.out.c_str());
+            return 1;
+        }
+        std::printf("wrote %s\n", opt.out.c_str());
+    }
+
+    return 0; // the viewer is destroyed first (its GL objects released in our context), then the context
+}

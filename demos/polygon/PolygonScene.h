@@ -1,0 +1,91 @@
+#pragma once
+// The proving ground: a procedural test site for simulator-style rendering, built from
+// sgfx::shapes and plain sgfx nodes. Everything is deterministic for a given seed.
+//
+// World: Z up, metres. The ground spans [-extent/2, extent/2]^2 around the origin:
+//   terrain   heightfield tiles (one Geometry each, so frustum culling has something to cull)
+//   roads     a ring road and two cross roads, flat strips following the terrain height
+//   buildings instances of a few shared building prototypes, grouped by area
+//   trees     one shared tree (trunk + alpha-masked leaf cards) under many Transforms
+//   vehicle   a tracked robot vehicle near the centre
+//   glass     two alpha-blended glass panes near the centre
+//   lights    a directional sun and an ambient light
+#include <sgfx/Group.h>
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace polygon {
+
+// Small deterministic PRNG (splitmix64): the same seed gives the same scene everywhere.
+class SplitMix64 {
+public:
+    explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
+    std::uint64_t next() {
+        std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    // Uniform in [0, 1).
+    float uniform() { return float(next() >> 40) * (1.0f / 16777216.0f); }
+    float uniform(float lo, float hi) { return lo + (hi - lo) * uniform(); }
+    // Uniform integer in [0, n).
+    std::size_t index(std::size_t n) { return n ? std::size_t(next() % n) : 0; }
+    // Standard normal (Box-Muller).
+    float normal();
+
+private:
+    std::uint64_t state_;
+};
+
+// Gentle rolling hills (|height| <= 8 m), flattened to 0 around the central test area.
+class Terrain {
+public:
+    explicit Terrain(std::uint64_t seed);
+    float height(float x, float y) const;
+    glm::vec3 normal(float x, float y) const;
+
+    static constexpr float kMaxAmplitude = 8.0f;
+    static constexpr float kFlatRadius = 45.0f;  // fully flat inside
+    static constexpr float kBlendRadius = 110.0f; // full hills outside
+
+private:
+    struct Wave {
+        glm::vec2 dir;
+        float k, amplitude, phase;
+    };
+    std::vector<Wave> waves_;
+};
+
+struct SceneOptions {
+    float extent = 800.0f;   // metres, side of the square ground
+    float scale = 1.0f;      // scales the triangle count roughly linearly (> 0)
+    std::uint64_t seed = 1;
+};
+
+struct SceneInfo {
+    int terrainTiles = 0;
+    int terrainCellsPerTile = 0;
+    int roadPieces = 0;
+    int buildings = 0;
+    int buildingPrototypes = 0;
+    int trees = 0;
+};
+
+struct PolygonScene {
+    std::shared_ptr<sgfx::Group> root;
+    // Named subgraphs, also reachable from root (handy for tests and tools).
+    std::shared_ptr<sgfx::Group> terrain, roads, buildings, trees, vehicle, glass;
+    SceneInfo info;
+};
+
+// Builds the whole proving ground. Throws std::invalid_argument for a non-finite or
+// non-positive scale or extent.
+PolygonScene buildPolygonScene(const SceneOptions& options = {});
+
+} // namespace polygon
