@@ -8,17 +8,17 @@
 // Headless, no display: we create the OSMesa context ourselves and run osgViewer::Viewer
 // "embedded" in it (GraphicsWindowEmbedded, single-threaded), calling viewer.frame() ourselves.
 //
-// libGL vs OSMesa: Debian's libosg links libGL.so.1 (glvnd). Two things must resolve to OSMesa:
+// libGL vs OSMesa: Debian's libosg links libGL.so.1 (glvnd), whose gl* are libGLdispatch stubs
+// that do nothing without a GLX context (glGetString returns NULL under OSMesa). Two paths must
+// reach OSMesa instead:
 //  1. Plain gl* calls from libosg: the dynamic linker binds them to the first library in the global
-//     scope that defines them. OSMesa is linked first (before any OSG library), so it comes before
-//     libGL (which is only an indirect dependency) and its gl* win. Checked at start-up below.
-//  2. Extension/core-2.0+ entry points that OSG looks up at run time: on Linux
-//     osg::getGLExtensionFuncPtr() calls dlsym(RTLD_DEFAULT, "glXGetProcAddressARB"), which would
-//     be glvnd's and hand back libGLdispatch stubs that are no-ops without a GLX context (VBOs,
-//     shaders... would silently do nothing). This executable therefore defines and exports
-//     glXGetProcAddressARB/glXGetProcAddress forwarding to OSMesaGetProcAddress; being in the
-//     executable they come first in the global scope. Also checked at start-up.
-// If either check fails the program stops, rather than time a context that draws nothing.
+//     scope that defines them. OSMesa is linked first (before any OSG library, see
+//     bench/CMakeLists.txt), so it precedes libGL (only an indirect dependency) and its gl* win.
+//  2. Entry points OSG looks up at run time (VBOs, shaders...): Debian's OSG 3.6.5 resolves them in
+//     osg::getGLExtensionFuncPtr() with dlsym(RTLD_DEFAULT, name), which follows the same order, so
+//     point 1 covers it (it does not go through glXGetProcAddressARB in this build).
+// Both are checked at start-up; on failure the program stops rather than time a context that
+// draws nothing. If a different link line ever puts libGL first, LD_PRELOAD=libOSMesa.so.8 fixes it.
 #include <GL/osmesa.h>
 
 #include <osg/CullFace>
@@ -53,16 +53,6 @@
 #include <numeric>
 #include <string>
 #include <vector>
-
-// ---- see the header comment, point 2
-extern "C" {
-__attribute__((visibility("default"))) void (*glXGetProcAddressARB(const unsigned char* name))(void) {
-    return reinterpret_cast<void (*)(void)>(OSMesaGetProcAddress(reinterpret_cast<const char*>(name)));
-}
-__attribute__((visibility("default"))) void (*glXGetProcAddress(const unsigned char* name))(void) {
-    return reinterpret_cast<void (*)(void)>(OSMesaGetProcAddress(reinterpret_cast<const char*>(name)));
-}
-}
 
 namespace {
 
@@ -172,9 +162,18 @@ private:
     std::map<osg::Material*, bool> fixed_;
 };
 
-bool symbolFrom(void* lib, const char* name) {
-    void* global = dlsym(RTLD_DEFAULT, name);
-    return global && global == dlsym(lib, name);
+// GL entry points OSG uses on this path (fixed function + VBOs), checked before anything is drawn.
+const char* const kProbes[] = {"glGetString", "glClear",       "glDrawElements", "glEnable",
+                               "glLightfv",   "glGenBuffers",  "glBindBuffer",   "glBufferData",
+                               "glUseProgram", "glVertexPointer", "glNormalPointer"};
+
+std::string libraryOf(void* p) {
+    Dl_info info;
+    return p && dladdr(p, &info) && info.dli_fname ? info.dli_fname : "(null)";
+}
+// OSMesa's own entry points, or libglapi's dispatch stubs that OSMesa drives.
+bool isMesa(const std::string& lib) {
+    return lib.find("libOSMesa") != std::string::npos || lib.find("libglapi") != std::string::npos;
 }
 
 double median(std::vector<double> v) {
@@ -206,28 +205,25 @@ int main(int argc, char** argv) {
     }
 
     // ---- make sure we really talk to OSMesa (see the header comment)
-    void* osmesaLib = dlopen("libOSMesa.so.8", RTLD_LAZY | RTLD_NOLOAD);
-    const char* probes[] = {"glGetString", "glDrawElements", "glClear", "glEnable"};
-    bool bound = osmesaLib != nullptr;
-    for (const char* p : probes) bound = bound && symbolFrom(osmesaLib, p);
-    if (!bound) {
-        std::fprintf(stderr, "osg_polygon: gl* symbols do not resolve to libOSMesa.so.8 (libGL's dispatch won?); "
-                             "run through bench/run_osg_polygon.sh (LD_PRELOAD=libOSMesa.so.8)\n");
-        return 1;
-    }
-    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     if (!renderer || !version) {
-        std::fprintf(stderr, "osg_polygon: glGetString returned NULL: GL calls are not reaching OSMesa\n");
+        std::fprintf(stderr, "osg_polygon: glGetString returned NULL: GL calls are not reaching OSMesa "
+                             "(libGL's dispatch won; try LD_PRELOAD=libOSMesa.so.8)\n");
         return 1;
     }
     std::printf("GL_RENDERER: %s\nGL_VERSION: %s\n", renderer, version);
     if (!std::strstr(renderer, "llvmpipe"))
         std::fprintf(stderr, "osg_polygon: warning: renderer is not llvmpipe, timings are not comparable\n");
-    if (osg::getGLExtensionFuncPtr("glBindBuffer") != reinterpret_cast<void*>(OSMesaGetProcAddress("glBindBuffer"))) {
-        std::fprintf(stderr, "osg_polygon: OSG resolves GL entry points through libGL's glXGetProcAddressARB, not "
-                             "OSMesa's (is glXGetProcAddressARB exported from the executable?)\n");
-        return 1;
+    for (const char* name : kProbes) {
+        const std::string direct = libraryOf(dlsym(RTLD_DEFAULT, name));
+        const std::string viaOsg = libraryOf(osg::getGLExtensionFuncPtr(name));
+        if (!isMesa(direct) || !isMesa(viaOsg)) {
+            std::fprintf(stderr, "osg_polygon: %s resolves to '%s' (direct) / '%s' (osg::getGLExtensionFuncPtr), "
+                                 "not OSMesa; try LD_PRELOAD=libOSMesa.so.8\n",
+                         name, direct.c_str(), viaOsg.c_str());
+            return 1;
+        }
     }
     if (const char* t = std::getenv("LP_NUM_THREADS")) std::printf("LP_NUM_THREADS=%s\n", t);
 

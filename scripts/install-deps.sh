@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages sgfx needs, only those missing. Nothing else is downloaded:
+# the GL loader (glad) is committed pre-generated under third_party/glad.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config   # toolchain
+  libglm-dev libglfw3-dev libstb-dev             # math, windows, PNG
+  libosmesa6-dev                                 # software OpenGL 4.5 core (llvmpipe), headless
+  libegl-dev libegl1 libegl-mesa0                # headless GPU contexts (libEGL is opened at run time)
+  libgtest-dev libbenchmark-dev                  # tests and benchmarks
+  libopenscenegraph-dev                          # the OpenSceneGraph peer benchmark
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "sgfx: installing ${missing[*]}"
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "sgfx: need root (or sudo) to install: ${missing[*]}" >&2; exit 1; }
+    sudo=sudo
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
