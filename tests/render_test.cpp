@@ -253,3 +253,34 @@ TEST(Contexts, WindowWithoutDisplaySaysSo) {
     if (saved) setenv("DISPLAY", keep.c_str(), 1);
     if (wl) setenv("WAYLAND_DISPLAY", keepWl.c_str(), 1);
 }
+
+TEST(Render, NestedCameraRendersToATextureUsedInTheSameFrame) {
+    auto v = orthoTopViewer(kSize, kHalf);
+    // The sub-camera sees a 0.5-grey quad; its image textures a quad in the main view.
+    auto rtt = Camera::create();
+    rtt->setViewport(0, 0, 16, 16);
+    rtt->setLookAt({0, 0, 10}, {0, 0, 0}, {0, 1, 0});
+    rtt->projectionMatrix = glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, 0.1f, 100.0f);
+    rtt->clearColor = {0, 0, 1, 1};
+    rtt->addChild(quadAt(2.0f, 2.0f, {0, 0, 0}, flat({0.5f, 0.5f, 0.5f})));
+    rtt->renderTarget = Texture::create(nullptr);
+    auto screen = Material::create();
+    screen->ambient = glm::vec3(1.0f);
+    screen->diffuse = {0, 0, 0, 1};
+    screen->baseColorTexture = rtt->renderTarget;
+    auto amb = Light::create(LightType::Ambient);
+    auto root = Group::create();
+    root->addChild(amb);
+    root->addChild(rtt);
+    root->addChild(quadAt(2.0f, 2.0f, {0, 0, 0}, screen));
+    v->setSceneData(root);
+    v->frame();
+    const Image img = v->capture();
+    expectPixel(img, 32, 32, {0.5, 0.5, 0.5}); // sRGB-stored, decoded on sampling, encoded once
+    expectPixel(img, 4, 4, {0, 0, 0}, 0);      // outside the screen quad: main clear colour
+    expectNoGlErrors(*v);
+    // The target follows the sub-camera's viewport.
+    rtt->setViewport(0, 0, 8, 4);
+    v->frame();
+    expectPixel(v->capture(), 32, 32, {0.5, 0.5, 0.5});
+}

@@ -94,7 +94,13 @@ void CullVisitor::apply(Transform& t) {
 }
 
 void CullVisitor::apply(Camera& c) {
-    // A nested camera is traversed as a plain group (render-to-texture cameras come later).
+    // A render-to-texture camera draws its own subgraph in its own pass; one without a target
+    // is traversed as a plain group.
+    if (c.renderTarget) {
+        if (std::find(queue_.subCameras.begin(), queue_.subCameras.end(), &c) == queue_.subCameras.end())
+            queue_.subCameras.push_back(&c);
+        return;
+    }
     apply(static_cast<Node&>(c));
 }
 

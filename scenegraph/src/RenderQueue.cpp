@@ -17,6 +17,7 @@ void RenderQueue::clear() {
     lights.clear();
     ambientLight = glm::vec3(0.0f);
     states.clear();
+    subCameras.clear();
 }
 
 std::uint32_t RenderQueue::internEffectSet(std::vector<const EffectNode*> effects) {

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <unordered_map>
 
 namespace sgfx {
 
@@ -116,6 +117,7 @@ GLuint textureFor(const Texture& t) {
     auto& gpu = t.gpu();
     if (gpu && gpu->revision == t.revision()) return gpu->object.get();
     const Image* img = t.image.get();
+    if (!img && gpu) return gpu->object.get(); // a camera's render target
     if (!img || img->width <= 0 || img->height <= 0 || img->channels < 1 || img->channels > 4 ||
         img->pixels.size() < std::size_t(img->width) * img->height * img->channels)
         throw std::invalid_argument("sgfx: texture image is empty or smaller than width*height*channels");
@@ -154,6 +156,11 @@ void GLAPIENTRY onDebugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLs
 // Redundant-state filter; every real change is counted as a state change.
 struct Renderer::Impl {
     gl::RenderTarget scene;
+    struct CameraTarget {
+        std::weak_ptr<Node> owner;
+        gl::RenderTarget target;
+    };
+    std::unordered_map<const Camera*, CameraTarget> cameraTargets;
     gl::BufferObject frameUbo;
     std::vector<std::string> glMessages;
 
@@ -259,17 +266,43 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     context_.assertOwnerThread();
     const auto t0 = clock::now();
     stats_ = {};
+    frame_.time = time;
+    frame_.frameNumber = frameNumber;
+    // Forget the targets of render-to-texture cameras that no longer exist.
+    std::erase_if(impl_->cameraTargets, [](const auto& e) { return e.second.owner.expired(); });
+    renderView(camera, impl_->scene, queue_, plan_, 0);
+    if (camera.renderTarget) copyToTexture(impl_->scene, *camera.renderTarget);
+    stats_.drawMs = std::chrono::duration<double, std::milli>(clock::now() - t0).count() - stats_.cullMs;
+}
+
+void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth) {
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
     const Viewport vp = camera.viewport;
-    impl_->scene.resize(vp.width, vp.height);
+    target.resize(vp.width, vp.height);
 
     // ---- cull
-    queue_.clear();
-    plan_.clear();
-    CullVisitor cull(camera, queue_, &plan_);
+    queue.clear();
+    plan.clear();
+    CullVisitor cull(camera, queue, &plan);
     cull.run(camera);
-    queue_.sort();
-    stats_.culledNodes = cull.culledNodes;
-    stats_.items = queue_.size();
+    queue.sort();
+    stats_.culledNodes += cull.culledNodes;
+    stats_.items += queue.size();
+    stats_.cullMs += std::chrono::duration<double, std::milli>(clock::now() - t0).count();
+
+    // ---- nested render-to-texture cameras first (each with its own queue and target)
+    constexpr int kMaxCameraDepth = 4; // a camera seen inside its own subgraph stops here
+    if (depth < kMaxCameraDepth) {
+        for (Camera* sub : queue.subCameras) {
+            auto& entry = impl_->cameraTargets[sub];
+            entry.owner = sub->weak_from_this();
+            RenderQueue subQueue;
+            FramePlan subPlan;
+            renderView(*sub, entry.target, subQueue, subPlan, depth + 1);
+            copyToTexture(entry.target, *sub->renderTarget);
+        }
+    }
 
     glm::mat4 projection = camera.projectionMatrix;
     if (camera.computeNearFar && camera.perspective() && cull.computedFar > 0.0f) {
@@ -284,11 +317,8 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     frame_.eye = glm::vec3(glm::inverse(camera.viewMatrix)[3]);
     frame_.width = vp.width;
     frame_.height = vp.height;
-    frame_.time = time;
-    frame_.frameNumber = frameNumber;
-    const auto t1 = clock::now();
 
-    // ---- per-frame uniforms, shared by every program through binding 0
+    // ---- per-view uniforms, shared by every program through binding 0
     FrameBlock fb{};
     fb.view = frame_.view;
     fb.projection = frame_.projection;
@@ -296,39 +326,61 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     fb.invViewProjection = frame_.inverseViewProjection;
     fb.eye = glm::vec4(frame_.eye, 1.0f);
     fb.viewport = glm::vec4(0.0f, 0.0f, float(vp.width), float(vp.height));
-    fb.ambientLight = glm::vec4(queue_.ambientLight, 0.0f);
-    fb.time = glm::vec4(float(time), 0, 0, 0);
-    const int nLights = std::min<int>(int(queue_.lights.size()), kMaxLights);
+    fb.ambientLight = glm::vec4(queue.ambientLight, 0.0f);
+    fb.time = glm::vec4(float(frame_.time), 0, 0, 0);
+    const int nLights = std::min<int>(int(queue.lights.size()), kMaxLights);
     fb.lightCount = glm::ivec4(nLights, 0, 0, 0);
     for (int i = 0; i < nLights; ++i) {
-        fb.lightVector[i] = queue_.lights[std::size_t(i)].vector;
-        fb.lightColor[i] = glm::vec4(queue_.lights[std::size_t(i)].color, 0.0f);
+        fb.lightVector[i] = queue.lights[std::size_t(i)].vector;
+        fb.lightColor[i] = glm::vec4(queue.lights[std::size_t(i)].color, 0.0f);
     }
     glNamedBufferSubData(impl_->frameUbo.get(), 0, sizeof fb, &fb);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, impl_->frameUbo.get());
     impl_->invalidate();
+    current_ = &queue;
 
-    for (auto& p : plan_.passes)
+    for (auto& p : plan.passes)
         if (p->stage() != PassStage::Post) p->execute(*this);
 
     // ---- main pass: linear shading, sRGB-encoded once by the framebuffer on write
-    glBindFramebuffer(GL_FRAMEBUFFER, impl_->scene.fbo.get());
+    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo.get());
     glViewport(0, 0, vp.width, vp.height);
     glEnable(GL_FRAMEBUFFER_SRGB);
     glDepthMask(GL_TRUE);
     impl_->depthKnown = false;
     const glm::vec4 cc = camera.clearColor;
     glClearColor(cc.r, cc.g, cc.b, cc.a);
-    GLbitfield mask = (camera.clearColorEnabled ? GL_COLOR_BUFFER_BIT : 0u) | (camera.clearDepthEnabled ? GL_DEPTH_BUFFER_BIT : 0u);
+    const GLbitfield mask =
+        (camera.clearColorEnabled ? GL_COLOR_BUFFER_BIT : 0u) | (camera.clearDepthEnabled ? GL_DEPTH_BUFFER_BIT : 0u);
     if (mask) glClear(mask);
-    drawItems(queue_.opaque);
-    drawItems(queue_.transparent);
+    drawItems(queue.opaque);
+    drawItems(queue.transparent);
 
-    for (auto& p : plan_.passes)
+    for (auto& p : plan.passes)
         if (p->stage() == PassStage::Post) p->execute(*this);
-    const auto t2 = clock::now();
-    stats_.cullMs = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    stats_.drawMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    current_ = &queue_;
+}
+
+void Renderer::copyToTexture(const gl::RenderTarget& from, const Texture& to) {
+    auto& gpu = to.gpu();
+    GLint w = 0, h = 0;
+    if (gpu && gpu->object) {
+        glGetTextureLevelParameteriv(gpu->object.get(), 0, GL_TEXTURE_WIDTH, &w);
+        glGetTextureLevelParameteriv(gpu->object.get(), 0, GL_TEXTURE_HEIGHT, &h);
+    }
+    if (!gpu || w != from.width || h != from.height || to.image) {
+        if (!gpu) gpu = std::make_unique<gl::Texture>();
+        gpu->object = gl::createTexture(GL_TEXTURE_2D);
+        gpu->target = GL_TEXTURE_2D;
+        glTextureStorage2D(gpu->object.get(), 1, GL_SRGB8_ALPHA8, from.width, from.height);
+        glTextureParameteri(gpu->object.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR); // one level only
+        glTextureParameteri(gpu->object.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        glTextureParameteri(gpu->object.get(), GL_TEXTURE_WRAP_S, glWrap(to.wrapS));
+        glTextureParameteri(gpu->object.get(), GL_TEXTURE_WRAP_T, glWrap(to.wrapT));
+    }
+    gpu->revision = to.revision();
+    glCopyImageSubData(from.color.get(), GL_TEXTURE_2D, 0, 0, 0, 0, gpu->object.get(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                       from.width, from.height, 1);
 }
 
 void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override) {
@@ -343,7 +395,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
     for (const RenderItem& item : items) {
         bool programChanged = false;
         if (!override && item.programKey != programKey) {
-            const EffectSet& set = queue_.effectSets[item.effectSet];
+            const EffectSet& set = current_->effectSets[item.effectSet];
             snippets.clear();
             for (const EffectNode* e : set.effects) snippets.push_back(&e->snippet());
             program = &composer_.program(item.program(), snippets);
@@ -366,7 +418,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (item.effectSet != effectSet) {
             effectSet = item.effectSet;
             const DrawContext ctx{frame_, item};
-            for (const EffectNode* e : queue_.effectSets[effectSet].effects) e->applyUniforms(*program, ctx);
+            for (const EffectNode* e : current_->effectSets[effectSet].effects) e->applyUniforms(*program, ctx);
         }
         if (item.state != state) {
             state = item.state;

@@ -21,6 +21,10 @@ public:
         g.gpu().reset();
         apply(static_cast<Node&>(g));
     }
+    void apply(Camera& c) override {
+        release(c.renderTarget.get());
+        apply(static_cast<Node&>(c));
+    }
 
 private:
     static void release(const Texture* t) {

@@ -1,5 +1,6 @@
 #pragma once
 #include "sgfx/Group.h"
+#include "sgfx/Texture.h"
 
 #include <glm/glm.hpp>
 
@@ -28,6 +29,11 @@ public:
     // COMPUTE_NEAR_FAR), clamped so near >= far * nearFarRatio.
     bool computeNearFar = false;
     float nearFarRatio = 1e-4f;
+    // Render to texture: a camera nested in a scene with a target draws its own children into
+    // the texture (sized to its viewport, sRGB colour) before the enclosing camera draws, so any
+    // material may sample it in the same frame (a mirror, a monitor in a cockpit). On the
+    // viewer's own camera it receives a copy of the final image.
+    std::shared_ptr<Texture> renderTarget;
 
     // Perspective projection kept symbolic so a resize can refresh the aspect ratio.
     // Throws std::invalid_argument for fovy outside (0,180), near <= 0 or far <= near.

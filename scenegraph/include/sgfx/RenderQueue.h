@@ -12,6 +12,7 @@ namespace sgfx {
 class Geometry;
 class EffectNode;
 class ShaderProgram;
+class Camera;
 
 // The effects active above an item, ordered by EffectNode::order(); interned per frame so items
 // share one entry. `signature` is equal for sets whose snippets are equal (same program variant).
@@ -45,6 +46,7 @@ public:
     std::vector<LightInfo> lights;
     glm::vec3 ambientLight{0.0f};
     std::deque<ResolvedState> states; // stable addresses for items' state pointers
+    std::vector<Camera*> subCameras;  // nested render-to-texture cameras, drawn first
 
     void clear();
     void sort();

@@ -95,12 +95,15 @@ public:
 
 private:
     struct Impl;
+    void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
+    void copyToTexture(const gl::RenderTarget& from, const Texture& to);
     GraphicsContext& context_;
     ShaderComposer composer_;
     RenderQueue queue_;
     FramePlan plan_;
     FrameData frame_;
     FrameStats stats_;
+    const RenderQueue* current_ = &queue_; // the queue being drawn (sub-cameras have their own)
     std::unique_ptr<Impl> impl_;
 };
 

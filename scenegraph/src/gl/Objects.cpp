@@ -131,10 +131,11 @@ Program::~Program() {
 }
 
 int Program::location(std::string_view uniform) {
-    auto it = locations_.find(std::string(uniform));
-    if (it != locations_.end()) return it->second;
-    const int loc = glGetUniformLocation(name_, std::string(uniform).c_str());
-    locations_.emplace(std::string(uniform), loc);
+    for (const auto& [n, loc] : locations_)
+        if (n == uniform) return loc;
+    std::string key(uniform);
+    const int loc = glGetUniformLocation(name_, key.c_str());
+    locations_.emplace_back(std::move(key), loc);
     return loc;
 }
 

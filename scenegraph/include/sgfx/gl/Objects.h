@@ -10,7 +10,7 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <unordered_map>
+#include <vector>
 #include <utility>
 
 namespace sgfx::gl {
@@ -86,7 +86,8 @@ public:
 private:
     Name name_ = 0;
     std::string description_;
-    std::unordered_map<std::string, int> locations_;
+    // Few uniforms per program: a flat list searched by string_view never allocates per draw.
+    std::vector<std::pair<std::string, int>> locations_;
 };
 
 class Texture {
