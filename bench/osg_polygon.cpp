@@ -3,7 +3,8 @@
 // deterministic camera path, so sgfx/OSG frame-time ratios can be reported on the same machine.
 //
 //   osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize] [--osg-culling]
-//               [--no-srgb] [--ambient A] [--sun I]
+//               [--osg-stats] [--linear-png] [--sun-dir X,Y,Z] [--sun R,G,B] [--ambient R,G,B]
+//               [--clear R,G,B]
 //
 // Headless, no display: we create the OSMesa context ourselves and run osgViewer::Viewer
 // "embedded" in it (GraphicsWindowEmbedded, single-threaded), calling viewer.frame() ourselves.
@@ -63,17 +64,32 @@ struct Options {
     std::string out;
     bool optimize = false;   // run osgUtil::Optimizer (DEFAULT_OPTIMIZATIONS) after loading
     bool osgCulling = false; // keep OSG's DEFAULT_CULLING (adds small-feature culling, no near/far planes)
-    bool srgb = true;        // sRGB-encode on write like sgfx's main pass (GL_FRAMEBUFFER_SRGB)
-    float ambient = 0.25f;   // ambient light (LightModel), multiplies material Ka
-    float sun = 1.0f;        // directional light colour (diffuse and specular)
+    bool linearPng = false;  // write the PNG as rendered (linear) instead of sRGB-encoding it
+    bool osgStats = false;   // collect OSG's per-camera cull/draw CPU times (osg::Stats)
+    // Lighting defaults follow demos/polygon/PolygonScene.cpp: a directional sun at azimuth -35 deg,
+    // elevation 50 deg, colour (1, 0.95, 0.86) x 1.1, and an ambient light (0.30, 0.34, 0.42).
+    osg::Vec3 toSun{0.5266f, -0.3687f, 0.7660f}; // towards the light (minus the travel direction)
+    osg::Vec3 sun{1.1f, 1.045f, 0.946f};         // sun colour: diffuse and specular
+    osg::Vec3 ambient{0.30f, 0.34f, 0.42f};      // ambient light (LightModel), multiplies material Ka
+    osg::Vec3 clear{0.42f, 0.60f, 0.85f};        // linear sky-blue clear colour (the demo's kSkyColor)
 };
 
 [[noreturn]] void usage(const char* msg) {
     if (msg) std::fprintf(stderr, "osg_polygon: %s\n", msg);
     std::fprintf(stderr,
                  "usage: osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize]\n"
-                 "                   [--osg-culling] [--no-srgb] [--ambient A] [--sun I]\n");
-    std::exit(2);
+                 "                   [--osg-culling] [--osg-stats] [--linear-png] [--sun-dir X,Y,Z] [--sun R,G,B]\n"
+                 "                   [--ambient R,G,B] [--clear R,G,B]\n"
+                 "  --size WxH      viewport (default 1280x720)\n"
+                 "  --frames N      timed frames, one camera-path lap (default 300), after 3 warm-up frames\n"
+                 "  --out FILE.png  write the last frame (sRGB-encoded like sgfx's output unless --linear-png)\n"
+                 "  --optimize      run osgUtil::Optimizer DEFAULT_OPTIMIZATIONS after loading\n"
+                 "  --osg-culling   keep OSG's DEFAULT_CULLING (small-feature culling, no near/far planes)\n"
+                 "  --osg-stats     print OSG's own cull/draw CPU times per frame (osg::Stats)\n"
+                 "  --sun-dir X,Y,Z direction towards the sun (default 0.527,-0.369,0.766, the demo's)\n"
+                 "  --sun R,G,B     sun colour (default 1.1,1.045,0.946); --ambient R,G,B (0.30,0.34,0.42)\n"
+                 "  --clear R,G,B   linear clear colour (default 0.42,0.60,0.85)\n");
+    std::exit(msg ? 2 : 0);
 }
 
 Options parse(int argc, char** argv) {
@@ -97,12 +113,15 @@ Options parse(int argc, char** argv) {
             o.optimize = true;
         } else if (a == "--osg-culling") {
             o.osgCulling = true;
-        } else if (a == "--no-srgb") {
-            o.srgb = false;
-        } else if (a == "--ambient") {
-            o.ambient = float(std::atof(next().c_str()));
-        } else if (a == "--sun") {
-            o.sun = float(std::atof(next().c_str()));
+        } else if (a == "--linear-png") {
+            o.linearPng = true;
+        } else if (a == "--osg-stats") {
+            o.osgStats = true;
+        } else if (a == "--sun-dir" || a == "--sun" || a == "--ambient" || a == "--clear") {
+            osg::Vec3& v = a == "--sun-dir" ? o.toSun : a == "--sun" ? o.sun : a == "--ambient" ? o.ambient : o.clear;
+            const std::string s = next();
+            if (std::sscanf(s.c_str(), "%f,%f,%f", &v.x(), &v.y(), &v.z()) != 3)
+                usage((a + " expects three comma-separated numbers").c_str());
         } else if (a == "-h" || a == "--help") {
             usage(nullptr);
         } else if (!a.empty() && a[0] == '-') {
@@ -124,11 +143,13 @@ struct TriangleCounter {
 };
 
 // Makes every geometry draw through VBOs (no display lists, the 3.6 default made explicit), counts
-// drawables/triangles, and restores the OBJ specular exponent: the obj plugin maps Ns (a Phong
-// exponent, as sgfx::writeObj writes it) to Ns/1000*128, which is not what sgfx renders.
+// drawables/triangles, restores the OBJ specular exponent (the obj plugin maps Ns, a Phong exponent
+// as sgfx::writeObj writes it, to Ns/1000*128; fixed function caps it at 128) and turns face culling
+// off for blended materials.
 class PrepareVisitor : public osg::NodeVisitor {
 public:
-    PrepareVisitor() : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
+    // fix = false: count only (used again after the optimizer, which must not rescale twice).
+    explicit PrepareVisitor(bool fix = true) : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN), fix_(fix) {}
 
     void apply(osg::Node& node) override {
         fixMaterial(node.getStateSet());
@@ -138,8 +159,10 @@ public:
         fixMaterial(d.getStateSet());
         ++drawables;
         if (osg::Geometry* g = d.asGeometry()) {
-            g->setUseDisplayList(false);
-            g->setUseVertexBufferObjects(true);
+            if (fix_) {
+                g->setUseDisplayList(false);
+                g->setUseVertexBufferObjects(true);
+            }
             osg::TriangleFunctor<TriangleCounter> tc;
             g->accept(tc);
             triangles += tc.n;
@@ -149,17 +172,28 @@ public:
     }
 
     std::size_t drawables = 0, triangles = 0, vertices = 0, primitiveSets = 0, materials = 0;
+    std::size_t transparentMaterials = 0;
 
 private:
     void fixMaterial(osg::StateSet* ss) {
-        if (!ss) return;
+        if (!ss || !fix_) return;
         auto* m = dynamic_cast<osg::Material*>(ss->getAttribute(osg::StateAttribute::MATERIAL));
-        if (!m || !fixed_.insert({m, true}).second) return;
-        ++materials;
-        const float ns = m->getShininess(osg::Material::FRONT) * 1000.0f / 128.0f;
-        m->setShininess(osg::Material::FRONT_AND_BACK, std::clamp(ns, 0.0f, 128.0f));
+        if (m && fixed_.insert({m, true}).second) {
+            ++materials;
+            const float ns = m->getShininess(osg::Material::FRONT) * 1000.0f / 128.0f;
+            m->setShininess(osg::Material::FRONT_AND_BACK, std::clamp(ns, 0.0f, 128.0f));
+        }
+        // The plugin puts materials with d < 1 in the blended transparent bin; sgfx's glass is
+        // drawn without face culling, so do the same here.
+        if (ss->getRenderingHint() == osg::StateSet::TRANSPARENT_BIN && transparent_.insert({ss, true}).second) {
+            ss->setAttributeAndModes(new osg::CullFace(osg::CullFace::BACK),
+                                     osg::StateAttribute::OFF | osg::StateAttribute::OVERRIDE);
+            ++transparentMaterials;
+        }
     }
+    bool fix_;
     std::map<osg::Material*, bool> fixed_;
+    std::map<osg::StateSet*, bool> transparent_;
 };
 
 // GL entry points OSG uses on this path (fixed function + VBOs), checked before anything is drawn.
@@ -241,14 +275,15 @@ int main(int argc, char** argv) {
     const double loadMs = std::chrono::duration<double, std::milli>(clock::now() - tl0).count();
     PrepareVisitor before;
     model->accept(before);
-    std::printf("loaded %s in %.0f ms: %zu drawables, %zu triangles, %zu vertices, %zu primitive sets, %zu materials\n",
+    std::printf("loaded %s in %.0f ms: %zu drawables, %zu triangles, %zu vertices, %zu primitive sets, %zu materials "
+                "(%zu blended)\n",
                 opt.file.c_str(), loadMs, before.drawables, before.triangles, before.vertices, before.primitiveSets,
-                before.materials);
+                before.materials, before.transparentMaterials);
     if (opt.optimize) {
         const auto to0 = clock::now();
         osgUtil::Optimizer optimizer;
         optimizer.optimize(model.get(), osgUtil::Optimizer::DEFAULT_OPTIMIZATIONS);
-        PrepareVisitor after;
+        PrepareVisitor after(false);
         model->accept(after);
         std::printf("osgUtil::Optimizer DEFAULT_OPTIMIZATIONS in %.0f ms: %zu drawables, %zu triangles\n",
                     std::chrono::duration<double, std::milli>(clock::now() - to0).count(), after.drawables,
@@ -265,7 +300,7 @@ int main(int argc, char** argv) {
     osg::ref_ptr<osg::LightModel> lightModel = new osg::LightModel;
     lightModel->setTwoSided(false);
     lightModel->setLocalViewer(true);
-    lightModel->setAmbientIntensity(osg::Vec4(opt.ambient, opt.ambient, opt.ambient, 1.0f));
+    lightModel->setAmbientIntensity(osg::Vec4(opt.ambient, 1.0f));
     ss->setAttributeAndModes(lightModel.get(), osg::StateAttribute::ON);
     ss->setMode(GL_LIGHTING, osg::StateAttribute::ON);
     ss->setAttributeAndModes(new osg::CullFace(osg::CullFace::BACK), osg::StateAttribute::ON);
@@ -275,19 +310,19 @@ int main(int argc, char** argv) {
     viewer.setThreadingModel(osgViewer::Viewer::SingleThreaded);
     viewer.setUpViewerAsEmbeddedInWindow(0, 0, opt.width, opt.height);
     viewer.setSceneData(root.get());
-    // Sun: fixed in world space; position (w=0) points towards the light, i.e. minus the travel
-    // direction normalize(-0.4,-0.3,-0.85) used by the sgfx demo.
+    // Sun: one directional light fixed in world space (SKY_LIGHT); its position (w = 0) points
+    // towards the light. Its ambient is 0: the ambient light lives in the LightModel, as in sgfx.
     viewer.setLightingMode(osg::View::SKY_LIGHT);
     osg::Light* sun = viewer.getLight();
-    osg::Vec3 toSun(0.4f, 0.3f, 0.85f);
+    osg::Vec3 toSun = opt.toSun;
     toSun.normalize();
     sun->setPosition(osg::Vec4(toSun, 0.0f));
     sun->setAmbient(osg::Vec4(0, 0, 0, 1));
-    sun->setDiffuse(osg::Vec4(opt.sun, opt.sun, opt.sun, 1));
-    sun->setSpecular(osg::Vec4(opt.sun, opt.sun, opt.sun, 1));
+    sun->setDiffuse(osg::Vec4(opt.sun, 1));
+    sun->setSpecular(osg::Vec4(opt.sun, 1));
 
     osg::Camera* camera = viewer.getCamera();
-    camera->setClearColor(osg::Vec4(0.45f, 0.62f, 0.85f, 1.0f)); // linear sky blue
+    camera->setClearColor(osg::Vec4(opt.clear, 1.0f));
     camera->setComputeNearFarMode(osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
     // sgfx culls each node's bounding sphere against all six frustum planes and nothing else; OSG's
     // default culls against the sides only (it expects to compute near/far) and adds small-feature
@@ -297,7 +332,11 @@ int main(int argc, char** argv) {
     camera->setProjectionMatrixAsPerspective(polygon::kPathFovyDegrees, aspect, polygon::kPathNear,
                                              polygon::kPathFar);
     viewer.realize();
-    if (opt.srgb) glEnable(GL_FRAMEBUFFER_SRGB); // OSG never touches it, so it stays on
+    // No sRGB encode-on-write here: OSMesa's window-system framebuffer is linear and not
+    // sRGB-capable (GL_FRAMEBUFFER_SRGB has no effect), so OSG output stays linear; --out encodes
+    // the PNG on the CPU instead so it can be compared with sgfx's images.
+    osg::Stats* cameraStats = camera->getStats();
+    if (opt.osgStats && cameraStats) cameraStats->collectStats("rendering", true);
 
     auto setPose = [&](int i) {
         const float t = float(i) / float(opt.frames);
@@ -323,20 +362,29 @@ int main(int argc, char** argv) {
         return false;
     };
 
-    // ---- warm-up (GL objects are compiled on first draw), then the timed lap
-    for (int i = 0; i < 3; ++i) {
-        setPose(i * opt.frames / 3);
-        frame();
-    }
+    // ---- warm-up at t = 0 like `polygon --bench` (GL objects are compiled on first draw), then the
+    // timed lap
+    setPose(0);
+    for (int i = 0; i < 3; ++i) frame();
     std::vector<double> ms;
     ms.reserve(std::size_t(opt.frames));
-    double drawablesSum = 0, trianglesSum = 0;
-    int statFrames = 0;
+    double drawablesSum = 0, trianglesSum = 0, cullSum = 0, drawSum = 0;
+    int statFrames = 0, timeFrames = 0;
     for (int i = 0; i < opt.frames; ++i) {
         setPose(i);
         const auto t0 = clock::now();
         frame();
         ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+        if (opt.osgStats && cameraStats) {
+            const unsigned fn = viewer.getFrameStamp()->getFrameNumber();
+            double cull = 0, draw = 0;
+            if (cameraStats->getAttribute(fn, "Cull traversal time taken", cull) &&
+                cameraStats->getAttribute(fn, "Draw traversal time taken", draw)) {
+                cullSum += cull * 1000.0;
+                drawSum += draw * 1000.0;
+                ++timeFrames;
+            }
+        }
         osgUtil::Statistics stats;
         if (lastFrameStats(stats)) {
             ++statFrames;
@@ -357,6 +405,9 @@ int main(int argc, char** argv) {
     if (statFrames > 0)
         std::printf("per frame (mean over %d frames): %.0f drawables drawn, %.0f triangles submitted\n", statFrames,
                     drawablesSum / statFrames, trianglesSum / statFrames);
+    if (timeFrames > 0)
+        std::printf("OSG camera stats (mean over %d frames): cull %.3f ms, draw dispatch %.3f ms (CPU, before glFinish)\n",
+                    timeFrames, cullSum / timeFrames, drawSum / timeFrames);
     std::printf("BENCH osg ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f size=%dx%d\n", mean, 1000.0 / mean,
                 opt.frames, med, opt.width, opt.height);
 
@@ -368,6 +419,15 @@ int main(int argc, char** argv) {
         glReadPixels(0, 0, opt.width, opt.height, GL_RGB, GL_UNSIGNED_BYTE, px.data());
         for (int y = 0; y < opt.height; ++y)
             std::memcpy(flipped.data() + std::size_t(y) * row, px.data() + std::size_t(opt.height - 1 - y) * row, row);
+        if (!opt.linearPng) {
+            unsigned char lut[256];
+            for (int i = 0; i < 256; ++i) {
+                const double c = i / 255.0;
+                const double e = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+                lut[i] = static_cast<unsigned char>(std::lround(std::clamp(e, 0.0, 1.0) * 255.0));
+            }
+            for (unsigned char& c : flipped) c = lut[c];
+        }
         if (!stbi_write_png(opt.out.c_str(), opt.width, opt.height, 3, flipped.data(), int(row))) {
             std::fprintf(stderr, "osg_polygon: cannot write %s\n", opt.out.c_str());
             return 1;

@@ -62,7 +62,12 @@ void main() {
         ambientColor *= t.rgb;
     }
     if ((sgfx_flags & FLAG_ALPHA_MAP) != 0) base.a *= texture(sgfx_alphaMap, v_texcoord).r;
-    if (sgfx_alphaCutoff >= 0.0 && base.a < sgfx_alphaCutoff) discard;
+    if (sgfx_alphaCutoff >= 0.0) {
+        // Alpha mask (glTF MASK): a fragment is either cut or fully opaque, so no partial alpha
+        // from the mask's edges or coarse mip levels reaches the target (and a captured PNG).
+        if (base.a < sgfx_alphaCutoff) discard;
+        base.a = 1.0;
+    }
 
     vec3 N = surfaceNormal();
     vec3 V = normalize(sgfx_eye.xyz - v_worldPos);

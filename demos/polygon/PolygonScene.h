@@ -24,7 +24,8 @@ namespace polygon {
 // Small deterministic PRNG (splitmix64): the same seed gives the same scene everywhere.
 class SplitMix64 {
 public:
-    explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
+    explicit SplitMix64(std::uint64_t seed)
+        : state_(seed) {}
     std::uint64_t next() {
         std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
         z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -51,7 +52,7 @@ public:
     glm::vec3 normal(float x, float y) const;
 
     static constexpr float kMaxAmplitude = 8.0f;
-    static constexpr float kFlatRadius = 45.0f;  // fully flat inside
+    static constexpr float kFlatRadius = 45.0f;   // fully flat inside
     static constexpr float kBlendRadius = 110.0f; // full hills outside
 
 private:
@@ -63,8 +64,8 @@ private:
 };
 
 struct SceneOptions {
-    float extent = 800.0f;   // metres, side of the square ground
-    float scale = 1.0f;      // scales the triangle count roughly linearly (> 0)
+    float extent = 800.0f; // metres, side of the square ground
+    float scale = 1.0f;    // scales the triangle count roughly linearly, in (0, 16]
     std::uint64_t seed = 1;
 };
 
@@ -73,8 +74,10 @@ struct SceneInfo {
     int terrainCellsPerTile = 0;
     int roadPieces = 0;
     int buildings = 0;
+    int buildingsRequested = 0; // fewer are placed when the ground is full
     int buildingPrototypes = 0;
     int trees = 0;
+    int treesRequested = 0; // likewise for trees
 };
 
 struct PolygonScene {
@@ -84,8 +87,8 @@ struct PolygonScene {
     SceneInfo info;
 };
 
-// Builds the whole proving ground. Throws std::invalid_argument for a non-finite or
-// non-positive scale or extent.
+// Builds the whole proving ground. Throws std::invalid_argument for a scale outside (0, 16]
+// or a non-finite or non-positive extent.
 PolygonScene buildPolygonScene(const SceneOptions& options = {});
 
 } // namespace polygon

@@ -1,0 +1,785 @@
+#include "PolygonScene.h"
+
+#include "CameraPath.h"
+
+#include <sgfx/Camera.h>
+#include <sgfx/Geometry.h>
+#include <sgfx/Image.h>
+#include <sgfx/Material.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/StateSet.h>
+#include <sgfx/Texture.h>
+
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+namespace polygon {
+
+float SplitMix64::normal() {
+    // Box-Muller; u1 in (0, 1] so the log is finite.
+    const float u1 = 1.0f - uniform();
+    const float u2 = uniform();
+    return std::sqrt(-2.0f * std::log(u1)) * std::cos(glm::two_pi<float>() * u2);
+}
+
+// ------------------------------------------------------------------------------------------ terrain
+Terrain::Terrain(std::uint64_t seed) {
+    SplitMix64 rng(seed ^ 0x7465727261696E00ull); // "terrain"
+    // Long, low waves: the amplitudes sum to 7.8 m (< kMaxAmplitude) so |height| stays below 8 m.
+    const float wavelengths[] = {420.0f, 260.0f, 150.0f, 90.0f, 55.0f};
+    const float amplitudes[] = {3.0f, 2.2f, 1.4f, 0.8f, 0.4f};
+    for (int i = 0; i < 5; ++i) {
+        const float a = rng.uniform(0.0f, glm::two_pi<float>());
+        waves_.push_back({glm::vec2(std::cos(a), std::sin(a)), glm::two_pi<float>() / wavelengths[i],
+                          amplitudes[i], rng.uniform(0.0f, glm::two_pi<float>())});
+    }
+}
+
+float Terrain::height(float x, float y) const {
+    const float r = std::sqrt(x * x + y * y);
+    const float f = glm::smoothstep(kFlatRadius, kBlendRadius, r);
+    if (f <= 0.0f) return 0.0f;
+    float h = 0.0f;
+    for (const Wave& w : waves_)
+        h += w.amplitude * std::sin(w.k * glm::dot(w.dir, glm::vec2(x, y)) + w.phase);
+    return f * h;
+}
+
+glm::vec3 Terrain::normal(float x, float y) const {
+    const float e = 0.25f;
+    const float hx = height(x + e, y) - height(x - e, y);
+    const float hy = height(x, y + e) - height(x, y - e);
+    return glm::normalize(glm::vec3(-hx / (2 * e), -hy / (2 * e), 1.0f));
+}
+
+namespace {
+
+using sgfx::Geometry;
+using sgfx::Group;
+using sgfx::StateSet;
+using sgfx::Transform;
+
+constexpr float kRoadWidth = 9.0f;
+constexpr float kRoadOffset = 0.05f; // metres above the terrain
+constexpr float kPlazaRadius = 60.0f;
+constexpr int kTerrainTilesPerSide = 16;
+constexpr int kAreaCellsPerSide = 8; // buildings and trees are grouped by area for culling
+
+// Defaults at scale 1, chosen for about 600k triangles in total.
+constexpr float kCellsPerTileAtScale1 = 22.0f;
+constexpr float kBuildingsAtScale1 = 330.0f;
+constexpr float kTreesAtScale1 = 1500.0f;
+
+glm::mat4 translate(const glm::vec3& t) {
+    return glm::translate(glm::mat4(1.0f), t);
+}
+glm::mat4 rotateZ(float radians) {
+    return glm::rotate(glm::mat4(1.0f), radians, glm::vec3(0, 0, 1));
+}
+glm::mat4 rotateX(float radians) {
+    return glm::rotate(glm::mat4(1.0f), radians, glm::vec3(1, 0, 0));
+}
+glm::mat4 rotateY(float radians) {
+    return glm::rotate(glm::mat4(1.0f), radians, glm::vec3(0, 1, 0));
+}
+glm::mat4 scale(float s) {
+    return glm::scale(glm::mat4(1.0f), glm::vec3(s));
+}
+
+// Blinn-Phong material whose ambient reflectance equals its diffuse colour (linear RGB).
+std::shared_ptr<sgfx::Material> makeMaterial(const glm::vec3& rgb, float alpha = 1.0f,
+                                             const glm::vec3& specular = {}, float shininess = 32.0f) {
+    auto m = sgfx::Material::create();
+    m->ambient = rgb;
+    m->diffuse = glm::vec4(rgb, alpha);
+    m->specular = specular;
+    m->shininess = shininess;
+    return m;
+}
+
+std::shared_ptr<StateSet> materialState(std::shared_ptr<sgfx::Material> m) {
+    auto s = StateSet::create();
+    s->material.set(std::move(m));
+    return s;
+}
+
+std::shared_ptr<Transform> place(const glm::mat4& m, sgfx::NodePtr child, const std::string& name = {}) {
+    auto t = Transform::create(m);
+    t->name = name;
+    t->addChild(std::move(child));
+    return t;
+}
+
+// Flat-shaded polygon pieces with the same attribute layout as sgfx::shapes (normals, tangents,
+// texcoords), so they can be mixed with shapes::append.
+void addFlatTriangle(Geometry& g, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+    const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    const glm::vec4 t(glm::normalize(b - a), 1.0f);
+    const auto base = std::uint32_t(g.positions.size());
+    for (const glm::vec3& p : {a, b, c}) {
+        g.positions.push_back(p);
+        g.normals.push_back(n);
+        g.tangents.push_back(t);
+        g.texcoords.push_back(glm::vec2(p.x + p.y, p.z) * 0.25f);
+    }
+    g.indices.insert(g.indices.end(), {base, base + 1, base + 2});
+}
+
+void addFlatQuad(Geometry& g, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
+                 const glm::vec3& d) {
+    addFlatTriangle(g, a, b, c);
+    addFlatTriangle(g, a, c, d);
+}
+
+// Circles on the ground (buildings, trees, plaza) in a uniform grid for overlap tests.
+class CircleGrid {
+public:
+    CircleGrid(float extent, float cell)
+        : half_(extent * 0.5f)
+        , cell_(cell)
+        , n_(int(std::ceil(extent / cell))) {
+        cells_.resize(std::size_t(n_) * n_);
+    }
+    bool overlaps(glm::vec2 p, float r) const {
+        const int reach = int(std::ceil((r + maxRadius_) / cell_));
+        const int cx = cellOf(p.x), cy = cellOf(p.y);
+        for (int j = std::max(0, cy - reach); j <= std::min(n_ - 1, cy + reach); ++j)
+            for (int i = std::max(0, cx - reach); i <= std::min(n_ - 1, cx + reach); ++i)
+                for (const glm::vec3& c : cells_[std::size_t(j) * n_ + i])
+                    if (glm::length(glm::vec2(c) - p) < c.z + r) return true;
+        return false;
+    }
+    void add(glm::vec2 p, float r) {
+        cells_[std::size_t(cellOf(p.y)) * n_ + cellOf(p.x)].push_back(glm::vec3(p, r));
+        maxRadius_ = std::max(maxRadius_, r);
+    }
+
+private:
+    int cellOf(float v) const { return std::clamp(int((v + half_) / cell_), 0, n_ - 1); }
+    float half_, cell_;
+    int n_;
+    float maxRadius_ = 0.0f;
+    std::vector<std::vector<glm::vec3>> cells_;
+};
+
+// Groups children by a square grid of areas so a whole area is culled with one test.
+class AreaGroups {
+public:
+    AreaGroups(std::string prefix, float extent, std::shared_ptr<Group> parent)
+        : prefix_(std::move(prefix))
+        , half_(extent * 0.5f)
+        , cell_(extent / kAreaCellsPerSide)
+        , parent_(std::move(parent)) {}
+    void add(glm::vec2 p, sgfx::NodePtr child) {
+        const int i = std::clamp(int((p.x + half_) / cell_), 0, kAreaCellsPerSide - 1);
+        const int j = std::clamp(int((p.y + half_) / cell_), 0, kAreaCellsPerSide - 1);
+        auto& g = groups_[{j, i}];
+        if (!g) {
+            g = Group::create();
+            g->name = prefix_ + "_" + std::to_string(i) + "_" + std::to_string(j);
+        }
+        g->addChild(std::move(child));
+    }
+    // Adds the non-empty areas to the parent, in a deterministic order.
+    void finish() {
+        for (auto& [key, g] : groups_)
+            parent_->addChild(g);
+    }
+
+private:
+    std::string prefix_;
+    float half_, cell_;
+    std::shared_ptr<Group> parent_;
+    std::map<std::pair<int, int>, std::shared_ptr<Group>> groups_;
+};
+
+// Distance from p to the nearest road centreline (ring road of radius ringRadius, cross roads on the axes).
+float roadDistance(glm::vec2 p, float ringRadius) {
+    return std::min({std::abs(p.x), std::abs(p.y), std::abs(glm::length(p) - ringRadius)});
+}
+
+// ------------------------------------------------------------------------------------------ terrain
+std::shared_ptr<Group> buildTerrain(const Terrain& terrain, float extent, int cells, SceneInfo& info) {
+    auto group = Group::create();
+    group->name = "terrain";
+    // One grass material for all tiles. (No vertex colours: the OBJ export, which the
+    // OpenSceneGraph peer benchmark renders, keeps only material colours.)
+    group->setStateSet(materialState(makeMaterial(glm::vec3(0.14f, 0.26f, 0.055f))));
+    const float tile = extent / kTerrainTilesPerSide;
+    const auto height = [&terrain](float x, float y) { return terrain.height(x, y); };
+    for (int j = 0; j < kTerrainTilesPerSide; ++j)
+        for (int i = 0; i < kTerrainTilesPerSide; ++i) {
+            const float x0 = -extent * 0.5f + tile * float(i), y0 = -extent * 0.5f + tile * float(j);
+            auto g = sgfx::shapes::heightfield(x0, y0, tile, tile, cells, cells, height);
+            g->name = "terrain_" + std::to_string(i) + "_" + std::to_string(j);
+            group->addChild(g);
+            ++info.terrainTiles;
+        }
+    info.terrainCellsPerTile = cells;
+    return group;
+}
+
+// ------------------------------------------------------------------------------------------ roads
+// A strip of `width` along centre(s) for s in [s0, s1], following the terrain at `lift` above it.
+std::shared_ptr<Geometry> roadStrip(const Terrain& terrain, const std::function<glm::vec2(float)>& centre,
+                                    float s0, float s1, float width, float lift, float step) {
+    auto g = Geometry::create();
+    const int along = std::max(1, int(std::ceil((s1 - s0) / step)));
+    const int across = std::max(1, int(std::ceil(width / step)));
+    for (int a = 0; a <= along; ++a) {
+        const float s = s0 + (s1 - s0) * float(a) / float(along);
+        const glm::vec2 c = centre(s);
+        const float ds = 0.01f;
+        const glm::vec2 dir = glm::normalize(centre(s + ds) - centre(s - ds));
+        const glm::vec2 side(-dir.y, dir.x);
+        for (int k = 0; k <= across; ++k) {
+            const float u = float(k) / float(across);
+            const glm::vec2 p = c + side * (width * (u - 0.5f));
+            g->positions.push_back(glm::vec3(p, terrain.height(p.x, p.y) + lift));
+            g->normals.push_back(terrain.normal(p.x, p.y));
+            g->tangents.push_back(glm::vec4(dir, 0.0f, 1.0f));
+            g->texcoords.push_back(glm::vec2(u, s / width));
+        }
+    }
+    const auto row = std::uint32_t(across + 1);
+    for (int a = 0; a < along; ++a)
+        for (int k = 0; k < across; ++k) {
+            const auto i0 = std::uint32_t(a) * row + std::uint32_t(k), i1 = i0 + 1, i2 = i0 + row,
+                       i3 = i2 + 1;
+            // side points to the left of the direction of travel, so (i0, i1, i3) is counter-clockwise from
+            // above
+            g->indices.insert(g->indices.end(), {i0, i3, i1, i0, i2, i3});
+        }
+    // Make the winding face up whatever the direction of travel.
+    if (g->indices.size() >= 3) {
+        const glm::vec3 n = glm::cross(g->positions[g->indices[1]] - g->positions[g->indices[0]],
+                                       g->positions[g->indices[2]] - g->positions[g->indices[0]]);
+        if (n.z < 0.0f)
+            for (std::size_t t = 0; t + 2 < g->indices.size(); t += 3)
+                std::swap(g->indices[t + 1], g->indices[t + 2]);
+    }
+    g->dirty();
+    return g;
+}
+
+// Upper bound of the gap between the smooth terrain and its linear interpolation over `cell` metres
+// (sum over the waves of A k^2 d^2 / 8, with d the cell diagonal); used to lift roads on coarse terrain.
+float interpolationError(float cell) {
+    const float wavelengths[] = {420.0f, 260.0f, 150.0f, 90.0f, 55.0f};
+    const float amplitudes[] = {3.0f, 2.2f, 1.4f, 0.8f, 0.4f};
+    const float d2 = 2.0f * cell * cell;
+    float e = 0.0f;
+    for (int i = 0; i < 5; ++i) {
+        const float k = glm::two_pi<float>() / wavelengths[i];
+        e += amplitudes[i] * k * k * d2 / 8.0f;
+    }
+    return e;
+}
+
+std::shared_ptr<Group> buildRoads(const Terrain& terrain, float extent, float ringRadius, float terrainCell,
+                                  SceneInfo& info) {
+    auto group = Group::create();
+    group->name = "roads";
+    group->setStateSet(
+        materialState(makeMaterial(glm::vec3(0.045f, 0.045f, 0.05f), 1.0f, glm::vec3(0.05f), 16.0f)));
+    const float step = std::min(2.0f, terrainCell);
+    const float lift = kRoadOffset + interpolationError(terrainCell) + interpolationError(step);
+    const float half = extent * 0.5f - 4.0f;
+    const float piece = 50.0f;
+    // Cross roads along the X and Y axes, in pieces so each can be culled.
+    const int pieces = std::max(1, int(std::round(2.0f * half / piece)));
+    for (int axis = 0; axis < 2; ++axis)
+        for (int p = 0; p < pieces; ++p) {
+            const float s0 = -half + 2.0f * half * float(p) / float(pieces);
+            const float s1 = -half + 2.0f * half * float(p + 1) / float(pieces);
+            auto centre = [axis](float s) { return axis == 0 ? glm::vec2(s, 0.0f) : glm::vec2(0.0f, s); };
+            auto g = roadStrip(terrain, centre, s0, s1, kRoadWidth, lift, step);
+            g->name = std::string(axis == 0 ? "road_x_" : "road_y_") + std::to_string(p);
+            group->addChild(g);
+            ++info.roadPieces;
+        }
+    // Ring road, slightly higher than the cross roads so the crossings do not fight in depth.
+    const int ringPieces = std::max(8, int(std::round(glm::two_pi<float>() * ringRadius / piece)));
+    for (int p = 0; p < ringPieces; ++p) {
+        const float s0 = glm::two_pi<float>() * ringRadius * float(p) / float(ringPieces);
+        const float s1 = glm::two_pi<float>() * ringRadius * float(p + 1) / float(ringPieces);
+        auto centre = [ringRadius](float s) {
+            const float a = s / ringRadius;
+            return glm::vec2(std::cos(a), std::sin(a)) * ringRadius;
+        };
+        auto g = roadStrip(terrain, centre, s0, s1, kRoadWidth, lift + 0.02f, step);
+        g->name = "road_ring_" + std::to_string(p);
+        group->addChild(g);
+        ++info.roadPieces;
+    }
+    return group;
+}
+
+// ------------------------------------------------------------------------------------------ buildings
+struct BuildingPrototype {
+    std::shared_ptr<Group> node;
+    float halfDiagonal = 0.0f;
+    std::size_t triangles = 0;
+};
+
+struct BuildingMaterials {
+    std::vector<std::shared_ptr<StateSet>> walls;
+    std::shared_ptr<StateSet> windows, flatRoof, tileRoof, slateRoof;
+};
+
+BuildingMaterials makeBuildingMaterials() {
+    BuildingMaterials m;
+    const glm::vec3 walls[] = {{0.62f, 0.60f, 0.55f}, {0.55f, 0.45f, 0.32f}, {0.40f, 0.40f, 0.40f},
+                               {0.45f, 0.20f, 0.12f}, {0.65f, 0.55f, 0.30f}, {0.32f, 0.13f, 0.09f},
+                               {0.38f, 0.45f, 0.50f}, {0.50f, 0.50f, 0.46f}};
+    for (const glm::vec3& c : walls)
+        m.walls.push_back(materialState(makeMaterial(c)));
+    m.windows = materialState(makeMaterial(glm::vec3(0.04f, 0.06f, 0.09f), 1.0f, glm::vec3(0.6f), 64.0f));
+    m.flatRoof = materialState(makeMaterial(glm::vec3(0.12f, 0.12f, 0.12f)));
+    m.tileRoof = materialState(makeMaterial(glm::vec3(0.35f, 0.08f, 0.04f)));
+    m.slateRoof = materialState(makeMaterial(glm::vec3(0.09f, 0.10f, 0.12f)));
+    return m;
+}
+
+// A building of footprint w x d and `floors` storeys, base at z = 0 (the walls reach 4 m below
+// so instances on slopes never float). Walls inherit the instance's colour.
+BuildingPrototype makeBuildingPrototype(float w, float d, int floors, bool gable, bool slate,
+                                        const BuildingMaterials& mats, int index) {
+    constexpr float kFloorHeight = 3.2f, kFoundation = 4.0f;
+    const float h = kFloorHeight * float(floors);
+    auto node = Group::create();
+    node->name = "building_prototype_" + std::to_string(index);
+
+    auto walls = Geometry::create();
+    walls->name = "walls";
+    sgfx::shapes::append(*walls, *sgfx::shapes::box({w, d, h + kFoundation}),
+                         translate({0, 0, 0.5f * (h - kFoundation)}));
+
+    // Windows: protruding dark boxes, one row per floor on every facade.
+    auto windows = Geometry::create();
+    windows->name = "windows";
+    auto windowX = sgfx::shapes::box({1.4f, 0.16f, 1.6f}); // on the facades facing +-Y
+    auto windowY = sgfx::shapes::box({0.16f, 1.4f, 1.6f}); // on the facades facing +-X
+    for (int f = 0; f < floors; ++f) {
+        const float z = kFloorHeight * float(f) + 1.7f;
+        const int nx = std::max(1, int((w - 2.0f) / 3.0f)), ny = std::max(1, int((d - 2.0f) / 3.0f));
+        for (int i = 0; i < nx; ++i) {
+            const float x = -0.5f * w + w * (float(i) + 0.5f) / float(nx);
+            for (float sy : {-1.0f, 1.0f})
+                sgfx::shapes::append(*windows, *windowX, translate({x, sy * 0.5f * d, z}));
+        }
+        for (int i = 0; i < ny; ++i) {
+            const float y = -0.5f * d + d * (float(i) + 0.5f) / float(ny);
+            for (float sx : {-1.0f, 1.0f})
+                sgfx::shapes::append(*windows, *windowY, translate({sx * 0.5f * w, y, z}));
+        }
+    }
+    windows->setStateSet(mats.windows);
+
+    auto roof = Geometry::create();
+    roof->name = "roof";
+    if (gable) {
+        // Ridge along the longer side; the eaves overhang by `ov` all round.
+        const bool alongX = w >= d;
+        const float L = alongX ? w : d, S = alongX ? d : w; // ridge length, span
+        const float ov = 0.5f, rise = 0.35f * S;
+        const float HL = 0.5f * L + ov, HS = 0.5f * S + ov;
+        const float z0 = h - ov * rise / (0.5f * S); // eave height, so the slope meets the wall top
+        const float zr = z0 + rise * HS / (0.5f * S);
+        // Roof-local (ridge along x), rotated into place below.
+        auto r = Geometry::create();
+        addFlatQuad(*r, {-HL, -HS, z0}, {HL, -HS, z0}, {HL, 0, zr}, {-HL, 0, zr});
+        addFlatQuad(*r, {HL, HS, z0}, {-HL, HS, z0}, {-HL, 0, zr}, {HL, 0, zr});
+        const glm::mat4 m = alongX ? glm::mat4(1.0f) : rotateZ(glm::half_pi<float>());
+        sgfx::shapes::append(*roof, *r, m);
+        // Gable ends belong to the walls (same colour).
+        auto gables = Geometry::create();
+        const float hl = 0.5f * L, hs = 0.5f * S;
+        addFlatTriangle(*gables, {hl, -hs, h}, {hl, hs, h}, {hl, 0, zr});
+        addFlatTriangle(*gables, {-hl, -hs, h}, {-hl, 0, zr}, {-hl, hs, h});
+        sgfx::shapes::append(*walls, *gables, m);
+        roof->setStateSet(slate ? mats.slateRoof : mats.tileRoof);
+    } else {
+        // Flat roof: parapet and a roof-top plant room.
+        const float t = 0.3f, ph = 0.9f;
+        sgfx::shapes::append(*roof, *sgfx::shapes::box({w, t, ph}),
+                             translate({0, 0.5f * (d - t), h + 0.5f * ph}));
+        sgfx::shapes::append(*roof, *sgfx::shapes::box({w, t, ph}),
+                             translate({0, -0.5f * (d - t), h + 0.5f * ph}));
+        sgfx::shapes::append(*roof, *sgfx::shapes::box({t, d - 2 * t, ph}),
+                             translate({0.5f * (w - t), 0, h + 0.5f * ph}));
+        sgfx::shapes::append(*roof, *sgfx::shapes::box({t, d - 2 * t, ph}),
+                             translate({-0.5f * (w - t), 0, h + 0.5f * ph}));
+        sgfx::shapes::append(*roof, *sgfx::shapes::box({0.3f * w, 0.3f * d, 2.2f}),
+                             translate({0.15f * w, -0.1f * d, h + 1.1f}));
+        roof->setStateSet(mats.flatRoof);
+    }
+    node->addChild(walls);
+    node->addChild(windows);
+    node->addChild(roof);
+    return {node, 0.5f * std::sqrt(w * w + d * d) + 0.5f,
+            walls->triangleCount() + windows->triangleCount() + roof->triangleCount()};
+}
+
+// ------------------------------------------------------------------------------------------ trees
+// Leaf-cluster silhouette for the tree cards: 1 channel, 255 = leaf. Row y holds texture
+// coordinate v = (y + 0.5) / size (the renderer uploads row 0 at t = 0).
+std::shared_ptr<sgfx::Image> makeLeafMask(std::uint64_t seed, int size) {
+    SplitMix64 rng(seed ^ 0x6C656166ull); // "leaf"
+    struct Disc {
+        glm::vec2 c;
+        float r;
+    };
+    std::vector<Disc> discs;
+    while (discs.size() < 140) {
+        const glm::vec2 c(rng.uniform(0.08f, 0.92f), rng.uniform(0.12f, 0.95f));
+        // Crown: an ellipse a little above the middle of the card, narrowing at the top.
+        const glm::vec2 q = (c - glm::vec2(0.5f, 0.56f)) / glm::vec2(0.40f - 0.08f * (c.y - 0.5f), 0.40f);
+        if (glm::dot(q, q) > 1.0f) continue;
+        discs.push_back({c, rng.uniform(0.045f, 0.095f)});
+    }
+    auto img = sgfx::Image::create(size, size, 1);
+    const float px = 1.0f / float(size);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const glm::vec2 p((float(x) + 0.5f) * px, (float(y) + 0.5f) * px);
+            float coverage = 0.0f;
+            for (const Disc& d : discs)
+                coverage = std::max(
+                    coverage, std::clamp((d.r - glm::length(p - d.c)) / (1.5f * px) + 0.5f, 0.0f, 1.0f));
+            *img->pixel(x, y) = std::uint8_t(std::lround(255.0f * coverage));
+        }
+    return img;
+}
+
+// One tree: trunk cylinder plus three crossed vertical leaf cards and one horizontal card
+// (seen from the air), alpha-masked with the leaf silhouette.
+std::shared_ptr<Group> makeTree(std::uint64_t seed) {
+    auto tree = Group::create();
+    tree->name = "tree";
+    auto trunk = sgfx::shapes::cylinder(0.24f, 3.8f, 8, false);
+    trunk->name = "trunk";
+    trunk->setStateSet(materialState(makeMaterial(glm::vec3(0.12f, 0.07f, 0.035f))));
+
+    auto leaves = Geometry::create();
+    leaves->name = "leaves";
+    const float cardW = 6.0f, cardH = 6.4f, bottom = 1.9f;
+    auto card = sgfx::shapes::quad(cardW, cardH); // XY plane; rotate upright (local y -> z)
+    for (int i = 0; i < 3; ++i)
+        sgfx::shapes::append(*leaves, *card,
+                             translate({0, 0, bottom + 0.5f * cardH}) *
+                                 rotateZ(glm::pi<float>() * float(i) / 3.0f) *
+                                 rotateX(glm::half_pi<float>()));
+    sgfx::shapes::append(*leaves, *sgfx::shapes::quad(cardW * 0.9f, cardW * 0.9f),
+                         translate({0, 0, bottom + 0.6f * cardH}));
+    auto mat = makeMaterial(glm::vec3(0.08f, 0.22f, 0.04f));
+    auto maskTexture = sgfx::Texture::create(makeLeafMask(seed, 128), false);
+    maskTexture->wrapS = maskTexture->wrapT = sgfx::Wrap::ClampToEdge;
+    mat->alphaTexture = std::move(maskTexture);
+    mat->alphaCutoff = 0.5f;
+    auto leafState = materialState(mat);
+    leafState->cullFace.set(sgfx::CullFace::None);
+    leaves->setStateSet(leafState);
+
+    tree->addChild(trunk);
+    tree->addChild(leaves);
+    return tree;
+}
+
+// ------------------------------------------------------------------------------------------ vehicle
+// A tracked robot vehicle, x forward, ground at z = 0, about 6.6 m long.
+std::shared_ptr<Group> makeVehicle() {
+    auto v = Group::create();
+    v->name = "vehicle";
+    auto olive = materialState(makeMaterial(glm::vec3(0.16f, 0.19f, 0.08f), 1.0f, glm::vec3(0.15f), 24.0f));
+    auto dark = materialState(makeMaterial(glm::vec3(0.05f, 0.05f, 0.05f)));
+    auto rubber = materialState(makeMaterial(glm::vec3(0.02f, 0.02f, 0.02f)));
+    auto steel = materialState(makeMaterial(glm::vec3(0.30f, 0.30f, 0.32f), 1.0f, glm::vec3(0.5f), 48.0f));
+    auto lens = materialState(makeMaterial(glm::vec3(0.05f, 0.15f, 0.35f), 1.0f, glm::vec3(0.9f), 96.0f));
+
+    auto body = Group::create();
+    body->name = "hull";
+    body->setStateSet(olive);
+    auto hull = sgfx::shapes::box({5.6f, 2.3f, 1.1f});
+    hull->name = "hull";
+    body->addChild(place(translate({0, 0, 1.05f}), hull));
+    auto deck = sgfx::shapes::box({4.6f, 3.9f, 0.25f});
+    deck->name = "deck";
+    body->addChild(place(translate({-0.3f, 0, 1.72f}), deck));
+    auto glacis = sgfx::shapes::box({1.2f, 2.3f, 0.7f});
+    glacis->name = "glacis";
+    body->addChild(place(translate({2.8f, 0, 1.1f}) * rotateY(0.5f), glacis));
+
+    auto tracks = Group::create();
+    tracks->name = "tracks";
+    tracks->setStateSet(dark);
+    auto track = sgfx::shapes::box({6.2f, 0.8f, 1.1f});
+    track->name = "track";
+    for (float s : {-1.0f, 1.0f})
+        tracks->addChild(place(translate({0, s * 1.55f, 0.55f}), track));
+
+    auto wheels = Group::create();
+    wheels->name = "road_wheels";
+    wheels->setStateSet(rubber);
+    auto wheel = sgfx::shapes::cylinder(0.38f, 0.25f, 20); // axis +Z, rotated onto Y below
+    wheel->name = "wheel";
+    auto sprocket = sgfx::shapes::cylinder(0.46f, 0.25f, 20);
+    sprocket->name = "sprocket";
+    for (float s : {-1.0f, 1.0f}) {
+        const float y = s * 1.9f; // just proud of the track's outer face
+        for (int i = 0; i < 6; ++i) {
+            const float x = -2.2f + 4.4f * float(i) / 5.0f;
+            wheels->addChild(
+                place(translate({x, y, 0.40f}) * rotateX(-glm::half_pi<float>()) * translate({0, 0, -0.125f}),
+                      wheel));
+        }
+        for (float x : {-2.85f, 2.85f})
+            wheels->addChild(
+                place(translate({x, y, 0.62f}) * rotateX(-glm::half_pi<float>()) * translate({0, 0, -0.125f}),
+                      sprocket));
+    }
+
+    // Turret with gun barrel and a sensor mast, on its own Transform (it could turn).
+    auto turret = Transform::create(translate({-0.4f, 0, 1.84f}) * rotateZ(0.35f));
+    turret->name = "turret";
+    turret->setStateSet(olive);
+    auto ring = sgfx::shapes::cylinder(1.15f, 0.75f, 28);
+    ring->name = "turret_ring";
+    turret->addChild(ring);
+    auto mantlet = sgfx::shapes::box({0.5f, 0.8f, 0.5f});
+    mantlet->name = "mantlet";
+    turret->addChild(place(translate({1.2f, 0, 0.4f}), mantlet));
+    auto barrel = sgfx::shapes::cylinder(0.09f, 3.4f, 12);
+    barrel->name = "gun_barrel";
+    barrel->setStateSet(steel);
+    turret->addChild(place(translate({1.35f, 0, 0.42f}) * rotateY(glm::half_pi<float>() - 0.04f), barrel));
+    auto mast = sgfx::shapes::cylinder(0.05f, 1.3f, 8);
+    mast->name = "mast";
+    mast->setStateSet(steel);
+    turret->addChild(place(translate({-0.6f, 0.5f, 0.75f}), mast));
+    auto head = sgfx::shapes::sphere(0.2f, 16, 8);
+    head->name = "sensor_head";
+    head->setStateSet(lens);
+    turret->addChild(place(translate({-0.6f, 0.5f, 2.1f}), head));
+
+    v->addChild(body);
+    v->addChild(tracks);
+    v->addChild(wheels);
+    v->addChild(turret);
+    return v;
+}
+
+// ------------------------------------------------------------------------------------------ glass
+std::shared_ptr<Group> makeGlass(const Terrain& terrain) {
+    auto group = Group::create();
+    group->name = "glass";
+    auto glass = StateSet::create();
+    glass->material.set(makeMaterial(glm::vec3(0.55f, 0.75f, 0.85f), 0.3f, glm::vec3(0.8f), 80.0f));
+    glass->blend.set(sgfx::BlendMode::Alpha);
+    glass->cullFace.set(sgfx::CullFace::None);
+    glass->renderBin.set(sgfx::RenderBin::Transparent);
+    auto frameState =
+        materialState(makeMaterial(glm::vec3(0.25f, 0.25f, 0.27f), 1.0f, glm::vec3(0.4f), 32.0f));
+
+    const float w = 9.0f, h = 4.5f;
+    auto pane = sgfx::shapes::quad(w, h); // upright below: local y -> z, facing -Y
+    pane->name = "glass_pane";
+    pane->setStateSet(glass);
+    auto post = sgfx::shapes::box({0.15f, 0.15f, h + 0.2f});
+    post->name = "glass_post";
+    post->setStateSet(frameState);
+    struct Spot {
+        glm::vec2 p;
+        float yaw;
+    };
+    for (const Spot& s : {Spot{{34.0f, 15.0f}, 1.35f}, Spot{{25.0f, 31.0f}, 0.45f}}) {
+        const float z = terrain.height(s.p.x, s.p.y);
+        auto t = Transform::create(translate(glm::vec3(s.p, z)) * rotateZ(s.yaw));
+        t->name = "glass_stand";
+        t->addChild(place(translate({0, 0, 0.5f * h + 0.1f}) * rotateX(glm::half_pi<float>()), pane));
+        for (float sx : {-1.0f, 1.0f})
+            t->addChild(place(translate({sx * (0.5f * w + 0.075f), 0, 0.5f * (h + 0.2f)}), post));
+        group->addChild(t);
+    }
+    return group;
+}
+
+} // namespace
+
+// ------------------------------------------------------------------------------------------ scene
+PolygonScene buildPolygonScene(const SceneOptions& options) {
+    if (!(options.scale > 0.0f && options.scale <= 16.0f))
+        throw std::invalid_argument("polygon: scale must be in (0, 16]");
+    if (!(options.extent > 0.0f) || !std::isfinite(options.extent))
+        throw std::invalid_argument("polygon: extent must be finite and > 0");
+    const float extent = options.extent, half = 0.5f * extent;
+    const Terrain terrain(options.seed);
+    SplitMix64 rng(options.seed);
+    PolygonScene scene;
+    scene.root = Group::create();
+    scene.root->name = "polygon";
+
+    // Lights first: they are positional state for the whole scene.
+    auto sun = sgfx::Light::create(sgfx::LightType::Directional);
+    sun->name = "sun";
+    const float az = glm::radians(-35.0f), el = glm::radians(50.0f);
+    sun->direction = -glm::vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+    sun->color = glm::vec3(1.0f, 0.95f, 0.86f);
+    sun->intensity = 1.1f;
+    auto ambient = sgfx::Light::create(sgfx::LightType::Ambient);
+    ambient->name = "sky_ambient";
+    ambient->color = glm::vec3(0.30f, 0.34f, 0.42f);
+    scene.root->addChild(sun);
+    scene.root->addChild(ambient);
+
+    // Triangle count ~ scale: terrain cells grow with sqrt(scale) per side, the others linearly.
+    const float s = options.scale;
+    const int buildingCount = int(std::lround(kBuildingsAtScale1 * s));
+    const int treeCount = int(std::lround(kTreesAtScale1 * s));
+    // Above scale 1 villages and forests spread wider so their density, not their size, stays put.
+    const float spread = std::sqrt(std::max(1.0f, s));
+    const float ringRadius = 0.45f * half;
+    // The benchmark camera circles at this radius, 12 to 42 m up: keep buildings out of its way.
+    const float cameraRadius = glm::length(glm::vec2(cameraPose(0.0f, extent).eye));
+
+    // Obstacles: roads are tested analytically; the plaza, buildings and trees as circles.
+    CircleGrid occupied(extent, 25.0f);
+    occupied.add({0, 0}, kPlazaRadius);
+    auto isFree = [&](glm::vec2 p, float r, float roadMargin) {
+        if (std::abs(p.x) > half - r - 6.0f || std::abs(p.y) > half - r - 6.0f) return false;
+        if (roadDistance(p, ringRadius) < 0.5f * kRoadWidth + r + roadMargin) return false;
+        return !occupied.overlaps(p, r);
+    };
+
+    // Buildings: a dozen shared prototypes, instanced in villages and scattered farms.
+    const BuildingMaterials mats = makeBuildingMaterials();
+    std::vector<BuildingPrototype> prototypes;
+    {
+        const int floorsChoice[] = {1, 2, 2, 3, 3, 4, 5, 6, 8, 10};
+        for (int i = 0; i < 12; ++i) {
+            const float w = std::round(rng.uniform(8.0f, 22.0f)), d = std::round(rng.uniform(7.0f, 15.0f));
+            const int floors = floorsChoice[rng.index(10)];
+            const bool gable = floors <= 3;
+            prototypes.push_back(makeBuildingPrototype(w, d, floors, gable, rng.uniform() < 0.4f, mats, i));
+        }
+    }
+    scene.info.buildingPrototypes = int(prototypes.size());
+    scene.buildings = Group::create();
+    scene.buildings->name = "buildings";
+    AreaGroups buildingAreas("buildings", extent, scene.buildings);
+    std::vector<glm::vec2> villages;
+    while (villages.size() < 7) {
+        const glm::vec2 c(rng.uniform(-half + 60.0f, half - 60.0f), rng.uniform(-half + 60.0f, half - 60.0f));
+        if (glm::length(c) > 110.0f) villages.push_back(c);
+    }
+    std::size_t buildingTriangles = 0, prototypeTriangles = 0;
+    for (const BuildingPrototype& p : prototypes)
+        prototypeTriangles += p.triangles;
+    for (int placed = 0, attempts = 0; placed < buildingCount && attempts < 60 * buildingCount + 100;
+         ++attempts) {
+        const BuildingPrototype& proto = prototypes[rng.index(prototypes.size())];
+        const float sc = rng.uniform(0.9f, 1.1f);
+        const float yaw = glm::half_pi<float>() * float(rng.index(4)) + rng.uniform(-0.12f, 0.12f);
+        glm::vec2 p;
+        if (rng.uniform() < 0.75f)
+            p = villages[rng.index(villages.size())] +
+                glm::vec2(rng.normal(), rng.normal()) * (55.0f * spread);
+        else
+            p = glm::vec2(rng.uniform(-half, half), rng.uniform(-half, half));
+        const float r = proto.halfDiagonal * sc;
+        const std::size_t colour = rng.index(mats.walls.size());
+        if (std::abs(glm::length(p) - cameraRadius) < r + 8.0f || !isFree(p, r + 1.5f, 2.0f)) continue;
+        occupied.add(p, r + 1.5f);
+        // Sit on the lowest point of the footprint; the foundation hides the rest.
+        float z = terrain.height(p.x, p.y);
+        for (float dx : {-r, r})
+            for (float dy : {-r, r})
+                z = std::min(z, terrain.height(p.x + dx, p.y + dy));
+        auto t = Transform::create(translate(glm::vec3(p, z - 0.1f)) * rotateZ(yaw) * scale(sc));
+        t->name = "building_" + std::to_string(placed);
+        t->setStateSet(mats.walls[colour]);
+        t->addChild(proto.node);
+        buildingAreas.add(p, t);
+        ++placed;
+        buildingTriangles += proto.triangles;
+        scene.info.buildings = placed;
+    }
+    buildingAreas.finish();
+    scene.info.buildingsRequested = buildingCount;
+
+    // Trees: one shared tree under many Transforms, mostly in small forests.
+    auto tree = makeTree(options.seed);
+    scene.trees = Group::create();
+    scene.trees->name = "trees";
+    AreaGroups treeAreas("trees", extent, scene.trees);
+    std::vector<glm::vec2> forests;
+    while (forests.size() < 12) {
+        const glm::vec2 c(rng.uniform(-half + 30.0f, half - 30.0f), rng.uniform(-half + 30.0f, half - 30.0f));
+        if (glm::length(c) > 90.0f) forests.push_back(c);
+    }
+    for (int placed = 0, attempts = 0; placed < treeCount && attempts < 60 * treeCount + 100; ++attempts) {
+        glm::vec2 p;
+        if (rng.uniform() < 0.75f)
+            p = forests[rng.index(forests.size())] + glm::vec2(rng.normal(), rng.normal()) * (38.0f * spread);
+        else
+            p = glm::vec2(rng.uniform(-half, half), rng.uniform(-half, half));
+        const float sc = rng.uniform(0.75f, 1.35f);
+        const float yaw = rng.uniform(0.0f, glm::two_pi<float>());
+        if (!isFree(p, 1.2f * sc, 1.0f)) continue;
+        occupied.add(p, 1.2f * sc);
+        auto t = Transform::create(translate(glm::vec3(p, terrain.height(p.x, p.y) - 0.15f)) * rotateZ(yaw) *
+                                   scale(sc));
+        t->addChild(tree);
+        treeAreas.add(p, t);
+        ++placed;
+        scene.info.trees = placed;
+    }
+    treeAreas.finish();
+    scene.info.treesRequested = treeCount;
+
+    // Terrain and roads. At large scales the ground runs out of room for buildings and trees;
+    // the terrain then gets finer so the total triangle count stays roughly linear in the scale.
+    std::size_t treeTriangles = 0;
+    for (const auto& c : tree->children())
+        if (auto g = std::dynamic_pointer_cast<Geometry>(c)) treeTriangles += g->triangleCount();
+    const double expected = double(buildingCount) * double(prototypeTriangles) /
+                                double(std::max<std::size_t>(1, prototypes.size())) +
+                            double(treeCount) * double(treeTriangles);
+    const double placedTriangles =
+        double(buildingTriangles) + double(scene.info.trees) * double(treeTriangles);
+    const double nominalCells = double(kCellsPerTileAtScale1) * std::sqrt(double(s));
+    double terrainTriangles = 2.0 * kTerrainTilesPerSide * kTerrainTilesPerSide * nominalCells * nominalCells;
+    if (placedTriangles < 0.9 * expected) terrainTriangles += expected - placedTriangles;
+    const int cells = std::max(
+        2,
+        int(std::lround(std::sqrt(terrainTriangles / (2.0 * kTerrainTilesPerSide * kTerrainTilesPerSide)))));
+    scene.terrain = buildTerrain(terrain, extent, cells, scene.info);
+    scene.roads =
+        buildRoads(terrain, extent, ringRadius, extent / float(kTerrainTilesPerSide * cells), scene.info);
+
+    // The robot vehicle and the glass panes on the flat test area at the centre.
+    scene.vehicle = Group::create();
+    scene.vehicle->name = "vehicle_site";
+    scene.vehicle->addChild(
+        place(translate({18.0f, 17.0f, terrain.height(18.0f, 17.0f)}) * rotateZ(glm::radians(215.0f)),
+              makeVehicle(), "vehicle_pose"));
+    scene.glass = makeGlass(terrain);
+
+    scene.root->addChild(scene.terrain);
+    scene.root->addChild(scene.roads);
+    scene.root->addChild(scene.buildings);
+    scene.root->addChild(scene.trees);
+    scene.root->addChild(scene.vehicle);
+    scene.root->addChild(scene.glass);
+    return scene;
+}
+
+} // namespace polygon

@@ -1,0 +1,409 @@
+// polygon: the sgfx proving ground. Renders the procedural test site headless to a PNG, flies
+// through it in a window, benchmarks the shared camera path, or exports it as OBJ.
+#include "CameraPath.h"
+#include "PolygonScene.h"
+
+#include <sgfx/GraphicsContext.h>
+#include <sgfx/ObjWriter.h>
+#include <sgfx/Viewer.h>
+#include <sgfx/Visitors.h>
+
+#include <glad/gl.h>
+// After glad: GLFW must not pull in the system GL header.
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <glm/gtc/constants.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace {
+
+constexpr float kExtent = 800.0f;
+constexpr float kStillTime = 0.1f;
+const glm::vec4 kSkyColor{0.42f, 0.60f, 0.85f, 1.0f}; // linear
+
+const char* const kUsage = R"(usage: polygon [options]
+
+Renders the sgfx proving ground: hilly terrain in tiles, roads, a few hundred buildings,
+alpha-masked trees, a tracked robot vehicle and two glass panes, lit by a sun and the sky.
+Without a mode option it renders one frame headless (OSMesa) and writes a PNG.
+
+modes (at most one):
+  --window            fly through the scene in a window (WASD move, Q/E down/up, Shift fast,
+                      left mouse drag to look, Esc quits); without a display it says
+                      "no display: rendering headless" and writes the PNG instead
+  --bench N           render N frames along the camera path (t = i/N) after 3 warm-up
+                      frames, glFinish after each, and print timings and render statistics
+  --export-obj FILE   write the scene as Wavefront OBJ (+ .mtl) and exit
+
+options:
+  --out FILE          PNG to write (default polygon.png)
+  --size WxH          image / bench / window size in pixels (default 1280x720)
+  --time T            camera path time of the still image, 0 <= T < 1 (default 0.1)
+  --look EX,EY,EZ,TX,TY,TZ
+                      still image from eye E looking at target T instead (metres, Z up)
+  --scale S           scale the triangle count, 0 < S <= 16 (default 1, about 600k
+                      triangles): terrain resolution and numbers of buildings and trees
+  --seed N            scene seed, an unsigned integer (default 1)
+  --egl               render headless through EGL (GPU) instead of OSMesa
+  -h, --help          show this help
+
+exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
+)";
+
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+enum class Mode { Still, Window, Bench, ExportObj };
+
+struct Options {
+    Mode mode = Mode::Still;
+    std::string out = "polygon.png";
+    std::string objPath;
+    int width = 1280, height = 720;
+    float time = kStillTime;
+    std::optional<polygon::CameraPose> look;
+    float scale = 1.0f;
+    std::uint64_t seed = 1;
+    int benchFrames = 0;
+    bool egl = false;
+};
+
+template <class T> T parseNumber(std::string_view option, std::string_view text) {
+    T value{};
+    const char* end = text.data() + text.size();
+    auto [ptr, ec] = std::from_chars(text.data(), end, value);
+    if (text.empty() || ec != std::errc() || ptr != end)
+        throw UsageError(std::string(option) + ": '" + std::string(text) + "' is not a valid number");
+    return value;
+}
+
+Options parseArgs(int argc, char** argv) {
+    Options o;
+    int modes = 0;
+    auto setMode = [&](Mode m) {
+        o.mode = m;
+        if (++modes > 1) throw UsageError("--window, --bench and --export-obj are mutually exclusive");
+    };
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view arg = argv[i];
+        auto value = [&]() -> std::string_view {
+            if (i + 1 >= argc) throw UsageError(std::string(arg) + " needs a value");
+            return argv[++i];
+        };
+        if (arg == "-h" || arg == "--help") {
+            std::cout << kUsage;
+            std::exit(0);
+        } else if (arg == "--window") {
+            setMode(Mode::Window);
+        } else if (arg == "--bench") {
+            setMode(Mode::Bench);
+            o.benchFrames = parseNumber<int>(arg, value());
+            if (o.benchFrames < 1) throw UsageError("--bench: the frame count must be at least 1");
+        } else if (arg == "--export-obj") {
+            setMode(Mode::ExportObj);
+            o.objPath = value();
+            if (o.objPath.empty()) throw UsageError("--export-obj: empty file name");
+        } else if (arg == "--out") {
+            o.out = value();
+            if (o.out.empty()) throw UsageError("--out: empty file name");
+        } else if (arg == "--size") {
+            const std::string_view v = value();
+            const auto x = v.find('x');
+            if (x == std::string_view::npos)
+                throw UsageError("--size: expected WxH, got '" + std::string(v) + "'");
+            o.width = parseNumber<int>(arg, v.substr(0, x));
+            o.height = parseNumber<int>(arg, v.substr(x + 1));
+            if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
+                throw UsageError("--size: width and height must be in 1..16384, got '" + std::string(v) +
+                                 "'");
+        } else if (arg == "--time") {
+            o.time = parseNumber<float>(arg, value());
+            if (!(o.time >= 0.0f && o.time < 1.0f)) throw UsageError("--time: T must be in [0, 1)");
+        } else if (arg == "--look") {
+            const std::string_view v = value();
+            float f[6];
+            std::size_t pos = 0;
+            for (int k = 0; k < 6; ++k) {
+                const std::size_t comma = k < 5 ? v.find(',', pos) : v.size();
+                if (comma == std::string_view::npos)
+                    throw UsageError("--look: expected six comma-separated numbers");
+                f[k] = parseNumber<float>(arg, v.substr(pos, comma - pos));
+                if (!std::isfinite(f[k])) throw UsageError("--look: coordinates must be finite");
+                pos = comma + 1;
+            }
+            polygon::CameraPose p;
+            p.eye = {f[0], f[1], f[2]};
+            p.target = {f[3], f[4], f[5]};
+            const glm::vec3 d = p.target - p.eye;
+            if (glm::length(glm::cross(d, p.up)) < 1e-6f * std::max(1.0f, glm::length(d)))
+                throw UsageError(
+                    "--look: the eye must differ from the target and not look straight up or down");
+            o.look = p;
+        } else if (arg == "--scale") {
+            o.scale = parseNumber<float>(arg, value());
+            if (!(o.scale > 0.0f && o.scale <= 16.0f)) throw UsageError("--scale: S must be in (0, 16]");
+        } else if (arg == "--seed") {
+            o.seed = parseNumber<std::uint64_t>(arg, value());
+        } else if (arg == "--egl") {
+            o.egl = true;
+        } else {
+            throw UsageError("unknown option '" + std::string(arg) + "'");
+        }
+    }
+    return o;
+}
+
+std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
+    std::unique_ptr<sgfx::Viewer> viewer;
+    if (o.egl) {
+        viewer = std::make_unique<sgfx::Viewer>(std::make_unique<sgfx::EglContext>());
+        viewer->camera()->setViewport(0, 0, o.width, o.height);
+    } else {
+        viewer = sgfx::Viewer::createHeadless(o.width, o.height);
+    }
+    return viewer;
+}
+
+polygon::CameraPose startPose(const Options& o, float t) {
+    return o.look ? *o.look : polygon::cameraPose(t, kExtent);
+}
+
+void setupCamera(sgfx::Viewer& viewer, const polygon::CameraPose& pose) {
+    auto& cam = *viewer.camera();
+    cam.clearColor = kSkyColor;
+    cam.setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
+    cam.setLookAt(pose.eye, pose.target, pose.up);
+}
+
+// GL errors are library problems worth seeing, not something to hide.
+void reportGlErrors(sgfx::Viewer& viewer) {
+    for (const std::string& e : viewer.renderer().takeGlErrors())
+        std::cerr << "polygon: GL: " << e << "\n";
+}
+
+int runStill(const Options& o, const polygon::PolygonScene& scene) {
+    auto viewer = makeHeadlessViewer(o);
+    setupCamera(*viewer, startPose(o, o.time));
+    viewer->setSceneData(scene.root);
+    viewer->frame();
+    viewer->writeScreenshot(o.out);
+    reportGlErrors(*viewer);
+    const sgfx::FrameStats& st = viewer->stats();
+    std::cout << "frame: " << st.triangles << " triangles drawn, " << st.drawCalls << " draw calls, "
+              << st.culledNodes << " nodes culled (" << viewer->context().kind() << ", "
+              << viewer->context().renderer() << ")\n";
+    std::cout << "wrote " << o.out << " (" << o.width << "x" << o.height << ")\n";
+    return 0;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t sceneTriangles) {
+    using clock = std::chrono::steady_clock;
+    auto viewer = makeHeadlessViewer(o);
+    setupCamera(*viewer, polygon::cameraPose(0.0f, kExtent));
+    viewer->setSceneData(scene.root);
+    for (int i = 0; i < 3; ++i) {
+        viewer->frame();
+        glFinish();
+    }
+    reportGlErrors(*viewer);
+
+    const int n = o.benchFrames;
+    std::vector<double> ms;
+    ms.reserve(std::size_t(n));
+    double triangles = 0, drawCalls = 0, stateChanges = 0, programChanges = 0, culled = 0, cullMs = 0,
+           drawMs = 0;
+    for (int i = 0; i < n; ++i) {
+        const polygon::CameraPose pose = polygon::cameraPose(float(i) / float(n), kExtent);
+        viewer->camera()->setLookAt(pose.eye, pose.target, pose.up);
+        const auto t0 = clock::now();
+        viewer->frame();
+        glFinish();
+        const auto t1 = clock::now();
+        ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        const sgfx::FrameStats& st = viewer->stats();
+        triangles += double(st.triangles);
+        drawCalls += double(st.drawCalls);
+        stateChanges += double(st.stateChanges);
+        programChanges += double(st.programChanges);
+        culled += double(st.culledNodes);
+        cullMs += st.cullMs;
+        drawMs += st.drawMs;
+    }
+    reportGlErrors(*viewer);
+    const double dn = double(n);
+    const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / dn;
+    const double med = median(ms);
+    const double fps = 1000.0 / mean;
+    const auto [mn, mx] = std::minmax_element(ms.begin(), ms.end());
+    std::printf("bench: %d frames at %dx%d on %.*s (%s)\n", n, o.width, o.height,
+                int(viewer->context().kind().size()), viewer->context().kind().data(),
+                viewer->context().renderer().c_str());
+    std::printf("  ms/frame         mean %.2f  median %.2f  min %.2f  max %.2f\n", mean, med, *mn, *mx);
+    std::printf("  fps              %.2f\n", fps);
+    std::printf(
+        "  per frame (mean) triangles %.0f  draw calls %.1f  state changes %.1f  program changes %.1f\n",
+        triangles / dn, drawCalls / dn, stateChanges / dn, programChanges / dn);
+    std::printf("                   culled nodes %.1f  cull %.2f ms  draw submit %.2f ms (CPU)\n",
+                culled / dn, cullMs / dn, drawMs / dn);
+    std::printf("  scene            %zu triangles\n", sceneTriangles);
+    std::printf("BENCH sgfx ms_per_frame=%.3f fps=%.2f triangles=%.0f draw_calls=%.1f state_changes=%.1f "
+                "program_changes=%.1f median_ms=%.3f scene_triangles=%zu size=%dx%d context=%.*s\n",
+                mean, fps, triangles / dn, drawCalls / dn, stateChanges / dn, programChanges / dn, med,
+                sceneTriangles, o.width, o.height, int(viewer->context().kind().size()),
+                viewer->context().kind().data());
+    return 0;
+}
+
+// Interactive fly camera: WASD in the view direction, Q/E vertical, left-drag to look.
+int runWindow(const Options& o, const polygon::PolygonScene& scene) {
+    std::unique_ptr<sgfx::GlfwWindow> window;
+    try {
+        window = std::make_unique<sgfx::GlfwWindow>(o.width, o.height, "sgfx polygon");
+    } catch (const sgfx::ContextError& e) {
+        std::cerr << "polygon: " << e.what() << "\n";
+        std::cout << "no display: rendering headless" << std::endl;
+        return runStill(o, scene);
+    }
+    GLFWwindow* win = window->handle();
+    sgfx::Viewer viewer(std::move(window));
+    setupCamera(viewer, startPose(o, o.time));
+    viewer.setSceneData(scene.root);
+    const polygon::Terrain terrain(o.seed);
+
+    const polygon::CameraPose start = startPose(o, o.time);
+    glm::vec3 eye = start.eye;
+    const glm::vec3 dir0 = glm::normalize(start.target - start.eye);
+    float yaw = std::atan2(dir0.y, dir0.x), pitch = std::asin(dir0.z);
+    double lastX = 0, lastY = 0;
+    bool dragging = false;
+    double last = glfwGetTime(), titleTime = last;
+    int frames = 0;
+    std::cout << "window: WASD move, Q/E down/up, Shift fast, left mouse drag to look, Esc quits"
+              << std::endl;
+
+    while (!viewer.context().shouldClose()) {
+        glfwPollEvents();
+        const double now = glfwGetTime();
+        const float dt = float(std::min(now - last, 0.1));
+        last = now;
+        if (glfwGetKey(win, GLFW_KEY_ESCAPE) == GLFW_PRESS) glfwSetWindowShouldClose(win, GLFW_TRUE);
+
+        double x = 0, y = 0;
+        glfwGetCursorPos(win, &x, &y);
+        if (glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
+            if (dragging) {
+                yaw -= float(x - lastX) * 0.004f;
+                pitch = std::clamp(pitch - float(y - lastY) * 0.004f, -1.5f, 1.5f);
+            }
+            dragging = true;
+        } else {
+            dragging = false;
+        }
+        lastX = x;
+        lastY = y;
+
+        const glm::vec3 forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                                std::sin(pitch));
+        const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 0, 1)));
+        const bool fast = glfwGetKey(win, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                          glfwGetKey(win, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+        const float speed = (fast ? 80.0f : 20.0f) * dt;
+        auto key = [&](int k) { return glfwGetKey(win, k) == GLFW_PRESS ? 1.0f : 0.0f; };
+        eye += forward * speed * (key(GLFW_KEY_W) - key(GLFW_KEY_S));
+        eye += right * speed * (key(GLFW_KEY_D) - key(GLFW_KEY_A));
+        eye.z += speed * (key(GLFW_KEY_E) - key(GLFW_KEY_Q));
+        eye.z = std::max(eye.z, terrain.height(eye.x, eye.y) + 1.5f);
+        viewer.camera()->setLookAt(eye, eye + forward, glm::vec3(0, 0, 1));
+
+        viewer.frame(dt);
+        reportGlErrors(viewer);
+        ++frames;
+        if (now - titleTime >= 1.0) {
+            const std::string title = "sgfx polygon - " +
+                                      std::to_string(int(std::lround(frames / (now - titleTime)))) +
+                                      " fps, " + std::to_string(viewer.stats().triangles) + " triangles";
+            glfwSetWindowTitle(win, title.c_str());
+            titleTime = now;
+            frames = 0;
+        }
+    }
+    return 0;
+}
+
+int run(const Options& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const polygon::PolygonScene scene = polygon::buildPolygonScene({kExtent, o.scale, o.seed});
+    const double buildMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    sgfx::StatsVisitor stats;
+    scene.root->accept(stats);
+    const polygon::SceneInfo& info = scene.info;
+    std::printf("scene: %zu triangles, %zu vertices, %zu drawables, %zu nodes (scale %g, seed %llu, built in "
+                "%.0f ms)\n",
+                stats.triangles, stats.vertices, stats.drawables, stats.nodes, double(o.scale),
+                static_cast<unsigned long long>(o.seed), buildMs);
+    std::printf(
+        "       %d terrain tiles of %dx%d cells, %d road pieces, %d buildings from %d prototypes, %d trees\n",
+        info.terrainTiles, info.terrainCellsPerTile, info.terrainCellsPerTile, info.roadPieces,
+        info.buildings, info.buildingPrototypes, info.trees);
+    if (info.buildings < info.buildingsRequested || info.trees < info.treesRequested)
+        std::printf("       (the ground is full: placed %d of %d buildings, %d of %d trees)\n",
+                    info.buildings, info.buildingsRequested, info.trees, info.treesRequested);
+    std::fflush(stdout);
+
+    switch (o.mode) {
+    case Mode::ExportObj: {
+        const sgfx::ObjWriteResult r = sgfx::writeObj(*scene.root, o.objPath);
+        std::printf("wrote %s: %zu objects, %zu vertices, %zu triangles\n", o.objPath.c_str(), r.objects,
+                    r.vertices, r.triangles);
+        return 0;
+    }
+    case Mode::Bench:
+        return runBench(o, scene, stats.triangles);
+    case Mode::Window:
+        return runWindow(o, scene);
+    case Mode::Still:
+        return runStill(o, scene);
+    }
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Options options;
+    try {
+        options = parseArgs(argc, argv);
+    } catch (const UsageError& e) {
+        std::cerr << "polygon: " << e.what() << "\nTry 'polygon --help'.\n";
+        return 2;
+    }
+    try {
+        return run(options);
+    } catch (const std::exception& e) {
+        std::cerr << "polygon: error: " << e.what() << "\n";
+        return 1;
+    }
+}
