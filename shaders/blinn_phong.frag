@@ -1,19 +1,29 @@
 #version 450 core
 // Built-in Blinn-Phong material, fragment stage, in linear colour.
 // Hooks: @sgfx:ambient may change sgfx_ambient; @sgfx:color may change sgfx_color.
+// Feature defines (SGFX_BASE_MAP, SGFX_ALPHA_MAP, SGFX_NORMAL_MAP, SGFX_VERTEX_COLOR,
+// SGFX_NORMALS, SGFX_TANGENTS, SGFX_ALPHA_MASK, SGFX_BLEND) are set per variant: a material
+// without an alpha mask has no `discard`, so the rasterizer keeps early depth rejection.
 in vec3 v_worldPos;
+#ifdef SGFX_NORMALS
 in vec3 v_worldNormal;
+#endif
+#ifdef SGFX_TANGENTS
 in vec4 v_worldTangent;
+#endif
+#ifdef SGFX_TEXCOORDS
 in vec2 v_texcoord;
+#endif
+#ifdef SGFX_VERTEX_COLOR
 in vec4 v_color;
+#endif
 
 uniform vec3 sgfx_matAmbient;
 uniform vec4 sgfx_matDiffuse;
 uniform vec3 sgfx_matSpecular;
 uniform float sgfx_matShininess;
 uniform vec3 sgfx_matEmissive;
-uniform float sgfx_alphaCutoff; // < 0: no alpha mask
-uniform int sgfx_flags;
+uniform float sgfx_alphaCutoff;
 
 layout(binding = 0) uniform sampler2D sgfx_baseColorMap;
 layout(binding = 1) uniform sampler2D sgfx_alphaMap;
@@ -21,68 +31,80 @@ layout(binding = 2) uniform sampler2D sgfx_normalMap;
 
 layout(location = 0) out vec4 sgfx_fragColor;
 
-const int FLAG_BASE_MAP = 1;
-const int FLAG_ALPHA_MAP = 2;
-const int FLAG_NORMAL_MAP = 4;
-const int FLAG_VERTEX_COLOR = 8;
-const int FLAG_NORMALS = 16;
-const int FLAG_TANGENTS = 32;
-
 // @sgfx:fragment_decl
 
 vec3 surfaceNormal() {
-    vec3 dpdx = dFdx(v_worldPos);
-    vec3 dpdy = dFdy(v_worldPos);
-    vec3 N = (sgfx_flags & FLAG_NORMALS) != 0 ? normalize(v_worldNormal) : normalize(cross(dpdx, dpdy));
-    if ((sgfx_flags & FLAG_NORMAL_MAP) != 0) {
-        vec3 T, B;
-        if ((sgfx_flags & FLAG_TANGENTS) != 0) {
-            T = normalize(v_worldTangent.xyz - N * dot(N, v_worldTangent.xyz));
-            B = cross(N, T) * v_worldTangent.w;
-        } else {
-            // Tangent frame from screen-space derivatives of position and texcoord.
-            vec2 dtx = dFdx(v_texcoord), dty = dFdy(v_texcoord);
-            vec3 t = dpdx * dty.y - dpdy * dtx.y;
-            T = normalize(t - N * dot(N, t));
-            B = cross(N, T) * (dtx.x * dty.y - dty.x * dtx.y < 0.0 ? -1.0 : 1.0);
-        }
-        vec3 m = texture(sgfx_normalMap, v_texcoord).xyz * 2.0 - 1.0;
-        N = normalize(mat3(T, B, N) * m);
-    }
+#ifdef SGFX_NORMALS
+    vec3 N = normalize(v_worldNormal);
+#else
+    // Flat shading from the triangle's plane when the geometry has no normals.
+    vec3 N = normalize(cross(dFdx(v_worldPos), dFdy(v_worldPos)));
+#endif
+#if defined(SGFX_NORMAL_MAP) && defined(SGFX_TEXCOORDS)
+    vec3 T, B;
+#ifdef SGFX_TANGENTS
+    T = normalize(v_worldTangent.xyz - N * dot(N, v_worldTangent.xyz));
+    B = cross(N, T) * v_worldTangent.w;
+#else
+    // Tangent frame from screen-space derivatives of position and texcoord.
+    vec3 dpdx = dFdx(v_worldPos), dpdy = dFdy(v_worldPos);
+    vec2 dtx = dFdx(v_texcoord), dty = dFdy(v_texcoord);
+    vec3 t = dpdx * dty.y - dpdy * dtx.y;
+    T = normalize(t - N * dot(N, t));
+    B = cross(N, T) * (dtx.x * dty.y - dty.x * dtx.y < 0.0 ? -1.0 : 1.0);
+#endif
+    vec3 m = texture(sgfx_normalMap, v_texcoord).xyz * 2.0 - 1.0;
+    N = normalize(mat3(T, B, N) * m);
+#endif
     return gl_FrontFacing ? N : -N;
 }
 
 void main() {
     vec4 base = sgfx_matDiffuse;
     vec3 ambientColor = sgfx_matAmbient;
-    if ((sgfx_flags & FLAG_VERTEX_COLOR) != 0) base *= v_color;
-    if ((sgfx_flags & FLAG_BASE_MAP) != 0) {
-        vec4 t = texture(sgfx_baseColorMap, v_texcoord);
-        base *= t;
-        ambientColor *= t.rgb;
-    }
-    if ((sgfx_flags & FLAG_ALPHA_MAP) != 0) base.a *= texture(sgfx_alphaMap, v_texcoord).r;
-    if (sgfx_alphaCutoff >= 0.0) {
-        // Alpha mask (glTF MASK): a fragment is either cut or fully opaque, so no partial alpha
-        // from the mask's edges or coarse mip levels reaches the target (and a captured PNG).
-        if (base.a < sgfx_alphaCutoff) discard;
-        base.a = 1.0;
-    }
+#ifdef SGFX_VERTEX_COLOR
+    base *= v_color;
+    ambientColor *= v_color.rgb;
+#endif
+#if defined(SGFX_BASE_MAP) && defined(SGFX_TEXCOORDS)
+    vec4 t = texture(sgfx_baseColorMap, v_texcoord);
+    base *= t;
+    ambientColor *= t.rgb;
+#endif
+#if defined(SGFX_ALPHA_MAP) && defined(SGFX_TEXCOORDS)
+    base.a *= texture(sgfx_alphaMap, v_texcoord).r;
+#endif
+#ifdef SGFX_ALPHA_MASK
+    if (base.a < sgfx_alphaCutoff) discard;
+    base.a = 1.0; // what passes the mask is opaque
+#endif
+#ifndef SGFX_BLEND
+    base.a = 1.0; // opaque surfaces write opaque pixels whatever the material's alpha
+#endif
+#ifdef SGFX_LATE_DEPTH
+    if (sgfx_alphaCutoff < -1.0) discard; // never true: asks for the (faster) late depth test
+#endif
 
     vec3 N = surfaceNormal();
-    vec3 V = normalize(sgfx_eye.xyz - v_worldPos);
     vec3 sgfx_ambient = sgfx_ambientLight.rgb;
     vec3 sgfx_worldPos = v_worldPos;
     vec3 sgfx_eyePos = sgfx_eye.xyz;
     // @sgfx:ambient
     vec3 color = sgfx_matEmissive + sgfx_ambient * ambientColor;
-    for (int i = 0; i < sgfx_lightCount.x; ++i) {
+#ifdef SGFX_SPECULAR
+    vec3 V = normalize(sgfx_eye.xyz - v_worldPos);
+#endif
+    // SGFX_LIGHT_COUNT is the number of lights in the view, compiled in so the loop unrolls.
+    for (int i = 0; i < SGFX_LIGHT_COUNT; ++i) {
         vec4 lv = sgfx_lightVector[i];
-        vec3 L = lv.w == 0.0 ? normalize(lv.xyz) : normalize(lv.xyz - v_worldPos);
+        vec3 L = normalize(lv.xyz - lv.w * v_worldPos); // w = 0: direction, w = 1: position
         float NdotL = max(dot(N, L), 0.0);
+        vec3 lit = base.rgb * NdotL;
+#ifdef SGFX_SPECULAR
         vec3 H = normalize(L + V);
-        float spec = NdotL > 0.0 ? pow(max(dot(N, H), 0.0), sgfx_matShininess) : 0.0;
-        color += sgfx_lightColor[i].rgb * (base.rgb * NdotL + sgfx_matSpecular * spec);
+        lit += NdotL > 0.0 ? sgfx_matSpecular * pow(max(dot(N, H), 0.0), sgfx_matShininess) : vec3(0.0);
+#endif
+        color += sgfx_lightColor[i].rgb * lit;
     }
     vec4 sgfx_color = vec4(color, base.a);
     // @sgfx:color

@@ -70,7 +70,7 @@ TEST(ComposerText, HooksReceiveSnippetCodeInOrder) {
     b.defines = "#define BETA 1";
     const ShaderSnippet* list[] = {&a, &b};
     const ComposedProgram p = ShaderComposer::composeBuiltin(ShaderComposer::blinnPhong(), list);
-    EXPECT_EQ(p.description, "blinn_phong + [alpha, beta]");
+    EXPECT_EQ(p.description, "blinn_phong + [alpha, beta] {LIGHT_COUNT 0}");
     // Each piece appears once, in the right stage, after its hook, alpha before beta.
     EXPECT_EQ(countOf(p.fragment, "uniform float alphaU;"), 1u);
     EXPECT_EQ(countOf(p.vertex, "sgfx_worldPos.z += 1.0;"), 1u);
@@ -86,7 +86,14 @@ TEST(ComposerText, HooksReceiveSnippetCodeInOrder) {
     EXPECT_NE(std::find(p.vertexSources.begin(), p.vertexSources.end(), "beta.vertexCode"), p.vertexSources.end());
     // No snippets: no hook code, and no stray marker text left as code.
     const ComposedProgram plain = ShaderComposer::composeBuiltin(ShaderComposer::blinnPhong(), {});
-    EXPECT_EQ(plain.description, "blinn_phong + []");
+    EXPECT_EQ(plain.description, "blinn_phong + [] {LIGHT_COUNT 0}");
+    // Feature variants become defines and are named in the description.
+    const ComposedProgram masked = ShaderComposer::composeBuiltin(
+        ShaderComposer::blinnPhong(), {}, FeatureAlphaMask | FeatureNormals | (2u << FeatureLightCountShift));
+    EXPECT_NE(masked.fragment.find("#define SGFX_ALPHA_MASK"), std::string::npos);
+    EXPECT_NE(masked.fragment.find("#define SGFX_LIGHT_COUNT 2"), std::string::npos);
+    EXPECT_EQ(plain.fragment.find("#define SGFX_ALPHA_MASK"), std::string::npos);
+    EXPECT_EQ(masked.description, "blinn_phong + [] {NORMALS ALPHA_MASK LIGHT_COUNT 2}");
     EXPECT_EQ(countOf(plain.fragment, "alphaU"), 0u);
 }
 

@@ -289,7 +289,7 @@ TEST(State, CullRecordsInheritedStatePerItem) {
     EXPECT_NEAR(q.opaque[0].model[3].z, -10.0f, 1e-6f);
 }
 
-TEST(Queue, OpaqueSortedByProgramMaterialThenFrontToBack) {
+TEST(Queue, OpaqueSortedByDistanceOctaveProgramMaterialThenFrontToBack) {
     auto cam = perspectiveCamera();
     auto m1 = Material::create(), m2 = Material::create();
     auto foreign = ShaderProgram::create("app", "#version 450 core\nvoid main(){}", "#version 450 core\nvoid main(){}");
@@ -299,8 +299,9 @@ TEST(Queue, OpaqueSortedByProgramMaterialThenFrontToBack) {
         bool foreign;
         std::string name;
     };
-    const Spec specs[] = {{-30, m1, false, "m1far"}, {-10, m2, false, "m2near"}, {-20, m1, false, "m1mid"},
-                          {-5, m1, true, "fnear"},   {-15, m1, false, "m1near"}};
+    // All but the last lie in one octave of distance [16, 32).
+    const Spec specs[] = {{-30, m1, false, "m1far"},   {-17, m2, false, "m2near"},  {-25, m1, false, "m1mid"},
+                          {-16.5f, m1, true, "fnear"}, {-20, m1, false, "m1near"},  {-80, m1, false, "m1veryfar"}};
     for (const auto& s : specs) {
         auto t = Transform::create(glm::translate(glm::mat4(1.0f), {0, 0, s.z}));
         auto b = unitBox(s.name);
@@ -313,12 +314,14 @@ TEST(Queue, OpaqueSortedByProgramMaterialThenFrontToBack) {
     CullVisitor cv(*cam, q);
     cv.run(*cam);
     q.sort();
-    ASSERT_EQ(q.opaque.size(), 5u);
-    // Items of one program are contiguous, items of one material within it are contiguous, and
-    // each run is front to back.
-    for (std::size_t i = 1; i < q.opaque.size(); ++i) {
+    ASSERT_EQ(q.opaque.size(), 6u);
+    EXPECT_EQ(q.opaque.back().geometry->name, "m1veryfar"); // a farther octave comes after
+    // Within an octave: items of one program are contiguous, items of one material within it are
+    // contiguous, and each run is front to back.
+    for (std::size_t i = 1; i + 1 < q.opaque.size(); ++i) {
         const auto& a = q.opaque[i - 1];
         const auto& b = q.opaque[i];
+        ASSERT_EQ(a.depthBucket, b.depthBucket);
         ASSERT_LE(a.programKey, b.programKey);
         if (a.programKey == b.programKey && a.state->material.value->get() == b.state->material.value->get()) {
             EXPECT_LT(a.depth, b.depth) << a.geometry->name << " before " << b.geometry->name;
@@ -327,7 +330,7 @@ TEST(Queue, OpaqueSortedByProgramMaterialThenFrontToBack) {
     std::string m1run;
     for (auto& it : q.opaque)
         if (it.state->material.value->get() == m1.get() && !it.program()) m1run += it.geometry->name + " ";
-    EXPECT_EQ(m1run, "m1near m1mid m1far ");
+    EXPECT_EQ(m1run, "m1near m1mid m1far m1veryfar ");
 }
 
 TEST(Queue, TransparentBackToFrontAndStable) {

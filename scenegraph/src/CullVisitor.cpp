@@ -5,8 +5,10 @@
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
 #include "sgfx/Renderer.h"
+#include "sgfx/ShaderComposer.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace sgfx {
 
@@ -150,12 +152,18 @@ void CullVisitor::apply(Geometry& g) {
     item.state = state;
     item.effectSet = effectSet_.back();
     item.depth = -vs.center.z;
+    item.depthBucket = item.depth > 1.0f ? std::int8_t(std::min(std::ilogb(item.depth), 127)) : 0;
     item.sequence = sequence_++;
-    const auto prog = reinterpret_cast<std::uintptr_t>(item.program());
-    item.programKey = (std::uint64_t(prog) << 16) ^ queue_.effectSets[item.effectSet].signature;
+    const bool transparent = state->transparent();
+    const ShaderProgram* foreign = item.program();
+    if (!foreign) item.features = ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent);
+    // Equal keys mean one program: (foreign shader or built-in variant, effect snippets).
+    const auto prog = std::uint64_t(reinterpret_cast<std::uintptr_t>(foreign));
+    item.programKey = (prog << 8) ^ (std::uint64_t(queue_.effectSets[item.effectSet].signature) << 44) ^
+                      (std::uint64_t(item.features) << 32);
     computedNear = std::min(computedNear, item.depth - vs.radius);
     computedFar = std::max(computedFar, item.depth + vs.radius);
-    (state->transparent() ? queue_.transparent : queue_.opaque).push_back(item);
+    (transparent ? queue_.transparent : queue_.opaque).push_back(item);
     popState(g);
 }
 

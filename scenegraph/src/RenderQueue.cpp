@@ -33,9 +33,11 @@ std::uint32_t RenderQueue::internEffectSet(std::vector<const EffectNode*> effect
 }
 
 void RenderQueue::sort() {
-    // Opaque: fewest program switches, then fewest material switches, then front to back so
-    // early depth rejection saves shading.
+    // Opaque: near to far by octave of distance (software rasterizers pay for every covered
+    // fragment, GPUs for every one that passes), then fewest program and material switches
+    // within an octave, then front to back.
     std::sort(opaque.begin(), opaque.end(), [](const RenderItem& a, const RenderItem& b) {
+        if (a.depthBucket != b.depthBucket) return a.depthBucket < b.depthBucket;
         if (a.programKey != b.programKey) return a.programKey < b.programKey;
         const Material* ma = a.state->material.value ? a.state->material.value->get() : nullptr;
         const Material* mb = b.state->material.value ? b.state->material.value->get() : nullptr;

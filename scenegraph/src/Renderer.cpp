@@ -33,7 +33,6 @@ struct FrameBlock {
 };
 constexpr int kMaxLights = 8;
 
-enum Flags : int { BaseMap = 1, AlphaMap = 2, NormalMap = 4, VertexColor = 8, HasNormals = 16, HasTangents = 32 };
 enum Unit : unsigned { BaseUnit = 0, AlphaUnit = 1, NormalUnit = 2, FirstUserUnit = 4 };
 
 GLenum glMode(PrimitiveMode m) {
@@ -225,8 +224,10 @@ struct Renderer::Impl {
     }
 };
 
-Renderer::Renderer(GraphicsContext& context) : context_(context), impl_(std::make_unique<Impl>()) {
+Renderer::Renderer(GraphicsContext& context, Options options)
+    : context_(context), options_(options), impl_(std::make_unique<Impl>()) {
     context_.makeCurrent();
+    if (!options_.lateDepthTest) options_.lateDepthTest = context_.renderer().find("llvmpipe") != std::string::npos;
     impl_->stateChanges = &stats_.stateChanges;
     impl_->frameUbo = gl::createBuffer();
     glNamedBufferData(impl_->frameUbo.get(), sizeof(FrameBlock), nullptr, GL_DYNAMIC_DRAW);
@@ -334,6 +335,7 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
         fb.lightVector[i] = queue.lights[std::size_t(i)].vector;
         fb.lightColor[i] = glm::vec4(queue.lights[std::size_t(i)].color, 0.0f);
     }
+    viewFeatures_ = (std::uint32_t(nLights) << FeatureLightCountShift) | (*options_.lateDepthTest ? FeatureLateDepth : 0u);
     glNamedBufferSubData(impl_->frameUbo.get(), 0, sizeof fb, &fb);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, impl_->frameUbo.get());
     impl_->invalidate();
@@ -390,7 +392,6 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
     const ResolvedState* state = nullptr;
     const Material* material = nullptr;
     std::uint32_t effectSet = ~0u;
-    int flags = -1;
     std::vector<const ShaderSnippet*> snippets;
     for (const RenderItem& item : items) {
         bool programChanged = false;
@@ -398,7 +399,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             const EffectSet& set = current_->effectSets[item.effectSet];
             snippets.clear();
             for (const EffectNode* e : set.effects) snippets.push_back(&e->snippet());
-            program = &composer_.program(item.program(), snippets);
+            program = &composer_.program(item.program(), snippets, item.program() ? 0u : item.features | viewFeatures_);
             programKey = item.programKey;
             programChanged = true;
         }
@@ -413,7 +414,6 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             state = nullptr;
             material = nullptr;
             effectSet = ~0u;
-            flags = -1;
         }
         if (item.effectSet != effectSet) {
             effectSet = item.effectSet;
@@ -434,13 +434,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             for (const auto& [name, value] : state->uniforms)
                 if (value.value) program->set(name, *value.value);
         }
-        int matFlags = 0;
         const Material* m = state->material.value ? state->material.value->get() : nullptr;
-        if (m) {
-            if (m->baseColorTexture) matFlags |= BaseMap;
-            if (m->alphaTexture) matFlags |= AlphaMap;
-            if (m->normalTexture) matFlags |= NormalMap;
-        }
         if (m != material) {
             material = m;
             if (m) {
@@ -449,7 +443,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
                 program->set("sgfx_matSpecular", m->specular);
                 program->set("sgfx_matShininess", m->shininess);
                 program->set("sgfx_matEmissive", m->emissive);
-                program->set("sgfx_alphaCutoff", m->alphaCutoff.value_or(-1.0f));
+                program->set("sgfx_alphaCutoff", m->alphaCutoff.value_or(0.0f));
                 if (m->baseColorTexture) s.bindTexture(BaseUnit, textureFor(*m->baseColorTexture));
                 if (m->alphaTexture) s.bindTexture(AlphaUnit, textureFor(*m->alphaTexture));
                 if (m->normalTexture) s.bindTexture(NormalUnit, textureFor(*m->normalTexture));
@@ -458,12 +452,6 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         }
         const Geometry& g = *item.geometry;
         gl::GeometryBuffers& b = buffersFor(g);
-        const int drawFlags = matFlags | (g.colors.empty() ? 0 : VertexColor) | (g.normals.empty() ? 0 : HasNormals) |
-                              (g.tangents.empty() ? 0 : HasTangents);
-        if (drawFlags != flags) {
-            flags = drawFlags;
-            program->set("sgfx_flags", drawFlags);
-        }
         program->set("sgfx_model", item.model);
         program->set("sgfx_normalMatrix", glm::mat3(glm::transpose(glm::inverse(item.model))));
         glBindVertexArray(b.vao.get());

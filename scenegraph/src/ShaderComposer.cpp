@@ -1,6 +1,8 @@
 #include "sgfx/ShaderComposer.h"
 
 #include "EmbeddedShaders.h"
+#include "sgfx/Geometry.h"
+#include "sgfx/Material.h"
 #include "sgfx/gl/Objects.h"
 
 #include <regex>
@@ -39,8 +41,8 @@ void appendChunk(std::string& out, std::vector<std::string>& names, std::string 
     if (!text.empty() && text.back() != '\n') out += '\n';
 }
 
-std::string preamble(std::span<const ShaderSnippet* const> snippets) {
-    std::string p;
+std::string preamble(std::span<const ShaderSnippet* const> snippets, std::uint32_t features) {
+    std::string p = ShaderComposer::featureDefines(features);
     for (const ShaderSnippet* s : snippets) p += s->defines.empty() ? "" : s->defines + "\n";
     p += shaders::embedded("frame_block.glsl");
     return p;
@@ -58,9 +60,10 @@ std::string splitVersion(std::string_view& src, std::string_view shaderName) {
 
 // Copies a base stage line by line, expanding hook markers with the snippets' code.
 std::string composeStage(std::string_view name, std::string_view src, std::span<const Hook> hooks,
-                         std::span<const ShaderSnippet* const> snippets, std::vector<std::string>& names) {
+                         std::span<const ShaderSnippet* const> snippets, std::uint32_t features,
+                         std::vector<std::string>& names) {
     std::string out = splitVersion(src, name);
-    appendChunk(out, names, "<sgfx preamble>", preamble(snippets));
+    appendChunk(out, names, "<sgfx preamble>", preamble(snippets, features));
     const std::size_t baseSource = names.size();
     names.emplace_back(name);
     out += lineDirective(2, baseSource);
@@ -109,12 +112,54 @@ const BaseShader& ShaderComposer::blinnPhong() {
     return base;
 }
 
-ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base, std::span<const ShaderSnippet* const> snippets) {
+ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
+                                               std::uint32_t features) {
     ComposedProgram p;
-    p.vertex = composeStage(base.vertexName, base.vertexSource, kVertexHooks, snippets, p.vertexSources);
-    p.fragment = composeStage(base.fragmentName, base.fragmentSource, kFragmentHooks, snippets, p.fragmentSources);
+    p.vertex = composeStage(base.vertexName, base.vertexSource, kVertexHooks, snippets, features, p.vertexSources);
+    p.fragment =
+        composeStage(base.fragmentName, base.fragmentSource, kFragmentHooks, snippets, features, p.fragmentSources);
     p.description = describe(base.name, snippets);
+    std::string variant = featureDefines(features);
+    for (auto& c : variant)
+        if (c == '\n') c = ' ';
+    for (const std::string_view drop : {"#define ", "SGFX_"})
+        for (auto at = variant.find(drop); at != std::string::npos; at = variant.find(drop))
+            variant.erase(at, drop.size());
+    p.description += " {" + variant.substr(0, variant.size() - 1) + "}";
     return p;
+}
+
+std::string ShaderComposer::featureDefines(std::uint32_t f) {
+    static const std::pair<std::uint32_t, const char*> names[] = {
+        {FeatureBaseMap, "SGFX_BASE_MAP"},       {FeatureAlphaMap, "SGFX_ALPHA_MAP"}, {FeatureNormalMap, "SGFX_NORMAL_MAP"},
+        {FeatureVertexColor, "SGFX_VERTEX_COLOR"}, {FeatureNormals, "SGFX_NORMALS"},   {FeatureTangents, "SGFX_TANGENTS"},
+        {FeatureTexCoords, "SGFX_TEXCOORDS"},    {FeatureAlphaMask, "SGFX_ALPHA_MASK"}, {FeatureBlend, "SGFX_BLEND"},
+        {FeatureSpecular, "SGFX_SPECULAR"},     {FeatureLateDepth, "SGFX_LATE_DEPTH"}};
+    std::string d;
+    for (const auto& [bit, name] : names)
+        if (f & bit) d += std::string("#define ") + name + "\n";
+    d += "#define SGFX_LIGHT_COUNT " + std::to_string((f & FeatureLightCountMask) >> FeatureLightCountShift) + "\n";
+    return d;
+}
+
+std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, bool blended) {
+    // Only what the material reads is interpolated: every varying costs per fragment.
+    std::uint32_t f = 0;
+    if (!g.normals.empty()) f |= FeatureNormals;
+    if (!g.colors.empty()) f |= FeatureVertexColor;
+    if (blended) f |= FeatureBlend;
+    if (m) {
+        const bool uv = !g.texcoords.empty();
+        if (m->baseColorTexture && uv) f |= FeatureBaseMap | FeatureTexCoords;
+        if (m->alphaTexture && uv) f |= FeatureAlphaMap | FeatureTexCoords;
+        if (m->normalTexture && uv) {
+            f |= FeatureNormalMap | FeatureTexCoords;
+            if (!g.tangents.empty()) f |= FeatureTangents;
+        }
+        if (m->alphaCutoff) f |= FeatureAlphaMask;
+        if (m->specular != glm::vec3(0.0f)) f |= FeatureSpecular;
+    }
+    return f;
 }
 
 ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog, std::span<const ShaderSnippet* const> snippets) {
@@ -214,12 +259,15 @@ gl::Program& ShaderComposer::cached(std::string key, std::span<const ShaderSnipp
     return *cache_.emplace(std::move(key), std::move(prog)).first->second;
 }
 
-gl::Program& ShaderComposer::program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets) {
-    return cached("base:" + base.name, snippets, [&] { return composeBuiltin(base, snippets); });
+gl::Program& ShaderComposer::program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
+                                     std::uint32_t features) {
+    return cached("base:" + base.name + ":" + std::to_string(features), snippets,
+                  [&] { return composeBuiltin(base, snippets, features); });
 }
 
-gl::Program& ShaderComposer::program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets) {
-    if (!foreign) return program(blinnPhong(), snippets);
+gl::Program& ShaderComposer::program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets,
+                                     std::uint32_t features) {
+    if (!foreign) return program(blinnPhong(), snippets, features);
     // Keyed by identity and text, so editing a ShaderProgram's source yields a new variant.
     std::string key = "foreign:" + std::to_string(reinterpret_cast<std::uintptr_t>(foreign)) + ":" +
                       std::to_string(std::hash<std::string>{}(foreign->vertexSource + foreign->fragmentSource));

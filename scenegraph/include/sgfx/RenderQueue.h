@@ -32,8 +32,10 @@ struct RenderItem {
     const ResolvedState* state = nullptr;
     std::uint32_t effectSet = 0; // index into RenderQueue::effectSets
     float depth = 0.0f;          // view-space distance of the bound's centre along -Z
+    std::int8_t depthBucket = 0; // floor(log2(depth)): opaque items sort near-to-far by it first
     std::uint32_t sequence = 0;  // cull order, keeps sorting stable
     std::uint64_t programKey = 0;
+    std::uint32_t features = 0; // built-in material variant (MaterialFeature bits)
 
     const ShaderProgram* program() const;
 };

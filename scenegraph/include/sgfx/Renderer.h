@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -67,7 +68,13 @@ struct FrameStats {
 // Owns GL-side resources for one context: composed programs, the scene target, the state cache.
 class Renderer {
 public:
-    explicit Renderer(GraphicsContext& context);
+    struct Options {
+        // Test depth after shading instead of before. Unset = on for llvmpipe, where the late
+        // test measured faster (polygon --bench), off elsewhere (GPUs reject early).
+        std::optional<bool> lateDepthTest;
+    };
+
+    explicit Renderer(GraphicsContext& context, Options options = {});
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
@@ -89,6 +96,7 @@ public:
     const FrameStats& stats() const { return stats_; }
     gl::RenderTarget& sceneTarget();
     GraphicsContext& context() { return context_; }
+    Options& options() { return options_; }
 
     // GL errors and high-severity KHR_debug messages seen since the last call.
     std::vector<std::string> takeGlErrors();
@@ -98,6 +106,8 @@ private:
     void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
     void copyToTexture(const gl::RenderTarget& from, const Texture& to);
     GraphicsContext& context_;
+    Options options_;
+    std::uint32_t viewFeatures_ = 0; // variant bits that hold for the whole view (lights, depth test)
     ShaderComposer composer_;
     RenderQueue queue_;
     FramePlan plan_;

@@ -60,14 +60,42 @@ struct BaseShader {
     std::string fragmentName, fragmentSource;
 };
 
-// Builds program variants for (base shader, snippets) and caches them.
+// What a built-in material variant contains; each bit becomes a #define (SGFX_BASE_MAP, ...)
+// so a plain material carries no texture fetch, no unused varying and no `discard`.
+enum MaterialFeature : std::uint32_t {
+    FeatureBaseMap = 1u << 0,
+    FeatureAlphaMap = 1u << 1,
+    FeatureNormalMap = 1u << 2,
+    FeatureVertexColor = 1u << 3,
+    FeatureNormals = 1u << 4,
+    FeatureTangents = 1u << 5,
+    FeatureTexCoords = 1u << 6,
+    FeatureAlphaMask = 1u << 7,
+    FeatureBlend = 1u << 8,
+    FeatureSpecular = 1u << 9,
+    // Never discards, but makes the driver test depth after shading: on llvmpipe the late test
+    // is measured faster than its early one (see Renderer::Options::lateDepthTest).
+    FeatureLateDepth = 1u << 10,
+    // Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
+    FeatureLightCountShift = 12,
+    FeatureLightCountMask = 0xfu << 12,
+};
+
+class Material;
+class Geometry;
+
+// Builds program variants for (base shader, features, snippets) and caches them.
 class ShaderComposer {
 public:
     ShaderComposer();
     ~ShaderComposer();
 
     // Text only (no GL): testable anywhere.
-    static ComposedProgram composeBuiltin(const BaseShader& base, std::span<const ShaderSnippet* const> snippets);
+    static ComposedProgram composeBuiltin(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
+                                          std::uint32_t features = 0);
+    static std::string featureDefines(std::uint32_t features);
+    // The variant a material needs for a geometry (attributes present, textures, mask, blending).
+    static std::uint32_t featuresFor(const Material* material, const Geometry& geometry, bool blended);
     static ComposedProgram composeForeign(const ShaderProgram& program,
                                           std::span<const ShaderSnippet* const> snippets);
     // Rewrites "S:L(C): msg" / "S(L) : msg" driver lines into "name:line: msg".
@@ -77,8 +105,10 @@ public:
     static const BaseShader& blinnPhong();
 
     // Compiles on a miss (GL thread). `foreign` null = built-in material.
-    gl::Program& program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets);
-    gl::Program& program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets);
+    gl::Program& program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets,
+                         std::uint32_t features = 0);
+    gl::Program& program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
+                         std::uint32_t features = 0);
 
     std::size_t hits() const { return hits_; }
     std::size_t misses() const { return misses_; }

@@ -3,6 +3,8 @@
 #include <glad/gl.h>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
@@ -101,6 +103,7 @@ ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::
 } // namespace
 
 Program::Program(const ComposedProgram& c) : description_(c.description) {
+    if (std::getenv("SGFX_LOG_PROGRAMS")) std::fprintf(stderr, "sgfx: compiling %s\n", description_.c_str());
     ShaderObject vs = compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description);
     ShaderObject fs = compile(GL_FRAGMENT_SHADER, c.fragment, c.fragmentSources, c.description);
     name_ = glCreateProgram();
@@ -185,7 +188,7 @@ void RenderTarget::resize(int w, int h) {
     glTextureParameteri(color.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(color.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     depth = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
+    glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT24, w, h);
     glTextureParameteri(depth.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(depth.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureParameteri(depth.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
