@@ -4,7 +4,9 @@
 // Feature defines (SGFX_BASE_MAP, SGFX_ALPHA_MAP, SGFX_NORMAL_MAP, SGFX_VERTEX_COLOR,
 // SGFX_NORMALS, SGFX_TANGENTS, SGFX_ALPHA_MASK, SGFX_BLEND) are set per variant: a material
 // without an alpha mask has no `discard`, so the rasterizer keeps early depth rejection.
-in vec3 v_worldPos;
+#ifdef SGFX_WORLD_POSITION
+in vec3 v_worldPos; // only when something reads it: every varying costs per fragment
+#endif
 #ifdef SGFX_NORMALS
 in vec3 v_worldNormal;
 #endif
@@ -16,6 +18,15 @@ in vec2 v_texcoord;
 #endif
 #ifdef SGFX_VERTEX_COLOR
 in vec4 v_color;
+#endif
+
+#ifdef SGFX_VERTEX_LIGHTING
+in vec3 v_diffuseFront;
+in vec3 v_diffuseBack;
+#ifdef SGFX_SPECULAR
+in vec3 v_specularFront;
+in vec3 v_specularBack;
+#endif
 #endif
 
 uniform vec3 sgfx_matAmbient;
@@ -33,6 +44,7 @@ layout(location = 0) out vec4 sgfx_fragColor;
 
 // @sgfx:fragment_decl
 
+#ifndef SGFX_VERTEX_LIGHTING
 vec3 surfaceNormal() {
 #ifdef SGFX_NORMALS
     vec3 N = normalize(v_worldNormal);
@@ -58,6 +70,7 @@ vec3 surfaceNormal() {
 #endif
     return gl_FrontFacing ? N : -N;
 }
+#endif
 
 void main() {
     vec4 base = sgfx_matDiffuse;
@@ -81,23 +94,34 @@ void main() {
 #ifndef SGFX_BLEND
     base.a = 1.0; // opaque surfaces write opaque pixels whatever the material's alpha
 #endif
-#ifdef SGFX_LATE_DEPTH
-    if (sgfx_alphaCutoff < -1.0) discard; // never true: asks for the (faster) late depth test
-#endif
 
-    vec3 N = surfaceNormal();
     vec3 sgfx_ambient = sgfx_ambientLight.rgb;
+#ifdef SGFX_WORLD_POSITION
     vec3 sgfx_worldPos = v_worldPos;
+#else
+    vec3 sgfx_worldPos = vec3(0.0); // no snippet or light of this variant reads it
+#endif
     vec3 sgfx_eyePos = sgfx_eye.xyz;
     // @sgfx:ambient
     vec3 color = sgfx_matEmissive + sgfx_ambient * ambientColor;
+#ifdef SGFX_VERTEX_LIGHTING
+    color += base.rgb * (gl_FrontFacing ? v_diffuseFront : v_diffuseBack);
+#ifdef SGFX_SPECULAR
+    color += sgfx_matSpecular * (gl_FrontFacing ? v_specularFront : v_specularBack);
+#endif
+#else
+    vec3 N = surfaceNormal();
 #ifdef SGFX_SPECULAR
     vec3 V = normalize(sgfx_eye.xyz - v_worldPos);
 #endif
     // SGFX_LIGHT_COUNT is the number of lights in the view, compiled in so the loop unrolls.
     for (int i = 0; i < SGFX_LIGHT_COUNT; ++i) {
         vec4 lv = sgfx_lightVector[i];
+#ifdef SGFX_POINT_LIGHTS
         vec3 L = normalize(lv.xyz - lv.w * v_worldPos); // w = 0: direction, w = 1: position
+#else
+        vec3 L = lv.xyz; // directions come normalised
+#endif
         float NdotL = max(dot(N, L), 0.0);
         vec3 lit = base.rgb * NdotL;
 #ifdef SGFX_SPECULAR
@@ -106,6 +130,7 @@ void main() {
 #endif
         color += sgfx_lightColor[i].rgb * lit;
     }
+#endif
     vec4 sgfx_color = vec4(color, base.a);
     // @sgfx:color
     sgfx_fragColor = sgfx_color;

@@ -11,7 +11,9 @@ layout(location = 4) in vec4 a_color;
 uniform mat4 sgfx_model;
 uniform mat3 sgfx_normalMatrix;
 
+#ifdef SGFX_WORLD_POSITION
 out vec3 v_worldPos;
+#endif
 #ifdef SGFX_NORMALS
 out vec3 v_worldNormal;
 #endif
@@ -25,6 +27,38 @@ out vec2 v_texcoord;
 out vec4 v_color;
 #endif
 
+#ifdef SGFX_VERTEX_LIGHTING
+// Gouraud option: light sums per vertex, for both faces (two-sided surfaces pick per fragment).
+uniform float sgfx_matShininess;
+out vec3 v_diffuseFront;
+out vec3 v_diffuseBack;
+#ifdef SGFX_SPECULAR
+out vec3 v_specularFront;
+out vec3 v_specularBack;
+#endif
+void vertexLighting(vec3 P, vec3 N) {
+    v_diffuseFront = vec3(0.0);
+    v_diffuseBack = vec3(0.0);
+#ifdef SGFX_SPECULAR
+    v_specularFront = vec3(0.0);
+    v_specularBack = vec3(0.0);
+    vec3 V = normalize(sgfx_eye.xyz - P);
+#endif
+    for (int i = 0; i < SGFX_LIGHT_COUNT; ++i) {
+        vec4 lv = sgfx_lightVector[i];
+        vec3 L = normalize(lv.xyz - lv.w * P);
+        float d = dot(N, L);
+        v_diffuseFront += sgfx_lightColor[i].rgb * max(d, 0.0);
+        v_diffuseBack += sgfx_lightColor[i].rgb * max(-d, 0.0);
+#ifdef SGFX_SPECULAR
+        float h = dot(N, normalize(L + V));
+        v_specularFront += d > 0.0 ? sgfx_lightColor[i].rgb * pow(max(h, 0.0), sgfx_matShininess) : vec3(0.0);
+        v_specularBack += d < 0.0 ? sgfx_lightColor[i].rgb * pow(max(-h, 0.0), sgfx_matShininess) : vec3(0.0);
+#endif
+    }
+}
+#endif
+
 // @sgfx:vertex_decl
 
 void main() {
@@ -32,7 +66,12 @@ void main() {
     vec3 sgfx_worldNormal = sgfx_normalMatrix * a_normal;
     vec4 sgfx_viewPos = sgfx_view * vec4(sgfx_worldPos, 1.0);
     // @sgfx:vertex
+#ifdef SGFX_WORLD_POSITION
     v_worldPos = sgfx_worldPos;
+#endif
+#ifdef SGFX_VERTEX_LIGHTING
+    vertexLighting(sgfx_worldPos, normalize(sgfx_worldNormal));
+#endif
 #ifdef SGFX_NORMALS
     v_worldNormal = sgfx_worldNormal;
 #endif

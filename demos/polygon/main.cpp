@@ -60,6 +60,10 @@ options:
                       triangles): terrain resolution and numbers of buildings and trees
   --seed N            scene seed, an unsigned integer (default 1)
   --egl               render headless through EGL (GPU) instead of OSMesa
+  --lighting pixel|vertex
+                      per-pixel Blinn-Phong (default) or per-vertex (Gouraud) lighting
+  --count-fragments   with --bench: also count fragments that pass the depth test (an
+                      occlusion query per frame, which itself costs a little time)
   -h, --help          show this help
 
 exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
@@ -82,6 +86,8 @@ struct Options {
     std::uint64_t seed = 1;
     int benchFrames = 0;
     bool egl = false;
+    sgfx::RendererOptions::Lighting lighting = sgfx::RendererOptions::Lighting::PerPixel;
+    bool countFragments = false;
 };
 
 template <class T> T parseNumber(std::string_view option, std::string_view text) {
@@ -162,6 +168,13 @@ Options parseArgs(int argc, char** argv) {
             o.seed = parseNumber<std::uint64_t>(arg, value());
         } else if (arg == "--egl") {
             o.egl = true;
+        } else if (arg == "--count-fragments") {
+            o.countFragments = true;
+        } else if (arg == "--lighting") {
+            const std::string_view v = value();
+            if (v == "pixel") o.lighting = sgfx::RendererOptions::Lighting::PerPixel;
+            else if (v == "vertex") o.lighting = sgfx::RendererOptions::Lighting::PerVertex;
+            else throw UsageError("--lighting: '" + std::string(v) + "' is not 'pixel' or 'vertex'");
         } else {
             throw UsageError("unknown option '" + std::string(arg) + "'");
         }
@@ -177,6 +190,8 @@ std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
     } else {
         viewer = sgfx::Viewer::createHeadless(o.width, o.height);
     }
+    viewer->renderer().options().lighting = o.lighting;
+    viewer->renderer().options().countFragments = o.countFragments;
     return viewer;
 }
 
@@ -233,7 +248,7 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
     std::vector<double> ms;
     ms.reserve(std::size_t(n));
     double triangles = 0, drawCalls = 0, stateChanges = 0, programChanges = 0, culled = 0, cullMs = 0,
-           drawMs = 0;
+           drawMs = 0, fragments = 0;
     for (int i = 0; i < n; ++i) {
         const polygon::CameraPose pose = polygon::cameraPose(float(i) / float(n), kExtent);
         viewer->camera()->setLookAt(pose.eye, pose.target, pose.up);
@@ -250,6 +265,7 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
         culled += double(st.culledNodes);
         cullMs += st.cullMs;
         drawMs += st.drawMs;
+        fragments += double(st.fragments);
     }
     reportGlErrors(*viewer);
     const double dn = double(n);
@@ -268,6 +284,9 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
     std::printf("                   culled nodes %.1f  cull %.2f ms  draw submit %.2f ms (CPU)\n",
                 culled / dn, cullMs / dn, drawMs / dn);
     std::printf("  scene            %zu triangles\n", sceneTriangles);
+    if (o.countFragments)
+        std::printf("  fragments        %.0f passed depth per frame = %.2f per pixel\n", fragments / dn,
+                    fragments / dn / (double(o.width) * o.height));
     std::printf("BENCH sgfx ms_per_frame=%.3f fps=%.2f triangles=%.0f draw_calls=%.1f state_changes=%.1f "
                 "program_changes=%.1f median_ms=%.3f scene_triangles=%zu size=%dx%d context=%.*s\n",
                 mean, fps, triangles / dn, drawCalls / dn, stateChanges / dn, programChanges / dn, med,
@@ -288,6 +307,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     }
     GLFWwindow* win = window->handle();
     sgfx::Viewer viewer(std::move(window));
+    viewer.renderer().options().lighting = o.lighting;
     setupCamera(viewer, startPose(o, o.time));
     viewer.setSceneData(scene.root);
     const polygon::Terrain terrain(o.seed);

@@ -227,7 +227,6 @@ struct Renderer::Impl {
 Renderer::Renderer(GraphicsContext& context, Options options)
     : context_(context), options_(options), impl_(std::make_unique<Impl>()) {
     context_.makeCurrent();
-    if (!options_.lateDepthTest) options_.lateDepthTest = context_.renderer().find("llvmpipe") != std::string::npos;
     impl_->stateChanges = &stats_.stateChanges;
     impl_->frameUbo = gl::createBuffer();
     glNamedBufferData(impl_->frameUbo.get(), sizeof(FrameBlock), nullptr, GL_DYNAMIC_DRAW);
@@ -335,7 +334,10 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
         fb.lightVector[i] = queue.lights[std::size_t(i)].vector;
         fb.lightColor[i] = glm::vec4(queue.lights[std::size_t(i)].color, 0.0f);
     }
-    viewFeatures_ = (std::uint32_t(nLights) << FeatureLightCountShift) | (*options_.lateDepthTest ? FeatureLateDepth : 0u);
+    viewFeatures_ = (std::uint32_t(nLights) << FeatureLightCountShift) |
+                    (options_.lighting == RendererOptions::Lighting::PerVertex ? FeatureVertexLighting : 0u);
+    for (int i = 0; i < nLights; ++i)
+        if (queue.lights[std::size_t(i)].vector.w != 0.0f) viewFeatures_ |= FeaturePointLights;
     glNamedBufferSubData(impl_->frameUbo.get(), 0, sizeof fb, &fb);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, impl_->frameUbo.get());
     impl_->invalidate();
@@ -355,8 +357,19 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     const GLbitfield mask =
         (camera.clearColorEnabled ? GL_COLOR_BUFFER_BIT : 0u) | (camera.clearDepthEnabled ? GL_DEPTH_BUFFER_BIT : 0u);
     if (mask) glClear(mask);
+    gl::QueryObject fragments;
+    if (options_.countFragments) {
+        fragments = gl::createQuery(GL_SAMPLES_PASSED);
+        glBeginQuery(GL_SAMPLES_PASSED, fragments.get());
+    }
     drawItems(queue.opaque);
     drawItems(queue.transparent);
+    if (fragments) {
+        glEndQuery(GL_SAMPLES_PASSED);
+        GLuint64 n = 0;
+        glGetQueryObjectui64v(fragments.get(), GL_QUERY_RESULT, &n);
+        stats_.fragments += n;
+    }
 
     for (auto& p : plan.passes)
         if (p->stage() == PassStage::Post) p->execute(*this);
@@ -399,7 +412,9 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             const EffectSet& set = current_->effectSets[item.effectSet];
             snippets.clear();
             for (const EffectNode* e : set.effects) snippets.push_back(&e->snippet());
-            program = &composer_.program(item.program(), snippets, item.program() ? 0u : item.features | viewFeatures_);
+            const std::uint32_t features =
+                item.program() ? 0u : ShaderComposer::withWorldPosition(item.features | viewFeatures_, !snippets.empty());
+            program = &composer_.program(item.program(), snippets, features);
             programKey = item.programKey;
             programChanged = true;
         }

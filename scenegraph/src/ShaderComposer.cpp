@@ -134,12 +134,20 @@ std::string ShaderComposer::featureDefines(std::uint32_t f) {
         {FeatureBaseMap, "SGFX_BASE_MAP"},       {FeatureAlphaMap, "SGFX_ALPHA_MAP"}, {FeatureNormalMap, "SGFX_NORMAL_MAP"},
         {FeatureVertexColor, "SGFX_VERTEX_COLOR"}, {FeatureNormals, "SGFX_NORMALS"},   {FeatureTangents, "SGFX_TANGENTS"},
         {FeatureTexCoords, "SGFX_TEXCOORDS"},    {FeatureAlphaMask, "SGFX_ALPHA_MASK"}, {FeatureBlend, "SGFX_BLEND"},
-        {FeatureSpecular, "SGFX_SPECULAR"},     {FeatureLateDepth, "SGFX_LATE_DEPTH"}};
+        {FeatureSpecular, "SGFX_SPECULAR"},     {FeatureVertexLighting, "SGFX_VERTEX_LIGHTING"},
+        {FeatureWorldPosition, "SGFX_WORLD_POSITION"}, {FeaturePointLights, "SGFX_POINT_LIGHTS"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";
     d += "#define SGFX_LIGHT_COUNT " + std::to_string((f & FeatureLightCountMask) >> FeatureLightCountShift) + "\n";
     return d;
+}
+
+std::uint32_t ShaderComposer::withWorldPosition(std::uint32_t f, bool hasSnippets) {
+    const bool derivedNormal = !(f & FeatureNormals) || ((f & FeatureNormalMap) && !(f & FeatureTangents));
+    if (hasSnippets || derivedNormal || (f & (FeatureSpecular | FeaturePointLights | FeatureVertexLighting)))
+        f |= FeatureWorldPosition;
+    return f;
 }
 
 std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, bool blended) {

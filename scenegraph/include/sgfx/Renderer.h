@@ -62,17 +62,24 @@ struct FrameStats {
     std::size_t stateChanges = 0; // program, material, blend/depth/cull and texture binds
     std::size_t culledNodes = 0;
     std::size_t items = 0;
+    std::uint64_t fragments = 0; // with RendererOptions::countFragments
     double cullMs = 0.0, drawMs = 0.0;
+};
+
+// Quality/speed choices of a Renderer.
+struct RendererOptions {
+    // Per-pixel Blinn-Phong (default) or per-vertex (Gouraud, the fixed-function look and
+    // cost of OpenSceneGraph's default path; normal maps are ignored).
+    enum class Lighting : std::uint8_t { PerPixel, PerVertex } lighting = Lighting::PerPixel;
+    // Count the fragments that pass the depth test in the main pass (FrameStats::fragments);
+    // an occlusion query per view, so off unless profiling.
+    bool countFragments = false;
 };
 
 // Owns GL-side resources for one context: composed programs, the scene target, the state cache.
 class Renderer {
 public:
-    struct Options {
-        // Test depth after shading instead of before. Unset = on for llvmpipe, where the late
-        // test measured faster (polygon --bench), off elsewhere (GPUs reject early).
-        std::optional<bool> lateDepthTest;
-    };
+    using Options = RendererOptions;
 
     explicit Renderer(GraphicsContext& context, Options options = {});
     ~Renderer();

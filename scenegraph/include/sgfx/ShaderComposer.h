@@ -73,9 +73,9 @@ enum MaterialFeature : std::uint32_t {
     FeatureAlphaMask = 1u << 7,
     FeatureBlend = 1u << 8,
     FeatureSpecular = 1u << 9,
-    // Never discards, but makes the driver test depth after shading: on llvmpipe the late test
-    // is measured faster than its early one (see Renderer::Options::lateDepthTest).
-    FeatureLateDepth = 1u << 10,
+    FeatureVertexLighting = 1u << 11, // Gouraud: lights summed per vertex (Renderer::Options::lighting)
+    FeatureWorldPosition = 1u << 16,  // interpolate the world position (snippets, point lights, ...)
+    FeaturePointLights = 1u << 17,    // some light of the view has a position
     // Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
@@ -96,6 +96,8 @@ public:
     static std::string featureDefines(std::uint32_t features);
     // The variant a material needs for a geometry (attributes present, textures, mask, blending).
     static std::uint32_t featuresFor(const Material* material, const Geometry& geometry, bool blended);
+    // Adds FeatureWorldPosition where the variant or its snippets read the world position.
+    static std::uint32_t withWorldPosition(std::uint32_t features, bool hasSnippets);
     static ComposedProgram composeForeign(const ShaderProgram& program,
                                           std::span<const ShaderSnippet* const> snippets);
     // Rewrites "S:L(C): msg" / "S(L) : msg" driver lines into "name:line: msg".
