@@ -284,3 +284,47 @@ TEST(Render, NestedCameraRendersToATextureUsedInTheSameFrame) {
     v->frame();
     expectPixel(v->capture(), 32, 32, {0.5, 0.5, 0.5});
 }
+
+TEST(Render, TexturesAreUprightOnShapes) {
+    // Image top row red, bottom row green; on a quad seen from the front the top half is red.
+    auto v = orthoTopViewer(kSize, kHalf);
+    auto img = Image::create(1, 2, 3);
+    img->pixels = {255, 0, 0, 0, 255, 0};
+    auto tex = Texture::create(img, false);
+    tex->minFilter = tex->magFilter = Filter::Nearest;
+    auto m = Material::create();
+    m->ambient = glm::vec3(1.0f);
+    m->diffuse = {0, 0, 0, 1};
+    m->baseColorTexture = tex;
+    auto root = Group::create();
+    root->addChild(Light::create(LightType::Ambient));
+    root->addChild(quadAt(4.0f, 4.0f, {0, 0, 0}, m));
+    v->setSceneData(root);
+    v->frame();
+    const Image out = v->capture();
+    expectPixel(out, 32, 8, {1, 0, 0}, 0);
+    expectPixel(out, 32, 56, {0, 1, 0}, 0);
+}
+
+TEST(Render, PerVertexLightingEqualsPerPixelOnAFlatDiffuseQuad) {
+    // Directional light, no specular: the Gouraud option must give the same pixels.
+    Image images[2];
+    for (int mode = 0; mode < 2; ++mode) {
+        auto v = orthoTopViewer(kSize, kHalf);
+        v->renderer().options().lighting =
+            mode ? RendererOptions::Lighting::PerVertex : RendererOptions::Lighting::PerPixel;
+        auto m = Material::create();
+        m->diffuse = {0.7f, 0.5f, 0.3f, 1};
+        auto root = Group::create();
+        auto sun = Light::create();
+        sun->direction = glm::normalize(glm::vec3(0.2f, -0.5f, -1.0f));
+        root->addChild(sun);
+        root->addChild(quadAt(4.0f, 4.0f, {0, 0, 0}, m));
+        v->setSceneData(root);
+        v->frame();
+        images[mode] = v->capture();
+        const double ndotl = -sun->direction.z;
+        expectPixel(images[mode], 32, 32, glm::dvec3(0.7, 0.5, 0.3) * ndotl); // no ambient light
+    }
+    EXPECT_EQ(images[0].pixels, images[1].pixels);
+}

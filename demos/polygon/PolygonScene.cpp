@@ -430,8 +430,8 @@ BuildingPrototype makeBuildingPrototype(float w, float d, int floors, bool gable
 }
 
 // ------------------------------------------------------------------------------------------ trees
-// Leaf-cluster silhouette for the tree cards: 1 channel, 255 = leaf. Row y holds texture
-// coordinate v = (y + 0.5) / size (the renderer uploads row 0 at t = 0).
+// Leaf-cluster silhouette for the tree cards: 1 channel, 255 = leaf. Image rows run top to
+// bottom like the cards' texture coordinates (glTF convention), so the crown is drawn upright.
 std::shared_ptr<sgfx::Image> makeLeafMask(std::uint64_t seed, int size) {
     SplitMix64 rng(seed ^ 0x6C656166ull); // "leaf"
     struct Disc {
@@ -450,7 +450,7 @@ std::shared_ptr<sgfx::Image> makeLeafMask(std::uint64_t seed, int size) {
     const float px = 1.0f / float(size);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
-            const glm::vec2 p((float(x) + 0.5f) * px, (float(y) + 0.5f) * px);
+            const glm::vec2 p((float(x) + 0.5f) * px, 1.0f - (float(y) + 0.5f) * px); // y up
             float coverage = 0.0f;
             for (const Disc& d : discs)
                 coverage = std::max(

@@ -13,7 +13,8 @@ void addQuad(Geometry& g, glm::vec3 o, glm::vec3 u, glm::vec3 v, glm::vec2 uvSca
     const glm::vec3 n = glm::normalize(glm::cross(u, v));
     const glm::vec4 t(glm::normalize(u), 1.0f);
     const glm::vec3 p[4] = {o, o + u, o + u + v, o + v};
-    const glm::vec2 uv[4] = {{0, 0}, {uvScale.x, 0}, {uvScale.x, uvScale.y}, {0, uvScale.y}};
+    // glTF convention: v = 0 is the image's top row, so v grows down the face.
+    const glm::vec2 uv[4] = {{0, uvScale.y}, {uvScale.x, uvScale.y}, {uvScale.x, 0}, {0, 0}};
     for (int i = 0; i < 4; ++i) {
         g.positions.push_back(p[i]);
         g.normals.push_back(n);
@@ -63,7 +64,7 @@ std::shared_ptr<Geometry> cylinder(float r, float height, int seg, bool caps) {
             g->positions.push_back(n * r + glm::vec3(0, 0, z));
             g->normals.push_back(n);
             g->tangents.push_back({-n.y, n.x, 0, 1});
-            g->texcoords.push_back({float(i) / float(seg), z / height});
+            g->texcoords.push_back({float(i) / float(seg), 1.0f - z / height});
         }
     }
     for (int i = 0; i < seg; ++i) {
@@ -132,7 +133,7 @@ std::shared_ptr<Geometry> sphere(float r, int seg, int rings) {
             g->positions.push_back(n * r);
             g->normals.push_back(n);
             g->tangents.push_back({-std::sin(phi), std::cos(phi), 0, 1});
-            g->texcoords.push_back({u, 1 - v});
+            g->texcoords.push_back({u, v}); // v = 0 at the top pole (image top row)
         }
     }
     for (int j = 0; j < rings; ++j)

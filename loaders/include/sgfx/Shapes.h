@@ -1,5 +1,6 @@
 #pragma once
 // Procedural shapes with normals, texcoords and tangents, Z up, centred unless stated.
+// Texture coordinates follow glTF: (0, 0) is the image's top-left corner as seen from the front.
 #include <sgfx/Geometry.h>
 
 #include <functional>

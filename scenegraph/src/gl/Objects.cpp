@@ -188,7 +188,7 @@ void RenderTarget::resize(int w, int h) {
     glTextureParameteri(color.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(color.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     depth = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT24, w, h);
+    glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
     glTextureParameteri(depth.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(depth.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureParameteri(depth.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
