@@ -10,6 +10,7 @@ packages=(
   libegl-dev libegl1 libegl-mesa0                # headless GPU contexts (libEGL is opened at run time)
   libgtest-dev libbenchmark-dev                  # tests and benchmarks
   libopenscenegraph-dev                          # the OpenSceneGraph peer benchmark
+  xvfb xauth libgl1-mesa-dri libglx-mesa0        # the windowed path tested on a virtual display
 )
 
 missing=()

@@ -328,3 +328,53 @@ TEST(Render, PerVertexLightingEqualsPerPixelOnAFlatDiffuseQuad) {
     }
     EXPECT_EQ(images[0].pixels, images[1].pixels);
 }
+
+TEST(Render, TangentSpaceNormalMapTiltsTheShadingNormal) {
+    // A constant normal map n_t = normalize(0.6, 0, 0.8) on a +Z quad whose tangent is +X:
+    // the world normal becomes (0.6, 0, 0.8), so N·L follows the tilted normal.
+    auto v = orthoTopViewer(kSize, kHalf);
+    auto img = Image::create(1, 1, 3);
+    const glm::dvec3 nt(0.6, 0.0, 0.8);
+    for (int c = 0; c < 3; ++c) img->pixels[std::size_t(c)] = std::uint8_t(std::lround((nt[c] * 0.5 + 0.5) * 255.0));
+    auto normalMap = Texture::create(img, false);
+    normalMap->minFilter = normalMap->magFilter = Filter::Nearest;
+    auto m = Material::create();
+    m->diffuse = {0.8f, 0.8f, 0.8f, 1};
+    m->ambient = glm::vec3(0);
+    m->normalTexture = normalMap;
+    auto sun = Light::create();
+    sun->direction = glm::normalize(glm::vec3(-1.0f, 0.0f, -1.0f)); // towards the light: (1,0,1)/√2
+    auto root = Group::create();
+    root->addChild(sun);
+    root->addChild(quadAt(4.0f, 4.0f, {0, 0, 0}, m));
+    v->setSceneData(root);
+    v->frame();
+    // The texel stores n_t quantised to 8 bits; use the decoded value for the expectation.
+    glm::dvec3 decoded;
+    for (int c = 0; c < 3; ++c) decoded[c] = img->pixels[std::size_t(c)] / 255.0 * 2.0 - 1.0;
+    const glm::dvec3 N = glm::normalize(decoded);
+    const double ndotl = std::max(glm::dot(N, glm::normalize(glm::dvec3(1, 0, 1))), 0.0);
+    const Image out = v->capture();
+    expectPixel(out, 32, 32, glm::dvec3(0.8) * ndotl);
+    // Without the map the flat normal gives a different value: the test can tell them apart.
+    EXPECT_GT(std::abs(srgbByte(0.8 * ndotl) - srgbByte(0.8 / std::sqrt(2.0))), 10);
+    expectNoGlErrors(*v);
+}
+
+// Runs only with a display (CTest starts it under xvfb-run); elsewhere it skips.
+TEST(Window, GlfwWindowRendersAndPresents) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) GTEST_SKIP() << "no DISPLAY";
+    std::unique_ptr<GlfwWindow> window;
+    try {
+        window = std::make_unique<GlfwWindow>(96, 64, "sgfx test");
+    } catch (const ContextError& e) {
+        FAIL() << e.what();
+    }
+    Viewer v(std::move(window));
+    EXPECT_EQ(v.camera()->viewport.width, 96);
+    v.camera()->clearColor = {0.5f, 0.25f, 0.0f, 1};
+    v.frame();
+    expectPixel(v.capture(), 10, 10, {0.5, 0.25, 0.0}, 1);
+    expectNoGlErrors(v);
+}

@@ -424,3 +424,26 @@ TEST(Geometry, ValidateNamesTheProblem) {
     h->normals.pop_back();
     EXPECT_THROW(h->validate(), std::invalid_argument);
 }
+
+TEST(Update, CallbacksRunOncePerVisitWithTheClock) {
+    auto root = named("root");
+    auto child = named("child");
+    root->addChild(child);
+    int calls = 0;
+    double seen = 0.0;
+    child->updateCallback = [&](Node& n, UpdateVisitor& uv) {
+        ++calls;
+        seen = uv.simulationTime;
+        EXPECT_EQ(n.name, "child");
+        EXPECT_EQ(uv.nodePath.back(), &n); // the path ends at the node being updated
+    };
+    UpdateVisitor uv;
+    uv.simulationTime = 2.5;
+    root->accept(uv);
+    EXPECT_EQ(calls, 1);
+    EXPECT_DOUBLE_EQ(seen, 2.5);
+    child->nodeMask = 0; // masked subtrees are not updated
+    uv.traversalMask = 1;
+    root->accept(uv);
+    EXPECT_EQ(calls, 1);
+}

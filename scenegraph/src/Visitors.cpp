@@ -29,7 +29,9 @@ void NodeVisitor::traverse(Node& node) {
 
 // ---------------------------------------------------------------- UpdateVisitor
 void UpdateVisitor::apply(Node& node) {
+    nodePath.push_back(&node);
     if (node.updateCallback) node.updateCallback(node, *this);
+    nodePath.pop_back();
     traverse(node);
 }
 
