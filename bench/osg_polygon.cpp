@@ -23,9 +23,9 @@
 #include <GL/osmesa.h>
 
 #include <osg/CullFace>
+#include <osg/GLExtensions>
 #include <osg/Geode>
 #include <osg/Geometry>
-#include <osg/GLExtensions>
 #include <osg/Light>
 #include <osg/LightModel>
 #include <osg/Material>
@@ -76,19 +76,20 @@ struct Options {
 
 [[noreturn]] void usage(const char* msg) {
     if (msg) std::fprintf(stderr, "osg_polygon: %s\n", msg);
-    std::fprintf(stderr,
-                 "usage: osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize]\n"
-                 "                   [--osg-culling] [--osg-stats] [--linear-png] [--sun-dir X,Y,Z] [--sun R,G,B]\n"
-                 "                   [--ambient R,G,B] [--clear R,G,B]\n"
-                 "  --size WxH      viewport (default 1280x720)\n"
-                 "  --frames N      timed frames, one camera-path lap (default 300), after 3 warm-up frames\n"
-                 "  --out FILE.png  write the last frame (sRGB-encoded like sgfx's output unless --linear-png)\n"
-                 "  --optimize      run osgUtil::Optimizer DEFAULT_OPTIMIZATIONS after loading\n"
-                 "  --osg-culling   keep OSG's DEFAULT_CULLING (small-feature culling, no near/far planes)\n"
-                 "  --osg-stats     print OSG's own cull/draw CPU times per frame (osg::Stats)\n"
-                 "  --sun-dir X,Y,Z direction towards the sun (default 0.527,-0.369,0.766, the demo's)\n"
-                 "  --sun R,G,B     sun colour (default 1.1,1.045,0.946); --ambient R,G,B (0.30,0.34,0.42)\n"
-                 "  --clear R,G,B   linear clear colour (default 0.42,0.60,0.85)\n");
+    std::fprintf(
+        stderr,
+        "usage: osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize]\n"
+        "                   [--osg-culling] [--osg-stats] [--linear-png] [--sun-dir X,Y,Z] [--sun R,G,B]\n"
+        "                   [--ambient R,G,B] [--clear R,G,B]\n"
+        "  --size WxH      viewport (default 1280x720)\n"
+        "  --frames N      timed frames, one camera-path lap (default 300), after 3 warm-up frames\n"
+        "  --out FILE.png  write the last frame (sRGB-encoded like sgfx's output unless --linear-png)\n"
+        "  --optimize      run osgUtil::Optimizer DEFAULT_OPTIMIZATIONS after loading\n"
+        "  --osg-culling   keep OSG's DEFAULT_CULLING (small-feature culling, no near/far planes)\n"
+        "  --osg-stats     print OSG's own cull/draw CPU times per frame (osg::Stats)\n"
+        "  --sun-dir X,Y,Z direction towards the sun (default 0.527,-0.369,0.766, the demo's)\n"
+        "  --sun R,G,B     sun colour (default 1.1,1.045,0.946); --ambient R,G,B (0.30,0.34,0.42)\n"
+        "  --clear R,G,B   linear clear colour (default 0.42,0.60,0.85)\n");
     std::exit(msg ? 2 : 0);
 }
 
@@ -118,7 +119,10 @@ Options parse(int argc, char** argv) {
         } else if (a == "--osg-stats") {
             o.osgStats = true;
         } else if (a == "--sun-dir" || a == "--sun" || a == "--ambient" || a == "--clear") {
-            osg::Vec3& v = a == "--sun-dir" ? o.toSun : a == "--sun" ? o.sun : a == "--ambient" ? o.ambient : o.clear;
+            osg::Vec3& v = a == "--sun-dir"   ? o.toSun
+                           : a == "--sun"     ? o.sun
+                           : a == "--ambient" ? o.ambient
+                                              : o.clear;
             const std::string s = next();
             if (std::sscanf(s.c_str(), "%f,%f,%f", &v.x(), &v.y(), &v.z()) != 3)
                 usage((a + " expects three comma-separated numbers").c_str());
@@ -149,7 +153,9 @@ struct TriangleCounter {
 class PrepareVisitor : public osg::NodeVisitor {
 public:
     // fix = false: count only (used again after the optimizer, which must not rescale twice).
-    explicit PrepareVisitor(bool fix = true) : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN), fix_(fix) {}
+    explicit PrepareVisitor(bool fix = true)
+        : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN)
+        , fix_(fix) {}
 
     void apply(osg::Node& node) override {
         fixMaterial(node.getStateSet());
@@ -185,7 +191,8 @@ private:
         }
         // The plugin puts materials with d < 1 in the blended transparent bin; sgfx's glass is
         // drawn without face culling, so do the same here.
-        if (ss->getRenderingHint() == osg::StateSet::TRANSPARENT_BIN && transparent_.insert({ss, true}).second) {
+        if (ss->getRenderingHint() == osg::StateSet::TRANSPARENT_BIN &&
+            transparent_.insert({ss, true}).second) {
             ss->setAttributeAndModes(new osg::CullFace(osg::CullFace::BACK),
                                      osg::StateAttribute::OFF | osg::StateAttribute::OVERRIDE);
             ++transparentMaterials;
@@ -197,8 +204,8 @@ private:
 };
 
 // GL entry points OSG uses on this path (fixed function + VBOs), checked before anything is drawn.
-const char* const kProbes[] = {"glGetString", "glClear",       "glDrawElements", "glEnable",
-                               "glLightfv",   "glGenBuffers",  "glBindBuffer",   "glBufferData",
+const char* const kProbes[] = {"glGetString",  "glClear",         "glDrawElements", "glEnable",
+                               "glLightfv",    "glGenBuffers",    "glBindBuffer",   "glBufferData",
                                "glUseProgram", "glVertexPointer", "glNormalPointer"};
 
 std::string libraryOf(void* p) {
@@ -253,8 +260,9 @@ int main(int argc, char** argv) {
         const std::string direct = libraryOf(dlsym(RTLD_DEFAULT, name));
         const std::string viaOsg = libraryOf(osg::getGLExtensionFuncPtr(name));
         if (!isMesa(direct) || !isMesa(viaOsg)) {
-            std::fprintf(stderr, "osg_polygon: %s resolves to '%s' (direct) / '%s' (osg::getGLExtensionFuncPtr), "
-                                 "not OSMesa; try LD_PRELOAD=libOSMesa.so.8\n",
+            std::fprintf(stderr,
+                         "osg_polygon: %s resolves to '%s' (direct) / '%s' (osg::getGLExtensionFuncPtr), "
+                         "not OSMesa; try LD_PRELOAD=libOSMesa.so.8\n",
                          name, direct.c_str(), viaOsg.c_str());
             return 1;
         }
@@ -275,10 +283,11 @@ int main(int argc, char** argv) {
     const double loadMs = std::chrono::duration<double, std::milli>(clock::now() - tl0).count();
     PrepareVisitor before;
     model->accept(before);
-    std::printf("loaded %s in %.0f ms: %zu drawables, %zu triangles, %zu vertices, %zu primitive sets, %zu materials "
-                "(%zu blended)\n",
-                opt.file.c_str(), loadMs, before.drawables, before.triangles, before.vertices, before.primitiveSets,
-                before.materials, before.transparentMaterials);
+    std::printf(
+        "loaded %s in %.0f ms: %zu drawables, %zu triangles, %zu vertices, %zu primitive sets, %zu materials "
+        "(%zu blended)\n",
+        opt.file.c_str(), loadMs, before.drawables, before.triangles, before.vertices, before.primitiveSets,
+        before.materials, before.transparentMaterials);
     if (opt.optimize) {
         const auto to0 = clock::now();
         osgUtil::Optimizer optimizer;
@@ -365,7 +374,8 @@ int main(int argc, char** argv) {
     // ---- warm-up at t = 0 like `polygon --bench` (GL objects are compiled on first draw), then the
     // timed lap
     setPose(0);
-    for (int i = 0; i < 3; ++i) frame();
+    for (int i = 0; i < 3; ++i)
+        frame();
     std::vector<double> ms;
     ms.reserve(std::size_t(opt.frames));
     double drawablesSum = 0, trianglesSum = 0, cullSum = 0, drawSum = 0;
@@ -391,7 +401,8 @@ int main(int argc, char** argv) {
             drawablesSum += stats.numDrawables;
             unsigned tris = 0;
             for (const auto& [mode, count] : stats.getPrimitiveCountMap())
-                if (mode == GL_TRIANGLES || mode == GL_TRIANGLE_STRIP || mode == GL_TRIANGLE_FAN) tris += count;
+                if (mode == GL_TRIANGLES || mode == GL_TRIANGLE_STRIP || mode == GL_TRIANGLE_FAN)
+                    tris += count;
             trianglesSum += tris;
         }
     }
@@ -403,13 +414,14 @@ int main(int argc, char** argv) {
                 *std::min_element(ms.begin(), ms.end()), *std::max_element(ms.begin(), ms.end()));
     std::printf("fps: %.2f (from mean)\n", 1000.0 / mean);
     if (statFrames > 0)
-        std::printf("per frame (mean over %d frames): %.0f drawables drawn, %.0f triangles submitted\n", statFrames,
-                    drawablesSum / statFrames, trianglesSum / statFrames);
+        std::printf("per frame (mean over %d frames): %.0f drawables drawn, %.0f triangles submitted\n",
+                    statFrames, drawablesSum / statFrames, trianglesSum / statFrames);
     if (timeFrames > 0)
-        std::printf("OSG camera stats (mean over %d frames): cull %.3f ms, draw dispatch %.3f ms (CPU, before glFinish)\n",
+        std::printf("OSG camera stats (mean over %d frames): cull %.3f ms, draw dispatch %.3f ms (CPU, "
+                    "before glFinish)\n",
                     timeFrames, cullSum / timeFrames, drawSum / timeFrames);
-    std::printf("BENCH osg ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f size=%dx%d\n", mean, 1000.0 / mean,
-                opt.frames, med, opt.width, opt.height);
+    std::printf("BENCH osg ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f size=%dx%d\n", mean,
+                1000.0 / mean, opt.frames, med, opt.width, opt.height);
 
     // ---- the last frame as PNG, top row first
     if (!opt.out.empty()) {
@@ -418,7 +430,8 @@ int main(int argc, char** argv) {
         glPixelStorei(GL_PACK_ALIGNMENT, 1);
         glReadPixels(0, 0, opt.width, opt.height, GL_RGB, GL_UNSIGNED_BYTE, px.data());
         for (int y = 0; y < opt.height; ++y)
-            std::memcpy(flipped.data() + std::size_t(y) * row, px.data() + std::size_t(opt.height - 1 - y) * row, row);
+            std::memcpy(flipped.data() + std::size_t(y) * row,
+                        px.data() + std::size_t(opt.height - 1 - y) * row, row);
         if (!opt.linearPng) {
             unsigned char lut[256];
             for (int i = 0; i < 256; ++i) {
@@ -426,7 +439,8 @@ int main(int argc, char** argv) {
                 const double e = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
                 lut[i] = static_cast<unsigned char>(std::lround(std::clamp(e, 0.0, 1.0) * 255.0));
             }
-            for (unsigned char& c : flipped) c = lut[c];
+            for (unsigned char& c : flipped)
+                c = lut[c];
         }
         if (!stbi_write_png(opt.out.c_str(), opt.width, opt.height, 3, flipped.data(), int(row))) {
             std::fprintf(stderr, "osg_polygon: cannot write %s\n", opt.out.c_str());

@@ -17,7 +17,9 @@ inline double srgbEncode(double linear) {
     linear = std::clamp(linear, 0.0, 1.0);
     return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
-inline int srgbByte(double linear) { return int(std::lround(srgbEncode(linear) * 255.0)); }
+inline int srgbByte(double linear) {
+    return int(std::lround(srgbEncode(linear) * 255.0));
+}
 
 inline glm::ivec4 pixelAt(const Image& img, int x, int y) {
     const std::uint8_t* p = img.pixel(x, y);

@@ -18,7 +18,9 @@ namespace {
 
 class SnippetEffect : public EffectNode {
 public:
-    explicit SnippetEffect(ShaderSnippet s, std::string kind = "test") : snippet_(std::move(s)), kind_(std::move(kind)) {}
+    explicit SnippetEffect(ShaderSnippet s, std::string kind = "test")
+        : snippet_(std::move(s))
+        , kind_(std::move(kind)) {}
     std::string_view kind() const override { return kind_; }
     const ShaderSnippet& snippet() const override { return snippet_; }
 
@@ -56,7 +58,8 @@ void main() {
 
 std::size_t countOf(const std::string& text, const std::string& what) {
     std::size_t n = 0;
-    for (auto p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+    for (auto p = text.find(what); p != std::string::npos; p = text.find(what, p + 1))
+        ++n;
     return n;
 }
 
@@ -77,13 +80,17 @@ TEST(ComposerText, HooksReceiveSnippetCodeInOrder) {
     EXPECT_EQ(countOf(p.fragment, "sgfx_worldPos.z += 1.0;"), 0u);
     EXPECT_LT(p.fragment.find("sgfx_color.r += 0.1;"), p.fragment.find("sgfx_color.g += 0.2;"));
     EXPECT_LT(p.fragment.find("sgfx_ambient *= 0.5;"), p.fragment.find("vec3 color = sgfx_matEmissive"));
-    EXPECT_GT(p.fragment.find("sgfx_color.g += 0.2;"), p.fragment.find("vec4 sgfx_color = vec4(color, base.a);"));
+    EXPECT_GT(p.fragment.find("sgfx_color.g += 0.2;"),
+              p.fragment.find("vec4 sgfx_color = vec4(color, base.a);"));
     EXPECT_EQ(p.fragment.rfind("#version 450 core", 0), 0u); // #version stays first
     EXPECT_NE(p.fragment.find("#define BETA 1"), std::string::npos);
     // Source names for #line numbers.
-    EXPECT_NE(std::find(p.fragmentSources.begin(), p.fragmentSources.end(), "alpha.colorCode"), p.fragmentSources.end());
-    EXPECT_NE(std::find(p.fragmentSources.begin(), p.fragmentSources.end(), "blinn_phong.frag"), p.fragmentSources.end());
-    EXPECT_NE(std::find(p.vertexSources.begin(), p.vertexSources.end(), "beta.vertexCode"), p.vertexSources.end());
+    EXPECT_NE(std::find(p.fragmentSources.begin(), p.fragmentSources.end(), "alpha.colorCode"),
+              p.fragmentSources.end());
+    EXPECT_NE(std::find(p.fragmentSources.begin(), p.fragmentSources.end(), "blinn_phong.frag"),
+              p.fragmentSources.end());
+    EXPECT_NE(std::find(p.vertexSources.begin(), p.vertexSources.end(), "beta.vertexCode"),
+              p.vertexSources.end());
     // No snippets: no hook code, and no stray marker text left as code.
     const ComposedProgram plain = ShaderComposer::composeBuiltin(ShaderComposer::blinnPhong(), {});
     EXPECT_EQ(plain.description, "blinn_phong + [] {LIGHT_COUNT 0}");
@@ -119,7 +126,8 @@ TEST(ComposerText, ForeignMainIsRenamedAndWrapped) {
 
 TEST(ComposerText, DriverLogsAreTranslatedToOriginalNames) {
     const std::vector<std::string> names = {"<sgfx preamble>", "blinn_phong.frag", "fog.colorCode"};
-    EXPECT_EQ(ShaderComposer::translateLog("2:3(7): error: `x' undeclared", names), "fog.colorCode:3: error: `x' undeclared\n");
+    EXPECT_EQ(ShaderComposer::translateLog("2:3(7): error: `x' undeclared", names),
+              "fog.colorCode:3: error: `x' undeclared\n");
     EXPECT_EQ(ShaderComposer::translateLog("1(12) : error C1008: undefined variable", names),
               "blinn_phong.frag:12: error C1008: undefined variable\n");
     // Line numbers that carry the source (k * 10000 + n), for drivers that drop the source number.
@@ -189,9 +197,11 @@ TEST_F(ComposerGl, ForeignShaderGetsEffectsLikeTheBuiltInMaterial) {
     const glm::dvec3 expected = glm::mix(glm::dvec3(0.8, 0.4, 0.1), glm::dvec3(0, 0.5, 1), 0.4);
     for (int x : {4, 27}) {
         const glm::ivec4 p = pixelAt(img, x, 16);
-        for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(p[ch], srgbByte(expected[ch]), 2) << "x=" << x << " ch " << ch;
+        for (int ch = 0; ch < 3; ++ch)
+            EXPECT_NEAR(p[ch], srgbByte(expected[ch]), 2) << "x=" << x << " ch " << ch;
     }
-    for (const auto& e : viewer->renderer().takeGlErrors()) ADD_FAILURE() << e;
+    for (const auto& e : viewer->renderer().takeGlErrors())
+        ADD_FAILURE() << e;
 }
 
 TEST_F(ComposerGl, ForeignWrapReconstructsTheWorldPosition) {
@@ -217,7 +227,8 @@ TEST_F(ComposerGl, ForeignWrapReconstructsTheWorldPosition) {
             const glm::ivec4 a = pixelAt(foreignImg, x, y), b = pixelAt(builtinImg, x, y);
             if (b == glm::ivec4(0, 0, 0, 255)) continue; // background
             ++compared;
-            for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(a[ch], b[ch], 3) << x << "," << y;
+            for (int ch = 0; ch < 3; ++ch)
+                ASSERT_NEAR(a[ch], b[ch], 3) << x << "," << y;
         }
     EXPECT_GT(compared, 50);
 }
@@ -240,7 +251,8 @@ TEST_F(ComposerGl, CompileErrorsNameShaderSnippetAndLine) {
     }
     // A broken snippet: the error names the snippet's chunk and its own line 2.
     root->removeChildren();
-    auto bad = std::make_shared<SnippetEffect>(snippet("bad_fx", "", "sgfx_color.rgb *= 2.0;\nsgfx_color += nope;"));
+    auto bad =
+        std::make_shared<SnippetEffect>(snippet("bad_fx", "", "sgfx_color.rgb *= 2.0;\nsgfx_color += nope;"));
     bad->addChild(quad({0, 0, 0}, 2.0f));
     root->addChild(bad);
     try {

@@ -22,7 +22,8 @@ constexpr float kHalf = 2.0f; // ortho half-extent in metres
 
 // World position of a pixel centre on the z = 0 plane for orthoTopViewer(kSize, kHalf).
 glm::vec3 worldOfPixel(int px, int py) {
-    return {-kHalf + (float(px) + 0.5f) / kSize * 2 * kHalf, kHalf - (float(py) + 0.5f) / kSize * 2 * kHalf, 0.0f};
+    return {-kHalf + (float(px) + 0.5f) / kSize * 2 * kHalf, kHalf - (float(py) + 0.5f) / kSize * 2 * kHalf,
+            0.0f};
 }
 
 std::shared_ptr<Material> flat(glm::vec3 c) {
@@ -48,14 +49,16 @@ void expectPixel(const Image& img, int x, int y, glm::dvec3 linear, int tol = 2)
 }
 
 void expectNoGlErrors(Viewer& v) {
-    for (const auto& e : v.renderer().takeGlErrors()) ADD_FAILURE() << "GL: " << e;
+    for (const auto& e : v.renderer().takeGlErrors())
+        ADD_FAILURE() << "GL: " << e;
 }
 
 } // namespace
 
 TEST(Render, ClearColourIsSrgbEncodedOnce) {
     auto v = Viewer::createHeadless(32, 32);
-    for (glm::vec3 c : {glm::vec3(0.5f, 0.25f, 1.0f), glm::vec3(0.0f, 0.002f, 0.8f), glm::vec3(1.0f, 0.05f, 0.0f)}) {
+    for (glm::vec3 c :
+         {glm::vec3(0.5f, 0.25f, 1.0f), glm::vec3(0.0f, 0.002f, 0.8f), glm::vec3(1.0f, 0.05f, 0.0f)}) {
         v->camera()->clearColor = glm::vec4(c, 1.0f);
         v->frame();
         const Image img = v->capture();
@@ -95,8 +98,9 @@ TEST(Render, LitQuadMatchesBlinnPhong) {
         const glm::dvec3 H = glm::normalize(L + V);
         const double ndotl = std::max(glm::dot(N, L), 0.0);
         const double spec = std::pow(std::max(glm::dot(N, H), 0.0), double(m->shininess));
-        const glm::dvec3 expected = glm::dvec3(m->emissive) + 0.25 * glm::dvec3(m->ambient) +
-                                    glm::dvec3(sun->color) * (glm::dvec3(m->diffuse) * ndotl + glm::dvec3(m->specular) * spec);
+        const glm::dvec3 expected =
+            glm::dvec3(m->emissive) + 0.25 * glm::dvec3(m->ambient) +
+            glm::dvec3(sun->color) * (glm::dvec3(m->diffuse) * ndotl + glm::dvec3(m->specular) * spec);
         expectPixel(img, px, py, expected);
     }
     expectNoGlErrors(*v);
@@ -215,7 +219,8 @@ TEST(Render, GeometryEditsReachTheGpu) {
     v->setSceneData(q);
     v->frame();
     expectPixel(v->capture(), 32, 32, {1, 1, 1}, 0);
-    for (auto& p : q->positions) p += glm::vec3(1.5f, 0, 0);
+    for (auto& p : q->positions)
+        p += glm::vec3(1.5f, 0, 0);
     q->dirty();
     v->frame();
     const Image img = v->capture();
@@ -335,7 +340,8 @@ TEST(Render, TangentSpaceNormalMapTiltsTheShadingNormal) {
     auto v = orthoTopViewer(kSize, kHalf);
     auto img = Image::create(1, 1, 3);
     const glm::dvec3 nt(0.6, 0.0, 0.8);
-    for (int c = 0; c < 3; ++c) img->pixels[std::size_t(c)] = std::uint8_t(std::lround((nt[c] * 0.5 + 0.5) * 255.0));
+    for (int c = 0; c < 3; ++c)
+        img->pixels[std::size_t(c)] = std::uint8_t(std::lround((nt[c] * 0.5 + 0.5) * 255.0));
     auto normalMap = Texture::create(img, false);
     normalMap->minFilter = normalMap->magFilter = Filter::Nearest;
     auto m = Material::create();
@@ -351,7 +357,8 @@ TEST(Render, TangentSpaceNormalMapTiltsTheShadingNormal) {
     v->frame();
     // The texel stores n_t quantised to 8 bits; use the decoded value for the expectation.
     glm::dvec3 decoded;
-    for (int c = 0; c < 3; ++c) decoded[c] = img->pixels[std::size_t(c)] / 255.0 * 2.0 - 1.0;
+    for (int c = 0; c < 3; ++c)
+        decoded[c] = img->pixels[std::size_t(c)] / 255.0 * 2.0 - 1.0;
     const glm::dvec3 N = glm::normalize(decoded);
     const double ndotl = std::max(glm::dot(N, glm::normalize(glm::dvec3(1, 0, 1))), 0.0);
     const Image out = v->capture();

@@ -20,7 +20,8 @@ namespace {
 
 class NameRecorder : public NodeVisitor {
 public:
-    NameRecorder() : NodeVisitor(Mode::ActiveChildren) {}
+    NameRecorder()
+        : NodeVisitor(Mode::ActiveChildren) {}
     void apply(Node& n) override {
         order += n.name + " ";
         traverse(n);
@@ -42,7 +43,11 @@ std::shared_ptr<Geometry> unitBox(const std::string& name = "box") {
 
 class TestEffect : public EffectNode {
 public:
-    TestEffect(std::string k, std::string n, int o = 0) : kind_(std::move(k)), order_(o) { snippet_.name = std::move(n); }
+    TestEffect(std::string k, std::string n, int o = 0)
+        : kind_(std::move(k))
+        , order_(o) {
+        snippet_.name = std::move(n);
+    }
     std::string_view kind() const override { return kind_; }
     int order() const override { return order_; }
     const ShaderSnippet& snippet() const override { return snippet_; }
@@ -158,7 +163,8 @@ TEST(Bounds, DirtyPropagatesWhenAChildMoves) {
     EXPECT_NEAR(root->bound().center.x, 10.0f, 1e-5f);
     // Editing geometry and calling dirty() also reaches the root.
     auto g = std::static_pointer_cast<Geometry>(t->child(0));
-    for (auto& p : g->positions) p *= 2.0f;
+    for (auto& p : g->positions)
+        p *= 2.0f;
     g->dirty();
     EXPECT_NEAR(root->bound().radius, std::sqrt(3.0f), 1e-5f);
     EXPECT_THROW(t->setMatrix(glm::mat4(std::nanf(""))), std::invalid_argument);
@@ -187,8 +193,8 @@ TEST(Culling, FrustumClassifiesExactCases) {
     // Symmetric 90° frustum looking down -Z, near 1, far 100: the side planes are x = ±(-z).
     const Frustum f = Frustum::fromMatrix(glm::perspective(glm::radians(90.0f), 1.0f, 1.0f, 100.0f));
     EXPECT_EQ(f.classify({{0, 0, -50}, 1.0f}), Containment::Inside);
-    EXPECT_EQ(f.classify({{0, 0, 10}, 1.0f}), Containment::Outside);    // behind the eye
-    EXPECT_EQ(f.classify({{0, 0, -200}, 1.0f}), Containment::Outside);  // beyond far
+    EXPECT_EQ(f.classify({{0, 0, 10}, 1.0f}), Containment::Outside);      // behind the eye
+    EXPECT_EQ(f.classify({{0, 0, -200}, 1.0f}), Containment::Outside);    // beyond far
     EXPECT_EQ(f.classify({{0, 0, -100}, 1.0f}), Containment::Intersects); // straddles far
     // Distance from (x, 0, -10) to the plane x = 10 (normal (-1,0,1)/√2 inside): (10 - x)/√2.
     const float s2 = std::sqrt(2.0f);
@@ -214,7 +220,8 @@ TEST(Culling, CullVisitorDropsOutsideKeepsInsideAndStraddling) {
     CullVisitor cv(*cam, q);
     cv.run(*cam);
     std::string names;
-    for (auto& it : q.opaque) names += it.geometry->name + " ";
+    for (auto& it : q.opaque)
+        names += it.geometry->name + " ";
     EXPECT_EQ(q.opaque.size(), 2u) << names;
     EXPECT_NE(names.find("inside"), std::string::npos);
     EXPECT_NE(names.find("straddle"), std::string::npos);
@@ -292,7 +299,8 @@ TEST(State, CullRecordsInheritedStatePerItem) {
 TEST(Queue, OpaqueSortedByDistanceOctaveProgramMaterialThenFrontToBack) {
     auto cam = perspectiveCamera();
     auto m1 = Material::create(), m2 = Material::create();
-    auto foreign = ShaderProgram::create("app", "#version 450 core\nvoid main(){}", "#version 450 core\nvoid main(){}");
+    auto foreign =
+        ShaderProgram::create("app", "#version 450 core\nvoid main(){}", "#version 450 core\nvoid main(){}");
     struct Spec {
         float z;
         std::shared_ptr<Material> m;
@@ -300,8 +308,9 @@ TEST(Queue, OpaqueSortedByDistanceOctaveProgramMaterialThenFrontToBack) {
         std::string name;
     };
     // All but the last lie in one octave of distance [16, 32).
-    const Spec specs[] = {{-30, m1, false, "m1far"},   {-17, m2, false, "m2near"},  {-25, m1, false, "m1mid"},
-                          {-16.5f, m1, true, "fnear"}, {-20, m1, false, "m1near"},  {-80, m1, false, "m1veryfar"}};
+    const Spec specs[] = {{-30, m1, false, "m1far"},  {-17, m2, false, "m2near"},
+                          {-25, m1, false, "m1mid"},  {-16.5f, m1, true, "fnear"},
+                          {-20, m1, false, "m1near"}, {-80, m1, false, "m1veryfar"}};
     for (const auto& s : specs) {
         auto t = Transform::create(glm::translate(glm::mat4(1.0f), {0, 0, s.z}));
         auto b = unitBox(s.name);
@@ -323,7 +332,8 @@ TEST(Queue, OpaqueSortedByDistanceOctaveProgramMaterialThenFrontToBack) {
         const auto& b = q.opaque[i];
         ASSERT_EQ(a.depthBucket, b.depthBucket);
         ASSERT_LE(a.programKey, b.programKey);
-        if (a.programKey == b.programKey && a.state->material.value->get() == b.state->material.value->get()) {
+        if (a.programKey == b.programKey &&
+            a.state->material.value->get() == b.state->material.value->get()) {
             EXPECT_LT(a.depth, b.depth) << a.geometry->name << " before " << b.geometry->name;
         }
     }
@@ -348,7 +358,8 @@ TEST(Queue, TransparentBackToFrontAndStable) {
     cv.run(*cam);
     q.sort();
     std::string order;
-    for (auto& it : q.transparent) order += it.geometry->name + " ";
+    for (auto& it : q.transparent)
+        order += it.geometry->name + " ";
     EXPECT_EQ(order, "t1 t3 t4 t2 t0 "); // ties (t1, t3 at 40 m) keep cull order
     EXPECT_TRUE(q.opaque.empty());
     // From the other side the order flips.
@@ -358,7 +369,8 @@ TEST(Queue, TransparentBackToFrontAndStable) {
     cv2.run(*cam);
     q2.sort();
     order.clear();
-    for (auto& it : q2.transparent) order += it.geometry->name + " ";
+    for (auto& it : q2.transparent)
+        order += it.geometry->name + " ";
     EXPECT_EQ(order, "t0 t2 t4 t1 t3 ");
 }
 
@@ -383,7 +395,8 @@ TEST(Effects, ItemsRecordEffectsAboveThemInnerWins) {
         std::string s;
         for (auto& it : q.opaque)
             if (it.geometry->name == name)
-                for (auto* e : q.effectSets[it.effectSet].effects) s += e->snippet().name + " ";
+                for (auto* e : q.effectSets[it.effectSet].effects)
+                    s += e->snippet().name + " ";
         return s;
     };
     EXPECT_EQ(effectsOf("plain"), "");

@@ -172,9 +172,12 @@ Options parseArgs(int argc, char** argv) {
             o.countFragments = true;
         } else if (arg == "--lighting") {
             const std::string_view v = value();
-            if (v == "pixel") o.lighting = sgfx::RendererOptions::Lighting::PerPixel;
-            else if (v == "vertex") o.lighting = sgfx::RendererOptions::Lighting::PerVertex;
-            else throw UsageError("--lighting: '" + std::string(v) + "' is not 'pixel' or 'vertex'");
+            if (v == "pixel")
+                o.lighting = sgfx::RendererOptions::Lighting::PerPixel;
+            else if (v == "vertex")
+                o.lighting = sgfx::RendererOptions::Lighting::PerVertex;
+            else
+                throw UsageError("--lighting: '" + std::string(v) + "' is not 'pixel' or 'vertex'");
         } else {
             throw UsageError("unknown option '" + std::string(arg) + "'");
         }

@@ -21,7 +21,9 @@ using File = std::unique_ptr<std::FILE, FileCloser>;
 
 class ObjVisitor : public NodeVisitor {
 public:
-    ObjVisitor(std::FILE* obj) : NodeVisitor(Mode::ActiveChildren), obj_(obj) {}
+    ObjVisitor(std::FILE* obj)
+        : NodeVisitor(Mode::ActiveChildren)
+        , obj_(obj) {}
 
     void apply(Node& n) override {
         const auto saved = material_;
@@ -41,8 +43,8 @@ public:
         const Material* mat = material_;
         if (g.stateSet() && g.stateSet()->material.value) mat = g.stateSet()->material.value->get();
         auto [it, added] = materials.emplace(mat, "m" + std::to_string(materials.size()));
-        std::fprintf(obj_, "o %s_%zu\nusemtl %s\n", g.name.empty() ? "geometry" : g.name.c_str(), result.objects,
-                     it->second.c_str());
+        std::fprintf(obj_, "o %s_%zu\nusemtl %s\n", g.name.empty() ? "geometry" : g.name.c_str(),
+                     result.objects, it->second.c_str());
         const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(matrix_)));
         for (const auto& p : g.positions) {
             const glm::vec3 w = glm::vec3(matrix_ * glm::vec4(p, 1));
@@ -59,8 +61,10 @@ public:
             std::fprintf(obj_, "f");
             for (std::size_t k = 0; k < 3; ++k) {
                 const std::size_t v = base_ + index(i + k) + 1;
-                if (normals) std::fprintf(obj_, " %zu//%zu", v, nbase_ + index(i + k) + 1);
-                else std::fprintf(obj_, " %zu", v);
+                if (normals)
+                    std::fprintf(obj_, " %zu//%zu", v, nbase_ + index(i + k) + 1);
+                else
+                    std::fprintf(obj_, " %zu", v);
             }
             std::fprintf(obj_, "\n");
         }
@@ -100,9 +104,11 @@ ObjWriteResult writeObj(Node& root, const std::filesystem::path& path) {
     for (const auto& [m, name] : v.materials) {
         const Material def;
         const Material& mm = m ? *m : def;
-        std::fprintf(mtl.get(), "newmtl %s\nKa %.4g %.4g %.4g\nKd %.4g %.4g %.4g\nKs %.4g %.4g %.4g\nNs %.4g\nd %.4g\n\n",
-                     name.c_str(), mm.ambient.r, mm.ambient.g, mm.ambient.b, mm.diffuse.r, mm.diffuse.g, mm.diffuse.b,
-                     mm.specular.r, mm.specular.g, mm.specular.b, mm.shininess, mm.diffuse.a);
+        std::fprintf(
+            mtl.get(),
+            "newmtl %s\nKa %.4g %.4g %.4g\nKd %.4g %.4g %.4g\nKs %.4g %.4g %.4g\nNs %.4g\nd %.4g\n\n",
+            name.c_str(), mm.ambient.r, mm.ambient.g, mm.ambient.b, mm.diffuse.r, mm.diffuse.g, mm.diffuse.b,
+            mm.specular.r, mm.specular.g, mm.specular.b, mm.shininess, mm.diffuse.a);
     }
     if (std::ferror(obj.get()) || std::ferror(mtl.get()))
         throw std::runtime_error("sgfx: write error on " + path.string());

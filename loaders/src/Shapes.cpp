@@ -21,7 +21,8 @@ void addQuad(Geometry& g, glm::vec3 o, glm::vec3 u, glm::vec3 v, glm::vec2 uvSca
         g.tangents.push_back(t);
         g.texcoords.push_back(uv[i]);
     }
-    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) g.indices.push_back(base + i);
+    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u})
+        g.indices.push_back(base + i);
 }
 void requirePositive(float v, const char* what) {
     if (!(v > 0.0f) || !std::isfinite(v))
@@ -35,12 +36,12 @@ std::shared_ptr<Geometry> box(const glm::vec3& s) {
     requirePositive(s.z, "box size z");
     auto g = Geometry::create();
     const glm::vec3 h = s * 0.5f;
-    addQuad(*g, {-h.x, -h.y, h.z}, {s.x, 0, 0}, {0, s.y, 0});   // +Z
-    addQuad(*g, {-h.x, h.y, -h.z}, {s.x, 0, 0}, {0, -s.y, 0});  // -Z
-    addQuad(*g, {h.x, -h.y, -h.z}, {0, s.y, 0}, {0, 0, s.z});   // +X
-    addQuad(*g, {-h.x, h.y, -h.z}, {0, -s.y, 0}, {0, 0, s.z});  // -X
-    addQuad(*g, {h.x, h.y, -h.z}, {-s.x, 0, 0}, {0, 0, s.z});   // +Y
-    addQuad(*g, {-h.x, -h.y, -h.z}, {s.x, 0, 0}, {0, 0, s.z});  // -Y
+    addQuad(*g, {-h.x, -h.y, h.z}, {s.x, 0, 0}, {0, s.y, 0});  // +Z
+    addQuad(*g, {-h.x, h.y, -h.z}, {s.x, 0, 0}, {0, -s.y, 0}); // -Z
+    addQuad(*g, {h.x, -h.y, -h.z}, {0, s.y, 0}, {0, 0, s.z});  // +X
+    addQuad(*g, {-h.x, h.y, -h.z}, {0, -s.y, 0}, {0, 0, s.z}); // -X
+    addQuad(*g, {h.x, h.y, -h.z}, {-s.x, 0, 0}, {0, 0, s.z});  // +Y
+    addQuad(*g, {-h.x, -h.y, -h.z}, {s.x, 0, 0}, {0, 0, s.z}); // -Y
     return g;
 }
 
@@ -69,7 +70,8 @@ std::shared_ptr<Geometry> cylinder(float r, float height, int seg, bool caps) {
     }
     for (int i = 0; i < seg; ++i) {
         const auto b = std::uint32_t(2 * i);
-        for (std::uint32_t k : {0u, 2u, 3u, 0u, 3u, 1u}) g->indices.push_back(b + k);
+        for (std::uint32_t k : {0u, 2u, 3u, 0u, 3u, 1u})
+            g->indices.push_back(b + k);
     }
     if (caps) {
         for (float z : {0.0f, height}) {
@@ -88,8 +90,10 @@ std::shared_ptr<Geometry> cylinder(float r, float height, int seg, bool caps) {
             }
             for (int i = 0; i < seg; ++i) {
                 const auto a = c + 1 + std::uint32_t(i), b = a + 1;
-                if (z > 0) g->indices.insert(g->indices.end(), {c, a, b});
-                else g->indices.insert(g->indices.end(), {c, b, a});
+                if (z > 0)
+                    g->indices.insert(g->indices.end(), {c, a, b});
+                else
+                    g->indices.insert(g->indices.end(), {c, b, a});
             }
         }
     }
@@ -121,7 +125,8 @@ std::shared_ptr<Geometry> cone(float r, float height, int seg) {
 
 std::shared_ptr<Geometry> sphere(float r, int seg, int rings) {
     requirePositive(r, "sphere radius");
-    if (seg < 3 || rings < 2) throw std::invalid_argument("sgfx::shapes: sphere needs >= 3 segments and >= 2 rings");
+    if (seg < 3 || rings < 2)
+        throw std::invalid_argument("sgfx::shapes: sphere needs >= 3 segments and >= 2 rings");
     auto g = Geometry::create();
     for (int j = 0; j <= rings; ++j) {
         const float v = float(j) / float(rings);
@@ -129,7 +134,8 @@ std::shared_ptr<Geometry> sphere(float r, int seg, int rings) {
         for (int i = 0; i <= seg; ++i) {
             const float u = float(i) / float(seg);
             const float phi = glm::two_pi<float>() * u;
-            const glm::vec3 n(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+            const glm::vec3 n(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                              std::cos(theta));
             g->positions.push_back(n * r);
             g->normals.push_back(n);
             g->tangents.push_back({-std::sin(phi), std::cos(phi), 0, 1});
@@ -164,7 +170,8 @@ std::shared_ptr<Geometry> heightfield(float x0, float y0, float sx, float sy, in
     g->indices.reserve(std::size_t(nx) * ny * 6);
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
-            const auto a = std::uint32_t(j * (nx + 1) + i), b = a + 1, c = a + std::uint32_t(nx + 1), d = c + 1;
+            const auto a = std::uint32_t(j * (nx + 1) + i), b = a + 1, c = a + std::uint32_t(nx + 1),
+                       d = c + 1;
             g->indices.insert(g->indices.end(), {a, b, d, a, d, c});
         }
     return g;
@@ -173,15 +180,20 @@ std::shared_ptr<Geometry> heightfield(float x0, float y0, float sx, float sy, in
 void append(Geometry& dst, const Geometry& src, const glm::mat4& m) {
     const auto base = std::uint32_t(dst.positions.size());
     const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(m)));
-    for (const auto& p : src.positions) dst.positions.push_back(glm::vec3(m * glm::vec4(p, 1)));
-    for (const auto& n : src.normals) dst.normals.push_back(glm::normalize(nm * n));
-    for (const auto& t : src.tangents) dst.tangents.push_back(glm::vec4(glm::normalize(glm::mat3(m) * glm::vec3(t)), t.w));
+    for (const auto& p : src.positions)
+        dst.positions.push_back(glm::vec3(m * glm::vec4(p, 1)));
+    for (const auto& n : src.normals)
+        dst.normals.push_back(glm::normalize(nm * n));
+    for (const auto& t : src.tangents)
+        dst.tangents.push_back(glm::vec4(glm::normalize(glm::mat3(m) * glm::vec3(t)), t.w));
     dst.texcoords.insert(dst.texcoords.end(), src.texcoords.begin(), src.texcoords.end());
     dst.colors.insert(dst.colors.end(), src.colors.begin(), src.colors.end());
     if (src.indices.empty())
-        for (std::uint32_t i = 0; i < src.positions.size(); ++i) dst.indices.push_back(base + i);
+        for (std::uint32_t i = 0; i < src.positions.size(); ++i)
+            dst.indices.push_back(base + i);
     else
-        for (auto i : src.indices) dst.indices.push_back(base + i);
+        for (auto i : src.indices)
+            dst.indices.push_back(base + i);
     dst.dirty();
 }
 

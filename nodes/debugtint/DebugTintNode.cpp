@@ -20,7 +20,8 @@ const ShaderSnippet& DebugTintNode::snippet() const {
                                  .defines = {},
                                  .vertexDecl = {},
                                  .vertexCode = {},
-                                 .fragmentDecl = std::string(nodes::shaders::embedded("debug_tint_decl.glsl")),
+                                 .fragmentDecl =
+                                     std::string(nodes::shaders::embedded("debug_tint_decl.glsl")),
                                  .ambientCode = {},
                                  .colorCode = std::string(nodes::shaders::embedded("debug_tint_color.glsl"))};
     return s;
@@ -33,7 +34,8 @@ void DebugTintNode::applyUniforms(gl::Program& program, const DrawContext&) cons
 void DebugTintNode::setTint(const glm::vec4& t) {
     for (int i = 0; i < 4; ++i)
         if (!std::isfinite(t[i]))
-            throw std::invalid_argument("sgfx: DebugTintNode::setTint: component " + std::to_string(i) + " is not finite");
+            throw std::invalid_argument("sgfx: DebugTintNode::setTint: component " + std::to_string(i) +
+                                        " is not finite");
     if (t.a < 0.0f || t.a > 1.0f)
         throw std::invalid_argument("sgfx: DebugTintNode::setTint: amount (alpha) " + std::to_string(t.a) +
                                     " must be in [0, 1]");

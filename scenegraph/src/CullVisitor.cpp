@@ -110,13 +110,17 @@ void CullVisitor::apply(Light& l) {
     const glm::mat4& m = model_.back();
     const glm::vec3 color = l.color * l.intensity;
     switch (l.type) {
-    case LightType::Ambient: queue_.ambientLight += color; break;
+    case LightType::Ambient:
+        queue_.ambientLight += color;
+        break;
     case LightType::Directional: {
         const glm::vec3 d = glm::normalize(glm::mat3(m) * l.direction);
         queue_.lights.push_back({glm::vec4(-d, 0.0f), color});
         break;
     }
-    case LightType::Point: queue_.lights.push_back({glm::vec4(glm::vec3(m * glm::vec4(l.position, 1.0f)), 1.0f), color}); break;
+    case LightType::Point:
+        queue_.lights.push_back({glm::vec4(glm::vec3(m * glm::vec4(l.position, 1.0f)), 1.0f), color});
+        break;
     }
 }
 
@@ -131,7 +135,8 @@ void CullVisitor::apply(EffectNode& e) {
     for (const EffectNode* a : queue_.effectSets[effectSet_.back()].effects)
         if (a->kind() != e.kind()) set.push_back(a);
     set.push_back(&e);
-    std::stable_sort(set.begin(), set.end(), [](const EffectNode* a, const EffectNode* b) { return a->order() < b->order(); });
+    std::stable_sort(set.begin(), set.end(),
+                     [](const EffectNode* a, const EffectNode* b) { return a->order() < b->order(); });
     effectSet_.push_back(queue_.internEffectSet(std::move(set)));
     if (plan_ && planned_.insert(&e).second) e.planFrame(*plan_);
     traverseWithState(e);

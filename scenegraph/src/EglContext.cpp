@@ -43,7 +43,9 @@ struct EglContext::Impl {
 namespace {
 // eglGetProcAddress is per library, not per context: keep the one the current EglContext uses.
 PFNEGLGETPROCADDRESSPROC g_eglGetProcAddress = nullptr;
-ProcAddress eglProc(const char* name) { return reinterpret_cast<ProcAddress>(g_eglGetProcAddress(name)); }
+ProcAddress eglProc(const char* name) {
+    return reinterpret_cast<ProcAddress>(g_eglGetProcAddress(name));
+}
 
 bool hasExtension(const char* list, const char* ext) {
     if (!list) return false;
@@ -54,7 +56,8 @@ bool hasExtension(const char* list, const char* ext) {
 }
 } // namespace
 
-EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
+EglContext::EglContext()
+    : impl_(std::make_unique<Impl>()) {
     Impl& e = *impl_;
     e.lib = dlopen("libEGL.so.1", RTLD_NOW | RTLD_LOCAL);
     if (!e.lib) throw ContextError(std::string("sgfx: cannot load libEGL.so.1: ") + dlerror());
@@ -91,7 +94,8 @@ EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
         tried += "device platform; ";
     }
     // 2. Mesa's surfaceless platform (software or any Mesa driver).
-    if (e.display == EGL_NO_DISPLAY && getPlatformDisplay && hasExtension(clientExts, "EGL_MESA_platform_surfaceless")) {
+    if (e.display == EGL_NO_DISPLAY && getPlatformDisplay &&
+        hasExtension(clientExts, "EGL_MESA_platform_surfaceless")) {
         EGLDisplay d = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         EGLint maj = 0, min = 0;
         if (d != EGL_NO_DISPLAY && e.initialize(d, &maj, &min)) {
@@ -101,8 +105,8 @@ EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
         tried += "surfaceless platform; ";
     }
     if (e.display == EGL_NO_DISPLAY)
-        throw ContextError("sgfx: no usable EGL display (tried: " + (tried.empty() ? std::string("nothing") : tried) +
-                           "EGL error " + e.error() + ")");
+        throw ContextError("sgfx: no usable EGL display (tried: " +
+                           (tried.empty() ? std::string("nothing") : tried) + "EGL error " + e.error() + ")");
     if (!e.bindApi(EGL_OPENGL_API)) throw ContextError("sgfx: EGL cannot bind the desktop OpenGL API");
     const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
     EGLConfig config = nullptr;
@@ -117,8 +121,8 @@ EglContext::EglContext() : impl_(std::make_unique<Impl>()) {
                                  EGL_NONE};
     e.context = e.createContext(e.display, config, EGL_NO_CONTEXT, ctxAttribs);
     if (e.context == EGL_NO_CONTEXT)
-        throw ContextError("sgfx: EGL (" + platform_ + ") could not create an OpenGL 4.5 core context: EGL error " +
-                           e.error());
+        throw ContextError("sgfx: EGL (" + platform_ +
+                           ") could not create an OpenGL 4.5 core context: EGL error " + e.error());
     makeCurrent();
 }
 
@@ -140,6 +144,8 @@ void EglContext::makeCurrent() {
     loadGl();
 }
 
-GetProcAddressFn EglContext::procAddress() const { return &eglProc; }
+GetProcAddressFn EglContext::procAddress() const {
+    return &eglProc;
+}
 
 } // namespace sgfx

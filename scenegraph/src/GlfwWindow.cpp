@@ -12,14 +12,17 @@ namespace sgfx {
 
 namespace {
 std::string g_glfwError;
-void onGlfwError(int, const char* text) { g_glfwError = text ? text : "unknown GLFW error"; }
+void onGlfwError(int, const char* text) {
+    g_glfwError = text ? text : "unknown GLFW error";
+}
 } // namespace
 
 GlfwWindow::GlfwWindow(int width, int height, const std::string& title) {
     const char* x11 = std::getenv("DISPLAY");
     const char* wayland = std::getenv("WAYLAND_DISPLAY");
     if ((!x11 || !*x11) && (!wayland || !*wayland))
-        throw ContextError("sgfx: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); cannot open a window");
+        throw ContextError(
+            "sgfx: no display (neither DISPLAY nor WAYLAND_DISPLAY is set); cannot open a window");
     glfwSetErrorCallback(onGlfwError);
     if (!glfwInit()) throw ContextError("sgfx: GLFW could not initialise: " + g_glfwError);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
@@ -29,8 +32,8 @@ GlfwWindow::GlfwWindow(int width, int height, const std::string& title) {
     window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
     if (!window_) {
         glfwTerminate();
-        throw ContextError("sgfx: GLFW could not open a " + std::to_string(width) + "x" + std::to_string(height) +
-                           " OpenGL 4.5 core window: " + g_glfwError);
+        throw ContextError("sgfx: GLFW could not open a " + std::to_string(width) + "x" +
+                           std::to_string(height) + " OpenGL 4.5 core window: " + g_glfwError);
     }
     makeCurrent();
     glfwSwapInterval(0);
@@ -47,9 +50,13 @@ void GlfwWindow::makeCurrent() {
     loadGl();
 }
 
-void GlfwWindow::swapBuffers() { glfwSwapBuffers(window_); }
+void GlfwWindow::swapBuffers() {
+    glfwSwapBuffers(window_);
+}
 
-GetProcAddressFn GlfwWindow::procAddress() const { return reinterpret_cast<GetProcAddressFn>(&glfwGetProcAddress); }
+GetProcAddressFn GlfwWindow::procAddress() const {
+    return reinterpret_cast<GetProcAddressFn>(&glfwGetProcAddress);
+}
 
 int GlfwWindow::width() const {
     int w = 0, h = 0;
@@ -63,6 +70,8 @@ int GlfwWindow::height() const {
     return h;
 }
 
-bool GlfwWindow::shouldClose() const { return glfwWindowShouldClose(window_); }
+bool GlfwWindow::shouldClose() const {
+    return glfwWindowShouldClose(window_);
+}
 
 } // namespace sgfx

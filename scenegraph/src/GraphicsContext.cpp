@@ -32,8 +32,8 @@ void GraphicsContext::loadGl() {
     glGetIntegerv(GL_MAJOR_VERSION, &major);
     glGetIntegerv(GL_MINOR_VERSION, &minor);
     if (major * 10 + minor < 45)
-        throw ContextError("sgfx: OpenGL 4.5 core is required, the " + std::string(kind()) + " context gives " +
-                           version_ + " (" + renderer_ + ")");
+        throw ContextError("sgfx: OpenGL 4.5 core is required, the " + std::string(kind()) +
+                           " context gives " + version_ + " (" + renderer_ + ")");
 }
 
 void GraphicsContext::assertOwnerThread() const {

@@ -9,8 +9,9 @@ namespace sgfx {
 
 std::shared_ptr<Image> Image::create(int w, int h, int channels) {
     if (w <= 0 || h <= 0 || channels < 1 || channels > 4)
-        throw std::invalid_argument("sgfx: Image::create(" + std::to_string(w) + ", " + std::to_string(h) + ", " +
-                                    std::to_string(channels) + "): size must be positive, channels 1..4");
+        throw std::invalid_argument("sgfx: Image::create(" + std::to_string(w) + ", " + std::to_string(h) +
+                                    ", " + std::to_string(channels) +
+                                    "): size must be positive, channels 1..4");
     auto img = std::make_shared<Image>();
     img->width = w;
     img->height = h;
@@ -22,7 +23,8 @@ std::shared_ptr<Image> Image::create(int w, int h, int channels) {
 void writePng(const std::filesystem::path& path, const Image& image) {
     if (image.width <= 0 || image.height <= 0 ||
         image.pixels.size() != std::size_t(image.width) * image.height * image.channels)
-        throw std::invalid_argument("sgfx: cannot write " + path.string() + ": image is empty or inconsistent");
+        throw std::invalid_argument("sgfx: cannot write " + path.string() +
+                                    ": image is empty or inconsistent");
     if (!stbi_write_png(path.c_str(), image.width, image.height, image.channels, image.pixels.data(),
                         image.width * image.channels))
         throw std::runtime_error("sgfx: could not write PNG " + path.string());
@@ -33,7 +35,8 @@ Image readPng(const std::filesystem::path& path) {
     stbi_uc* data = stbi_load(path.c_str(), &w, &h, &c, 0);
     if (!data) {
         const char* why = stbi_failure_reason();
-        throw std::runtime_error("sgfx: could not read image " + path.string() + ": " + (why ? why : "unknown"));
+        throw std::runtime_error("sgfx: could not read image " + path.string() + ": " +
+                                 (why ? why : "unknown"));
     }
     Image img;
     img.width = w;

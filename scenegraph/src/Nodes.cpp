@@ -16,13 +16,17 @@
 namespace sgfx {
 
 namespace {
-std::string label(const Node& n) { return n.name.empty() ? std::string("<unnamed>") : "'" + n.name + "'"; }
+std::string label(const Node& n) {
+    return n.name.empty() ? std::string("<unnamed>") : "'" + n.name + "'";
+}
 } // namespace
 
 // ---------------------------------------------------------------- Node
 Node::~Node() = default;
 
-void Node::accept(NodeVisitor& v) { v.apply(*this); }
+void Node::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
 
 StateSet& Node::getOrCreateStateSet() {
     if (!stateSet_) stateSet_ = StateSet::create();
@@ -40,7 +44,8 @@ const BoundingSphere& Node::bound() const {
 void Node::dirtyBound() {
     if (boundDirty_) return; // parents were told already
     boundDirty_ = true;
-    for (Group* p : parents_) p->dirtyBound();
+    for (Group* p : parents_)
+        p->dirtyBound();
 }
 
 // ---------------------------------------------------------------- Group
@@ -51,7 +56,9 @@ Group::~Group() {
     }
 }
 
-void Group::accept(NodeVisitor& v) { v.apply(*this); }
+void Group::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
 
 void Group::traverse(NodeVisitor& v) {
     for (const auto& c : children_) {
@@ -69,11 +76,14 @@ void Group::checkAcyclic(const Node& child) const {
             throw std::invalid_argument("sgfx: adding " + label(child) + " under " + label(*this) +
                                         " would create a cycle in the scene graph");
         }
-        for (const Group* p : n->parents()) stack.push_back(p);
+        for (const Group* p : n->parents())
+            stack.push_back(p);
     }
 }
 
-void Group::addChild(NodePtr child) { insertChild(children_.size(), std::move(child)); }
+void Group::addChild(NodePtr child) {
+    insertChild(children_.size(), std::move(child));
+}
 
 void Group::insertChild(std::size_t index, NodePtr child) {
     if (!child) throw std::invalid_argument("sgfx: null child added to group " + label(*this));
@@ -85,7 +95,8 @@ void Group::insertChild(std::size_t index, NodePtr child) {
 }
 
 bool Group::removeChild(const Node* child) {
-    auto it = std::find_if(children_.begin(), children_.end(), [&](const NodePtr& c) { return c.get() == child; });
+    auto it =
+        std::find_if(children_.begin(), children_.end(), [&](const NodePtr& c) { return c.get() == child; });
     if (it == children_.end()) return false;
     auto& ps = (*it)->parents_;
     ps.erase(std::find(ps.begin(), ps.end(), this));
@@ -95,7 +106,8 @@ bool Group::removeChild(const Node* child) {
 }
 
 void Group::removeChildren() {
-    while (!children_.empty()) removeChild(children_.back().get());
+    while (!children_.empty())
+        removeChild(children_.back().get());
 }
 
 void Group::replaceChild(std::size_t index, NodePtr child) {
@@ -133,7 +145,9 @@ BoundingSphere Group::computeBound() const {
 }
 
 // ---------------------------------------------------------------- Transform
-void Transform::accept(NodeVisitor& v) { v.apply(*this); }
+void Transform::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
 
 void Transform::setMatrix(const glm::mat4& m) {
     for (int c = 0; c < 4; ++c)
@@ -144,13 +158,17 @@ void Transform::setMatrix(const glm::mat4& m) {
     dirtyBound();
 }
 
-BoundingSphere Transform::computeBound() const { return Group::computeBound().transformed(matrix_); }
+BoundingSphere Transform::computeBound() const {
+    return Group::computeBound().transformed(matrix_);
+}
 
 // ---------------------------------------------------------------- Geometry
 Geometry::Geometry() = default;
 Geometry::~Geometry() = default;
 
-void Geometry::accept(NodeVisitor& v) { v.apply(*this); }
+void Geometry::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
 
 void Geometry::dirty() {
     ++revision_;
@@ -160,10 +178,13 @@ void Geometry::dirty() {
 std::size_t Geometry::triangleCount() const {
     const std::size_t n = elementCount();
     switch (mode) {
-    case PrimitiveMode::Triangles: return n / 3;
+    case PrimitiveMode::Triangles:
+        return n / 3;
     case PrimitiveMode::TriangleStrip:
-    case PrimitiveMode::TriangleFan: return n >= 3 ? n - 2 : 0;
-    default: return 0;
+    case PrimitiveMode::TriangleFan:
+        return n >= 3 ? n - 2 : 0;
+    default:
+        return 0;
     }
 }
 
@@ -171,8 +192,8 @@ void Geometry::validate() const {
     const std::size_t n = positions.size();
     auto check = [&](std::size_t size, const char* what) {
         if (size != 0 && size != n)
-            throw std::invalid_argument("sgfx: geometry " + label(*this) + " has " + std::to_string(size) + " " +
-                                        what + " for " + std::to_string(n) + " positions");
+            throw std::invalid_argument("sgfx: geometry " + label(*this) + " has " + std::to_string(size) +
+                                        " " + what + " for " + std::to_string(n) + " positions");
     };
     check(normals.size(), "normals");
     check(tangents.size(), "tangents");
@@ -188,7 +209,8 @@ void Geometry::validate() const {
 
 BoundingSphere Geometry::computeBound() const {
     BoundingBox box;
-    for (const auto& p : positions) box.expandBy(p);
+    for (const auto& p : positions)
+        box.expandBy(p);
     BoundingSphere s;
     if (!box.valid()) return s;
     s.center = box.center();
@@ -202,7 +224,9 @@ BoundingSphere Geometry::computeBound() const {
 }
 
 // ---------------------------------------------------------------- Camera, Light, EffectNode
-void Camera::accept(NodeVisitor& v) { v.apply(*this); }
+void Camera::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
 
 void Camera::setPerspective(float fovyDegrees, float zNear, float zFar) {
     if (!(fovyDegrees > 0.0f && fovyDegrees < 180.0f))
@@ -221,7 +245,8 @@ void Camera::setPerspective(float fovyDegrees, float zNear, float zFar) {
 void Camera::setLookAt(const glm::vec3& eye, const glm::vec3& center, const glm::vec3& up) {
     const glm::vec3 f = center - eye;
     if (!(glm::length(f) > 0.0f) || !(glm::length(glm::cross(f, up)) > 1e-12f))
-        throw std::invalid_argument("sgfx: Camera::setLookAt: eye equals centre or view direction is parallel to up");
+        throw std::invalid_argument(
+            "sgfx: Camera::setLookAt: eye equals centre or view direction is parallel to up");
     viewMatrix = glm::lookAt(eye, center, up);
 }
 
@@ -230,13 +255,20 @@ void Camera::setViewport(int x, int y, int w, int h) {
         throw std::invalid_argument("sgfx: Camera::setViewport: size " + std::to_string(w) + "x" +
                                     std::to_string(h) + " must be positive");
     viewport = {x, y, w, h};
-    if (perspective_) projectionMatrix = glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
+    if (perspective_)
+        projectionMatrix = glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
 }
 
-glm::vec3 Camera::eyePosition() const { return glm::vec3(glm::inverse(viewMatrix)[3]); }
+glm::vec3 Camera::eyePosition() const {
+    return glm::vec3(glm::inverse(viewMatrix)[3]);
+}
 
-void Light::accept(NodeVisitor& v) { v.apply(*this); }
-void EffectNode::accept(NodeVisitor& v) { v.apply(*this); }
+void Light::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
+void EffectNode::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
 
 // ---------------------------------------------------------------- StateSet
 namespace {
@@ -264,8 +296,10 @@ ResolvedState ResolvedState::merged(const StateSet& c) const {
     mergeAttr(s.depth, c.depth);
     mergeAttr(s.cullFace, c.cullFace);
     mergeAttr(s.renderBin, c.renderBin);
-    for (const auto& [name, attr] : c.uniforms) mergeAttr(s.uniforms[name], attr);
-    for (const auto& [name, attr] : c.textures) mergeAttr(s.textures[name], attr);
+    for (const auto& [name, attr] : c.uniforms)
+        mergeAttr(s.uniforms[name], attr);
+    for (const auto& [name, attr] : c.textures)
+        mergeAttr(s.textures[name], attr);
     return s;
 }
 
@@ -280,8 +314,8 @@ void Material::validate() const {
             if (!std::isfinite(v[i]) || v[i] < 0.0f) return false;
         return true;
     };
-    if (!finiteNonNeg(glm::vec4(ambient, 0)) || !finiteNonNeg(diffuse) || !finiteNonNeg(glm::vec4(specular, 0)) ||
-        !finiteNonNeg(glm::vec4(emissive, 0)))
+    if (!finiteNonNeg(glm::vec4(ambient, 0)) || !finiteNonNeg(diffuse) ||
+        !finiteNonNeg(glm::vec4(specular, 0)) || !finiteNonNeg(glm::vec4(emissive, 0)))
         throw std::invalid_argument("sgfx: Material colours must be finite and non-negative");
     if (!std::isfinite(shininess) || shininess < 0.0f)
         throw std::invalid_argument("sgfx: Material shininess must be finite and >= 0");

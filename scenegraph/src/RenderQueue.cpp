@@ -24,7 +24,8 @@ std::uint32_t RenderQueue::internEffectSet(std::vector<const EffectNode*> effect
     for (std::uint32_t i = 0; i < effectSets.size(); ++i)
         if (effectSets[i].effects == effects) return i;
     std::string sig;
-    for (const EffectNode* e : effects) sig += e->snippet().name + '\n';
+    for (const EffectNode* e : effects)
+        sig += e->snippet().name + '\n';
     auto it = std::find(signatures_.begin(), signatures_.end(), sig);
     const auto sigId = std::uint32_t(it - signatures_.begin());
     if (it == signatures_.end()) signatures_.push_back(std::move(sig));

@@ -18,7 +18,8 @@
 namespace sgfx {
 
 void FramePlan::add(std::shared_ptr<RenderPass> pass) {
-    if (pass && std::find(passes.begin(), passes.end(), pass) == passes.end()) passes.push_back(std::move(pass));
+    if (pass && std::find(passes.begin(), passes.end(), pass) == passes.end())
+        passes.push_back(std::move(pass));
 }
 
 namespace {
@@ -37,35 +38,48 @@ enum Unit : unsigned { BaseUnit = 0, AlphaUnit = 1, NormalUnit = 2, FirstUserUni
 
 GLenum glMode(PrimitiveMode m) {
     switch (m) {
-    case PrimitiveMode::Points: return GL_POINTS;
-    case PrimitiveMode::Lines: return GL_LINES;
-    case PrimitiveMode::LineStrip: return GL_LINE_STRIP;
-    case PrimitiveMode::Triangles: return GL_TRIANGLES;
-    case PrimitiveMode::TriangleStrip: return GL_TRIANGLE_STRIP;
-    case PrimitiveMode::TriangleFan: return GL_TRIANGLE_FAN;
+    case PrimitiveMode::Points:
+        return GL_POINTS;
+    case PrimitiveMode::Lines:
+        return GL_LINES;
+    case PrimitiveMode::LineStrip:
+        return GL_LINE_STRIP;
+    case PrimitiveMode::Triangles:
+        return GL_TRIANGLES;
+    case PrimitiveMode::TriangleStrip:
+        return GL_TRIANGLE_STRIP;
+    case PrimitiveMode::TriangleFan:
+        return GL_TRIANGLE_FAN;
     }
     return GL_TRIANGLES;
 }
 
 GLenum glCompare(CompareFunc f) {
-    static const GLenum map[] = {GL_NEVER, GL_LESS, GL_EQUAL, GL_LEQUAL, GL_GREATER, GL_NOTEQUAL, GL_GEQUAL, GL_ALWAYS};
+    static const GLenum map[] = {GL_NEVER,   GL_LESS,     GL_EQUAL,  GL_LEQUAL,
+                                 GL_GREATER, GL_NOTEQUAL, GL_GEQUAL, GL_ALWAYS};
     return map[std::size_t(f)];
 }
 
 GLint glFilter(Filter f) {
     switch (f) {
-    case Filter::Nearest: return GL_NEAREST;
-    case Filter::Linear: return GL_LINEAR;
-    case Filter::LinearMipmapLinear: return GL_LINEAR_MIPMAP_LINEAR;
+    case Filter::Nearest:
+        return GL_NEAREST;
+    case Filter::Linear:
+        return GL_LINEAR;
+    case Filter::LinearMipmapLinear:
+        return GL_LINEAR_MIPMAP_LINEAR;
     }
     return GL_LINEAR;
 }
 
 GLint glWrap(Wrap w) {
     switch (w) {
-    case Wrap::Repeat: return GL_REPEAT;
-    case Wrap::ClampToEdge: return GL_CLAMP_TO_EDGE;
-    case Wrap::MirroredRepeat: return GL_MIRRORED_REPEAT;
+    case Wrap::Repeat:
+        return GL_REPEAT;
+    case Wrap::ClampToEdge:
+        return GL_CLAMP_TO_EDGE;
+    case Wrap::MirroredRepeat:
+        return GL_MIRRORED_REPEAT;
     }
     return GL_REPEAT;
 }
@@ -102,8 +116,8 @@ gl::GeometryBuffers& buffersFor(const Geometry& g) {
     b.indexed = !g.indices.empty();
     if (b.indexed) {
         if (!b.indices) b.indices = gl::createBuffer();
-        glNamedBufferData(b.indices.get(), GLsizeiptr(g.indices.size() * sizeof(std::uint32_t)), g.indices.data(),
-                          GL_STATIC_DRAW);
+        glNamedBufferData(b.indices.get(), GLsizeiptr(g.indices.size() * sizeof(std::uint32_t)),
+                          g.indices.data(), GL_STATIC_DRAW);
         glVertexArrayElementBuffer(b.vao.get(), b.indices.get());
     }
     b.count = std::uint32_t(g.elementCount());
@@ -132,7 +146,8 @@ GLuint textureFor(const Texture& t) {
     const int levels = mip ? 1 + int(std::floor(std::log2(std::max(img->width, img->height)))) : 1;
     glTextureStorage2D(name, levels, (t.srgb ? srgbFormats : linearFormats)[c], img->width, img->height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(name, 0, 0, 0, img->width, img->height, dataFormats[c], GL_UNSIGNED_BYTE, img->pixels.data());
+    glTextureSubImage2D(name, 0, 0, 0, img->width, img->height, dataFormats[c], GL_UNSIGNED_BYTE,
+                        img->pixels.data());
     if (mip) glGenerateTextureMipmap(name);
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, glFilter(t.minFilter));
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, t.magFilter == Filter::Nearest ? GL_NEAREST : GL_LINEAR);
@@ -188,11 +203,20 @@ struct Renderer::Impl {
         glEnable(GL_BLEND);
         glBlendEquation(GL_FUNC_ADD);
         switch (m) {
-        case BlendMode::Alpha: glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA); break;
-        case BlendMode::Premultiplied: glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA); break;
-        case BlendMode::Additive: glBlendFunc(GL_SRC_ALPHA, GL_ONE); break;
-        case BlendMode::Multiply: glBlendFunc(GL_DST_COLOR, GL_ZERO); break;
-        case BlendMode::Off: break;
+        case BlendMode::Alpha:
+            glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+            break;
+        case BlendMode::Premultiplied:
+            glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+            break;
+        case BlendMode::Additive:
+            glBlendFunc(GL_SRC_ALPHA, GL_ONE);
+            break;
+        case BlendMode::Multiply:
+            glBlendFunc(GL_DST_COLOR, GL_ZERO);
+            break;
+        case BlendMode::Off:
+            break;
         }
     }
     void setCull(CullFace c) {
@@ -211,8 +235,10 @@ struct Renderer::Impl {
         depth = d;
         depthKnown = true;
         ++*stateChanges;
-        if (d.test) glEnable(GL_DEPTH_TEST);
-        else glDisable(GL_DEPTH_TEST);
+        if (d.test)
+            glEnable(GL_DEPTH_TEST);
+        else
+            glDisable(GL_DEPTH_TEST);
         glDepthMask(d.write ? GL_TRUE : GL_FALSE);
         glDepthFunc(glCompare(d.func));
     }
@@ -225,7 +251,9 @@ struct Renderer::Impl {
 };
 
 Renderer::Renderer(GraphicsContext& context, Options options)
-    : context_(context), options_(options), impl_(std::make_unique<Impl>()) {
+    : context_(context)
+    , options_(options)
+    , impl_(std::make_unique<Impl>()) {
     context_.makeCurrent();
     impl_->stateChanges = &stats_.stateChanges;
     impl_->frameUbo = gl::createBuffer();
@@ -250,7 +278,9 @@ Renderer::~Renderer() {
     composer_.clear();
 }
 
-gl::RenderTarget& Renderer::sceneTarget() { return impl_->scene; }
+gl::RenderTarget& Renderer::sceneTarget() {
+    return impl_->scene;
+}
 
 std::vector<std::string> Renderer::takeGlErrors() {
     for (GLenum e; (e = glGetError()) != GL_NO_ERROR;) {
@@ -275,7 +305,8 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     stats_.drawMs = std::chrono::duration<double, std::milli>(clock::now() - t0).count() - stats_.cullMs;
 }
 
-void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth) {
+void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan,
+                          int depth) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     const Viewport vp = camera.viewport;
@@ -354,8 +385,8 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     impl_->depthKnown = false;
     const glm::vec4 cc = camera.clearColor;
     glClearColor(cc.r, cc.g, cc.b, cc.a);
-    const GLbitfield mask =
-        (camera.clearColorEnabled ? GL_COLOR_BUFFER_BIT : 0u) | (camera.clearDepthEnabled ? GL_DEPTH_BUFFER_BIT : 0u);
+    const GLbitfield mask = (camera.clearColorEnabled ? GL_COLOR_BUFFER_BIT : 0u) |
+                            (camera.clearDepthEnabled ? GL_DEPTH_BUFFER_BIT : 0u);
     if (mask) glClear(mask);
     gl::QueryObject fragments;
     if (options_.countFragments) {
@@ -394,8 +425,8 @@ void Renderer::copyToTexture(const gl::RenderTarget& from, const Texture& to) {
         glTextureParameteri(gpu->object.get(), GL_TEXTURE_WRAP_T, glWrap(to.wrapT));
     }
     gpu->revision = to.revision();
-    glCopyImageSubData(from.color.get(), GL_TEXTURE_2D, 0, 0, 0, 0, gpu->object.get(), GL_TEXTURE_2D, 0, 0, 0, 0,
-                       from.width, from.height, 1);
+    glCopyImageSubData(from.color.get(), GL_TEXTURE_2D, 0, 0, 0, 0, gpu->object.get(), GL_TEXTURE_2D, 0, 0, 0,
+                       0, from.width, from.height, 1);
 }
 
 void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override) {
@@ -411,9 +442,12 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (!override && item.programKey != programKey) {
             const EffectSet& set = current_->effectSets[item.effectSet];
             snippets.clear();
-            for (const EffectNode* e : set.effects) snippets.push_back(&e->snippet());
+            for (const EffectNode* e : set.effects)
+                snippets.push_back(&e->snippet());
             const std::uint32_t features =
-                item.program() ? 0u : ShaderComposer::withWorldPosition(item.features | viewFeatures_, !snippets.empty());
+                item.program()
+                    ? 0u
+                    : ShaderComposer::withWorldPosition(item.features | viewFeatures_, !snippets.empty());
             program = &composer_.program(item.program(), snippets, features);
             programKey = item.programKey;
             programChanged = true;
@@ -433,7 +467,8 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (item.effectSet != effectSet) {
             effectSet = item.effectSet;
             const DrawContext ctx{frame_, item};
-            for (const EffectNode* e : current_->effectSets[effectSet].effects) e->applyUniforms(*program, ctx);
+            for (const EffectNode* e : current_->effectSets[effectSet].effects)
+                e->applyUniforms(*program, ctx);
         }
         if (item.state != state) {
             state = item.state;
@@ -470,8 +505,10 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         program->set("sgfx_model", item.model);
         program->set("sgfx_normalMatrix", glm::mat3(glm::transpose(glm::inverse(item.model))));
         glBindVertexArray(b.vao.get());
-        if (b.indexed) glDrawElements(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr);
-        else glDrawArrays(b.mode, 0, GLsizei(b.count));
+        if (b.indexed)
+            glDrawElements(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr);
+        else
+            glDrawArrays(b.mode, 0, GLsizei(b.count));
         ++stats_.drawCalls;
         stats_.triangles += g.triangleCount();
     }

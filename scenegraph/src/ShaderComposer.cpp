@@ -30,7 +30,8 @@ const Hook kFragmentHooks[] = {{"fragment_decl", &ShaderSnippet::fragmentDecl, "
 constexpr long kLinesPerSource = 10000;
 
 std::string lineDirective(int line, std::size_t source) {
-    return "#line " + std::to_string(long(source) * kLinesPerSource + line) + " " + std::to_string(source) + "\n";
+    return "#line " + std::to_string(long(source) * kLinesPerSource + line) + " " + std::to_string(source) +
+           "\n";
 }
 
 // Emits `text` as its own source string so driver messages point into it.
@@ -43,7 +44,8 @@ void appendChunk(std::string& out, std::vector<std::string>& names, std::string 
 
 std::string preamble(std::span<const ShaderSnippet* const> snippets, std::uint32_t features) {
     std::string p = ShaderComposer::featureDefines(features);
-    for (const ShaderSnippet* s : snippets) p += s->defines.empty() ? "" : s->defines + "\n";
+    for (const ShaderSnippet* s : snippets)
+        p += s->defines.empty() ? "" : s->defines + "\n";
     p += shaders::embedded("frame_block.glsl");
     return p;
 }
@@ -88,7 +90,8 @@ std::string composeStage(std::string_view name, std::string_view src, std::span<
             const std::string& code = s->*(hook->field);
             if (code.empty()) continue;
             // Statement hooks get their own scope so snippets' locals never collide.
-            appendChunk(out, names, s->name + "." + std::string(hook->label), fileScope ? code : "{ " + code + "\n}");
+            appendChunk(out, names, s->name + "." + std::string(hook->label),
+                        fileScope ? code : "{ " + code + "\n}");
         }
         out += lineDirective(line + 1, baseSource);
     }
@@ -97,7 +100,8 @@ std::string composeStage(std::string_view name, std::string_view src, std::span<
 
 std::string describe(std::string_view base, std::span<const ShaderSnippet* const> snippets) {
     std::string d = std::string(base) + " + [";
-    for (std::size_t i = 0; i < snippets.size(); ++i) d += (i ? ", " : "") + snippets[i]->name;
+    for (std::size_t i = 0; i < snippets.size(); ++i)
+        d += (i ? ", " : "") + snippets[i]->name;
     return d + "]";
 }
 
@@ -107,17 +111,20 @@ ShaderComposer::ShaderComposer() = default;
 ShaderComposer::~ShaderComposer() = default;
 
 const BaseShader& ShaderComposer::blinnPhong() {
-    static const BaseShader base{"blinn_phong", "blinn_phong.vert", std::string(shaders::embedded("blinn_phong.vert")),
-                                 "blinn_phong.frag", std::string(shaders::embedded("blinn_phong.frag"))};
+    static const BaseShader base{"blinn_phong", "blinn_phong.vert",
+                                 std::string(shaders::embedded("blinn_phong.vert")), "blinn_phong.frag",
+                                 std::string(shaders::embedded("blinn_phong.frag"))};
     return base;
 }
 
-ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
+ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base,
+                                               std::span<const ShaderSnippet* const> snippets,
                                                std::uint32_t features) {
     ComposedProgram p;
-    p.vertex = composeStage(base.vertexName, base.vertexSource, kVertexHooks, snippets, features, p.vertexSources);
-    p.fragment =
-        composeStage(base.fragmentName, base.fragmentSource, kFragmentHooks, snippets, features, p.fragmentSources);
+    p.vertex =
+        composeStage(base.vertexName, base.vertexSource, kVertexHooks, snippets, features, p.vertexSources);
+    p.fragment = composeStage(base.fragmentName, base.fragmentSource, kFragmentHooks, snippets, features,
+                              p.fragmentSources);
     p.description = describe(base.name, snippets);
     std::string variant = featureDefines(features);
     for (auto& c : variant)
@@ -131,15 +138,24 @@ ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base, std::span
 
 std::string ShaderComposer::featureDefines(std::uint32_t f) {
     static const std::pair<std::uint32_t, const char*> names[] = {
-        {FeatureBaseMap, "SGFX_BASE_MAP"},       {FeatureAlphaMap, "SGFX_ALPHA_MAP"}, {FeatureNormalMap, "SGFX_NORMAL_MAP"},
-        {FeatureVertexColor, "SGFX_VERTEX_COLOR"}, {FeatureNormals, "SGFX_NORMALS"},   {FeatureTangents, "SGFX_TANGENTS"},
-        {FeatureTexCoords, "SGFX_TEXCOORDS"},    {FeatureAlphaMask, "SGFX_ALPHA_MASK"}, {FeatureBlend, "SGFX_BLEND"},
-        {FeatureSpecular, "SGFX_SPECULAR"},     {FeatureVertexLighting, "SGFX_VERTEX_LIGHTING"},
-        {FeatureWorldPosition, "SGFX_WORLD_POSITION"}, {FeaturePointLights, "SGFX_POINT_LIGHTS"}};
+        {FeatureBaseMap, "SGFX_BASE_MAP"},
+        {FeatureAlphaMap, "SGFX_ALPHA_MAP"},
+        {FeatureNormalMap, "SGFX_NORMAL_MAP"},
+        {FeatureVertexColor, "SGFX_VERTEX_COLOR"},
+        {FeatureNormals, "SGFX_NORMALS"},
+        {FeatureTangents, "SGFX_TANGENTS"},
+        {FeatureTexCoords, "SGFX_TEXCOORDS"},
+        {FeatureAlphaMask, "SGFX_ALPHA_MASK"},
+        {FeatureBlend, "SGFX_BLEND"},
+        {FeatureSpecular, "SGFX_SPECULAR"},
+        {FeatureVertexLighting, "SGFX_VERTEX_LIGHTING"},
+        {FeatureWorldPosition, "SGFX_WORLD_POSITION"},
+        {FeaturePointLights, "SGFX_POINT_LIGHTS"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";
-    d += "#define SGFX_LIGHT_COUNT " + std::to_string((f & FeatureLightCountMask) >> FeatureLightCountShift) + "\n";
+    d += "#define SGFX_LIGHT_COUNT " + std::to_string((f & FeatureLightCountMask) >> FeatureLightCountShift) +
+         "\n";
     return d;
 }
 
@@ -170,7 +186,8 @@ std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, 
     return f;
 }
 
-ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog, std::span<const ShaderSnippet* const> snippets) {
+ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
+                                               std::span<const ShaderSnippet* const> snippets) {
     ComposedProgram p;
     p.description = describe(prog.name, snippets);
     // Vertex stage: the application's, untouched (snippets' vertex code does not apply to it).
@@ -182,7 +199,8 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog, std::s
         return p;
     }
     static const std::regex mainRe(R"(\bvoid\s+main\s*\(\s*(void)?\s*\))");
-    static const std::regex outRe(R"((layout\s*\(\s*location\s*=\s*0\s*\)\s*)?out\s+vec4\s+([A-Za-z_][A-Za-z0-9_]*)\s*;)");
+    static const std::regex outRe(
+        R"((layout\s*\(\s*location\s*=\s*0\s*\)\s*)?out\s+vec4\s+([A-Za-z_][A-Za-z0-9_]*)\s*;)");
     const std::string& src = prog.fragmentSource;
     if (!std::regex_search(src, mainRe))
         throw ShaderError("sgfx: foreign fragment shader '" + prog.name + "' has no `void main()` to wrap");
@@ -196,7 +214,8 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog, std::s
                           "' declares no `out vec4` colour output for the effects to modify");
     std::string_view body = src;
     std::string out = splitVersion(body, prog.name);
-    for (const ShaderSnippet* s : snippets) out += s->defines.empty() ? "" : s->defines + "\n";
+    for (const ShaderSnippet* s : snippets)
+        out += s->defines.empty() ? "" : s->defines + "\n";
     p.fragmentSources.push_back(prog.name + ".frag");
     out += lineDirective(2, 0);
     out += std::regex_replace(std::string(body), mainRe, "void sgfx_user_main()");
@@ -204,19 +223,23 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog, std::s
     if (src.find("SgfxFrame") == std::string::npos)
         appendChunk(out, p.fragmentSources, "<sgfx frame block>", shaders::embedded("frame_block.glsl"));
     for (const ShaderSnippet* s : snippets)
-        if (!s->fragmentDecl.empty()) appendChunk(out, p.fragmentSources, s->name + ".fragmentDecl", s->fragmentDecl);
+        if (!s->fragmentDecl.empty())
+            appendChunk(out, p.fragmentSources, s->name + ".fragmentDecl", s->fragmentDecl);
     // The wrapper: run the application's main, then the effects on its output. The world
     // position comes from the window position and depth through the inverse view-projection.
-    std::string wrap = "void main() {\n    sgfx_user_main();\n"
-                       "    vec4 sgfx_ndc = vec4((gl_FragCoord.xy - sgfx_viewport.xy) / sgfx_viewport.zw * 2.0 - 1.0,"
-                       " gl_FragCoord.z * 2.0 - 1.0, 1.0);\n"
-                       "    vec4 sgfx_world4 = sgfx_invViewProjection * sgfx_ndc;\n"
-                       "    vec3 sgfx_worldPos = sgfx_world4.xyz / sgfx_world4.w;\n"
-                       "    vec3 sgfx_eyePos = sgfx_eye.xyz;\n"
-                       "    vec4 sgfx_color = " + output + ";\n";
+    std::string wrap =
+        "void main() {\n    sgfx_user_main();\n"
+        "    vec4 sgfx_ndc = vec4((gl_FragCoord.xy - sgfx_viewport.xy) / sgfx_viewport.zw * 2.0 - 1.0,"
+        " gl_FragCoord.z * 2.0 - 1.0, 1.0);\n"
+        "    vec4 sgfx_world4 = sgfx_invViewProjection * sgfx_ndc;\n"
+        "    vec3 sgfx_worldPos = sgfx_world4.xyz / sgfx_world4.w;\n"
+        "    vec3 sgfx_eyePos = sgfx_eye.xyz;\n"
+        "    vec4 sgfx_color = " +
+        output + ";\n";
     appendChunk(out, p.fragmentSources, "<sgfx wrapper>", wrap);
     for (const ShaderSnippet* s : snippets)
-        if (!s->colorCode.empty()) appendChunk(out, p.fragmentSources, s->name + ".colorCode", "{ " + s->colorCode + "\n}");
+        if (!s->colorCode.empty())
+            appendChunk(out, p.fragmentSources, s->name + ".colorCode", "{ " + s->colorCode + "\n}");
     appendChunk(out, p.fragmentSources, "<sgfx wrapper>", "    " + output + " = sgfx_color;\n}\n");
     p.fragment = std::move(out);
     return p;
@@ -257,7 +280,8 @@ std::string ShaderComposer::translateLog(std::string_view log, std::span<const s
 
 gl::Program& ShaderComposer::cached(std::string key, std::span<const ShaderSnippet* const> snippets,
                                     const std::function<ComposedProgram()>& compose) {
-    for (const ShaderSnippet* s : snippets) key += "|" + s->name;
+    for (const ShaderSnippet* s : snippets)
+        key += "|" + s->name;
     if (auto it = cache_.find(key); it != cache_.end()) {
         ++hits_;
         return *it->second;
@@ -273,15 +297,18 @@ gl::Program& ShaderComposer::program(const BaseShader& base, std::span<const Sha
                   [&] { return composeBuiltin(base, snippets, features); });
 }
 
-gl::Program& ShaderComposer::program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets,
-                                     std::uint32_t features) {
+gl::Program& ShaderComposer::program(const ShaderProgram* foreign,
+                                     std::span<const ShaderSnippet* const> snippets, std::uint32_t features) {
     if (!foreign) return program(blinnPhong(), snippets, features);
     // Keyed by identity and text, so editing a ShaderProgram's source yields a new variant.
-    std::string key = "foreign:" + std::to_string(reinterpret_cast<std::uintptr_t>(foreign)) + ":" +
-                      std::to_string(std::hash<std::string>{}(foreign->vertexSource + foreign->fragmentSource));
+    std::string key =
+        "foreign:" + std::to_string(reinterpret_cast<std::uintptr_t>(foreign)) + ":" +
+        std::to_string(std::hash<std::string>{}(foreign->vertexSource + foreign->fragmentSource));
     return cached(std::move(key), snippets, [&] { return composeForeign(*foreign, snippets); });
 }
 
-void ShaderComposer::clear() { cache_.clear(); }
+void ShaderComposer::clear() {
+    cache_.clear();
+}
 
 } // namespace sgfx

@@ -12,7 +12,8 @@ namespace {
 // (OSG's releaseGLObjects), so a scene may outlive its viewer without leaking GL objects.
 class ReleaseVisitor : public NodeVisitor {
 public:
-    ReleaseVisitor() : NodeVisitor(Mode::AllChildren) {}
+    ReleaseVisitor()
+        : NodeVisitor(Mode::AllChildren) {}
     void apply(Node& n) override {
         release(n.stateSet().get());
         traverse(n);
@@ -45,8 +46,11 @@ private:
 } // namespace
 
 Viewer::Viewer(std::unique_ptr<GraphicsContext> context)
-    : context_(std::move(context)), camera_(Camera::create()), renderer_(std::make_unique<Renderer>(*context_)) {
-    if (context_->isWindow()) camera_->setViewport(0, 0, std::max(1, context_->width()), std::max(1, context_->height()));
+    : context_(std::move(context))
+    , camera_(Camera::create())
+    , renderer_(std::make_unique<Renderer>(*context_)) {
+    if (context_->isWindow())
+        camera_->setViewport(0, 0, std::max(1, context_->width()), std::max(1, context_->height()));
     camera_->setPerspective(45.0f, 0.1f, 10000.0f);
 }
 

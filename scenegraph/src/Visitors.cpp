@@ -8,13 +8,27 @@
 namespace sgfx {
 
 // ---------------------------------------------------------------- NodeVisitor
-void NodeVisitor::apply(Node& node) { traverse(node); }
-void NodeVisitor::apply(Group& g) { apply(static_cast<Node&>(g)); }
-void NodeVisitor::apply(Transform& t) { apply(static_cast<Group&>(t)); }
-void NodeVisitor::apply(Geometry& g) { apply(static_cast<Node&>(g)); }
-void NodeVisitor::apply(Camera& c) { apply(static_cast<Group&>(c)); }
-void NodeVisitor::apply(Light& l) { apply(static_cast<Node&>(l)); }
-void NodeVisitor::apply(EffectNode& e) { apply(static_cast<Group&>(e)); }
+void NodeVisitor::apply(Node& node) {
+    traverse(node);
+}
+void NodeVisitor::apply(Group& g) {
+    apply(static_cast<Node&>(g));
+}
+void NodeVisitor::apply(Transform& t) {
+    apply(static_cast<Group&>(t));
+}
+void NodeVisitor::apply(Geometry& g) {
+    apply(static_cast<Node&>(g));
+}
+void NodeVisitor::apply(Camera& c) {
+    apply(static_cast<Group&>(c));
+}
+void NodeVisitor::apply(Light& l) {
+    apply(static_cast<Node&>(l));
+}
+void NodeVisitor::apply(EffectNode& e) {
+    apply(static_cast<Group&>(e));
+}
 
 bool NodeVisitor::accepts(const Node& node) const {
     return mode != Mode::ActiveChildren || (node.nodeMask & traversalMask) != 0;

@@ -65,7 +65,7 @@ public:
     void accept(NodeVisitor& v) override;
 
     LightType type = LightType::Directional;
-    glm::vec3 color{1.0f};  // linear RGB, multiplied by intensity
+    glm::vec3 color{1.0f}; // linear RGB, multiplied by intensity
     float intensity = 1.0f;
     glm::vec3 direction{0, 0, -1}; // direction the light travels (directional), local frame
     glm::vec3 position{0.0f};      // point lights, local frame

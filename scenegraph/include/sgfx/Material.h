@@ -9,7 +9,8 @@
 namespace sgfx {
 
 // The built-in Blinn-Phong material. Colours are linear RGB.
-// colour = emissive + ambientLight*ambient + sum_l light_l*(diffuse*max(N.L,0) + specular*max(N.H,0)^shininess)
+// colour = emissive + ambientLight*ambient + sum_l light_l*(diffuse*max(N.L,0) +
+// specular*max(N.H,0)^shininess)
 class Material {
 public:
     static std::shared_ptr<Material> create() { return std::make_shared<Material>(); }

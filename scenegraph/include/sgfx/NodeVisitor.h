@@ -20,7 +20,8 @@ class NodeVisitor {
 public:
     enum class Mode { None, AllChildren, ActiveChildren };
 
-    explicit NodeVisitor(Mode m = Mode::AllChildren) : mode(m) {}
+    explicit NodeVisitor(Mode m = Mode::AllChildren)
+        : mode(m) {}
     virtual ~NodeVisitor() = default;
 
     virtual void apply(Node& node);

@@ -42,8 +42,8 @@ struct RenderItem {
 
 class RenderQueue {
 public:
-    std::vector<RenderItem> opaque;      // drawn first; sorted by program, material, front to back
-    std::vector<RenderItem> transparent; // drawn last; sorted back to front
+    std::vector<RenderItem> opaque;                 // drawn first; sorted by program, material, front to back
+    std::vector<RenderItem> transparent;            // drawn last; sorted back to front
     std::vector<EffectSet> effectSets{EffectSet{}}; // [0] = no effect
     std::vector<LightInfo> lights;
     glm::vec3 ambientLight{0.0f};

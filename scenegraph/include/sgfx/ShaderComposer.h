@@ -91,7 +91,8 @@ public:
     ~ShaderComposer();
 
     // Text only (no GL): testable anywhere.
-    static ComposedProgram composeBuiltin(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
+    static ComposedProgram composeBuiltin(const BaseShader& base,
+                                          std::span<const ShaderSnippet* const> snippets,
                                           std::uint32_t features = 0);
     static std::string featureDefines(std::uint32_t features);
     // The variant a material needs for a geometry (attributes present, textures, mask, blending).

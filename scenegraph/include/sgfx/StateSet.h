@@ -31,7 +31,16 @@ template <class T> struct StateAttr {
 };
 
 enum class BlendMode : std::uint8_t { Off, Alpha, Premultiplied, Additive, Multiply };
-enum class CompareFunc : std::uint8_t { Never, Less, Equal, LessEqual, Greater, NotEqual, GreaterEqual, Always };
+enum class CompareFunc : std::uint8_t {
+    Never,
+    Less,
+    Equal,
+    LessEqual,
+    Greater,
+    NotEqual,
+    GreaterEqual,
+    Always
+};
 enum class CullFace : std::uint8_t { None, Back, Front };
 enum class RenderBin : std::uint8_t { Opaque, Transparent };
 

@@ -11,7 +11,8 @@ namespace sgfx {
 // Runs update callbacks; carries the frame clock.
 class UpdateVisitor : public NodeVisitor {
 public:
-    UpdateVisitor() : NodeVisitor(Mode::ActiveChildren) {}
+    UpdateVisitor()
+        : NodeVisitor(Mode::ActiveChildren) {}
     void apply(Node& node) override;
 
     double simulationTime = 0.0; // seconds
@@ -22,7 +23,8 @@ public:
 // World-space bounds of everything below the visited node (accumulating transforms).
 class ComputeBoundsVisitor : public NodeVisitor {
 public:
-    ComputeBoundsVisitor() : NodeVisitor(Mode::ActiveChildren) {}
+    ComputeBoundsVisitor()
+        : NodeVisitor(Mode::ActiveChildren) {}
     void apply(Transform& t) override;
     void apply(Geometry& g) override;
 
@@ -37,7 +39,8 @@ private:
 // Counts what a traversal reaches: each shared subgraph counts once per parent path.
 class StatsVisitor : public NodeVisitor {
 public:
-    StatsVisitor() : NodeVisitor(Mode::ActiveChildren) {}
+    StatsVisitor()
+        : NodeVisitor(Mode::ActiveChildren) {}
     void apply(Node& n) override;
     void apply(Geometry& g) override;
 

@@ -17,7 +17,8 @@ LiveCounts& liveObjects() {
 
 long LiveCounts::total() const {
     long t = 0;
-    for (const auto& c : counts) t += c.load();
+    for (const auto& c : counts)
+        t += c.load();
     return t;
 }
 
@@ -27,15 +28,32 @@ template <Kind K> void Object<K>::reset() {
     // late destruction leaks on the driver side but never crashes.
     if (glad_glGetString) {
         switch (K) {
-        case Kind::Buffer: glDeleteBuffers(1, &name_); break;
-        case Kind::VertexArray: glDeleteVertexArrays(1, &name_); break;
-        case Kind::Texture: glDeleteTextures(1, &name_); break;
-        case Kind::Framebuffer: glDeleteFramebuffers(1, &name_); break;
-        case Kind::Renderbuffer: glDeleteRenderbuffers(1, &name_); break;
-        case Kind::Shader: glDeleteShader(name_); break;
-        case Kind::Program: glDeleteProgram(name_); break;
-        case Kind::Query: glDeleteQueries(1, &name_); break;
-        case Kind::Count: break;
+        case Kind::Buffer:
+            glDeleteBuffers(1, &name_);
+            break;
+        case Kind::VertexArray:
+            glDeleteVertexArrays(1, &name_);
+            break;
+        case Kind::Texture:
+            glDeleteTextures(1, &name_);
+            break;
+        case Kind::Framebuffer:
+            glDeleteFramebuffers(1, &name_);
+            break;
+        case Kind::Renderbuffer:
+            glDeleteRenderbuffers(1, &name_);
+            break;
+        case Kind::Shader:
+            glDeleteShader(name_);
+            break;
+        case Kind::Program:
+            glDeleteProgram(name_);
+            break;
+        case Kind::Query:
+            glDeleteQueries(1, &name_);
+            break;
+        case Kind::Count:
+            break;
         }
     }
     --liveObjects().counts[std::size_t(K)];
@@ -102,7 +120,8 @@ ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::
 }
 } // namespace
 
-Program::Program(const ComposedProgram& c) : description_(c.description) {
+Program::Program(const ComposedProgram& c)
+    : description_(c.description) {
     if (std::getenv("SGFX_LOG_PROGRAMS")) std::fprintf(stderr, "sgfx: compiling %s\n", description_.c_str());
     ShaderObject vs = compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description);
     ShaderObject fs = compile(GL_FRAGMENT_SHADER, c.fragment, c.fragmentSources, c.description);
@@ -142,21 +161,29 @@ int Program::location(std::string_view uniform) {
     return loc;
 }
 
-void Program::set(std::string_view uniform, const UniformValue& v) { set(location(uniform), v); }
+void Program::set(std::string_view uniform, const UniformValue& v) {
+    set(location(uniform), v);
+}
 
 void Program::set(int loc, const UniformValue& v) {
     if (loc < 0) return;
     std::visit(
         [&](const auto& x) {
             using T = std::decay_t<decltype(x)>;
-            if constexpr (std::is_same_v<T, int>) glProgramUniform1i(name_, loc, x);
-            else if constexpr (std::is_same_v<T, float>) glProgramUniform1f(name_, loc, x);
-            else if constexpr (std::is_same_v<T, glm::vec2>) glProgramUniform2fv(name_, loc, 1, glm::value_ptr(x));
-            else if constexpr (std::is_same_v<T, glm::vec3>) glProgramUniform3fv(name_, loc, 1, glm::value_ptr(x));
-            else if constexpr (std::is_same_v<T, glm::vec4>) glProgramUniform4fv(name_, loc, 1, glm::value_ptr(x));
+            if constexpr (std::is_same_v<T, int>)
+                glProgramUniform1i(name_, loc, x);
+            else if constexpr (std::is_same_v<T, float>)
+                glProgramUniform1f(name_, loc, x);
+            else if constexpr (std::is_same_v<T, glm::vec2>)
+                glProgramUniform2fv(name_, loc, 1, glm::value_ptr(x));
+            else if constexpr (std::is_same_v<T, glm::vec3>)
+                glProgramUniform3fv(name_, loc, 1, glm::value_ptr(x));
+            else if constexpr (std::is_same_v<T, glm::vec4>)
+                glProgramUniform4fv(name_, loc, 1, glm::value_ptr(x));
             else if constexpr (std::is_same_v<T, glm::mat3>)
                 glProgramUniformMatrix3fv(name_, loc, 1, GL_FALSE, glm::value_ptr(x));
-            else glProgramUniformMatrix4fv(name_, loc, 1, GL_FALSE, glm::value_ptr(x));
+            else
+                glProgramUniformMatrix4fv(name_, loc, 1, GL_FALSE, glm::value_ptr(x));
         },
         v);
 }
@@ -165,11 +192,16 @@ void Program::set(int loc, const UniformValue& v) {
 namespace {
 std::string statusName(GLenum s) {
     switch (s) {
-    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT: return "INCOMPLETE_ATTACHMENT";
-    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT: return "INCOMPLETE_MISSING_ATTACHMENT";
-    case GL_FRAMEBUFFER_UNSUPPORTED: return "UNSUPPORTED";
-    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE: return "INCOMPLETE_MULTISAMPLE";
-    default: return "status 0x" + std::to_string(s);
+    case GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT:
+        return "INCOMPLETE_ATTACHMENT";
+    case GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT:
+        return "INCOMPLETE_MISSING_ATTACHMENT";
+    case GL_FRAMEBUFFER_UNSUPPORTED:
+        return "UNSUPPORTED";
+    case GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE:
+        return "INCOMPLETE_MULTISAMPLE";
+    default:
+        return "status 0x" + std::to_string(s);
     }
 }
 } // namespace
@@ -179,8 +211,8 @@ void RenderTarget::resize(int w, int h) {
     GLint maxSize = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
     if (w <= 0 || h <= 0 || w > maxSize || h > maxSize)
-        throw std::invalid_argument("sgfx: render target size " + std::to_string(w) + "x" + std::to_string(h) +
-                                    " is outside 1.." + std::to_string(maxSize));
+        throw std::invalid_argument("sgfx: render target size " + std::to_string(w) + "x" +
+                                    std::to_string(h) + " is outside 1.." + std::to_string(maxSize));
     color = createTexture(GL_TEXTURE_2D);
     glTextureStorage2D(color.get(), 1, GL_SRGB8_ALPHA8, w, h);
     glTextureParameteri(color.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -198,9 +230,9 @@ void RenderTarget::resize(int w, int h) {
     glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
     const GLenum status = glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
-        throw std::runtime_error("sgfx: scene framebuffer " + std::to_string(w) + "x" + std::to_string(h) +
-                                 " (colour SRGB8_ALPHA8, depth DEPTH_COMPONENT32F) is incomplete: " +
-                                 statusName(status));
+        throw std::runtime_error(
+            "sgfx: scene framebuffer " + std::to_string(w) + "x" + std::to_string(h) +
+            " (colour SRGB8_ALPHA8, depth DEPTH_COMPONENT32F) is incomplete: " + statusName(status));
     width = w;
     height = h;
 }

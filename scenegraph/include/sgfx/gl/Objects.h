@@ -10,14 +10,24 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <vector>
 #include <utility>
+#include <vector>
 
 namespace sgfx::gl {
 
 using Name = unsigned int;
 
-enum class Kind : std::uint8_t { Buffer, VertexArray, Texture, Framebuffer, Renderbuffer, Shader, Program, Query, Count };
+enum class Kind : std::uint8_t {
+    Buffer,
+    VertexArray,
+    Texture,
+    Framebuffer,
+    Renderbuffer,
+    Shader,
+    Program,
+    Query,
+    Count
+};
 
 struct LiveCounts {
     std::array<std::atomic<long>, std::size_t(Kind::Count)> counts{};
@@ -30,10 +40,12 @@ LiveCounts& liveObjects();
 template <Kind K> class Object {
 public:
     Object() = default;
-    explicit Object(Name n) : name_(n) {
+    explicit Object(Name n)
+        : name_(n) {
         if (n) ++liveObjects().counts[std::size_t(K)];
     }
-    Object(Object&& o) noexcept : name_(std::exchange(o.name_, 0)) {}
+    Object(Object&& o) noexcept
+        : name_(std::exchange(o.name_, 0)) {}
     Object& operator=(Object&& o) noexcept {
         if (this != &o) {
             reset();
