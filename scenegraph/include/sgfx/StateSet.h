@@ -53,10 +53,8 @@ struct DepthState {
 
 using UniformValue = std::variant<int, float, glm::vec2, glm::vec3, glm::vec4, glm::mat3, glm::mat4>;
 
-class StateSet {
-public:
-    static std::shared_ptr<StateSet> create() { return std::make_shared<StateSet>(); }
-
+// The attributes a StateSet may set and a ResolvedState holds, each with its flags.
+struct StateAttributes {
     StateAttr<std::shared_ptr<Material>> material;
     StateAttr<std::shared_ptr<ShaderProgram>> program; // foreign shader; built-in material when unset
     StateAttr<BlendMode> blend;
@@ -66,6 +64,11 @@ public:
     // Named uniforms and sampler textures for foreign shaders (and effect tuning).
     std::map<std::string, StateAttr<UniformValue>, std::less<>> uniforms;
     std::map<std::string, StateAttr<std::shared_ptr<Texture>>, std::less<>> textures;
+};
+
+class StateSet : public StateAttributes {
+public:
+    static std::shared_ptr<StateSet> create() { return std::make_shared<StateSet>(); }
 
     void setUniform(std::string name, UniformValue v, std::uint8_t flags = Inherit) {
         uniforms[std::move(name)].set(std::move(v), flags);
@@ -77,16 +80,7 @@ public:
 
 // The state in force at a point of the graph: every attribute resolved, with its flags kept so
 // deeper StateSets merge correctly.
-struct ResolvedState {
-    StateAttr<std::shared_ptr<Material>> material;
-    StateAttr<std::shared_ptr<ShaderProgram>> program;
-    StateAttr<BlendMode> blend;
-    StateAttr<DepthState> depth;
-    StateAttr<CullFace> cullFace;
-    StateAttr<RenderBin> renderBin;
-    std::map<std::string, StateAttr<UniformValue>, std::less<>> uniforms;
-    std::map<std::string, StateAttr<std::shared_ptr<Texture>>, std::less<>> textures;
-
+struct ResolvedState : StateAttributes {
     static ResolvedState defaults();
     ResolvedState merged(const StateSet& child) const;
 
