@@ -385,3 +385,33 @@ TEST(Window, GlfwWindowRendersAndPresents) {
     expectPixel(v.capture(), 10, 10, {0.5, 0.25, 0.0}, 1);
     expectNoGlErrors(v);
 }
+
+TEST(Render, BadLightsAndMaterialsNeverReachPixels) {
+    auto v = orthoTopViewer(kSize, kHalf);
+    auto m = Material::create();
+    m->diffuse = {0.5f, 0.5f, 0.5f, 1};
+    auto root = Group::create();
+    auto good = Light::create();
+    auto nanLight = Light::create();
+    nanLight->direction = {std::nanf(""), 0, -1};
+    auto zeroDir = Light::create();
+    zeroDir->direction = glm::vec3(0.0f);
+    auto negative = Light::create(LightType::Ambient);
+    negative->color = glm::vec3(-1.0f);
+    for (auto& l : {good, nanLight, zeroDir, negative})
+        root->addChild(l);
+    root->addChild(quadAt(4, 4, {0, 0, 0}, m));
+    v->setSceneData(root);
+    v->frame();
+    expectPixel(v->capture(), 32, 32, {0.5, 0.5, 0.5}); // only the good light counts
+    // A NaN material colour is refused with a message naming what is wrong.
+    m->diffuse.r = std::nanf("");
+    try {
+        v->frame();
+        FAIL() << "NaN material drawn";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("Material colours"), std::string::npos) << e.what();
+    }
+    m->diffuse.r = 0.5f;
+    EXPECT_NO_THROW(v->frame());
+}

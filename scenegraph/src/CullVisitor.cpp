@@ -109,6 +109,17 @@ void CullVisitor::apply(Camera& c) {
 void CullVisitor::apply(Light& l) {
     const glm::mat4& m = model_.back();
     const glm::vec3 color = l.color * l.intensity;
+    // A light with non-finite or negative colour, or no direction, would put NaN or negative
+    // light into every pixel: it is left out.
+    auto finite3 = [](const glm::vec3& v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    const bool finite = finite3(color) && finite3(l.direction) && finite3(l.position) &&
+                        glm::all(glm::greaterThanEqual(color, glm::vec3(0.0f)));
+    if (!finite || (l.type == LightType::Directional && !(glm::length(l.direction) > 0.0f))) {
+        ++rejectedLights;
+        return;
+    }
     switch (l.type) {
     case LightType::Ambient:
         queue_.ambientLight += color;

@@ -316,7 +316,9 @@ void Material::validate() const {
     };
     if (!finiteNonNeg(glm::vec4(ambient, 0)) || !finiteNonNeg(diffuse) ||
         !finiteNonNeg(glm::vec4(specular, 0)) || !finiteNonNeg(glm::vec4(emissive, 0)))
-        throw std::invalid_argument("sgfx: Material colours must be finite and non-negative");
+        throw std::invalid_argument(
+            "sgfx: Material colours (ambient, diffuse, specular, emissive) must be finite "
+            "and non-negative");
     if (!std::isfinite(shininess) || shininess < 0.0f)
         throw std::invalid_argument("sgfx: Material shininess must be finite and >= 0");
     if (alphaCutoff && !(*alphaCutoff >= 0.0f && *alphaCutoff <= 1.0f))

@@ -488,6 +488,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (m != material) {
             material = m;
             if (m) {
+                m->validate(); // NaN or negative colours would reach pixels
                 program->set("sgfx_matAmbient", m->ambient);
                 program->set("sgfx_matDiffuse", m->diffuse);
                 program->set("sgfx_matSpecular", m->specular);

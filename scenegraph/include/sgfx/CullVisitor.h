@@ -30,6 +30,7 @@ public:
     float computedNear = std::numeric_limits<float>::max();
     float computedFar = 0.0f;
     std::size_t culledNodes = 0;
+    std::size_t rejectedLights = 0; // non-finite or negative colour, zero direction
 
 private:
     // Returns false when the node's bound is outside the frustum; narrows the plane mask.
