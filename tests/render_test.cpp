@@ -7,6 +7,7 @@
 #include <sgfx/Shapes.h>
 #include <sgfx/gl/Objects.h>
 
+#include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
@@ -383,6 +384,16 @@ TEST(Window, GlfwWindowRendersAndPresents) {
     v.camera()->clearColor = {0.5f, 0.25f, 0.0f, 1};
     v.frame();
     expectPixel(v.capture(), 10, 10, {0.5, 0.25, 0.0}, 1);
+    // What reaches the window: the copy present() makes into the back buffer holds the same
+    // sRGB bytes (no second encode, no decode).
+    v.renderer().blitToWindow();
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    std::uint8_t px[4] = {};
+    glReadPixels(10, 10, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, px);
+    EXPECT_NEAR(px[0], srgbByte(0.5), 1);
+    EXPECT_NEAR(px[1], srgbByte(0.25), 1);
+    EXPECT_NEAR(px[2], 0, 1);
     expectNoGlErrors(v);
 }
 

@@ -541,13 +541,18 @@ Image Renderer::readPixels() {
     return img;
 }
 
-void Renderer::present() {
+void Renderer::blitToWindow() {
     gl::RenderTarget& t = impl_->scene;
     if (!context_.isWindow() || !t.fbo) return;
     // The target already holds sRGB-encoded values: copy them without conversion.
     glDisable(GL_FRAMEBUFFER_SRGB);
     glBlitNamedFramebuffer(t.fbo.get(), 0, 0, 0, t.width, t.height, 0, 0, context_.width(), context_.height(),
                            GL_COLOR_BUFFER_BIT, GL_LINEAR);
+}
+
+void Renderer::present() {
+    if (!context_.isWindow()) return;
+    blitToWindow();
     context_.swapBuffers();
 }
 

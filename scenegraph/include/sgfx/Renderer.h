@@ -90,8 +90,9 @@ public:
     void render(Camera& camera, double time = 0.0, std::uint64_t frameNumber = 0);
     // The last frame as 8-bit sRGB RGBA, top row first.
     Image readPixels();
-    // Copies the scene target to the window's framebuffer (window contexts).
+    // Copies the scene target to the window's back buffer and swaps (window contexts).
     void present();
+    void blitToWindow(); // the copy alone, without the swap
 
     // Draws the queue's items with each item's composed program (the main pass), or with
     // `override` for geometry-only passes (depth pre-pass, G-buffer).
