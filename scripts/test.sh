@@ -1,9 +1,25 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds everything and runs the whole test suite through CTest.
+# Installs what is missing, builds everything and runs the whole test suite through CTest:
+# first the normal (Release) build, then the same suite built with AddressSanitizer,
+# UndefinedBehaviorSanitizer and LeakSanitizer (suppressions: tests/sanitizers/lsan.supp).
+# SGFX_SKIP_SANITIZERS=1 runs the first stage only (for quick local runs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+root=$PWD
 bash scripts/install-deps.sh
+jobs=$(nproc)
+
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j "$(nproc)"
-cd build
-ctest --output-on-failure -j "$(nproc)"
+cmake --build build -j "$jobs"
+(cd build && ctest --output-on-failure -j "$jobs")
+
+if [ "${SGFX_SKIP_SANITIZERS:-0}" != 1 ]; then
+  # The OSG peer is third-party code and the package consumer links without the sanitizer
+  # runtime; neither is part of this stage.
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGFX_SANITIZE=ON -DSGFX_BUILD_BENCH=OFF
+  cmake --build build-asan -j "$jobs"
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:check_initialization_order=1
+  export LSAN_OPTIONS=suppressions=$root/tests/sanitizers/lsan.supp:print_suppressions=0
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  (cd build-asan && ctest --output-on-failure -j "$jobs" -E 'package_consumer')
+fi

@@ -460,3 +460,17 @@ TEST(Update, CallbacksRunOncePerVisitWithTheClock) {
     root->accept(uv);
     EXPECT_EQ(calls, 1);
 }
+
+TEST(Camera, ViewportRefreshesOnlyTheProjectionSetPerspectiveMade) {
+    auto c = Camera::create();
+    c->setViewport(0, 0, 100, 100);
+    c->setPerspective(60.0f, 1.0f, 100.0f);
+    c->setViewport(0, 0, 200, 100); // aspect 2: the perspective follows
+    EXPECT_TRUE(c->perspective());
+    EXPECT_NEAR(c->projectionMatrix[1][1] / c->projectionMatrix[0][0], 2.0f, 1e-5f);
+    const glm::mat4 ortho = glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, 0.1f, 10.0f);
+    c->projectionMatrix = ortho; // an application's own projection survives resizes
+    EXPECT_FALSE(c->perspective());
+    c->setViewport(0, 0, 64, 48);
+    EXPECT_EQ(c->projectionMatrix, ortho);
+}

@@ -26,7 +26,15 @@ void addQuad(Geometry& g, glm::vec3 o, glm::vec3 u, glm::vec3 v, glm::vec2 uvSca
 }
 void requirePositive(float v, const char* what) {
     if (!(v > 0.0f) || !std::isfinite(v))
-        throw std::invalid_argument(std::string("sgfx::shapes: ") + what + " must be finite and > 0");
+        throw std::invalid_argument(std::string("sgfx::shapes: ") + what + " must be finite and > 0 (got " +
+                                    std::to_string(v) + ")");
+}
+// Tessellation counts: enough for any real use, small enough that no allocation explodes.
+void requireCount(int v, int min, int max, const char* what) {
+    if (v < min || v > max)
+        throw std::invalid_argument(std::string("sgfx::shapes: ") + what + " must be in " +
+                                    std::to_string(min) + ".." + std::to_string(max) + " (got " +
+                                    std::to_string(v) + ")");
 }
 } // namespace
 
@@ -56,7 +64,7 @@ std::shared_ptr<Geometry> quad(float w, float h) {
 std::shared_ptr<Geometry> cylinder(float r, float height, int seg, bool caps) {
     requirePositive(r, "cylinder radius");
     requirePositive(height, "cylinder height");
-    if (seg < 3) throw std::invalid_argument("sgfx::shapes: cylinder needs at least 3 segments");
+    requireCount(seg, 3, 1 << 16, "cylinder segments");
     auto g = Geometry::create();
     for (int i = 0; i <= seg; ++i) {
         const float a = glm::two_pi<float>() * float(i) / float(seg);
@@ -103,7 +111,7 @@ std::shared_ptr<Geometry> cylinder(float r, float height, int seg, bool caps) {
 std::shared_ptr<Geometry> cone(float r, float height, int seg) {
     requirePositive(r, "cone radius");
     requirePositive(height, "cone height");
-    if (seg < 3) throw std::invalid_argument("sgfx::shapes: cone needs at least 3 segments");
+    requireCount(seg, 3, 1 << 16, "cone segments");
     auto g = Geometry::create();
     const float slope = r / height;
     for (int i = 0; i < seg; ++i) {
@@ -125,8 +133,8 @@ std::shared_ptr<Geometry> cone(float r, float height, int seg) {
 
 std::shared_ptr<Geometry> sphere(float r, int seg, int rings) {
     requirePositive(r, "sphere radius");
-    if (seg < 3 || rings < 2)
-        throw std::invalid_argument("sgfx::shapes: sphere needs >= 3 segments and >= 2 rings");
+    requireCount(seg, 3, 1 << 12, "sphere segments");
+    requireCount(rings, 2, 1 << 12, "sphere rings");
     auto g = Geometry::create();
     for (int j = 0; j <= rings; ++j) {
         const float v = float(j) / float(rings);
@@ -154,14 +162,22 @@ std::shared_ptr<Geometry> heightfield(float x0, float y0, float sx, float sy, in
                                       const std::function<float(float, float)>& height) {
     requirePositive(sx, "heightfield size x");
     requirePositive(sy, "heightfield size y");
-    if (nx < 1 || ny < 1) throw std::invalid_argument("sgfx::shapes: heightfield needs at least 1x1 cells");
+    requireCount(nx, 1, 1 << 13, "heightfield cells along x");
+    requireCount(ny, 1, 1 << 13, "heightfield cells along y");
+    if (!std::isfinite(x0) || !std::isfinite(y0))
+        throw std::invalid_argument("sgfx::shapes: heightfield origin must be finite");
+    if (!height) throw std::invalid_argument("sgfx::shapes: heightfield needs a height function");
     auto g = Geometry::create();
     const float dx = sx / float(nx), dy = sy / float(ny);
     g->positions.reserve(std::size_t(nx + 1) * (ny + 1));
     for (int j = 0; j <= ny; ++j)
         for (int i = 0; i <= nx; ++i) {
             const float x = x0 + dx * float(i), y = y0 + dy * float(j);
-            g->positions.push_back({x, y, height(x, y)});
+            const float z = height(x, y);
+            if (!std::isfinite(z))
+                throw std::invalid_argument("sgfx::shapes: heightfield height(" + std::to_string(x) + ", " +
+                                            std::to_string(y) + ") is not finite");
+            g->positions.push_back({x, y, z});
             const float hx = height(x + dx, y) - height(x - dx, y);
             const float hy = height(x, y + dy) - height(x, y - dy);
             g->normals.push_back(glm::normalize(glm::vec3(-hx / (2 * dx), -hy / (2 * dy), 1.0f)));

@@ -8,10 +8,11 @@
 namespace sgfx {
 
 std::shared_ptr<Image> Image::create(int w, int h, int channels) {
-    if (w <= 0 || h <= 0 || channels < 1 || channels > 4)
+    constexpr int kMaxSide = 1 << 16; // larger than any GL texture; refuses absurd allocations
+    if (w <= 0 || h <= 0 || w > kMaxSide || h > kMaxSide || channels < 1 || channels > 4)
         throw std::invalid_argument("sgfx: Image::create(" + std::to_string(w) + ", " + std::to_string(h) +
-                                    ", " + std::to_string(channels) +
-                                    "): size must be positive, channels 1..4");
+                                    ", " + std::to_string(channels) + "): sides must be in 1.." +
+                                    std::to_string(kMaxSide) + ", channels in 1..4");
     auto img = std::make_shared<Image>();
     img->width = w;
     img->height = h;

@@ -239,7 +239,8 @@ void Camera::setPerspective(float fovyDegrees, float zNear, float zFar) {
     fovy_ = fovyDegrees;
     zNear_ = zNear;
     zFar_ = zFar;
-    projectionMatrix = glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
+    projectionMatrix = perspectiveMatrix_ =
+        glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
 }
 
 void Camera::setLookAt(const glm::vec3& eye, const glm::vec3& center, const glm::vec3& up) {
@@ -254,9 +255,11 @@ void Camera::setViewport(int x, int y, int w, int h) {
     if (w <= 0 || h <= 0)
         throw std::invalid_argument("sgfx: Camera::setViewport: size " + std::to_string(w) + "x" +
                                     std::to_string(h) + " must be positive");
+    const bool refresh = perspective();
     viewport = {x, y, w, h};
-    if (perspective_)
-        projectionMatrix = glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
+    if (refresh)
+        projectionMatrix = perspectiveMatrix_ =
+            glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
 }
 
 glm::vec3 Camera::eyePosition() const {

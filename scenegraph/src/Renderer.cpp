@@ -131,9 +131,19 @@ GLuint textureFor(const Texture& t) {
     if (gpu && gpu->revision == t.revision()) return gpu->object.get();
     const Image* img = t.image.get();
     if (!img && gpu) return gpu->object.get(); // a camera's render target
-    if (!img || img->width <= 0 || img->height <= 0 || img->channels < 1 || img->channels > 4 ||
-        img->pixels.size() < std::size_t(img->width) * img->height * img->channels)
-        throw std::invalid_argument("sgfx: texture image is empty or smaller than width*height*channels");
+    if (std::uint8_t(t.minFilter) > std::uint8_t(Filter::LinearMipmapLinear) ||
+        std::uint8_t(t.magFilter) > std::uint8_t(Filter::LinearMipmapLinear) ||
+        std::uint8_t(t.wrapS) > std::uint8_t(Wrap::MirroredRepeat) ||
+        std::uint8_t(t.wrapT) > std::uint8_t(Wrap::MirroredRepeat))
+        throw std::invalid_argument("sgfx: texture has an invalid Filter or Wrap value");
+    if (!img) throw std::invalid_argument("sgfx: texture has no image (and no camera renders into it)");
+    if (img->width <= 0 || img->height <= 0 || img->channels < 1 || img->channels > 4)
+        throw std::invalid_argument("sgfx: texture image is " + std::to_string(img->width) + "x" +
+                                    std::to_string(img->height) + " with " + std::to_string(img->channels) +
+                                    " channels; need positive sides and 1..4 channels");
+    if (img->pixels.size() < std::size_t(img->width) * img->height * img->channels)
+        throw std::invalid_argument("sgfx: texture image data (" + std::to_string(img->pixels.size()) +
+                                    " bytes) is smaller than width*height*channels");
     if (!gpu) gpu = std::make_unique<gl::Texture>();
     gpu->object = gl::createTexture(GL_TEXTURE_2D);
     gpu->target = GL_TEXTURE_2D;
@@ -157,12 +167,47 @@ GLuint textureFor(const Texture& t) {
     return name;
 }
 
-void GLAPIENTRY onDebugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
-                               const void* user) {
-    if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH) {
-        auto* sink = static_cast<std::vector<std::string>*>(const_cast<void*>(user));
-        if (sink->size() < 64) sink->emplace_back(message);
+// Where the renderer is, so a GL error names its call site: the pass, and the item being drawn.
+struct DebugLog {
+    std::string_view stage = "outside a frame";
+    const RenderItem* item = nullptr;
+    const gl::Program* program = nullptr;
+    std::vector<std::string> messages;
+
+    void add(std::string_view message) {
+        if (messages.size() >= 64) return; // an error storm: the first ones say enough
+        std::string site = "[" + std::string(stage) + "]";
+        if (item && item->geometry)
+            site += " drawing '" +
+                    (item->geometry->name.empty() ? std::string("<unnamed>") : item->geometry->name) + "'";
+        if (program) site += " with " + program->description();
+        messages.push_back(site + ": " + std::string(message));
     }
+};
+
+void GLAPIENTRY onDebugMessage(GLenum source, GLenum type, GLuint, GLenum severity, GLsizei,
+                               const GLchar* message, const void* user) {
+    // Compiler messages already become a ShaderError with translated lines.
+    if (source == GL_DEBUG_SOURCE_SHADER_COMPILER) return;
+    // Synchronous output: this runs inside the offending call, so the recorded site is exact.
+    if (type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH)
+        static_cast<DebugLog*>(const_cast<void*>(user))->add(message);
+}
+
+// Enum values outside their range (a cast from bad data) would index GL tables out of bounds.
+void validateEnums(const ResolvedState& st, const Geometry& g) {
+    auto bad = [&](const char* what, int v) {
+        throw std::invalid_argument("sgfx: state of '" +
+                                    (g.name.empty() ? std::string("<unnamed>") : g.name) +
+                                    "' has an invalid " + what + " value " + std::to_string(v));
+    };
+    if (st.blend.value && std::uint8_t(*st.blend.value) > std::uint8_t(BlendMode::Multiply))
+        bad("BlendMode", int(*st.blend.value));
+    if (st.cullFace.value && std::uint8_t(*st.cullFace.value) > std::uint8_t(CullFace::Front))
+        bad("CullFace", int(*st.cullFace.value));
+    if (st.depth.value && std::uint8_t(st.depth.value->func) > std::uint8_t(CompareFunc::Always))
+        bad("CompareFunc", int(st.depth.value->func));
+    if (std::uint8_t(g.mode) > std::uint8_t(PrimitiveMode::TriangleFan)) bad("PrimitiveMode", int(g.mode));
 }
 
 } // namespace
@@ -176,7 +221,7 @@ struct Renderer::Impl {
     };
     std::unordered_map<const Camera*, CameraTarget> cameraTargets;
     gl::BufferObject frameUbo;
-    std::vector<std::string> glMessages;
+    DebugLog log;
 
     GLuint program = 0;
     int blend = -1;
@@ -261,7 +306,7 @@ Renderer::Renderer(GraphicsContext& context, Options options)
 #ifdef SGFX_GL_DEBUG
     glEnable(GL_DEBUG_OUTPUT);
     glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
-    glDebugMessageCallback(onDebugMessage, &impl_->glMessages);
+    glDebugMessageCallback(onDebugMessage, &impl_->log);
 #endif
     // Defaults for attributes a geometry leaves out (context state, not VAO state).
     glVertexAttrib3f(1, 0.0f, 0.0f, 1.0f);
@@ -283,12 +328,13 @@ gl::RenderTarget& Renderer::sceneTarget() {
 }
 
 std::vector<std::string> Renderer::takeGlErrors() {
+    // Errors the debug output did not report (no KHR_debug, or SGFX_GL_DEBUG off).
     for (GLenum e; (e = glGetError()) != GL_NO_ERROR;) {
-        char buf[48];
+        char buf[64];
         std::snprintf(buf, sizeof buf, "glGetError: 0x%04x", unsigned(e));
-        impl_->glMessages.emplace_back(buf);
+        impl_->log.add(buf);
     }
-    return std::exchange(impl_->glMessages, {});
+    return std::exchange(impl_->log.messages, {});
 }
 
 void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
@@ -301,6 +347,7 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     // Forget the targets of render-to-texture cameras that no longer exist.
     std::erase_if(impl_->cameraTargets, [](const auto& e) { return e.second.owner.expired(); });
     renderView(camera, impl_->scene, queue_, plan_, 0);
+    impl_->log.stage = "outside a frame";
     if (camera.renderTarget) copyToTexture(impl_->scene, *camera.renderTarget);
     stats_.drawMs = std::chrono::duration<double, std::milli>(clock::now() - t0).count() - stats_.cullMs;
 }
@@ -310,7 +357,15 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     const Viewport vp = camera.viewport;
-    target.resize(vp.width, vp.height);
+    static const GLenum formats[] = {GL_SRGB8_ALPHA8, GL_RGBA16F, GL_RGBA32F};
+    const auto colorTarget = std::size_t(options_.colorTarget);
+    if (colorTarget >= std::size(formats))
+        throw std::invalid_argument("sgfx: RendererOptions::colorTarget has an invalid value " +
+                                    std::to_string(colorTarget));
+    if (std::uint8_t(options_.lighting) > std::uint8_t(RendererOptions::Lighting::PerVertex))
+        throw std::invalid_argument("sgfx: RendererOptions::lighting has an invalid value " +
+                                    std::to_string(int(options_.lighting)));
+    target.resize(vp.width, vp.height, formats[colorTarget]);
 
     // ---- cull
     queue.clear();
@@ -375,7 +430,10 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     current_ = &queue;
 
     for (auto& p : plan.passes)
-        if (p->stage() != PassStage::Post) p->execute(*this);
+        if (p->stage() != PassStage::Post) {
+            impl_->log.stage = p->name();
+            p->execute(*this);
+        }
 
     // ---- main pass: linear shading, sRGB-encoded once by the framebuffer on write
     glBindFramebuffer(GL_FRAMEBUFFER, target.fbo.get());
@@ -393,6 +451,7 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
         fragments = gl::createQuery(GL_SAMPLES_PASSED);
         glBeginQuery(GL_SAMPLES_PASSED, fragments.get());
     }
+    impl_->log.stage = "main pass";
     drawItems(queue.opaque);
     drawItems(queue.transparent);
     if (fragments) {
@@ -403,7 +462,10 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     }
 
     for (auto& p : plan.passes)
-        if (p->stage() == PassStage::Post) p->execute(*this);
+        if (p->stage() == PassStage::Post) {
+            impl_->log.stage = p->name();
+            p->execute(*this);
+        }
     current_ = &queue_;
 }
 
@@ -414,11 +476,14 @@ void Renderer::copyToTexture(const gl::RenderTarget& from, const Texture& to) {
         glGetTextureLevelParameteriv(gpu->object.get(), 0, GL_TEXTURE_WIDTH, &w);
         glGetTextureLevelParameteriv(gpu->object.get(), 0, GL_TEXTURE_HEIGHT, &h);
     }
-    if (!gpu || w != from.width || h != from.height || to.image) {
+    GLint format = 0;
+    if (gpu && gpu->object)
+        glGetTextureLevelParameteriv(gpu->object.get(), 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+    if (!gpu || w != from.width || h != from.height || GLenum(format) != from.colorFormat || to.image) {
         if (!gpu) gpu = std::make_unique<gl::Texture>();
         gpu->object = gl::createTexture(GL_TEXTURE_2D);
         gpu->target = GL_TEXTURE_2D;
-        glTextureStorage2D(gpu->object.get(), 1, GL_SRGB8_ALPHA8, from.width, from.height);
+        glTextureStorage2D(gpu->object.get(), 1, from.colorFormat, from.width, from.height);
         glTextureParameteri(gpu->object.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR); // one level only
         glTextureParameteri(gpu->object.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTextureParameteri(gpu->object.get(), GL_TEXTURE_WRAP_S, glWrap(to.wrapS));
@@ -438,6 +503,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
     std::uint32_t effectSet = ~0u;
     std::vector<const ShaderSnippet*> snippets;
     for (const RenderItem& item : items) {
+        s.log.item = &item;
         bool programChanged = false;
         if (!override && item.programKey != programKey) {
             const EffectSet& set = current_->effectSets[item.effectSet];
@@ -452,6 +518,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             programKey = item.programKey;
             programChanged = true;
         }
+        s.log.program = program;
         if (program->get() != s.program) {
             glUseProgram(program->get());
             s.program = program->get();
@@ -472,6 +539,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         }
         if (item.state != state) {
             state = item.state;
+            validateEnums(*state, *item.geometry);
             s.setBlend(state->blendMode());
             s.setDepth(state->depth.value.value_or(DepthState{}));
             s.setCull(state->cullFace.value.value_or(CullFace::Back));
@@ -514,6 +582,37 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         stats_.triangles += g.triangleCount();
     }
     glBindVertexArray(0);
+    s.log.item = nullptr;
+    s.log.program = nullptr;
+}
+
+namespace {
+template <class T> void flipRows(std::vector<T>& data, int width, int height, int channels) {
+    // GL's rows run bottom to top; images are stored top row first.
+    const std::size_t row = std::size_t(width) * channels;
+    for (int y = 0; y < height / 2; ++y)
+        std::swap_ranges(data.begin() + std::ptrdiff_t(y * row), data.begin() + std::ptrdiff_t((y + 1) * row),
+                         data.begin() + std::ptrdiff_t((height - 1 - y) * row));
+}
+} // namespace
+
+FloatImage Renderer::readPixelsLinear() {
+    context_.assertOwnerThread();
+    gl::RenderTarget& t = impl_->scene;
+    FloatImage img{t.width, t.height, std::vector<float>(std::size_t(t.width) * t.height * 4)};
+    if (!t.fbo) return img;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t.fbo.get());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    // Reading an sRGB target gives the stored (encoded) values: decode them.
+    glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_FLOAT, img.rgba.data());
+    if (t.colorFormat == GL_SRGB8_ALPHA8)
+        for (std::size_t i = 0; i < img.rgba.size(); ++i)
+            if (i % 4 != 3) {
+                const float c = img.rgba[i];
+                img.rgba[i] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+            }
+    flipRows(img.rgba, t.width, t.height, 4);
+    return img;
 }
 
 Image Renderer::readPixels() {
@@ -525,19 +624,20 @@ Image Renderer::readPixels() {
     img.channels = 4;
     img.pixels.resize(std::size_t(t.width) * t.height * 4);
     if (!t.fbo) return img;
+    if (t.colorFormat != GL_SRGB8_ALPHA8) {
+        // Linear float target: encode once here, as the sRGB framebuffer would have.
+        const FloatImage f = readPixelsLinear();
+        for (std::size_t i = 0; i < f.rgba.size(); ++i) {
+            float c = std::isfinite(f.rgba[i]) ? std::clamp(f.rgba[i], 0.0f, 1.0f) : 0.0f;
+            if (i % 4 != 3) c = c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+            img.pixels[i] = std::uint8_t(std::lround(c * 255.0f));
+        }
+        return img;
+    }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, t.fbo.get());
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, img.pixels.data());
-    // GL's rows run bottom to top; images are stored top row first.
-    const std::size_t row = std::size_t(t.width) * 4;
-    std::vector<std::uint8_t> tmp(row);
-    for (int y = 0; y < t.height / 2; ++y) {
-        std::uint8_t* a = img.pixels.data() + std::size_t(y) * row;
-        std::uint8_t* b = img.pixels.data() + std::size_t(t.height - 1 - y) * row;
-        std::memcpy(tmp.data(), a, row);
-        std::memcpy(a, b, row);
-        std::memcpy(b, tmp.data(), row);
-    }
+    flipRows(img.pixels, t.width, t.height, 4);
     return img;
 }
 
@@ -551,7 +651,12 @@ void Renderer::blitToWindow() {
 }
 
 void Renderer::present() {
-    if (!context_.isWindow()) return;
+    if (!context_.isWindow()) {
+        // Headless: submit the frame. Without a flush llvmpipe keeps queueing frames and its
+        // memory grew by ~60 MB over 3000 frames before levelling off (measured).
+        glFlush();
+        return;
+    }
     blitToWindow();
     context_.swapBuffers();
 }

@@ -41,7 +41,9 @@ public:
     void setLookAt(const glm::vec3& eye, const glm::vec3& center, const glm::vec3& up = {0, 0, 1});
     void setViewport(int x, int y, int w, int h);
 
-    bool perspective() const { return perspective_; }
+    // True while projectionMatrix is still the one setPerspective made (assigning another
+    // matrix, e.g. an orthographic one, switches the automatic aspect refresh off).
+    bool perspective() const { return perspective_ && projectionMatrix == perspectiveMatrix_; }
     float fovy() const { return fovy_; }
     float zNear() const { return zNear_; }
     float zFar() const { return zFar_; }
@@ -49,6 +51,7 @@ public:
 
 private:
     bool perspective_ = false;
+    glm::mat4 perspectiveMatrix_{1.0f};
     float fovy_ = 45.0f, zNear_ = 0.1f, zFar_ = 1000.0f;
 };
 

@@ -21,6 +21,13 @@ struct Image {
     }
 };
 
+// Linear RGBA floats, rows top to bottom.
+struct FloatImage {
+    int width = 0;
+    int height = 0;
+    std::vector<float> rgba;
+};
+
 // Throws std::runtime_error with the path and the reason.
 void writePng(const std::filesystem::path& path, const Image& image);
 Image readPng(const std::filesystem::path& path);

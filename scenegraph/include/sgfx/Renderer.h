@@ -74,6 +74,9 @@ struct RendererOptions {
     // Count the fragments that pass the depth test in the main pass (FrameStats::fragments);
     // an occlusion query per view, so off unless profiling.
     bool countFragments = false;
+    // Scene colour target: 8-bit sRGB (default), or linear float for HDR work and diagnostics
+    // (NaN/Inf checks); captures are sRGB-encoded either way.
+    enum class ColorTarget : std::uint8_t { Srgb8, Rgba16F, Rgba32F } colorTarget = ColorTarget::Srgb8;
 };
 
 // Owns GL-side resources for one context: composed programs, the scene target, the state cache.
@@ -90,7 +93,10 @@ public:
     void render(Camera& camera, double time = 0.0, std::uint64_t frameNumber = 0);
     // The last frame as 8-bit sRGB RGBA, top row first.
     Image readPixels();
-    // Copies the scene target to the window's back buffer and swaps (window contexts).
+    // The last frame as linear RGBA floats, top row first (exact with a float colour target).
+    FloatImage readPixelsLinear();
+    // Ends the frame: copies the scene target to the window's back buffer and swaps (windows),
+    // or submits the queued work (headless).
     void present();
     void blitToWindow(); // the copy alone, without the swap
 

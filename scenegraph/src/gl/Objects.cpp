@@ -3,6 +3,7 @@
 #include <glad/gl.h>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -206,15 +207,31 @@ std::string statusName(GLenum s) {
 }
 } // namespace
 
-void RenderTarget::resize(int w, int h) {
-    if (w == width && h == height && fbo) return;
-    GLint maxSize = 0;
+static std::string formatName(GLenum f) {
+    switch (f) {
+    case GL_SRGB8_ALPHA8:
+        return "SRGB8_ALPHA8";
+    case GL_RGBA16F:
+        return "RGBA16F";
+    case GL_RGBA32F:
+        return "RGBA32F";
+    default:
+        return "format 0x" + std::to_string(f);
+    }
+}
+
+void RenderTarget::resize(int w, int h, unsigned format) {
+    if (w == width && h == height && format == colorFormat && fbo) return;
+    GLint maxSize = 0, maxViewport[2] = {0, 0};
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
-    if (w <= 0 || h <= 0 || w > maxSize || h > maxSize)
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
+    const int maxW = std::min(maxSize, maxViewport[0]), maxH = std::min(maxSize, maxViewport[1]);
+    if (w <= 0 || h <= 0 || w > maxW || h > maxH)
         throw std::invalid_argument("sgfx: render target size " + std::to_string(w) + "x" +
-                                    std::to_string(h) + " is outside 1.." + std::to_string(maxSize));
+                                    std::to_string(h) + " is outside the driver's 1x1.." +
+                                    std::to_string(maxW) + "x" + std::to_string(maxH));
     color = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(color.get(), 1, GL_SRGB8_ALPHA8, w, h);
+    glTextureStorage2D(color.get(), 1, format, w, h);
     glTextureParameteri(color.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTextureParameteri(color.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(color.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -230,11 +247,12 @@ void RenderTarget::resize(int w, int h) {
     glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
     const GLenum status = glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
-        throw std::runtime_error(
-            "sgfx: scene framebuffer " + std::to_string(w) + "x" + std::to_string(h) +
-            " (colour SRGB8_ALPHA8, depth DEPTH_COMPONENT32F) is incomplete: " + statusName(status));
+        throw std::runtime_error("sgfx: scene framebuffer " + std::to_string(w) + "x" + std::to_string(h) +
+                                 " (colour " + formatName(format) +
+                                 ", depth DEPTH_COMPONENT32F) is incomplete: " + statusName(status));
     width = w;
     height = h;
+    colorFormat = format;
 }
 
 } // namespace sgfx::gl

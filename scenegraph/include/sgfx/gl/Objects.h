@@ -126,9 +126,11 @@ struct RenderTarget {
     TextureObject color;
     TextureObject depth;
     int width = 0, height = 0;
-    // (Re)allocates for a new size; throws std::runtime_error naming attachment formats when the
-    // framebuffer is incomplete.
-    void resize(int w, int h);
+    unsigned colorFormat = 0; // GL internal format of `color`
+    // (Re)allocates for a new size or colour format (GL_SRGB8_ALPHA8 by default); throws
+    // std::invalid_argument for a size outside the driver's limits and std::runtime_error naming
+    // the attachment formats when the framebuffer is incomplete.
+    void resize(int w, int h, unsigned format = 0x8C43 /* GL_SRGB8_ALPHA8 */);
 };
 
 } // namespace sgfx::gl

@@ -1,0 +1,533 @@
+// Reliability: GL error discipline, resource accounting over many create/destroy cycles, resize
+// storms, a table-driven sweep of bad inputs, and the GL thread contract.
+#include "TestUtil.h"
+
+#include <PolygonScene.h>
+#include <debugtint/DebugTintNode.h>
+#include <sgfx/Geometry.h>
+#include <sgfx/Group.h>
+#include <sgfx/ObjWriter.h>
+#include <sgfx/ShaderComposer.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/gl/Objects.h>
+
+#include <glad/gl.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <random>
+#include <thread>
+#include <unistd.h>
+
+using namespace sgfx;
+using namespace sgfx::test;
+
+namespace {
+
+long residentKb() {
+    long pages = 0, resident = 0;
+    if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+        if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+        std::fclose(f);
+    }
+    return resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+std::shared_ptr<Node> flatQuad(float size, glm::vec3 color, glm::vec3 pos = {0, 0, 0}) {
+    auto t = Transform::create(glm::translate(glm::mat4(1.0f), pos));
+    auto q = shapes::quad(size, size);
+    auto m = Material::create();
+    m->ambient = glm::vec3(0);
+    m->diffuse = {0, 0, 0, 1};
+    m->emissive = color;
+    q->getOrCreateStateSet().material.set(m);
+    t->addChild(q);
+    return t;
+}
+
+std::vector<std::string> glErrors(Viewer& v) { return v.renderer().takeGlErrors(); }
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+} // namespace
+
+// ------------------------------------------------------------------------ GL error discipline
+
+TEST(GlErrors, AnErrorIsReportedWithItsCallSite) {
+    auto v = orthoTopViewer(32, 2.0f);
+    // A foreign shader whose uniform is a vec3, fed an int: GL_INVALID_OPERATION in glProgramUniform.
+    const char* vs = "#version 450 core\nlayout(location = 0) in vec3 p;\nuniform mat4 sgfx_model;\n"
+                     "void main() { gl_Position = sgfx_model * vec4(p * 0.1, 1.0); }\n";
+    const char* fs = "#version 450 core\nuniform vec3 tint;\nlayout(location = 0) out vec4 o;\n"
+                     "void main() { o = vec4(tint, 1.0); }\n";
+    auto q = shapes::quad(1, 1);
+    q->name = "misfed_quad";
+    q->getOrCreateStateSet().program.set(ShaderProgram::create("misfed", vs, fs));
+    q->getOrCreateStateSet().setUniform("tint", 3);
+    v->setSceneData(q);
+    v->frame();
+    const auto errors = glErrors(*v);
+    ASSERT_FALSE(errors.empty()) << "the driver reported nothing for a mistyped uniform";
+    EXPECT_NE(errors[0].find("[main pass] drawing 'misfed_quad' with misfed"), std::string::npos) << errors[0];
+    // Once drained, a clean frame reports nothing.
+    q->getOrCreateStateSet().setUniform("tint", glm::vec3(1, 0, 0));
+    v->frame();
+    EXPECT_TRUE(glErrors(*v).empty());
+}
+
+TEST(GlErrors, IncompleteOrImpossibleTargetsSayWhy) {
+    auto v = orthoTopViewer(16, 1.0f);
+    GLint maxTex = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
+    v->camera()->setViewport(0, 0, maxTex + 1, 4);
+    try {
+        v->frame();
+        FAIL() << "a target larger than the driver allows was accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("outside the driver's 1x1.."), std::string::npos) << e.what();
+    }
+    v->camera()->setViewport(0, 0, 16, 16);
+    EXPECT_NO_THROW(v->frame());
+    EXPECT_TRUE(glErrors(*v).empty());
+}
+
+// ------------------------------------------------------------------------ resource accounting
+
+TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
+    ASSERT_EQ(gl::liveObjects().total(), 0);
+    {
+        polygon::SceneOptions so;
+        so.scale = 0.05f;
+        const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
+        auto tint = DebugTintNode::create({0, 0, 1, 0.3f});
+        tint->addChild(scene.vehicle);
+        auto rtt = Camera::create(); // a render-to-texture camera is an effect on the frame too
+        rtt->setViewport(0, 0, 32, 32);
+        rtt->setLookAt({0, -30, 20}, {0, 0, 0});
+        rtt->setPerspective(40, 1, 500);
+        rtt->renderTarget = Texture::create(nullptr);
+        rtt->addChild(scene.vehicle);
+        auto root = Group::create();
+        root->addChild(scene.root);
+        root->addChild(tint);
+        root->addChild(rtt);
+        auto v = Viewer::createHeadless(96, 64);
+        v->camera()->setLookAt({40, -60, 25}, {0, 0, 2});
+        v->setSceneData(root);
+        v->frame();
+        v->frame();
+        EXPECT_TRUE(glErrors(*v).empty());
+        EXPECT_GT(gl::liveObjects().total(), 50);
+    }
+    EXPECT_EQ(gl::liveObjects().total(), 0);
+    for (int k = 0; k < int(gl::Kind::Count); ++k) EXPECT_EQ(gl::liveObjects()[gl::Kind(k)], 0) << "kind " << k;
+}
+
+TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
+    auto v = orthoTopViewer(24, 2.0f);
+    auto root = Group::create();
+    root->addChild(flatQuad(4, {0.2f, 0.4f, 0.6f}));
+    v->setSceneData(root);
+    const long baseline = gl::liveObjects().total();
+    auto cycle = [&](int kind) {
+        if (kind == 0) {
+            auto tint = DebugTintNode::create({1, 0, 0, 0.5f});
+            tint->addChild(flatQuad(1, {1, 1, 1}, {0, 0, 0.5f}));
+            root->addChild(tint);
+            v->frame();
+            root->removeChild(tint.get());
+        } else {
+            auto rtt = Camera::create();
+            rtt->setViewport(0, 0, 8, 8);
+            rtt->setLookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0});
+            rtt->projectionMatrix = glm::ortho(-1.f, 1.f, -1.f, 1.f, 0.1f, 10.f);
+            rtt->renderTarget = Texture::create(nullptr);
+            rtt->addChild(flatQuad(1, {1, 1, 0}));
+            root->addChild(rtt);
+            v->frame();
+            root->removeChild(rtt.get());
+            v->frame(); // the renderer drops the dead camera's target
+        }
+    };
+    for (int kind = 0; kind < 2; ++kind) {
+        // Warm-up: program variants, and llvmpipe pools that level off after ~1000 frames.
+        for (int i = 0; i < 1000; ++i) cycle(kind);
+        v->frame();
+        const long objects0 = gl::liveObjects().total();
+        const long rss0 = residentKb();
+        for (int i = 0; i < 1000; ++i) cycle(kind);
+        v->frame(); // the last cycle's dead camera target goes at the next frame
+        const long growth = residentKb() - rss0;
+        RecordProperty(kind == 0 ? "tint_rss_growth_kb" : "rtt_rss_growth_kb", int(growth));
+        std::printf("effect kind %d: 1000 cycles, RSS growth %ld kB\n", kind, growth);
+        EXPECT_LT(growth, 4096) << "RSS grew by " << growth << " kB over 1000 cycles";
+        // Every object a cycle made died with it (targets of dead cameras included).
+        EXPECT_EQ(gl::liveObjects().total(), objects0);
+        EXPECT_GE(objects0, baseline);
+        EXPECT_TRUE(glErrors(*v).empty());
+    }
+}
+
+// ------------------------------------------------------------------------ resize storm
+
+TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
+    auto v = orthoTopViewer(32, 2.0f);
+    auto tint = DebugTintNode::create({0, 0, 1, 0.25f});
+    tint->addChild(flatQuad(2.0f, {1.0f, 0.5f, 0.0f}));
+    auto root = Group::create();
+    root->addChild(tint);
+    root->addChild(flatQuad(4.0f, {0.0f, 0.3f, 0.0f}, {0, 0, -0.5f}));
+    v->setSceneData(root);
+    GLint maxDims[2] = {0, 0}, maxTex = 0;
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxDims);
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
+    const int maxW = std::min(maxDims[0], maxTex), maxH = std::min(maxDims[1], maxTex);
+    std::vector<std::pair<int, int>> sizes = {{1, 1}, {maxW, 1}, {1, maxH}, {2, 3}};
+    std::mt19937 rng(12345);
+    std::uniform_int_distribution<int> side(1, 300);
+    while (sizes.size() < 200) sizes.emplace_back(side(rng), side(rng));
+    sizes.emplace_back(64, 48);
+    for (const auto& [w, h] : sizes) {
+        v->camera()->setViewport(0, 0, w, h);
+        ASSERT_NO_THROW(v->frame()) << w << "x" << h;
+        const auto errors = glErrors(*v);
+        ASSERT_TRUE(errors.empty()) << w << "x" << h << ": " << errors[0];
+    }
+    // After the last resize the image is right: the tinted orange quad in the middle, the green
+    // one around it (ortho ±2 m stretched to 64x48).
+    const Image img = v->capture();
+    ASSERT_EQ(img.width, 64);
+    ASSERT_EQ(img.height, 48);
+    const glm::dvec3 orange = glm::mix(glm::dvec3(1.0, 0.5, 0.0), glm::dvec3(0, 0, 1), 0.25);
+    const glm::ivec4 c = pixelAt(img, 32, 24), e = pixelAt(img, 2, 2);
+    for (int ch = 0; ch < 3; ++ch) {
+        EXPECT_NEAR(c[ch], srgbByte(orange[ch]), 2) << "centre channel " << ch;
+        EXPECT_NEAR(e[ch], srgbByte(ch == 1 ? 0.3 : 0.0), 2) << "edge channel " << ch;
+    }
+}
+
+// ------------------------------------------------------------------------ bad-input sweep
+
+namespace {
+
+struct BadInput {
+    std::string component;
+    std::string label;
+    std::function<void()> call;                // must throw std::exception
+    std::string expect;                        // text the message must contain
+    std::function<bool()> unchanged = nullptr; // previous state still in force
+};
+
+} // namespace
+
+TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
+    auto v = orthoTopViewer(16, 1.0f);
+    auto scene = Group::create();
+    auto quad = flatQuad(1, {1, 1, 1});
+    scene->addChild(quad);
+    v->setSceneData(scene);
+    v->frame();
+
+    std::vector<BadInput> cases;
+    const float badFloats[] = {kNaN, kInf, -kInf, -1.0f, 0.0f, 1e30f};
+    const std::string badNames[] = {"NaN", "+Inf", "-Inf", "negative", "zero", "huge"};
+
+    // Camera
+    auto cam = Camera::create();
+    cam->setViewport(0, 0, 100, 50);
+    cam->setPerspective(45, 1, 100);
+    cam->setLookAt({0, -5, 2}, {0, 0, 0});
+    const glm::mat4 camProj = cam->projectionMatrix, camView = cam->viewMatrix;
+    auto camSame = [=] {
+        return cam->projectionMatrix == camProj && cam->viewMatrix == camView && cam->fovy() == 45.0f &&
+               cam->zNear() == 1.0f && cam->zFar() == 100.0f && cam->viewport.width == 100;
+    };
+    for (int i = 0; i < 6; ++i) {
+        if (badNames[i] != "huge")
+            cases.push_back({"Camera", "setPerspective fovy " + badNames[i],
+                             [=] { cam->setPerspective(badFloats[i], 1, 100); }, "fovy", camSame});
+        if (badNames[i] != "huge")
+            cases.push_back({"Camera", "setPerspective near " + badNames[i],
+                             [=] { cam->setPerspective(45, badFloats[i], 100); }, "near", camSame});
+        cases.push_back({"Camera", "setPerspective far " + badNames[i],
+                         [=] { cam->setPerspective(45, 1e31f, badFloats[i]); }, "near", camSame});
+        if (std::isnan(badFloats[i]) || std::isinf(badFloats[i]))
+            cases.push_back({"Camera", "setLookAt eye " + badNames[i],
+                             [=] { cam->setLookAt({badFloats[i], 0, 0}, {0, 0, 0}); }, "setLookAt", camSame});
+    }
+    cases.push_back({"Camera", "setPerspective fovy 180", [=] { cam->setPerspective(180, 1, 100); }, "fovy", camSame});
+    cases.push_back({"Camera", "setLookAt eye == centre", [=] { cam->setLookAt({1, 1, 1}, {1, 1, 1}); }, "eye", camSame});
+    cases.push_back({"Camera", "setLookAt along up", [=] { cam->setLookAt({0, 0, 5}, {0, 0, 0}); }, "parallel", camSame});
+    cases.push_back({"Camera", "setLookAt zero up", [=] { cam->setLookAt({0, -5, 0}, {0, 0, 0}, {0, 0, 0}); }, "parallel", camSame});
+    for (auto [w, h] : {std::pair{0, 10}, {10, 0}, {-5, 10}, {10, -5}, {std::numeric_limits<int>::min(), 1}})
+        cases.push_back({"Camera", "setViewport " + std::to_string(w) + "x" + std::to_string(h),
+                         [=] { cam->setViewport(0, 0, w, h); }, "must be positive", camSame});
+    cases.push_back({"Camera", "viewport beyond the driver, at frame time",
+                     [&] {
+                         v->camera()->setViewport(0, 0, 1 << 30, 1 << 30);
+                         struct Restore {
+                             Viewer& viewer;
+                             ~Restore() { viewer.camera()->setViewport(0, 0, 16, 16); }
+                         } restore{*v};
+                         v->frame();
+                     },
+                     "outside the driver's", [&] {
+                         v->frame();
+                         return v->capture().width == 16;
+                     }});
+
+    // Transform
+    auto xf = Transform::create(glm::translate(glm::mat4(1), {1, 2, 3}));
+    const glm::mat4 xfm = xf->matrix();
+    for (int i = 0; i < 3; ++i) {
+        cases.push_back({"Transform", "setMatrix with " + badNames[i],
+                         [=] {
+                             glm::mat4 m(1.0f);
+                             m[3][1] = badFloats[i];
+                             xf->setMatrix(m);
+                         },
+                         "non-finite", [=] { return xf->matrix() == xfm; }});
+        cases.push_back({"Transform", "create with " + badNames[i],
+                         [=] { (void)Transform::create(glm::mat4(badFloats[i])); }, "non-finite"});
+    }
+
+    // Group
+    auto g = Group::create();
+    g->name = "holder";
+    auto kid = Group::create();
+    g->addChild(kid);
+    auto gSame = [=] { return g->numChildren() == 1 && g->child(0) == kid && kid->parents().size() == 1; };
+    cases.push_back({"Group", "addChild null", [=] { g->addChild(nullptr); }, "null child", gSame});
+    cases.push_back({"Group", "addChild self", [=] { g->addChild(g); }, "cycle", gSame});
+    cases.push_back({"Group", "addChild ancestor", [=] { kid->addChild(g); }, "cycle", gSame});
+    cases.push_back({"Group", "insertChild null", [=] { g->insertChild(0, nullptr); }, "null child", gSame});
+    cases.push_back({"Group", "replaceChild out of range", [=] { g->replaceChild(7, Group::create()); }, "out of range", gSame});
+    cases.push_back({"Group", "replaceChild null", [=] { g->replaceChild(0, nullptr); }, "null child", gSame});
+    cases.push_back({"Group", "replaceChild cycle", [=] { g->replaceChild(0, g); }, "cycle", gSame});
+
+    // DebugTintNode
+    auto tint = DebugTintNode::create({0.1f, 0.2f, 0.3f, 0.4f});
+    auto tintSame = [=] { return tint->tint() == glm::vec4(0.1f, 0.2f, 0.3f, 0.4f); };
+    for (int c = 0; c < 4; ++c)
+        for (int i = 0; i < 3; ++i)
+            cases.push_back({"DebugTintNode", "setTint component " + std::to_string(c) + " " + badNames[i],
+                             [=] {
+                                 glm::vec4 t(0.5f);
+                                 t[c] = badFloats[i];
+                                 tint->setTint(t);
+                             },
+                             "not finite", tintSame});
+    for (float a : {-0.1f, 1.5f, 1e30f})
+        cases.push_back({"DebugTintNode", "setTint amount " + std::to_string(a),
+                         [=] { tint->setTint({1, 1, 1, a}); }, "must be in [0, 1]", tintSame});
+    cases.push_back({"DebugTintNode", "create with NaN", [] { (void)DebugTintNode::create({kNaN, 0, 0, 0}); }, "not finite"});
+
+    // Image and PNG files
+    for (auto [w, h, c] : {std::tuple{0, 4, 4}, {4, 0, 4}, {-1, 4, 4}, {4, 4, 0}, {4, 4, 5}, {1 << 20, 1 << 20, 4},
+                           {std::numeric_limits<int>::max(), 2, 1}})
+        cases.push_back({"Image", "create " + std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(c),
+                         [=] { (void)Image::create(w, h, c); }, "Image::create"});
+    const auto tmp = std::filesystem::temp_directory_path();
+    const auto garbage = tmp / "sgfx_not_a_png.png";
+    std::ofstream(garbage) << "this is not a PNG file";
+    const auto truncated = tmp / "sgfx_truncated.png";
+    {
+        writePng(truncated, *Image::create(8, 8, 3));
+        std::filesystem::resize_file(truncated, 30);
+    }
+    for (const auto& [label, path] : std::vector<std::pair<std::string, std::filesystem::path>>{
+             {"empty path", ""}, {"missing file", "/nonexistent/x.png"}, {"not a PNG", garbage}, {"truncated", truncated},
+             {"a directory", tmp}})
+        cases.push_back({"PNG", "readPng " + label, [=] { (void)readPng(path); }, "could not read image"});
+    cases.push_back({"PNG", "writePng empty image", [=] { writePng(tmp / "sgfx_x.png", Image{}); }, "empty or inconsistent"});
+    cases.push_back({"PNG", "writePng bad directory", [=] { writePng("/nonexistent/dir/x.png", *Image::create(2, 2, 4)); },
+                     "could not write PNG"});
+    cases.push_back({"PNG", "writePng short pixel buffer",
+                     [=] {
+                         Image img = *Image::create(4, 4, 4);
+                         img.pixels.resize(3);
+                         writePng(tmp / "sgfx_x.png", img);
+                     },
+                     "empty or inconsistent"});
+
+    // Procedural shapes (the loaders' procedural part)
+    for (int i = 0; i < 6; ++i) {
+        if (badNames[i] == "huge") continue; // a huge size is a valid (if odd) shape
+        const float b = badFloats[i];
+        cases.push_back({"shapes", "box " + badNames[i], [=] { (void)shapes::box({1, b, 1}); }, "box size y"});
+        cases.push_back({"shapes", "quad " + badNames[i], [=] { (void)shapes::quad(b, 1); }, "quad width"});
+        cases.push_back({"shapes", "cylinder radius " + badNames[i], [=] { (void)shapes::cylinder(b, 1); }, "cylinder radius"});
+        cases.push_back({"shapes", "cone height " + badNames[i], [=] { (void)shapes::cone(1, b); }, "cone height"});
+        cases.push_back({"shapes", "sphere radius " + badNames[i], [=] { (void)shapes::sphere(b); }, "sphere radius"});
+        cases.push_back({"shapes", "heightfield size " + badNames[i],
+                         [=] { (void)shapes::heightfield(0, 0, b, 1, 2, 2, [](float, float) { return 0.0f; }); },
+                         "heightfield size x"});
+    }
+    for (int n : {0, 2, -1, 1 << 20, std::numeric_limits<int>::max()}) {
+        cases.push_back({"shapes", "cylinder segments " + std::to_string(n), [=] { (void)shapes::cylinder(1, 1, n); }, "segments"});
+        cases.push_back({"shapes", "sphere segments " + std::to_string(n), [=] { (void)shapes::sphere(1, n, 8); }, "segments"});
+        if (n != 2)
+            cases.push_back({"shapes", "heightfield cells " + std::to_string(n),
+                         [=] { (void)shapes::heightfield(0, 0, 1, 1, n, n, [](float, float) { return 0.0f; }); },
+                         "cells along x"});
+    }
+    cases.push_back({"shapes", "heightfield NaN height",
+                     [] { (void)shapes::heightfield(0, 0, 1, 1, 2, 2, [](float, float) { return kNaN; }); }, "not finite"});
+    cases.push_back({"shapes", "heightfield null function", [] { (void)shapes::heightfield(0, 0, 1, 1, 2, 2, nullptr); },
+                     "height function"});
+    cases.push_back({"shapes", "heightfield NaN origin",
+                     [] { (void)shapes::heightfield(kNaN, 0, 1, 1, 2, 2, [](float, float) { return 0.0f; }); }, "origin"});
+
+    // OBJ export
+    cases.push_back({"ObjWriter", "unwritable path", [=] { (void)writeObj(*scene, "/nonexistent/dir/x.obj"); }, "cannot write OBJ"});
+    cases.push_back({"ObjWriter", "empty path", [=] { (void)writeObj(*scene, ""); }, "cannot write OBJ"});
+
+    // Content that is only checked when drawn: the frame throws, names the culprit, and the
+    // next frame with the content fixed works (the viewer's state is intact).
+    auto drawCase = [&](std::string label, std::function<void(Geometry&, Material&, StateSet&)> breakIt,
+                        std::string expect) {
+        cases.push_back({"draw-time content", label,
+                         [&, breakIt] {
+                             auto geo = shapes::quad(1, 1);
+                             geo->name = "victim";
+                             auto mat = Material::create();
+                             geo->getOrCreateStateSet().material.set(mat);
+                             breakIt(*geo, *mat, geo->getOrCreateStateSet());
+                             scene->addChild(geo);
+                             struct Remove {
+                                 Group& s;
+                                 Node* n;
+                                 ~Remove() { s.removeChild(n); }
+                             } remove{*scene, geo.get()};
+                             v->frame();
+                         },
+                         expect, [&] {
+                             v->frame();
+                             return glErrors(*v).empty() && scene->numChildren() == 1;
+                         }});
+    };
+    for (int i = 0; i < 3; ++i) {
+        const float b = badFloats[i];
+        drawCase("material diffuse " + badNames[i], [=](Geometry&, Material& m, StateSet&) { m.diffuse.g = b; }, "Material colours");
+        drawCase("material shininess " + badNames[i], [=](Geometry&, Material& m, StateSet&) { m.shininess = b; }, "shininess");
+        drawCase("material alphaCutoff " + badNames[i], [=](Geometry&, Material& m, StateSet&) { m.alphaCutoff = b; }, "alphaCutoff");
+    }
+    drawCase("material ambient negative", [](Geometry&, Material& m, StateSet&) { m.ambient = glm::vec3(-1); }, "Material colours");
+    drawCase("geometry index out of range", [](Geometry& geo, Material&, StateSet&) { geo.indices.push_back(1000); }, "'victim' index");
+    drawCase("geometry normals short", [](Geometry& geo, Material&, StateSet&) { geo.normals.pop_back(); }, "normals");
+    drawCase("geometry colours too many", [](Geometry& geo, Material&, StateSet&) { geo.colors.assign(9, glm::vec4(1)); }, "colors");
+    drawCase("wrong PrimitiveMode", [](Geometry& geo, Material&, StateSet&) { geo.mode = PrimitiveMode(99); }, "PrimitiveMode");
+    drawCase("wrong BlendMode", [](Geometry&, Material&, StateSet& s) { s.blend.set(BlendMode(99)); }, "BlendMode");
+    drawCase("wrong CullFace", [](Geometry&, Material&, StateSet& s) { s.cullFace.set(CullFace(77)); }, "CullFace");
+    drawCase("wrong CompareFunc", [](Geometry&, Material&, StateSet& s) { s.depth.set(DepthState{true, true, CompareFunc(42)}); },
+             "CompareFunc");
+    drawCase("texture without image", [](Geometry&, Material& m, StateSet&) { m.baseColorTexture = Texture::create(nullptr); },
+             "no image");
+    drawCase("texture filter out of range",
+             [](Geometry&, Material& m, StateSet&) {
+                 m.baseColorTexture = Texture::create(Image::create(2, 2, 4));
+                 m.baseColorTexture->minFilter = Filter(17);
+             },
+             "Filter or Wrap");
+    drawCase("texture wrap out of range",
+             [](Geometry&, Material& m, StateSet&) {
+                 m.alphaTexture = Texture::create(Image::create(2, 2, 1), false);
+                 m.alphaTexture->wrapT = Wrap(200);
+             },
+             "Filter or Wrap");
+    drawCase("texture image with 7 channels",
+             [](Geometry&, Material& m, StateSet&) {
+                 auto img = Image::create(2, 2, 4);
+                 img->channels = 7;
+                 m.baseColorTexture = Texture::create(img);
+             },
+             "channels");
+    drawCase("texture image too small",
+             [](Geometry&, Material& m, StateSet&) {
+                 auto img = Image::create(4, 4, 4);
+                 img->pixels.resize(10);
+                 m.baseColorTexture = Texture::create(img);
+             },
+             "smaller than");
+    drawCase("foreign shader without #version",
+             [](Geometry&, Material&, StateSet& s) { s.program.set(ShaderProgram::create("nover", "void main(){}", "void main(){}")); },
+             "failed to");
+    drawCase("foreign shader empty", [](Geometry&, Material&, StateSet& s) { s.program.set(ShaderProgram::create("empty", "", "")); },
+             "empty");
+    cases.push_back({"RendererOptions", "wrong colorTarget",
+                     [&] {
+                         v->renderer().options().colorTarget = RendererOptions::ColorTarget(9);
+                         struct Restore {
+                             Viewer& viewer;
+                             ~Restore() { viewer.renderer().options().colorTarget = RendererOptions::ColorTarget::Srgb8; }
+                         } restore{*v};
+                         v->frame();
+                     },
+                     "colorTarget", [&] {
+                         v->frame();
+                         return true;
+                     }});
+    cases.push_back({"RendererOptions", "wrong lighting",
+                     [&] {
+                         v->renderer().options().lighting = RendererOptions::Lighting(5);
+                         struct Restore {
+                             Viewer& viewer;
+                             ~Restore() { viewer.renderer().options().lighting = RendererOptions::Lighting::PerPixel; }
+                         } restore{*v};
+                         v->frame();
+                     },
+                     "lighting", [&] {
+                         v->frame();
+                         return true;
+                     }});
+    cases.push_back({"Viewer", "createHeadless 0x0", [] { (void)Viewer::createHeadless(0, 0); }, "must be positive"});
+    cases.push_back({"Viewer", "createHeadless -3x5", [] { (void)Viewer::createHeadless(-3, 5); }, "must be positive"});
+
+    std::map<std::string, int> perComponent;
+    for (const BadInput& c : cases) {
+        SCOPED_TRACE(c.component + ": " + c.label);
+        try {
+            c.call();
+            ADD_FAILURE() << "accepted without an error";
+        } catch (const std::exception& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find(c.expect), std::string::npos) << "message: " << msg;
+            EXPECT_EQ(msg.rfind("sgfx", 0), 0u) << "message should say it comes from sgfx: " << msg;
+        }
+        if (c.unchanged) {
+            EXPECT_TRUE(c.unchanged()) << "previous state changed";
+        }
+        ++perComponent[c.component];
+    }
+    std::filesystem::remove(garbage);
+    std::filesystem::remove(truncated);
+    int total = 0;
+    for (const auto& [component, n] : perComponent) {
+        std::printf("bad inputs: %-20s %3d\n", component.c_str(), n);
+        RecordProperty("bad_inputs_" + component, n);
+        total += n;
+    }
+    std::printf("bad inputs: %-20s %3d\n", "total", total);
+    EXPECT_GE(total, 150);
+}
+
+// ------------------------------------------------------------------------ thread contract
+
+TEST(ThreadContractDeathTest, GlWorkFromAnotherThreadAbortsWithAMessage) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    EXPECT_DEATH(
+        {
+            auto v = Viewer::createHeadless(8, 8);
+            std::thread other([&] { v->frame(); });
+            other.join();
+        },
+        "from a thread that does not own it");
+}
