@@ -168,7 +168,11 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
         const long growth = residentKb() - rss0;
         RecordProperty(kind == 0 ? "tint_rss_growth_kb" : "rtt_rss_growth_kb", int(growth));
         std::printf("effect kind %d: 1000 cycles, RSS growth %ld kB\n", kind, growth);
+#ifndef __SANITIZE_ADDRESS__
         EXPECT_LT(growth, 4096) << "RSS grew by " << growth << " kB over 1000 cycles";
+#else
+        (void)growth; // AddressSanitizer's quarantine holds freed memory: RSS says nothing here
+#endif
         // Every object a cycle made died with it (targets of dead cameras included).
         EXPECT_EQ(gl::liveObjects().total(), objects0);
         EXPECT_GE(objects0, baseline);
