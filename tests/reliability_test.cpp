@@ -52,7 +52,9 @@ std::shared_ptr<Node> flatQuad(float size, glm::vec3 color, glm::vec3 pos = {0, 
     return t;
 }
 
-std::vector<std::string> glErrors(Viewer& v) { return v.renderer().takeGlErrors(); }
+std::vector<std::string> glErrors(Viewer& v) {
+    return v.renderer().takeGlErrors();
+}
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -63,6 +65,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 TEST(GlErrors, AnErrorIsReportedWithItsCallSite) {
     auto v = orthoTopViewer(32, 2.0f);
+    v->renderer().options().glErrors = RendererOptions::GlErrorPolicy::Collect;
     // A foreign shader whose uniform is a vec3, fed an int: GL_INVALID_OPERATION in glProgramUniform.
     const char* vs = "#version 450 core\nlayout(location = 0) in vec3 p;\nuniform mat4 sgfx_model;\n"
                      "void main() { gl_Position = sgfx_model * vec4(p * 0.1, 1.0); }\n";
@@ -76,11 +79,21 @@ TEST(GlErrors, AnErrorIsReportedWithItsCallSite) {
     v->frame();
     const auto errors = glErrors(*v);
     ASSERT_FALSE(errors.empty()) << "the driver reported nothing for a mistyped uniform";
-    EXPECT_NE(errors[0].find("[main pass] drawing 'misfed_quad' with misfed"), std::string::npos) << errors[0];
+    EXPECT_NE(errors[0].find("[main pass] drawing 'misfed_quad' with misfed"), std::string::npos)
+        << errors[0];
     // Once drained, a clean frame reports nothing.
     q->getOrCreateStateSet().setUniform("tint", glm::vec3(1, 0, 0));
     v->frame();
     EXPECT_TRUE(glErrors(*v).empty());
+    // Under the Throw policy (the test suite's default) the same mistake fails the frame.
+    v->renderer().options().glErrors = RendererOptions::GlErrorPolicy::Throw;
+    q->getOrCreateStateSet().setUniform("tint", 3);
+    try {
+        v->frame();
+        FAIL() << "GL error did not throw";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("drawing 'misfed_quad'"), std::string::npos) << e.what();
+    }
 }
 
 TEST(GlErrors, IncompleteOrImpossibleTargetsSayWhy) {
@@ -128,7 +141,8 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
         EXPECT_GT(gl::liveObjects().total(), 50);
     }
     EXPECT_EQ(gl::liveObjects().total(), 0);
-    for (int k = 0; k < int(gl::Kind::Count); ++k) EXPECT_EQ(gl::liveObjects()[gl::Kind(k)], 0) << "kind " << k;
+    for (int k = 0; k < int(gl::Kind::Count); ++k)
+        EXPECT_EQ(gl::liveObjects()[gl::Kind(k)], 0) << "kind " << k;
 }
 
 TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
@@ -159,11 +173,13 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
     };
     for (int kind = 0; kind < 2; ++kind) {
         // Warm-up: program variants, and llvmpipe pools that level off after ~1000 frames.
-        for (int i = 0; i < 1000; ++i) cycle(kind);
+        for (int i = 0; i < 1000; ++i)
+            cycle(kind);
         v->frame();
         const long objects0 = gl::liveObjects().total();
         const long rss0 = residentKb();
-        for (int i = 0; i < 1000; ++i) cycle(kind);
+        for (int i = 0; i < 1000; ++i)
+            cycle(kind);
         v->frame(); // the last cycle's dead camera target goes at the next frame
         const long growth = residentKb() - rss0;
         RecordProperty(kind == 0 ? "tint_rss_growth_kb" : "rtt_rss_growth_kb", int(growth));
@@ -197,7 +213,8 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     std::vector<std::pair<int, int>> sizes = {{1, 1}, {maxW, 1}, {1, maxH}, {2, 3}};
     std::mt19937 rng(12345);
     std::uniform_int_distribution<int> side(1, 300);
-    while (sizes.size() < 200) sizes.emplace_back(side(rng), side(rng));
+    while (sizes.size() < 200)
+        sizes.emplace_back(side(rng), side(rng));
     sizes.emplace_back(64, 48);
     for (const auto& [w, h] : sizes) {
         v->camera()->setViewport(0, 0, w, h);
@@ -265,12 +282,28 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          [=] { cam->setPerspective(45, 1e31f, badFloats[i]); }, "near", camSame});
         if (std::isnan(badFloats[i]) || std::isinf(badFloats[i]))
             cases.push_back({"Camera", "setLookAt eye " + badNames[i],
-                             [=] { cam->setLookAt({badFloats[i], 0, 0}, {0, 0, 0}); }, "setLookAt", camSame});
+                             [=] {
+                                 cam->setLookAt({badFloats[i], 0, 0}, {0, 0, 0});
+                             },
+                             "setLookAt", camSame});
     }
-    cases.push_back({"Camera", "setPerspective fovy 180", [=] { cam->setPerspective(180, 1, 100); }, "fovy", camSame});
-    cases.push_back({"Camera", "setLookAt eye == centre", [=] { cam->setLookAt({1, 1, 1}, {1, 1, 1}); }, "eye", camSame});
-    cases.push_back({"Camera", "setLookAt along up", [=] { cam->setLookAt({0, 0, 5}, {0, 0, 0}); }, "parallel", camSame});
-    cases.push_back({"Camera", "setLookAt zero up", [=] { cam->setLookAt({0, -5, 0}, {0, 0, 0}, {0, 0, 0}); }, "parallel", camSame});
+    cases.push_back(
+        {"Camera", "setPerspective fovy 180", [=] { cam->setPerspective(180, 1, 100); }, "fovy", camSame});
+    cases.push_back({"Camera", "setLookAt eye == centre",
+                     [=] {
+                         cam->setLookAt({1, 1, 1}, {1, 1, 1});
+                     },
+                     "eye", camSame});
+    cases.push_back({"Camera", "setLookAt along up",
+                     [=] {
+                         cam->setLookAt({0, 0, 5}, {0, 0, 0});
+                     },
+                     "parallel", camSame});
+    cases.push_back({"Camera", "setLookAt zero up",
+                     [=] {
+                         cam->setLookAt({0, -5, 0}, {0, 0, 0}, {0, 0, 0});
+                     },
+                     "parallel", camSame});
     for (auto [w, h] : {std::pair{0, 10}, {10, 0}, {-5, 10}, {10, -5}, {std::numeric_limits<int>::min(), 1}})
         cases.push_back({"Camera", "setViewport " + std::to_string(w) + "x" + std::to_string(h),
                          [=] { cam->setViewport(0, 0, w, h); }, "must be positive", camSame});
@@ -283,7 +316,8 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          } restore{*v};
                          v->frame();
                      },
-                     "outside the driver's", [&] {
+                     "outside the driver's",
+                     [&] {
                          v->frame();
                          return v->capture().width == 16;
                      }});
@@ -313,8 +347,10 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
     cases.push_back({"Group", "addChild self", [=] { g->addChild(g); }, "cycle", gSame});
     cases.push_back({"Group", "addChild ancestor", [=] { kid->addChild(g); }, "cycle", gSame});
     cases.push_back({"Group", "insertChild null", [=] { g->insertChild(0, nullptr); }, "null child", gSame});
-    cases.push_back({"Group", "replaceChild out of range", [=] { g->replaceChild(7, Group::create()); }, "out of range", gSame});
-    cases.push_back({"Group", "replaceChild null", [=] { g->replaceChild(0, nullptr); }, "null child", gSame});
+    cases.push_back({"Group", "replaceChild out of range", [=] { g->replaceChild(7, Group::create()); },
+                     "out of range", gSame});
+    cases.push_back(
+        {"Group", "replaceChild null", [=] { g->replaceChild(0, nullptr); }, "null child", gSame});
     cases.push_back({"Group", "replaceChild cycle", [=] { g->replaceChild(0, g); }, "cycle", gSame});
 
     // DebugTintNode
@@ -331,13 +367,26 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                              "not finite", tintSame});
     for (float a : {-0.1f, 1.5f, 1e30f})
         cases.push_back({"DebugTintNode", "setTint amount " + std::to_string(a),
-                         [=] { tint->setTint({1, 1, 1, a}); }, "must be in [0, 1]", tintSame});
-    cases.push_back({"DebugTintNode", "create with NaN", [] { (void)DebugTintNode::create({kNaN, 0, 0, 0}); }, "not finite"});
+                         [=] {
+                             tint->setTint({1, 1, 1, a});
+                         },
+                         "must be in [0, 1]", tintSame});
+    cases.push_back({"DebugTintNode", "create with NaN",
+                     [] {
+                         (void)DebugTintNode::create({kNaN, 0, 0, 0});
+                     },
+                     "not finite"});
 
     // Image and PNG files
-    for (auto [w, h, c] : {std::tuple{0, 4, 4}, {4, 0, 4}, {-1, 4, 4}, {4, 4, 0}, {4, 4, 5}, {1 << 20, 1 << 20, 4},
+    for (auto [w, h, c] : {std::tuple{0, 4, 4},
+                           {4, 0, 4},
+                           {-1, 4, 4},
+                           {4, 4, 0},
+                           {4, 4, 5},
+                           {1 << 20, 1 << 20, 4},
                            {std::numeric_limits<int>::max(), 2, 1}})
-        cases.push_back({"Image", "create " + std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(c),
+        cases.push_back({"Image",
+                         "create " + std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(c),
                          [=] { (void)Image::create(w, h, c); }, "Image::create"});
     const auto tmp = std::filesystem::temp_directory_path();
     const auto garbage = tmp / "sgfx_not_a_png.png";
@@ -347,12 +396,17 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
         writePng(truncated, *Image::create(8, 8, 3));
         std::filesystem::resize_file(truncated, 30);
     }
-    for (const auto& [label, path] : std::vector<std::pair<std::string, std::filesystem::path>>{
-             {"empty path", ""}, {"missing file", "/nonexistent/x.png"}, {"not a PNG", garbage}, {"truncated", truncated},
-             {"a directory", tmp}})
+    for (const auto& [label, path] :
+         std::vector<std::pair<std::string, std::filesystem::path>>{{"empty path", ""},
+                                                                    {"missing file", "/nonexistent/x.png"},
+                                                                    {"not a PNG", garbage},
+                                                                    {"truncated", truncated},
+                                                                    {"a directory", tmp}})
         cases.push_back({"PNG", "readPng " + label, [=] { (void)readPng(path); }, "could not read image"});
-    cases.push_back({"PNG", "writePng empty image", [=] { writePng(tmp / "sgfx_x.png", Image{}); }, "empty or inconsistent"});
-    cases.push_back({"PNG", "writePng bad directory", [=] { writePng("/nonexistent/dir/x.png", *Image::create(2, 2, 4)); },
+    cases.push_back({"PNG", "writePng empty image", [=] { writePng(tmp / "sgfx_x.png", Image{}); },
+                     "empty or inconsistent"});
+    cases.push_back({"PNG", "writePng bad directory",
+                     [=] { writePng("/nonexistent/dir/x.png", *Image::create(2, 2, 4)); },
                      "could not write PNG"});
     cases.push_back({"PNG", "writePng short pixel buffer",
                      [=] {
@@ -366,32 +420,47 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
     for (int i = 0; i < 6; ++i) {
         if (badNames[i] == "huge") continue; // a huge size is a valid (if odd) shape
         const float b = badFloats[i];
-        cases.push_back({"shapes", "box " + badNames[i], [=] { (void)shapes::box({1, b, 1}); }, "box size y"});
+        cases.push_back({"shapes", "box " + badNames[i],
+                         [=] {
+                             (void)shapes::box({1, b, 1});
+                         },
+                         "box size y"});
         cases.push_back({"shapes", "quad " + badNames[i], [=] { (void)shapes::quad(b, 1); }, "quad width"});
-        cases.push_back({"shapes", "cylinder radius " + badNames[i], [=] { (void)shapes::cylinder(b, 1); }, "cylinder radius"});
-        cases.push_back({"shapes", "cone height " + badNames[i], [=] { (void)shapes::cone(1, b); }, "cone height"});
-        cases.push_back({"shapes", "sphere radius " + badNames[i], [=] { (void)shapes::sphere(b); }, "sphere radius"});
-        cases.push_back({"shapes", "heightfield size " + badNames[i],
-                         [=] { (void)shapes::heightfield(0, 0, b, 1, 2, 2, [](float, float) { return 0.0f; }); },
-                         "heightfield size x"});
+        cases.push_back({"shapes", "cylinder radius " + badNames[i], [=] { (void)shapes::cylinder(b, 1); },
+                         "cylinder radius"});
+        cases.push_back(
+            {"shapes", "cone height " + badNames[i], [=] { (void)shapes::cone(1, b); }, "cone height"});
+        cases.push_back(
+            {"shapes", "sphere radius " + badNames[i], [=] { (void)shapes::sphere(b); }, "sphere radius"});
+        cases.push_back(
+            {"shapes", "heightfield size " + badNames[i],
+             [=] { (void)shapes::heightfield(0, 0, b, 1, 2, 2, [](float, float) { return 0.0f; }); },
+             "heightfield size x"});
     }
     for (int n : {0, 2, -1, 1 << 20, std::numeric_limits<int>::max()}) {
-        cases.push_back({"shapes", "cylinder segments " + std::to_string(n), [=] { (void)shapes::cylinder(1, 1, n); }, "segments"});
-        cases.push_back({"shapes", "sphere segments " + std::to_string(n), [=] { (void)shapes::sphere(1, n, 8); }, "segments"});
+        cases.push_back({"shapes", "cylinder segments " + std::to_string(n),
+                         [=] { (void)shapes::cylinder(1, 1, n); }, "segments"});
+        cases.push_back({"shapes", "sphere segments " + std::to_string(n),
+                         [=] { (void)shapes::sphere(1, n, 8); }, "segments"});
         if (n != 2)
-            cases.push_back({"shapes", "heightfield cells " + std::to_string(n),
-                         [=] { (void)shapes::heightfield(0, 0, 1, 1, n, n, [](float, float) { return 0.0f; }); },
-                         "cells along x"});
+            cases.push_back(
+                {"shapes", "heightfield cells " + std::to_string(n),
+                 [=] { (void)shapes::heightfield(0, 0, 1, 1, n, n, [](float, float) { return 0.0f; }); },
+                 "cells along x"});
     }
     cases.push_back({"shapes", "heightfield NaN height",
-                     [] { (void)shapes::heightfield(0, 0, 1, 1, 2, 2, [](float, float) { return kNaN; }); }, "not finite"});
-    cases.push_back({"shapes", "heightfield null function", [] { (void)shapes::heightfield(0, 0, 1, 1, 2, 2, nullptr); },
-                     "height function"});
-    cases.push_back({"shapes", "heightfield NaN origin",
-                     [] { (void)shapes::heightfield(kNaN, 0, 1, 1, 2, 2, [](float, float) { return 0.0f; }); }, "origin"});
+                     [] { (void)shapes::heightfield(0, 0, 1, 1, 2, 2, [](float, float) { return kNaN; }); },
+                     "not finite"});
+    cases.push_back({"shapes", "heightfield null function",
+                     [] { (void)shapes::heightfield(0, 0, 1, 1, 2, 2, nullptr); }, "height function"});
+    cases.push_back(
+        {"shapes", "heightfield NaN origin",
+         [] { (void)shapes::heightfield(kNaN, 0, 1, 1, 2, 2, [](float, float) { return 0.0f; }); },
+         "origin"});
 
     // OBJ export
-    cases.push_back({"ObjWriter", "unwritable path", [=] { (void)writeObj(*scene, "/nonexistent/dir/x.obj"); }, "cannot write OBJ"});
+    cases.push_back({"ObjWriter", "unwritable path",
+                     [=] { (void)writeObj(*scene, "/nonexistent/dir/x.obj"); }, "cannot write OBJ"});
     cases.push_back({"ObjWriter", "empty path", [=] { (void)writeObj(*scene, ""); }, "cannot write OBJ"});
 
     // Content that is only checked when drawn: the frame throws, names the culprit, and the
@@ -413,69 +482,108 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                              } remove{*scene, geo.get()};
                              v->frame();
                          },
-                         expect, [&] {
+                         expect,
+                         [&] {
                              v->frame();
                              return glErrors(*v).empty() && scene->numChildren() == 1;
                          }});
     };
     for (int i = 0; i < 3; ++i) {
         const float b = badFloats[i];
-        drawCase("material diffuse " + badNames[i], [=](Geometry&, Material& m, StateSet&) { m.diffuse.g = b; }, "Material colours");
-        drawCase("material shininess " + badNames[i], [=](Geometry&, Material& m, StateSet&) { m.shininess = b; }, "shininess");
-        drawCase("material alphaCutoff " + badNames[i], [=](Geometry&, Material& m, StateSet&) { m.alphaCutoff = b; }, "alphaCutoff");
+        drawCase(
+            "material diffuse " + badNames[i], [=](Geometry&, Material& m, StateSet&) { m.diffuse.g = b; },
+            "Material colours");
+        drawCase(
+            "material shininess " + badNames[i], [=](Geometry&, Material& m, StateSet&) { m.shininess = b; },
+            "shininess");
+        drawCase(
+            "material alphaCutoff " + badNames[i],
+            [=](Geometry&, Material& m, StateSet&) { m.alphaCutoff = b; }, "alphaCutoff");
     }
-    drawCase("material ambient negative", [](Geometry&, Material& m, StateSet&) { m.ambient = glm::vec3(-1); }, "Material colours");
-    drawCase("geometry index out of range", [](Geometry& geo, Material&, StateSet&) { geo.indices.push_back(1000); }, "'victim' index");
-    drawCase("geometry normals short", [](Geometry& geo, Material&, StateSet&) { geo.normals.pop_back(); }, "normals");
-    drawCase("geometry colours too many", [](Geometry& geo, Material&, StateSet&) { geo.colors.assign(9, glm::vec4(1)); }, "colors");
-    drawCase("wrong PrimitiveMode", [](Geometry& geo, Material&, StateSet&) { geo.mode = PrimitiveMode(99); }, "PrimitiveMode");
-    drawCase("wrong BlendMode", [](Geometry&, Material&, StateSet& s) { s.blend.set(BlendMode(99)); }, "BlendMode");
-    drawCase("wrong CullFace", [](Geometry&, Material&, StateSet& s) { s.cullFace.set(CullFace(77)); }, "CullFace");
-    drawCase("wrong CompareFunc", [](Geometry&, Material&, StateSet& s) { s.depth.set(DepthState{true, true, CompareFunc(42)}); },
-             "CompareFunc");
-    drawCase("texture without image", [](Geometry&, Material& m, StateSet&) { m.baseColorTexture = Texture::create(nullptr); },
-             "no image");
-    drawCase("texture filter out of range",
-             [](Geometry&, Material& m, StateSet&) {
-                 m.baseColorTexture = Texture::create(Image::create(2, 2, 4));
-                 m.baseColorTexture->minFilter = Filter(17);
-             },
-             "Filter or Wrap");
-    drawCase("texture wrap out of range",
-             [](Geometry&, Material& m, StateSet&) {
-                 m.alphaTexture = Texture::create(Image::create(2, 2, 1), false);
-                 m.alphaTexture->wrapT = Wrap(200);
-             },
-             "Filter or Wrap");
-    drawCase("texture image with 7 channels",
-             [](Geometry&, Material& m, StateSet&) {
-                 auto img = Image::create(2, 2, 4);
-                 img->channels = 7;
-                 m.baseColorTexture = Texture::create(img);
-             },
-             "channels");
-    drawCase("texture image too small",
-             [](Geometry&, Material& m, StateSet&) {
-                 auto img = Image::create(4, 4, 4);
-                 img->pixels.resize(10);
-                 m.baseColorTexture = Texture::create(img);
-             },
-             "smaller than");
-    drawCase("foreign shader without #version",
-             [](Geometry&, Material&, StateSet& s) { s.program.set(ShaderProgram::create("nover", "void main(){}", "void main(){}")); },
-             "failed to");
-    drawCase("foreign shader empty", [](Geometry&, Material&, StateSet& s) { s.program.set(ShaderProgram::create("empty", "", "")); },
-             "empty");
+    drawCase(
+        "material ambient negative", [](Geometry&, Material& m, StateSet&) { m.ambient = glm::vec3(-1); },
+        "Material colours");
+    drawCase(
+        "geometry index out of range",
+        [](Geometry& geo, Material&, StateSet&) { geo.indices.push_back(1000); }, "'victim' index");
+    drawCase(
+        "geometry normals short", [](Geometry& geo, Material&, StateSet&) { geo.normals.pop_back(); },
+        "normals");
+    drawCase(
+        "geometry colours too many",
+        [](Geometry& geo, Material&, StateSet&) { geo.colors.assign(9, glm::vec4(1)); }, "colors");
+    drawCase(
+        "wrong PrimitiveMode", [](Geometry& geo, Material&, StateSet&) { geo.mode = PrimitiveMode(99); },
+        "PrimitiveMode");
+    drawCase(
+        "wrong BlendMode", [](Geometry&, Material&, StateSet& s) { s.blend.set(BlendMode(99)); },
+        "BlendMode");
+    drawCase(
+        "wrong CullFace", [](Geometry&, Material&, StateSet& s) { s.cullFace.set(CullFace(77)); },
+        "CullFace");
+    drawCase(
+        "wrong CompareFunc",
+        [](Geometry&, Material&, StateSet& s) {
+            s.depth.set(DepthState{true, true, CompareFunc(42)});
+        },
+        "CompareFunc");
+    drawCase(
+        "texture without image",
+        [](Geometry&, Material& m, StateSet&) { m.baseColorTexture = Texture::create(nullptr); }, "no image");
+    drawCase(
+        "texture filter out of range",
+        [](Geometry&, Material& m, StateSet&) {
+            m.baseColorTexture = Texture::create(Image::create(2, 2, 4));
+            m.baseColorTexture->minFilter = Filter(17);
+        },
+        "Filter or Wrap");
+    drawCase(
+        "texture wrap out of range",
+        [](Geometry&, Material& m, StateSet&) {
+            m.alphaTexture = Texture::create(Image::create(2, 2, 1), false);
+            m.alphaTexture->wrapT = Wrap(200);
+        },
+        "Filter or Wrap");
+    drawCase(
+        "texture image with 7 channels",
+        [](Geometry&, Material& m, StateSet&) {
+            auto img = Image::create(2, 2, 4);
+            img->channels = 7;
+            m.baseColorTexture = Texture::create(img);
+        },
+        "channels");
+    drawCase(
+        "texture image too small",
+        [](Geometry&, Material& m, StateSet&) {
+            auto img = Image::create(4, 4, 4);
+            img->pixels.resize(10);
+            m.baseColorTexture = Texture::create(img);
+        },
+        "smaller than");
+    drawCase(
+        "foreign shader without #version",
+        [](Geometry&, Material&, StateSet& s) {
+            s.program.set(ShaderProgram::create("nover", "void main(){}", "void main(){}"));
+        },
+        "failed to");
+    drawCase(
+        "foreign shader empty",
+        [](Geometry&, Material&, StateSet& s) { s.program.set(ShaderProgram::create("empty", "", "")); },
+        "empty");
     cases.push_back({"RendererOptions", "wrong colorTarget",
                      [&] {
                          v->renderer().options().colorTarget = RendererOptions::ColorTarget(9);
                          struct Restore {
                              Viewer& viewer;
-                             ~Restore() { viewer.renderer().options().colorTarget = RendererOptions::ColorTarget::Srgb8; }
+                             ~Restore() {
+                                 viewer.renderer().options().colorTarget =
+                                     RendererOptions::ColorTarget::Srgb8;
+                             }
                          } restore{*v};
                          v->frame();
                      },
-                     "colorTarget", [&] {
+                     "colorTarget",
+                     [&] {
                          v->frame();
                          return true;
                      }});
@@ -484,16 +592,21 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          v->renderer().options().lighting = RendererOptions::Lighting(5);
                          struct Restore {
                              Viewer& viewer;
-                             ~Restore() { viewer.renderer().options().lighting = RendererOptions::Lighting::PerPixel; }
+                             ~Restore() {
+                                 viewer.renderer().options().lighting = RendererOptions::Lighting::PerPixel;
+                             }
                          } restore{*v};
                          v->frame();
                      },
-                     "lighting", [&] {
+                     "lighting",
+                     [&] {
                          v->frame();
                          return true;
                      }});
-    cases.push_back({"Viewer", "createHeadless 0x0", [] { (void)Viewer::createHeadless(0, 0); }, "must be positive"});
-    cases.push_back({"Viewer", "createHeadless -3x5", [] { (void)Viewer::createHeadless(-3, 5); }, "must be positive"});
+    cases.push_back(
+        {"Viewer", "createHeadless 0x0", [] { (void)Viewer::createHeadless(0, 0); }, "must be positive"});
+    cases.push_back(
+        {"Viewer", "createHeadless -3x5", [] { (void)Viewer::createHeadless(-3, 5); }, "must be positive"});
 
     std::map<std::string, int> perComponent;
     for (const BadInput& c : cases) {

@@ -44,24 +44,29 @@ Args parse(int argc, char** argv) {
     Args a;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
-        if (arg == "--help" || arg == "-h") usage("runs the proving ground for many frames and checks each one");
+        if (arg == "--help" || arg == "-h")
+            usage("runs the proving ground for many frames and checks each one");
         if (i + 1 >= argc) usage(arg + " needs a value");
         const std::string v = argv[++i];
         try {
-            if (arg == "--frames") a.frames = std::stol(v);
-            else if (arg == "--scale") a.scale = std::stof(v);
+            if (arg == "--frames")
+                a.frames = std::stol(v);
+            else if (arg == "--scale")
+                a.scale = std::stof(v);
             else if (arg == "--size") {
                 const auto x = v.find('x');
                 if (x == std::string::npos) usage("--size: expected WxH, got '" + v + "'");
                 a.width = std::stoi(v.substr(0, x));
                 a.height = std::stoi(v.substr(x + 1));
-            } else usage("unknown option '" + arg + "'");
+            } else
+                usage("unknown option '" + arg + "'");
         } catch (const std::logic_error&) {
             usage(arg + ": '" + v + "' is not a number");
         }
     }
     if (a.frames < 1) usage("--frames must be at least 1");
-    if (a.width < 1 || a.height < 1 || a.width > 4096 || a.height > 4096) usage("--size must be within 1..4096");
+    if (a.width < 1 || a.height < 1 || a.width > 4096 || a.height > 4096)
+        usage("--size must be within 1..4096");
     return a;
 }
 
@@ -97,7 +102,8 @@ int main(int argc, char** argv) {
                 rssStart = residentKb();
                 t0 = std::chrono::steady_clock::now();
             }
-            const polygon::CameraPose pose = polygon::cameraPose(float(f % kPathFrames) / kPathFrames, so.extent);
+            const polygon::CameraPose pose =
+                polygon::cameraPose(float(f % kPathFrames) / kPathFrames, so.extent);
             cam.setLookAt(pose.eye, pose.target, pose.up);
             tint->setTint({1.0f, 0.2f, 0.1f, float(0.5 + 0.5 * std::sin(f * dt))});
             viewer->frame(dt);
@@ -116,9 +122,10 @@ int main(int argc, char** argv) {
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const long measured = args.frames - warmup;
         const long rssEnd = residentKb();
-        std::printf("SOAK ok frames=%ld size=%dx%d fps=%.1f rss_start_kb=%ld rss_end_kb=%ld rss_growth_kb=%ld\n",
-                    args.frames, args.width, args.height, measured > 0 ? double(measured) / seconds : 0.0,
-                    rssStart, rssEnd, rssEnd - rssStart);
+        std::printf(
+            "SOAK ok frames=%ld size=%dx%d fps=%.1f rss_start_kb=%ld rss_end_kb=%ld rss_growth_kb=%ld\n",
+            args.frames, args.width, args.height, measured > 0 ? double(measured) / seconds : 0.0, rssStart,
+            rssEnd, rssEnd - rssStart);
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "soak: %s\n", e.what());

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <unordered_map>
 
@@ -348,6 +349,20 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     std::erase_if(impl_->cameraTargets, [](const auto& e) { return e.second.owner.expired(); });
     renderView(camera, impl_->scene, queue_, plan_, 0);
     impl_->log.stage = "outside a frame";
+    if (!options_.glErrors) {
+        const char* env = std::getenv("SGFX_GL_ERRORS");
+        options_.glErrors = env && std::string_view(env) == "throw" ? RendererOptions::GlErrorPolicy::Throw
+                                                                    : RendererOptions::GlErrorPolicy::Collect;
+    }
+    if (*options_.glErrors == RendererOptions::GlErrorPolicy::Throw) {
+        const std::vector<std::string> errors = takeGlErrors();
+        if (!errors.empty()) {
+            std::string what = "sgfx: GL errors in frame " + std::to_string(frameNumber) + ":";
+            for (const std::string& e : errors)
+                what += "\n  " + e;
+            throw std::runtime_error(what);
+        }
+    }
     if (camera.renderTarget) copyToTexture(impl_->scene, *camera.renderTarget);
     stats_.drawMs = std::chrono::duration<double, std::milli>(clock::now() - t0).count() - stats_.cullMs;
 }

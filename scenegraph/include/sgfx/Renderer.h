@@ -77,6 +77,12 @@ struct RendererOptions {
     // Scene colour target: 8-bit sRGB (default), or linear float for HDR work and diagnostics
     // (NaN/Inf checks); captures are sRGB-encoded either way.
     enum class ColorTarget : std::uint8_t { Srgb8, Rgba16F, Rgba32F } colorTarget = ColorTarget::Srgb8;
+    // GL errors and high-severity debug messages are collected for takeGlErrors() (Collect), or
+    // make render() throw at the end of the frame with every message and its call site (Throw).
+    // Unset: Throw when the environment has SGFX_GL_ERRORS=throw (the test suite sets it),
+    // otherwise Collect.
+    enum class GlErrorPolicy : std::uint8_t { Collect, Throw };
+    std::optional<GlErrorPolicy> glErrors;
 };
 
 // Owns GL-side resources for one context: composed programs, the scene target, the state cache.
