@@ -2,6 +2,7 @@
 // storms, a table-driven sweep of bad inputs, and the GL thread contract.
 #include "TestUtil.h"
 
+#include <CameraPath.h>
 #include <PolygonScene.h>
 #include <debugtint/DebugTintNode.h>
 #include <sgfx/Geometry.h>
@@ -647,4 +648,32 @@ TEST(ThreadContractDeathTest, GlWorkFromAnotherThreadAbortsWithAMessage) {
             other.join();
         },
         "from a thread that does not own it");
+}
+
+// ------------------------------------------------------------------------ culling is conservative
+
+TEST(Culling, NeverDropsAVisibleObjectOnTheProvingGround) {
+    polygon::SceneOptions so;
+    so.scale = 0.1f;
+    const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
+    auto v = Viewer::createHeadless(128, 72);
+    v->setSceneData(scene.root);
+    auto& cam = *v->camera();
+    cam.setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
+    int culledSomewhere = 0;
+    for (int i = 0; i < 8; ++i) {
+        const polygon::CameraPose pose = polygon::cameraPose(float(i) / 8.0f, so.extent);
+        cam.setLookAt(pose.eye, pose.target, pose.up);
+        cam.cullingEnabled = true;
+        v->frame();
+        const Image culled = v->capture();
+        const std::size_t culledDraws = v->stats().drawCalls;
+        culledSomewhere += v->stats().culledNodes > 0;
+        cam.cullingEnabled = false;
+        v->frame();
+        const Image all = v->capture();
+        EXPECT_LT(culledDraws, v->stats().drawCalls) << "view " << i << " culled nothing";
+        EXPECT_EQ(culled.pixels, all.pixels) << "view " << i << ": culling changed the image";
+    }
+    EXPECT_EQ(culledSomewhere, 8);
 }

@@ -123,7 +123,6 @@ ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::
 
 Program::Program(const ComposedProgram& c)
     : description_(c.description) {
-    if (std::getenv("SGFX_LOG_PROGRAMS")) std::fprintf(stderr, "sgfx: compiling %s\n", description_.c_str());
     ShaderObject vs = compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description);
     ShaderObject fs = compile(GL_FRAGMENT_SHADER, c.fragment, c.fragmentSources, c.description);
     name_ = glCreateProgram();
