@@ -4,6 +4,7 @@
 
 #include <CameraPath.h>
 #include <PolygonScene.h>
+#include <ProcessMemory.h>
 #include <debugtint/DebugTintNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
@@ -25,21 +26,11 @@
 #include <map>
 #include <random>
 #include <thread>
-#include <unistd.h>
 
 using namespace sgfx;
 using namespace sgfx::test;
 
 namespace {
-
-long residentKb() {
-    long pages = 0, resident = 0;
-    if (FILE* f = std::fopen("/proc/self/statm", "r")) {
-        if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
-        std::fclose(f);
-    }
-    return resident * (sysconf(_SC_PAGESIZE) / 1024);
-}
 
 std::shared_ptr<Node> flatQuad(float size, glm::vec3 color, glm::vec3 pos = {0, 0, 0}) {
     auto t = Transform::create(glm::translate(glm::mat4(1.0f), pos));
@@ -178,11 +169,11 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             cycle(kind);
         v->frame();
         const long objects0 = gl::liveObjects().total();
-        const long rss0 = residentKb();
+        const long rss0 = sgfxdemo::residentKb();
         for (int i = 0; i < 1000; ++i)
             cycle(kind);
         v->frame(); // the last cycle's dead camera target goes at the next frame
-        const long growth = residentKb() - rss0;
+        const long growth = sgfxdemo::residentKb() - rss0;
         RecordProperty(kind == 0 ? "tint_rss_growth_kb" : "rtt_rss_growth_kb", int(growth));
         std::printf("effect kind %d: 1000 cycles, RSS growth %ld kB\n", kind, growth);
 #ifndef __SANITIZE_ADDRESS__

@@ -3,6 +3,7 @@
 // GL errors. Prints frames/s and resident memory after warm-up and at the end.
 #include "CameraPath.h"
 #include "PolygonScene.h"
+#include "ProcessMemory.h"
 
 #include <debugtint/DebugTintNode.h>
 #include <sgfx/Viewer.h>
@@ -13,18 +14,8 @@
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
-#include <unistd.h>
 
 namespace {
-
-long residentKb() {
-    long pages = 0, resident = 0;
-    if (FILE* f = std::fopen("/proc/self/statm", "r")) {
-        if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
-        std::fclose(f);
-    }
-    return resident * (sysconf(_SC_PAGESIZE) / 1024);
-}
 
 struct Args {
     long frames = 100000;
@@ -99,7 +90,7 @@ int main(int argc, char** argv) {
         auto t0 = std::chrono::steady_clock::now();
         for (long f = 0; f < args.frames; ++f) {
             if (f == warmup) {
-                rssStart = residentKb();
+                rssStart = sgfxdemo::residentKb();
                 t0 = std::chrono::steady_clock::now();
             }
             const polygon::CameraPose pose =
@@ -121,7 +112,7 @@ int main(int argc, char** argv) {
         }
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const long measured = args.frames - warmup;
-        const long rssEnd = residentKb();
+        const long rssEnd = sgfxdemo::residentKb();
         std::printf(
             "SOAK ok frames=%ld size=%dx%d fps=%.1f rss_start_kb=%ld rss_end_kb=%ld rss_growth_kb=%ld\n",
             args.frames, args.width, args.height, measured > 0 ? double(measured) / seconds : 0.0, rssStart,
