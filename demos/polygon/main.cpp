@@ -62,6 +62,7 @@ options:
   --egl               render headless through EGL (GPU) instead of OSMesa
   --lighting pixel|vertex
                       per-pixel Blinn-Phong (default) or per-vertex (Gouraud) lighting
+  --frames N          with --window: close after N frames (scripted runs)
   --count-fragments   with --bench: also count fragments that pass the depth test (an
                       occlusion query per frame, which itself costs a little time)
   -h, --help          show this help
@@ -88,6 +89,7 @@ struct Options {
     bool egl = false;
     sgfx::RendererOptions::Lighting lighting = sgfx::RendererOptions::Lighting::PerPixel;
     bool countFragments = false;
+    long windowFrames = 0; // --window: quit after this many frames (0 = until closed)
 };
 
 template <class T> T parseNumber(std::string_view option, std::string_view text) {
@@ -168,6 +170,9 @@ Options parseArgs(int argc, char** argv) {
             o.seed = parseNumber<std::uint64_t>(arg, value());
         } else if (arg == "--egl") {
             o.egl = true;
+        } else if (arg == "--frames") {
+            o.windowFrames = parseNumber<long>(arg, value());
+            if (o.windowFrames < 1) throw UsageError("--frames: N must be at least 1");
         } else if (arg == "--count-fragments") {
             o.countFragments = true;
         } else if (arg == "--lighting") {
@@ -326,7 +331,8 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     std::cout << "window: WASD move, Q/E down/up, Shift fast, left mouse drag to look, Esc quits"
               << std::endl;
 
-    while (!viewer.context().shouldClose()) {
+    long total = 0;
+    while (!viewer.context().shouldClose() && (o.windowFrames == 0 || total < o.windowFrames)) {
         glfwPollEvents();
         const double now = glfwGetTime();
         const float dt = float(std::min(now - last, 0.1));
@@ -363,6 +369,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
         viewer.frame(dt);
         reportGlErrors(viewer);
         ++frames;
+        ++total;
         if (now - titleTime >= 1.0) {
             const std::string title = "sgfx polygon - " +
                                       std::to_string(int(std::lround(frames / (now - titleTime)))) +
@@ -372,6 +379,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
             frames = 0;
         }
     }
+    std::cout << "window: " << total << " frames" << std::endl;
     return 0;
 }
 
