@@ -675,11 +675,17 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     scene.buildings = Group::create();
     scene.buildings->name = "buildings";
     AreaGroups buildingAreas("buildings", extent, scene.buildings);
-    std::vector<glm::vec2> villages;
-    while (villages.size() < 7) {
-        const glm::vec2 c(rng.uniform(-half + 60.0f, half - 60.0f), rng.uniform(-half + 60.0f, half - 60.0f));
-        if (glm::length(c) > 110.0f) villages.push_back(c);
-    }
+    // Centres of building villages and forests: inside the ground's margin, away from the middle.
+    auto clusterCentres = [&](std::size_t count, float margin, float minRadius) {
+        std::vector<glm::vec2> centres;
+        while (centres.size() < count) {
+            const glm::vec2 c(rng.uniform(-half + margin, half - margin),
+                              rng.uniform(-half + margin, half - margin));
+            if (glm::length(c) > minRadius) centres.push_back(c);
+        }
+        return centres;
+    };
+    const std::vector<glm::vec2> villages = clusterCentres(7, 60.0f, 110.0f);
     std::size_t buildingTriangles = 0, prototypeTriangles = 0;
     for (const BuildingPrototype& p : prototypes)
         prototypeTriangles += p.triangles;
@@ -720,11 +726,7 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     scene.trees = Group::create();
     scene.trees->name = "trees";
     AreaGroups treeAreas("trees", extent, scene.trees);
-    std::vector<glm::vec2> forests;
-    while (forests.size() < 12) {
-        const glm::vec2 c(rng.uniform(-half + 30.0f, half - 30.0f), rng.uniform(-half + 30.0f, half - 30.0f));
-        if (glm::length(c) > 90.0f) forests.push_back(c);
-    }
+    const std::vector<glm::vec2> forests = clusterCentres(12, 30.0f, 90.0f);
     for (int placed = 0, attempts = 0; placed < treeCount && attempts < 60 * treeCount + 100; ++attempts) {
         glm::vec2 p;
         if (rng.uniform() < 0.75f)
