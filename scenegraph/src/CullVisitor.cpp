@@ -43,6 +43,10 @@ bool CullVisitor::cullTest(const Node& n) {
         planeMask_.push_back(0);
         return true;
     }
+    if (n.cullingDisabledInSubtree()) {
+        planeMask_.push_back(mask); // children are tested on their own
+        return true;
+    }
     const BoundingSphere& local = n.bound();
     if (!local.valid()) {
         ++culledNodes;
@@ -172,7 +176,10 @@ void CullVisitor::apply(Geometry& g) {
     item.sequence = sequence_++;
     const bool transparent = state->transparent();
     const ShaderProgram* foreign = item.program();
-    if (!foreign) item.features = ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent);
+    item.features = foreign ? ShaderComposer::blendFeatures(transparent, state->blendMode()) |
+                                  (transparent ? std::uint32_t(FeatureBlend) : 0u)
+                            : ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent,
+                                                          state->blendMode());
     // Equal keys mean one program: (foreign shader or built-in variant, effect snippets).
     const auto prog = std::uint64_t(reinterpret_cast<std::uintptr_t>(foreign));
     item.programKey = (prog << 8) ^ (std::uint64_t(queue_.effectSets[item.effectSet].signature) << 44) ^

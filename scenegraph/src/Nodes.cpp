@@ -36,9 +36,21 @@ StateSet& Node::getOrCreateStateSet() {
 const BoundingSphere& Node::bound() const {
     if (boundDirty_) {
         bound_ = computeBound();
+        cullingDisabledBelow_ = computeCullingDisabledBelow();
         boundDirty_ = false;
     }
     return bound_;
+}
+
+void Node::setCullingActive(bool active) {
+    cullingActive_ = active;
+    boundDirty_ = false; // force the notification up the parents
+    dirtyBound();
+}
+
+bool Node::cullingDisabledInSubtree() const {
+    bound();
+    return !cullingActive_ || cullingDisabledBelow_;
 }
 
 void Node::dirtyBound() {
@@ -121,6 +133,11 @@ void Group::replaceChild(std::size_t index, NodePtr child) {
     child->parents_.push_back(this);
     children_[index] = std::move(child);
     dirtyBound();
+}
+
+bool Group::computeCullingDisabledBelow() const {
+    return std::any_of(children_.begin(), children_.end(),
+                       [](const NodePtr& c) { return c->cullingDisabledInSubtree(); });
 }
 
 BoundingSphere Group::computeBound() const {

@@ -1,5 +1,6 @@
 #include "sgfx/Renderer.h"
 
+#include "EmbeddedShaders.h"
 #include "sgfx/Camera.h"
 #include "sgfx/CullVisitor.h"
 #include "sgfx/Geometry.h"
@@ -21,6 +22,10 @@ namespace sgfx {
 void FramePlan::add(std::shared_ptr<RenderPass> pass) {
     if (pass && std::find(passes.begin(), passes.end(), pass) == passes.end())
         passes.push_back(std::move(pass));
+}
+
+bool FramePlan::has(std::string_view name) const {
+    return std::any_of(passes.begin(), passes.end(), [&](const auto& p) { return p->name() == name; });
 }
 
 namespace {
@@ -221,7 +226,9 @@ struct Renderer::Impl {
         gl::RenderTarget target;
     };
     std::unordered_map<const Camera*, CameraTarget> cameraTargets;
+    gl::RenderTarget* current = &scene; // target of the view being drawn
     gl::BufferObject frameUbo;
+    gl::VertexArrayObject emptyVao; // full-screen passes take their vertices from gl_VertexID
     DebugLog log;
 
     GLuint program = 0;
@@ -303,6 +310,7 @@ Renderer::Renderer(GraphicsContext& context, Options options)
     context_.makeCurrent();
     impl_->stateChanges = &stats_.stateChanges;
     impl_->frameUbo = gl::createBuffer();
+    impl_->emptyVao = gl::createVertexArray();
     glNamedBufferData(impl_->frameUbo.get(), sizeof(FrameBlock), nullptr, GL_DYNAMIC_DRAW);
 #ifdef SGFX_GL_DEBUG
     glEnable(GL_DEBUG_OUTPUT);
@@ -326,6 +334,43 @@ Renderer::~Renderer() {
 
 gl::RenderTarget& Renderer::sceneTarget() {
     return impl_->scene;
+}
+
+gl::RenderTarget& Renderer::currentTarget() {
+    return *impl_->current;
+}
+
+void Renderer::bindTexture(unsigned unit, unsigned texture) {
+    if (unit >= impl_->units.size())
+        throw std::invalid_argument("sgfx: texture unit " + std::to_string(unit) + " is out of range");
+    impl_->bindTexture(unit, texture);
+}
+
+void Renderer::setBlend(BlendMode mode) {
+    impl_->setBlend(mode);
+}
+
+gl::Program& Renderer::depthOnlyProgram() {
+    static const BaseShader base{"depth_only", "depth_only.vert",
+                                 std::string(shaders::embedded("depth_only.vert")), "depth_only.frag",
+                                 std::string(shaders::embedded("depth_only.frag"))};
+    return composer_.program(base, {}, 0);
+}
+
+void Renderer::drawFullscreen(gl::Program& program, const DepthState& depth) {
+    Impl& s = *impl_;
+    s.setDepth(depth);
+    s.setCull(CullFace::None);
+    if (program.get() != s.program) {
+        glUseProgram(program.get());
+        s.program = program.get();
+        ++stats_.programChanges;
+        ++stats_.stateChanges;
+    }
+    glBindVertexArray(s.emptyVao.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    ++stats_.drawCalls;
 }
 
 std::vector<std::string> Renderer::takeGlErrors() {
@@ -443,12 +488,10 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, impl_->frameUbo.get());
     impl_->invalidate();
     current_ = &queue;
+    impl_->current = &target;
 
-    for (auto& p : plan.passes)
-        if (p->stage() != PassStage::Post) {
-            impl_->log.stage = p->name();
-            p->execute(*this);
-        }
+    runPasses(plan, PassStage::Compute, target);
+    runPasses(plan, PassStage::PrePass, target);
 
     // ---- main pass: linear shading, sRGB-encoded once by the framebuffer on write
     glBindFramebuffer(GL_FRAMEBUFFER, target.fbo.get());
@@ -468,6 +511,8 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     }
     impl_->log.stage = "main pass";
     drawItems(queue.opaque);
+    runPasses(plan, PassStage::AfterOpaque, target);
+    impl_->log.stage = "main pass";
     drawItems(queue.transparent);
     if (fragments) {
         glEndQuery(GL_SAMPLES_PASSED);
@@ -476,12 +521,23 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
         stats_.fragments += n;
     }
 
-    for (auto& p : plan.passes)
-        if (p->stage() == PassStage::Post) {
-            impl_->log.stage = p->name();
-            p->execute(*this);
-        }
+    runPasses(plan, PassStage::Post, target);
     current_ = &queue_;
+    impl_->current = &impl_->scene;
+}
+
+void Renderer::runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& target) {
+    for (auto& p : plan.passes) {
+        if (p->stage() != stage) continue;
+        impl_->log.stage = p->name();
+        p->execute(*this);
+        impl_->invalidate(); // the pass may have changed GL state behind the cache
+        // Back to the view's target and sRGB encoding, whatever the pass bound.
+        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo.get());
+        glViewport(0, 0, target.width, target.height);
+        glEnable(GL_FRAMEBUFFER_SRGB);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
 }
 
 void Renderer::copyToTexture(const gl::RenderTarget& from, const Texture& to) {
@@ -509,8 +565,13 @@ void Renderer::copyToTexture(const gl::RenderTarget& from, const Texture& to) {
                        0, from.width, from.height, 1);
 }
 
-void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override) {
+void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override, bool depthOnly) {
     Impl& s = *impl_;
+    if (depthOnly) {
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        s.setBlend(BlendMode::Off);
+        s.setDepth(DepthState{});
+    }
     gl::Program* program = override;
     std::uint64_t programKey = ~0ull;
     const ResolvedState* state = nullptr;
@@ -527,8 +588,13 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
                 snippets.push_back(&e->snippet());
             const std::uint32_t features =
                 item.program()
-                    ? 0u
-                    : ShaderComposer::withWorldPosition(item.features | viewFeatures_, !snippets.empty());
+                    ? (snippets.empty() ? 0u : item.features) // a foreign wrap uses the blend bits
+                    : ShaderComposer::withWorldPosition(
+                          item.features | viewFeatures_,
+                          std::any_of(snippets.begin(), snippets.end(), [](const ShaderSnippet* sn) {
+                              return !sn->vertexCode.empty() || !sn->ambientCode.empty() ||
+                                     !sn->colorCode.empty();
+                          }));
             program = &composer_.program(item.program(), snippets, features);
             programKey = item.programKey;
             programChanged = true;
@@ -546,7 +612,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             material = nullptr;
             effectSet = ~0u;
         }
-        if (item.effectSet != effectSet) {
+        if (!depthOnly && item.effectSet != effectSet) {
             effectSet = item.effectSet;
             const DrawContext ctx{frame_, item};
             for (const EffectNode* e : current_->effectSets[effectSet].effects)
@@ -555,12 +621,14 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (item.state != state) {
             state = item.state;
             validateEnums(*state, *item.geometry);
-            s.setBlend(state->blendMode());
-            s.setDepth(state->depth.value.value_or(DepthState{}));
+            if (!depthOnly) {
+                s.setBlend(state->blendMode());
+                s.setDepth(state->depth.value.value_or(DepthState{}));
+            }
             s.setCull(state->cullFace.value.value_or(CullFace::Back));
             unsigned unit = FirstUserUnit;
             for (const auto& [name, tex] : state->textures) {
-                if (!tex.value || !*tex.value || unit >= s.units.size()) continue;
+                if (!tex.value || !*tex.value || unit >= kEffectTextureUnit) continue;
                 s.bindTexture(unit, textureFor(**tex.value));
                 program->set(name, int(unit++));
             }
@@ -597,6 +665,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         stats_.triangles += g.triangleCount();
     }
     glBindVertexArray(0);
+    if (depthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     s.log.item = nullptr;
     s.log.program = nullptr;
 }

@@ -117,6 +117,10 @@ const BaseShader& ShaderComposer::blinnPhong() {
     return base;
 }
 
+std::string_view ShaderComposer::fullscreenVertex() {
+    return shaders::embedded("blit.vert");
+}
+
 ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base,
                                                std::span<const ShaderSnippet* const> snippets,
                                                std::uint32_t features) {
@@ -150,7 +154,10 @@ std::string ShaderComposer::featureDefines(std::uint32_t f) {
         {FeatureSpecular, "SGFX_SPECULAR"},
         {FeatureVertexLighting, "SGFX_VERTEX_LIGHTING"},
         {FeatureWorldPosition, "SGFX_WORLD_POSITION"},
-        {FeaturePointLights, "SGFX_POINT_LIGHTS"}};
+        {FeaturePointLights, "SGFX_POINT_LIGHTS"},
+        {FeatureBlendPremultiplied, "SGFX_BLEND_PREMULTIPLIED"},
+        {FeatureBlendAdditive, "SGFX_BLEND_ADDITIVE"},
+        {FeatureBlendMultiply, "SGFX_BLEND_MULTIPLY"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";
@@ -166,9 +173,24 @@ std::uint32_t ShaderComposer::withWorldPosition(std::uint32_t f, bool hasSnippet
     return f;
 }
 
-std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, bool blended) {
+std::uint32_t ShaderComposer::blendFeatures(bool blended, BlendMode blend) {
+    if (!blended) return 0;
+    switch (blend) {
+    case BlendMode::Premultiplied:
+        return FeatureBlendPremultiplied;
+    case BlendMode::Additive:
+        return FeatureBlendAdditive;
+    case BlendMode::Multiply:
+        return FeatureBlendMultiply;
+    default:
+        return 0;
+    }
+}
+
+std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, bool blended,
+                                          BlendMode blend) {
     // Only what the material reads is interpolated: every varying costs per fragment.
-    std::uint32_t f = 0;
+    std::uint32_t f = blendFeatures(blended, blend);
     if (!g.normals.empty()) f |= FeatureNormals;
     if (!g.colors.empty()) f |= FeatureVertexColor;
     if (blended) f |= FeatureBlend;
@@ -187,7 +209,8 @@ std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, 
 }
 
 ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
-                                               std::span<const ShaderSnippet* const> snippets) {
+                                               std::span<const ShaderSnippet* const> snippets,
+                                               std::uint32_t features) {
     ComposedProgram p;
     p.description = describe(prog.name, snippets);
     // Vertex stage: the application's, untouched (snippets' vertex code does not apply to it).
@@ -214,6 +237,8 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
                           "' declares no `out vec4` colour output for the effects to modify");
     std::string_view body = src;
     std::string out = splitVersion(body, prog.name);
+    out += featureDefines(features & FeatureBlendKindMask);
+    if (features & FeatureBlend) out += "#define SGFX_BLEND\n";
     for (const ShaderSnippet* s : snippets)
         out += s->defines.empty() ? "" : s->defines + "\n";
     p.fragmentSources.push_back(prog.name + ".frag");
@@ -304,7 +329,8 @@ gl::Program& ShaderComposer::program(const ShaderProgram* foreign,
     std::string key =
         "foreign:" + std::to_string(reinterpret_cast<std::uintptr_t>(foreign)) + ":" +
         std::to_string(std::hash<std::string>{}(foreign->vertexSource + foreign->fragmentSource));
-    return cached(std::move(key), snippets, [&] { return composeForeign(*foreign, snippets); });
+    key += ":" + std::to_string(features);
+    return cached(std::move(key), snippets, [&] { return composeForeign(*foreign, snippets, features); });
 }
 
 void ShaderComposer::clear() {

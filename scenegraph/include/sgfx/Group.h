@@ -24,6 +24,7 @@ public:
 
 protected:
     BoundingSphere computeBound() const override;
+    bool computeCullingDisabledBelow() const override;
 
 private:
     void checkAcyclic(const Node& child) const;

@@ -43,10 +43,19 @@ public:
     const BoundingSphere& bound() const;
     void dirtyBound();
 
+    // OSG's cull-active flag: off, view-frustum culling never rejects this node or any of its
+    // ancestors (an effect whose passes cover the whole view, like fog over the sky, must be
+    // planned even when nothing below it is in view). Its children are still culled.
+    void setCullingActive(bool active);
+    bool cullingActive() const { return cullingActive_; }
+    // True when this node or a descendant has culling switched off.
+    bool cullingDisabledInSubtree() const;
+
     const std::vector<Group*>& parents() const { return parents_; }
 
 protected:
     virtual BoundingSphere computeBound() const { return {}; }
+    virtual bool computeCullingDisabledBelow() const { return false; }
 
 private:
     friend class Group;
@@ -54,6 +63,8 @@ private:
     std::vector<Group*> parents_;
     mutable BoundingSphere bound_;
     mutable bool boundDirty_ = true;
+    mutable bool cullingDisabledBelow_ = false; // cached with the bound
+    bool cullingActive_ = true;
 };
 
 using NodePtr = std::shared_ptr<Node>;

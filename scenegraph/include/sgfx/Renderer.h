@@ -36,7 +36,14 @@ struct DrawContext {
     const RenderItem& item;
 };
 
-enum class PassStage : std::uint8_t { Compute, PrePass, Post };
+// When a pass runs: Compute and PrePass before the main pass; AfterOpaque between the opaque and
+// the transparent items (the background is final, nothing blended over it yet); Post at the end.
+enum class PassStage : std::uint8_t { Compute, PrePass, AfterOpaque, Post };
+
+// Texture units 12..15 belong to effects (user textures of a StateSet use 4..11). An effect binds
+// its textures there through Renderer::bindTexture and declares `layout(binding = N)` samplers.
+inline constexpr unsigned kEffectTextureUnit = 12;
+inline constexpr unsigned kEffectTextureUnits = 4;
 
 // Work an effect adds to a frame (pre-passes before the main pass, post-passes after it).
 class RenderPass {
@@ -51,6 +58,9 @@ public:
 class FramePlan {
 public:
     void add(std::shared_ptr<RenderPass> pass);
+    // Whether a pass with this name is already planned: effects whose passes must run once per
+    // view (a shared pre-pass, a full-screen pass) check it, so the outermost node's pass wins.
+    bool has(std::string_view name) const;
     void clear() { passes.clear(); }
     std::vector<std::shared_ptr<RenderPass>> passes;
 };
@@ -108,13 +118,29 @@ public:
 
     // Draws the queue's items with each item's composed program (the main pass), or with
     // `override` for geometry-only passes (depth pre-pass, G-buffer).
-    void drawItems(std::span<const RenderItem> items, gl::Program* override = nullptr);
+    // `depthOnly`: no colour writes, no blending, depth test and write on for every item.
+    void drawItems(std::span<const RenderItem> items, gl::Program* override = nullptr,
+                   bool depthOnly = false);
+    // Draws one full-screen triangle with `program` into whatever framebuffer is bound (vertex
+    // stage: ShaderComposer::fullscreenVertex(), v_uv in [0, 1]); depth test and writes off
+    // unless `depth` says otherwise. No culling.
+    void drawFullscreen(gl::Program& program, const DepthState& depth = {.test = false,
+                                                                         .write = false,
+                                                                         .func = CompareFunc::Always});
+    // Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
+    gl::Program& depthOnlyProgram();
+    // Binds a texture to a unit through the renderer's state cache (effect units: see above).
+    void bindTexture(unsigned unit, unsigned texture);
+    // Sets the blend state through the cache (full-screen passes that blend onto the target).
+    void setBlend(BlendMode mode);
 
     ShaderComposer& composer() { return composer_; }
     const RenderQueue& queue() const { return queue_; }
     const FrameData& frame() const { return frame_; }
     const FrameStats& stats() const { return stats_; }
     gl::RenderTarget& sceneTarget();
+    // The target of the view being drawn (the scene target, or a render-to-texture camera's).
+    gl::RenderTarget& currentTarget();
     GraphicsContext& context() { return context_; }
     Options& options() { return options_; }
 
@@ -125,6 +151,7 @@ private:
     struct Impl;
     void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
     void copyToTexture(const gl::RenderTarget& from, const Texture& to);
+    void runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& target);
     GraphicsContext& context_;
     Options options_;
     std::uint32_t viewFeatures_ = 0; // variant bits that hold for the whole view (lights, depth test)

@@ -1,5 +1,6 @@
 #pragma once
 #include "sgfx/Effect.h"
+#include "sgfx/StateSet.h"
 
 #include <cstdint>
 #include <functional>
@@ -76,6 +77,12 @@ enum MaterialFeature : std::uint32_t {
     FeatureVertexLighting = 1u << 11, // Gouraud: lights summed per vertex (Renderer::Options::lighting)
     FeatureWorldPosition = 1u << 16,  // interpolate the world position (snippets, point lights, ...)
     FeaturePointLights = 1u << 17,    // some light of the view has a position
+    // How the output is blended (with FeatureBlend; none of them = straight alpha), so colour
+    // effects can treat premultiplied, additive and multiplicative output correctly.
+    FeatureBlendPremultiplied = 1u << 18,
+    FeatureBlendAdditive = 1u << 19,
+    FeatureBlendMultiply = 1u << 20,
+    FeatureBlendKindMask = FeatureBlendPremultiplied | FeatureBlendAdditive | FeatureBlendMultiply,
     // Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
@@ -96,16 +103,24 @@ public:
                                           std::uint32_t features = 0);
     static std::string featureDefines(std::uint32_t features);
     // The variant a material needs for a geometry (attributes present, textures, mask, blending).
-    static std::uint32_t featuresFor(const Material* material, const Geometry& geometry, bool blended);
+    static std::uint32_t featuresFor(const Material* material, const Geometry& geometry, bool blended,
+                                     BlendMode blend = BlendMode::Alpha);
+    // The blend-kind bits alone (the only feature bits a foreign shader's wrap uses).
+    static std::uint32_t blendFeatures(bool blended, BlendMode blend);
     // Adds FeatureWorldPosition where the variant or its snippets read the world position.
     static std::uint32_t withWorldPosition(std::uint32_t features, bool hasSnippets);
     static ComposedProgram composeForeign(const ShaderProgram& program,
-                                          std::span<const ShaderSnippet* const> snippets);
+                                          std::span<const ShaderSnippet* const> snippets,
+                                          std::uint32_t features = 0);
     // Rewrites "S:L(C): msg" / "S(L) : msg" driver lines into "name:line: msg".
     static std::string translateLog(std::string_view log, std::span<const std::string> sourceNames);
 
     // The built-in Blinn-Phong material.
     static const BaseShader& blinnPhong();
+    // Vertex stage of full-screen passes (Renderer::drawFullscreen): one triangle from
+    // gl_VertexID, `out vec2 v_uv` in [0, 1]; with SGFX_FULLSCREEN_FAR defined it lies on the far
+    // plane (depth 1), so a depth test EQUAL limits a pass to pixels no geometry covered.
+    static std::string_view fullscreenVertex();
 
     // Compiles on a miss (GL thread). `foreign` null = built-in material.
     gl::Program& program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets,

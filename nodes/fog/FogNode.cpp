@@ -1,0 +1,267 @@
+#include "fog/FogNode.h"
+
+#include "EmbeddedShaders.h"
+
+#include <sgfx/gl/Objects.h>
+
+#include <glad/gl.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace sgfx {
+
+namespace {
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
+[[noreturn]] void refuse(const std::string& what) {
+    throw std::invalid_argument("sgfx: FogParameters: " + what);
+}
+
+void checkRange(const char* name, float v, double lo, double hi) {
+    if (!std::isfinite(v)) refuse(std::string(name) + " is " + number(v) + "; it must be finite");
+    if (v < lo || v > hi)
+        refuse(std::string(name) + " = " + number(v) + " is outside [" + number(lo) + ", " + number(hi) +
+               "]");
+}
+
+std::string text(std::string_view file) {
+    return std::string(nodes::shaders::embedded(file));
+}
+
+const std::string& unitDefine() {
+    static const std::string d = "#define SGFX_FOG_DEPTH_UNIT " + std::to_string(kEffectTextureUnit);
+    return d;
+}
+
+ShaderSnippet snippetOf(std::string name, std::string defines, std::string fragmentDecl,
+                        std::string colorCode = {}) {
+    ShaderSnippet s;
+    s.name = std::move(name);
+    s.defines = std::move(defines);
+    s.fragmentDecl = std::move(fragmentDecl);
+    s.colorCode = std::move(colorCode);
+    return s;
+}
+
+// The full-screen vertex stage with a define after its #version line.
+std::string fullscreenVertexWith(std::string_view define) {
+    std::string v(ShaderComposer::fullscreenVertex());
+    const auto eol = v.find('\n');
+    v.insert(eol + 1, std::string(define) + "\n");
+    return v;
+}
+
+} // namespace
+
+FogParameters FogParameters::solid() {
+    FogParameters p;
+    p.density = 1e-4f;
+    p.falloff = 1e-4f;
+    return p;
+}
+
+FogParameters FogParameters::ground() {
+    FogParameters p;
+    p.density = 1e-3f;
+    p.falloff = 4.5e-3f;
+    return p;
+}
+
+void FogParameters::validate() const {
+    checkRange("density", density, 0.0, 1e6);
+    checkRange("falloff", falloff, 0.0, 1e3);
+    for (int i = 0; i < 3; ++i)
+        checkRange(("color[" + std::to_string(i) + "]").c_str(), color[i], 0.0, 1e6);
+    checkRange("referenceHeight", referenceHeight, -1e10, 1e10);
+    for (int i = 0; i < 3; ++i)
+        checkRange(("up[" + std::to_string(i) + "]").c_str(), up[i], -1e10, 1e10);
+    if (glm::length(up) < 1e-6f) refuse("up has zero length; it must give a direction");
+    checkRange("maxOpacity", maxOpacity, 0.0, 1.0);
+    if (std::uint8_t(response) > std::uint8_t(FogResponse::Exponential))
+        refuse("response has an invalid value " + std::to_string(int(response)));
+    if (std::uint8_t(sky) > std::uint8_t(FogSky::Distance))
+        refuse("sky has an invalid value " + std::to_string(int(sky)));
+    if (!std::isfinite(skyDistance) || skyDistance <= 0.0f || skyDistance > 1e10f)
+        refuse("skyDistance = " + number(skyDistance) + " must be in (0, 1e10] metres");
+}
+
+// Seed §2's T_depth: depth of every item of the view (opaque and transparent), into a texture
+// the materials read at kEffectTextureUnit. One per view, shared by nested split-fog nodes.
+class FogNode::DepthPrePass : public RenderPass {
+public:
+    std::string_view name() const override { return "fog depth pre-pass"; }
+    PassStage stage() const override { return PassStage::PrePass; }
+    void execute(Renderer& r) override {
+        const gl::RenderTarget& view = r.currentTarget();
+        if (!fbo_) fbo_ = gl::createFramebuffer();
+        if (width_ != view.width || height_ != view.height || !depth_) {
+            depth_ = gl::createTexture(GL_TEXTURE_2D);
+            glTextureStorage2D(depth_.get(), 1, GL_DEPTH_COMPONENT32F, view.width, view.height);
+            glTextureParameteri(depth_.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTextureParameteri(depth_.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            glTextureParameteri(depth_.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            glTextureParameteri(depth_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            glNamedFramebufferTexture(fbo_.get(), GL_DEPTH_ATTACHMENT, depth_.get(), 0);
+            glNamedFramebufferDrawBuffer(fbo_.get(), GL_NONE);
+            glNamedFramebufferReadBuffer(fbo_.get(), GL_NONE);
+            width_ = view.width;
+            height_ = view.height;
+            if (glCheckNamedFramebufferStatus(fbo_.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+                throw std::runtime_error("sgfx: fog depth pre-pass: framebuffer incomplete at " +
+                                         std::to_string(width_) + "x" + std::to_string(height_));
+        }
+        r.bindTexture(kEffectTextureUnit, 0); // not sampled while it is being written
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
+        glViewport(0, 0, width_, height_);
+        glDepthMask(GL_TRUE);
+        glClearDepth(1.0);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        gl::Program& depthOnly = r.depthOnlyProgram();
+        r.drawItems(r.queue().opaque, &depthOnly, true);
+        r.drawItems(r.queue().transparent, &depthOnly, true);
+        r.bindTexture(kEffectTextureUnit, depth_.get());
+    }
+
+private:
+    gl::FramebufferObject fbo_;
+    gl::TextureObject depth_;
+    int width_ = 0, height_ = 0;
+};
+
+// Seed §1's post-process (every pixel) or the forward modes' sky (uncovered pixels only).
+class FogNode::FullscreenPass : public RenderPass {
+public:
+    explicit FullscreenPass(bool post)
+        : post_(post) {}
+    std::string_view name() const override { return post_ ? "fog post-process" : "fog sky"; }
+    PassStage stage() const override { return post_ ? PassStage::Post : PassStage::AfterOpaque; }
+    FogParameters parameters;
+
+    void execute(Renderer& r) override {
+        const gl::RenderTarget& view = r.currentTarget();
+        gl::Program& program = r.composer().program(base(), std::array{&decl()}, 0);
+        if (post_) {
+            // Sampling the depth texture while it is attached to the draw framebuffer is a
+            // feedback loop: draw into a framebuffer that has the colour texture alone.
+            if (!fbo_) fbo_ = gl::createFramebuffer();
+            glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, view.color.get(), 0);
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
+            r.bindTexture(kEffectTextureUnit, view.depth.get());
+        } else {
+            glBindFramebuffer(GL_FRAMEBUFFER, view.fbo.get());
+        }
+        glViewport(0, 0, view.width, view.height);
+        glEnable(GL_FRAMEBUFFER_SRGB);
+        r.setBlend(BlendMode::Alpha);
+        glUseProgram(program.get());
+        setUniforms(program, parameters);
+        r.drawFullscreen(program, post_
+                                      ? DepthState{.test = false, .write = false, .func = CompareFunc::Always}
+                                      : DepthState{.test = true, .write = false, .func = CompareFunc::Equal});
+        if (post_) r.bindTexture(kEffectTextureUnit, 0);
+    }
+
+private:
+    const BaseShader& base() const {
+        static const BaseShader sky{"fog_sky", "blit.vert",
+                                    fullscreenVertexWith("#define SGFX_FULLSCREEN_FAR"),
+                                    "fog_fullscreen.frag", text("fog_fullscreen.frag")};
+        static const BaseShader post{"fog_post", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
+                                     "fog_fullscreen.frag", text("fog_fullscreen.frag")};
+        return post_ ? post : sky;
+    }
+    const ShaderSnippet& decl() const {
+        static const ShaderSnippet sky =
+            snippetOf("fog_fullscreen", unitDefine(), text("fog_optical_depth.glsl"));
+        static const ShaderSnippet post = snippetOf(
+            "fog_fullscreen_post", unitDefine() + "\n#define SGFX_FOG_POST", text("fog_optical_depth.glsl"));
+        return post_ ? post : sky;
+    }
+    bool post_;
+    gl::FramebufferObject fbo_;
+};
+
+std::shared_ptr<FogNode> FogNode::create(const FogParameters& parameters, FogMode mode) {
+    auto n = std::make_shared<FogNode>();
+    n->setParameters(parameters);
+    n->setMode(mode);
+    return n;
+}
+
+FogNode::FogNode()
+    : depthPass_(std::make_shared<DepthPrePass>())
+    , skyPass_(std::make_shared<FullscreenPass>(false))
+    , postPass_(std::make_shared<FullscreenPass>(true)) {
+    // Fog covers the sky too: it must be planned when nothing under it is in view.
+    setCullingActive(false);
+}
+
+FogNode::~FogNode() = default;
+
+void FogNode::setParameters(const FogParameters& p) {
+    p.validate();
+    parameters_ = p;
+    parameters_.up = glm::normalize(p.up);
+}
+
+void FogNode::setMode(FogMode m) {
+    if (std::uint8_t(m) > std::uint8_t(FogMode::PostProcess))
+        throw std::invalid_argument("sgfx: FogNode::setMode: invalid mode value " + std::to_string(int(m)));
+    mode_ = m;
+}
+
+const ShaderSnippet& FogNode::snippet() const {
+    static const ShaderSnippet forward =
+        snippetOf("fog", "", text("fog_optical_depth.glsl"), text("fog_forward.glsl"));
+    static const ShaderSnippet split =
+        snippetOf("fog_split", unitDefine(), text("fog_optical_depth.glsl") + text("fog_split_decl.glsl"),
+                  text("fog_split.glsl"));
+    static const ShaderSnippet post = snippetOf("fog_post", "", ""); // the pass does it all
+    switch (mode_) {
+    case FogMode::ForwardSplit:
+        return split;
+    case FogMode::PostProcess:
+        return post;
+    case FogMode::Forward:
+        break;
+    }
+    return forward;
+}
+
+void FogNode::planFrame(FramePlan& plan) const {
+    // Cull visits outer nodes first: the outermost fog owns the view-wide passes.
+    if (mode_ == FogMode::PostProcess) {
+        if (plan.has(postPass_->name())) return;
+        postPass_->parameters = parameters_;
+        plan.add(postPass_);
+        return;
+    }
+    if (mode_ == FogMode::ForwardSplit && !plan.has(depthPass_->name())) plan.add(depthPass_);
+    if (parameters_.sky != FogSky::Off && !plan.has(skyPass_->name())) {
+        skyPass_->parameters = parameters_;
+        plan.add(skyPass_);
+    }
+}
+
+void FogNode::applyUniforms(gl::Program& program, const DrawContext&) const {
+    if (mode_ != FogMode::PostProcess) setUniforms(program, parameters_);
+}
+
+void FogNode::setUniforms(gl::Program& program, const FogParameters& p) {
+    program.set("sgfx_fogDensity", p.density);
+    program.set("sgfx_fogFalloff", p.falloff);
+    program.set("sgfx_fogColor", p.color);
+    program.set("sgfx_fogPlane", glm::vec4(p.up, p.referenceHeight));
+    const float sky = p.sky == FogSky::Off ? 0.0f : p.sky == FogSky::FarPlane ? -1.0f : p.skyDistance;
+    program.set("sgfx_fogShape",
+                glm::vec4(p.response == FogResponse::Exponential ? 1.0f : 0.0f, p.maxOpacity, sky, 0.0f));
+}
+
+} // namespace sgfx

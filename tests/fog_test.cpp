@@ -1,0 +1,468 @@
+// FogNode rendered on OSMesa (≤ 128×128) against the closed form: every pixel of a large plane,
+// sky pixels, fog through glass composited physically, foreign shaders, nesting, bad input.
+#include "TestUtil.h"
+
+#include <fog/FogMath.h>
+#include <fog/FogNode.h>
+#include <sgfx/Geometry.h>
+#include <sgfx/Group.h>
+#include <sgfx/ShaderComposer.h>
+#include <sgfx/Shapes.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+using namespace sgfx;
+using namespace sgfx::test;
+
+namespace {
+
+constexpr int kSize = 96;
+
+std::shared_ptr<Material> flat(glm::vec3 c, float alpha = 1.0f) {
+    auto m = Material::create();
+    m->ambient = glm::vec3(0);
+    m->diffuse = glm::vec4(0, 0, 0, alpha);
+    m->emissive = c;
+    return m;
+}
+
+// A quad placed by `m` with an emissive colour (exact: no lights in these scenes).
+std::shared_ptr<Node> panel(float w, float h, const glm::mat4& m, std::shared_ptr<Material> mat) {
+    auto t = Transform::create(m);
+    auto q = shapes::quad(w, h);
+    q->getOrCreateStateSet().material.set(std::move(mat));
+    t->addChild(q);
+    return t;
+}
+
+// Vertical panel at distance y facing the camera (−Y), centred at height z.
+glm::mat4 facingCamera(float y, float z) {
+    return glm::rotate(glm::translate(glm::mat4(1.0f), {0, y, z}), glm::radians(90.0f), glm::vec3(1, 0, 0));
+}
+
+std::unique_ptr<Viewer> perspectiveViewer(glm::vec3 eye, glm::vec3 at, float nearPlane = 0.5f,
+                                          float farPlane = 2000.0f) {
+    auto v = Viewer::createHeadless(kSize, kSize);
+    auto& cam = *v->camera();
+    cam.setPerspective(60.0f, nearPlane, farPlane);
+    cam.setLookAt(eye, at, {0, 0, 1});
+    cam.computeNearFar = false;
+    cam.clearColor = {0.05f, 0.1f, 0.3f, 1.0f};
+    return v;
+}
+
+// World ray through the centre of pixel (x, y) of the image (top row first).
+struct Ray {
+    glm::dvec3 origin, dir;
+};
+Ray rayThrough(const Camera& cam, double x, double y) {
+    const glm::dmat4 inv = glm::inverse(glm::dmat4(cam.projectionMatrix) * glm::dmat4(cam.viewMatrix));
+    const double nx = x / kSize * 2 - 1, ny = 1 - y / kSize * 2;
+    glm::dvec4 a = inv * glm::dvec4(nx, ny, -1, 1), b = inv * glm::dvec4(nx, ny, 1, 1);
+    a /= a.w;
+    b /= b.w;
+    const glm::dvec3 eye = glm::inverse(glm::dmat4(cam.viewMatrix))[3];
+    return {eye, glm::normalize(glm::dvec3(b) - glm::dvec3(a))};
+}
+
+double kOf(const FogParameters& p, glm::dvec3 a, glm::dvec3 b) {
+    const glm::dvec3 up = glm::normalize(glm::dvec3(p.up));
+    const double F = fog::opticalDepth<double>(p.density, p.falloff, glm::dot(a, up) - p.referenceHeight,
+                                               glm::dot(b, up) - p.referenceHeight, glm::length(b - a));
+    return fog::amount<double>(
+        F, p.response == FogResponse::Linear ? fog::Response::Linear : fog::Response::Exponential,
+        p.maxOpacity);
+}
+
+glm::dvec3 mixd(glm::dvec3 a, glm::dvec3 b, double k) {
+    return a * (1 - k) + b * k;
+}
+
+int channelError(const Image& img, int x, int y, glm::dvec3 linear) {
+    const glm::ivec4 p = pixelAt(img, x, y);
+    int e = 0;
+    for (int c = 0; c < 3; ++c)
+        e = std::max(e, std::abs(p[c] - srgbByte(linear[c])));
+    return e;
+}
+
+void expectNoGlErrors(Viewer& v) {
+    for (const auto& e : v.renderer().takeGlErrors())
+        ADD_FAILURE() << "GL: " << e;
+}
+
+FogParameters testFog(FogResponse r) {
+    FogParameters p;
+    p.density = 0.02f;
+    p.falloff = 0.08f;
+    p.color = {0.8f, 0.8f, 0.9f};
+    p.response = r;
+    p.sky = FogSky::Distance;
+    p.skyDistance = 500.0f;
+    return p;
+}
+
+const char* modeName(FogMode m) {
+    return m == FogMode::Forward ? "Forward" : m == FogMode::ForwardSplit ? "ForwardSplit" : "PostProcess";
+}
+
+} // namespace
+
+// A 400 m × 400 m ground plane seen from 8 m: every pixel that sees the plane equals
+// mix(surface, fog, k(O, P)) and every sky pixel mix(clear, fog, k(O, O + D·skyDistance)).
+class FogPlane : public ::testing::TestWithParam<std::tuple<FogMode, FogResponse>> {};
+
+TEST_P(FogPlane, EveryPixelMatchesTheClosedForm) {
+    const auto [mode, response] = GetParam();
+    auto v = perspectiveViewer({0, 0, 8}, {0, 60, 0});
+    const FogParameters params = testFog(response);
+    auto fogNode = FogNode::create(params, mode);
+    const glm::vec3 surface(0.2f, 0.5f, 0.1f);
+    const double half = 200.0, cy = 190.0;
+    fogNode->addChild(panel(float(2 * half), float(2 * half),
+                            glm::translate(glm::mat4(1.0f), {0, float(cy), 0}), flat(surface)));
+    auto root = Group::create();
+    root->addChild(fogNode);
+    v->setSceneData(root);
+    v->frame();
+    expectNoGlErrors(*v);
+    const Image img = v->capture();
+    const Camera& cam = *v->camera();
+    const glm::dvec3 clear(cam.clearColor);
+
+    auto hit = [&](double x, double y, glm::dvec3& p) {
+        const Ray r = rayThrough(cam, x, y);
+        if (r.dir.z >= 0) return false;
+        p = r.origin + r.dir * (-r.origin.z / r.dir.z);
+        return std::abs(p.x) < half && std::abs(p.y - cy) < half;
+    };
+    int plane = 0, sky = 0, worst = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            glm::dvec3 p, q;
+            int corners = 0;
+            for (int c = 0; c < 4; ++c)
+                corners += hit(x + (c & 1), y + (c >> 1), q);
+            glm::dvec3 expected;
+            const Ray r = rayThrough(cam, x + 0.5, y + 0.5);
+            if (corners == 4 && hit(x + 0.5, y + 0.5, p)) {
+                expected = mixd(glm::dvec3(surface), glm::dvec3(params.color), kOf(params, r.origin, p));
+                ++plane;
+            } else if (corners == 0) {
+                expected = mixd(clear, glm::dvec3(params.color),
+                                kOf(params, r.origin, r.origin + r.dir * double(params.skyDistance)));
+                ++sky;
+            } else {
+                continue; // an edge pixel: partial coverage
+            }
+            const int e = channelError(img, x, y, expected);
+            worst = std::max(worst, e);
+            EXPECT_LE(e, 2) << modeName(mode) << " pixel (" << x << "," << y << ")";
+        }
+    EXPECT_GT(plane, kSize * kSize / 3);
+    EXPECT_GT(sky, kSize * kSize / 8);
+    std::printf("%s/%s: %d plane and %d sky pixels, worst error %d/255\n", modeName(mode),
+                response == FogResponse::Linear ? "Linear" : "Exponential", plane, sky, worst);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllModes, FogPlane,
+    ::testing::Combine(::testing::Values(FogMode::Forward, FogMode::ForwardSplit, FogMode::PostProcess),
+                       ::testing::Values(FogResponse::Linear, FogResponse::Exponential)));
+
+// An opaque wall behind a pane of glass, looking horizontally through the centre pixel.
+struct GlassResult {
+    glm::ivec4 glass, noGlass;
+    double kn, kf; // fog amounts on [O, Pn] and [Pn, P]
+};
+
+GlassResult renderGlass(FogMode mode, float alpha, float glassDist, float wallDist) {
+    const glm::vec3 wall(0.9f, 0.3f, 0.1f), pane(0.1f, 0.6f, 0.3f);
+    FogParameters params = testFog(FogResponse::Exponential);
+    params.density = 0.01f;
+    params.falloff = 0.02f;
+    GlassResult out{};
+    for (bool withGlass : {true, false}) {
+        auto v = perspectiveViewer({0, 0, 3}, {0, 10, 3});
+        auto fogNode = FogNode::create(params, mode);
+        fogNode->addChild(panel(400, 400, facingCamera(wallDist, 3), flat(wall)));
+        if (withGlass) {
+            auto g = panel(20, 20, facingCamera(glassDist, 3), flat(pane, alpha));
+            auto& ss = g->getOrCreateStateSet();
+            ss.blend.set(BlendMode::Alpha);
+            ss.cullFace.set(CullFace::None);
+            // The seed's figure 2 setup: the glass is in the depth buffer.
+            ss.depth.set(DepthState{.test = true, .write = true, .func = CompareFunc::Less});
+            fogNode->addChild(g);
+        }
+        v->setSceneData(fogNode);
+        v->frame();
+        expectNoGlErrors(*v);
+        const Image img = v->capture();
+        (withGlass ? out.glass : out.noGlass) = pixelAt(img, kSize / 2, kSize / 2);
+        const Ray r = rayThrough(*v->camera(), kSize / 2 + 0.5, kSize / 2 + 0.5);
+        const glm::dvec3 pn = r.origin + r.dir * (glassDist / r.dir.y);
+        const glm::dvec3 p = r.origin + r.dir * (wallDist / r.dir.y);
+        out.kn = kOf(params, r.origin, pn);
+        out.kf = kOf(params, pn, p);
+    }
+    return out;
+}
+
+TEST(FogGlass, ForwardExponentialMatchesPhysicalCompositing) {
+    const glm::dvec3 cb(0.9, 0.3, 0.1), cg(0.1, 0.6, 0.3), cf(0.8, 0.8, 0.9);
+    for (auto [gd, wd] : {std::pair{5.0f, 30.0f}, std::pair{20.0f, 80.0f}, std::pair{2.0f, 150.0f}})
+        for (float a : {0.0f, 0.3f, 1.0f}) {
+            const GlassResult r = renderGlass(FogMode::Forward, a, gd, wd);
+            const glm::dvec3 physical =
+                (1 - r.kn) * (double(a) * cg + (1 - double(a)) * mixd(cb, cf, r.kf)) + r.kn * cf;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(r.glass[c], srgbByte(physical[c]), 2) << "alpha " << a << " glass at " << gd;
+            if (a == 0.0f) {
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(r.glass[c], r.noGlass[c], 1) << "clear glass must not change the pixel";
+            }
+        }
+}
+
+TEST(FogGlass, PaperModesAreCharacterised) {
+    const glm::dvec3 cb(0.9, 0.3, 0.1), cg(0.1, 0.6, 0.3), cf(0.8, 0.8, 0.9);
+    for (auto [gd, wd] : {std::pair{5.0f, 30.0f}, std::pair{20.0f, 80.0f}})
+        for (float a : {0.0f, 0.3f, 1.0f}) {
+            const double al = a;
+            // ForwardSplit (seed §2): glass fogged on [O, Pn], the wall behind it on [Pn, P] only.
+            const GlassResult s = renderGlass(FogMode::ForwardSplit, a, gd, wd);
+            const glm::dvec3 split = al * mixd(cg, cf, s.kn) + (1 - al) * mixd(cb, cf, s.kf);
+            const glm::dvec3 physical = (1 - s.kn) * (al * cg + (1 - al) * mixd(cb, cf, s.kf)) + s.kn * cf;
+            // PostProcess (seed §1): one k from the glass depth over the composited pixel.
+            const GlassResult p = renderGlass(FogMode::PostProcess, a, gd, wd);
+            const glm::dvec3 post = mixd(al * cg + (1 - al) * cb, cf, p.kn);
+            double splitErr = 0, postErr = 0;
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(s.glass[c], srgbByte(split[c]), 2) << "ForwardSplit alpha " << a;
+                EXPECT_NEAR(p.glass[c], srgbByte(post[c]), 2) << "PostProcess alpha " << a;
+                splitErr = std::max(splitErr, std::abs(double(s.glass[c] - srgbByte(physical[c]))));
+                postErr = std::max(postErr, std::abs(double(p.glass[c] - srgbByte(physical[c]))));
+            }
+            std::printf("glass %.0f m, wall %.0f m, alpha %.1f: error vs physical ForwardSplit %.0f/255, "
+                        "PostProcess %.0f/255\n",
+                        double(gd), double(wd), al, splitErr, postErr);
+            if (a < 1.0f) {
+                // Both lose fog behind the glass: the wall seen through it is too clear.
+                EXPECT_GT(splitErr, 2.0);
+                EXPECT_GT(postErr, 2.0);
+            }
+        }
+}
+
+// Seed §2 with ε tied to depth precision: a wall 3 km away (near plane 0.5 m) is foreground
+// everywhere, so ForwardSplit equals Forward. A fixed small ε would send pixels to the
+// background branch and leave them unfogged.
+TEST(FogSplit, EpsilonScalesWithDistance) {
+    Image images[2];
+    for (int i = 0; i < 2; ++i) {
+        auto v = perspectiveViewer({0, 0, 30}, {0, 100, 30}, 0.5f, 20000.0f);
+        FogParameters p = FogParameters::solid();
+        p.sky = FogSky::Off;
+        auto fogNode = FogNode::create(p, i ? FogMode::ForwardSplit : FogMode::Forward);
+        auto ground = shapes::heightfield(-4000, 0, 8000, 6000, 64, 64, [](float x, float y) {
+            return 20.0f * std::sin(x * 0.01f) + y * 0.01f;
+        });
+        ground->getOrCreateStateSet().material.set(flat({0.3f, 0.35f, 0.2f}));
+        ground->getOrCreateStateSet().cullFace.set(CullFace::None);
+        fogNode->addChild(ground);
+        fogNode->addChild(panel(6000, 600, facingCamera(3000, 300), flat({0.5f, 0.5f, 0.5f})));
+        v->setSceneData(fogNode);
+        v->frame();
+        expectNoGlErrors(*v);
+        images[i] = v->capture();
+    }
+    int differing = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+            for (int c = 0; c < 3; ++c)
+                differing += std::abs(pixelAt(images[0], x, y)[c] - pixelAt(images[1], x, y)[c]) > 1;
+    EXPECT_EQ(differing, 0);
+}
+
+namespace {
+const char* kAppVert = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 sgfx_model;
+layout(std140, binding = 0) uniform SgfxFrame {
+    mat4 sgfx_view; mat4 sgfx_projection; mat4 sgfx_viewProjection; mat4 sgfx_invViewProjection;
+    vec4 sgfx_eye; vec4 sgfx_viewport; vec4 sgfx_ambientLight; vec4 sgfx_time; ivec4 sgfx_lightCount;
+    vec4 sgfx_lightVector[8]; vec4 sgfx_lightColor[8];
+};
+void main() { gl_Position = sgfx_viewProjection * sgfx_model * vec4(a_position, 1.0); }
+)";
+const char* kAppFrag = R"(#version 450 core
+uniform vec3 appColor;
+layout(location = 0) out vec4 fragOut;
+void main() { fragOut = vec4(appColor, 1.0); }
+)";
+} // namespace
+
+TEST(FogForeign, ApplicationShaderGetsTheSameFogAsTheBuiltInMaterial) {
+    const glm::vec3 surface(0.2f, 0.5f, 0.1f);
+    for (FogMode mode : {FogMode::Forward, FogMode::ForwardSplit, FogMode::PostProcess}) {
+        Image images[2];
+        for (int foreign = 0; foreign < 2; ++foreign) {
+            auto v = perspectiveViewer({0, 0, 8}, {0, 60, 0});
+            auto fogNode = FogNode::create(testFog(FogResponse::Exponential), mode);
+            auto q = shapes::quad(400, 400);
+            auto& ss = q->getOrCreateStateSet();
+            if (foreign) {
+                ss.program.set(ShaderProgram::create("app", kAppVert, kAppFrag));
+                ss.setUniform("appColor", surface);
+            } else {
+                ss.material.set(flat(surface));
+            }
+            auto t = Transform::create(glm::translate(glm::mat4(1.0f), {0, 190, 0}));
+            t->addChild(q);
+            fogNode->addChild(t);
+            v->setSceneData(fogNode);
+            v->frame();
+            expectNoGlErrors(*v);
+            images[foreign] = v->capture();
+        }
+        int worst = 0;
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x)
+                for (int c = 0; c < 3; ++c)
+                    worst =
+                        std::max(worst, std::abs(pixelAt(images[0], x, y)[c] - pixelAt(images[1], x, y)[c]));
+        EXPECT_LE(worst, 1) << modeName(mode);
+    }
+}
+
+TEST(FogScope, OnlyTheSubtreeIsFoggedAndTheInnerNodeWins) {
+    auto v = orthoTopViewer(64, 2.0f);
+    FogParameters outerP = testFog(FogResponse::Exponential), innerP = outerP;
+    outerP.sky = innerP.sky = FogSky::Off;
+    outerP.density = 0.05f;
+    outerP.falloff = 0.0f;
+    innerP.density = 0.2f;
+    innerP.falloff = 0.0f;
+    innerP.color = {0.9f, 0.2f, 0.2f};
+    auto outer = FogNode::create(outerP);
+    auto inner = FogNode::create(innerP);
+    const glm::vec3 c(0.1f, 0.4f, 0.2f);
+    auto at = [](float x, float y) { return glm::translate(glm::mat4(1.0f), {x, y, 0}); };
+    outer->addChild(panel(1, 1, at(-1, 1), flat(c)));
+    inner->addChild(panel(1, 1, at(1, 1), flat(c)));
+    outer->addChild(inner);
+    auto root = Group::create();
+    root->addChild(outer);
+    root->addChild(panel(1, 1, at(0, -1), flat(c)));
+    v->setSceneData(root);
+    v->frame();
+    expectNoGlErrors(*v);
+    const Image img = v->capture();
+    const glm::dvec3 eye(0, 0, 10);
+    auto pixelOf = [](double wx, double wy) {
+        return glm::ivec2(int((wx + 2) / 4 * 64), int((2 - wy) / 4 * 64));
+    };
+    struct Probe {
+        double x, y;
+        const FogParameters* fog;
+    } probes[] = {{-1, 1, &outerP}, {1, 1, &innerP}, {0, -1, nullptr}};
+    for (const Probe& p : probes) {
+        const glm::ivec2 px = pixelOf(p.x, p.y);
+        const glm::dvec3 world(-2 + (px.x + 0.5) / 16.0, 2 - (px.y + 0.5) / 16.0, 0);
+        const glm::dvec3 expected =
+            p.fog ? mixd(glm::dvec3(c), glm::dvec3(p.fog->color), kOf(*p.fog, eye, world)) : glm::dvec3(c);
+        EXPECT_LE(channelError(img, px.x, px.y, expected), 2) << "probe at " << p.x << "," << p.y;
+    }
+}
+
+TEST(FogSky, OffLeavesTheClearColourAndFarPlaneFogsToTheFarPlane) {
+    for (FogSky sky : {FogSky::Off, FogSky::FarPlane}) {
+        auto v = perspectiveViewer({0, 0, 8}, {0, 60, 20}, 0.5f, 300.0f);
+        FogParameters p = testFog(FogResponse::Exponential);
+        p.sky = sky;
+        auto fogNode = FogNode::create(p);
+        fogNode->addChild(panel(1, 1, glm::translate(glm::mat4(1.0f), {0, 5, 0}), flat({1, 1, 1})));
+        v->setSceneData(fogNode);
+        v->frame();
+        expectNoGlErrors(*v);
+        const Image img = v->capture();
+        const Camera& cam = *v->camera();
+        for (auto [x, y] : {std::pair{5, 5}, std::pair{kSize / 2, 10}, std::pair{kSize - 3, kSize / 3}}) {
+            const Ray r = rayThrough(cam, x + 0.5, y + 0.5);
+            // Where the ray meets the far plane (view-space depth = far).
+            const glm::dvec3 fwd = -glm::dvec3(glm::transpose(glm::dmat3(cam.viewMatrix))[2]);
+            const glm::dvec3 farPoint = r.origin + r.dir * (300.0 / glm::dot(r.dir, fwd));
+            const double k = sky == FogSky::Off ? 0.0 : kOf(p, r.origin, farPoint);
+            EXPECT_LE(channelError(img, x, y, mixd(glm::dvec3(cam.clearColor), glm::dvec3(p.color), k)), 2)
+                << (sky == FogSky::Off ? "Off" : "FarPlane") << " pixel " << x << "," << y << " k " << k
+                << " got " << pixelAt(img, x, y)[0] << "," << pixelAt(img, x, y)[1] << ","
+                << pixelAt(img, x, y)[2];
+        }
+    }
+}
+
+TEST(FogNodeApi, BadParametersAreRefusedAndThePreviousOnesStay) {
+    auto node = FogNode::create(FogParameters::ground());
+    const float nan = std::nanf("");
+    const float inf = std::numeric_limits<float>::infinity();
+    auto with = [](auto edit) {
+        FogParameters p;
+        edit(p);
+        return p;
+    };
+    const FogParameters bad[] = {
+        with([](FogParameters& p) { p.density = -1e-4f; }),
+        with([&](FogParameters& p) { p.density = nan; }),
+        with([&](FogParameters& p) { p.density = inf; }),
+        with([](FogParameters& p) { p.falloff = -1.0f; }),
+        with([&](FogParameters& p) { p.falloff = nan; }),
+        with([&](FogParameters& p) { p.color.g = nan; }),
+        with([](FogParameters& p) { p.color.b = -0.5f; }),
+        with([&](FogParameters& p) { p.referenceHeight = inf; }),
+        with([](FogParameters& p) { p.up = glm::vec3(0.0f); }),
+        with([&](FogParameters& p) { p.up.x = nan; }),
+        with([](FogParameters& p) { p.maxOpacity = 1.5f; }),
+        with([](FogParameters& p) { p.skyDistance = 0.0f; }),
+        with([](FogParameters& p) { p.response = FogResponse(7); }),
+        with([](FogParameters& p) { p.sky = FogSky(9); }),
+    };
+    for (const FogParameters& p : bad) {
+        try {
+            node->setParameters(p);
+            ADD_FAILURE() << "accepted bad fog parameters";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_EQ(std::string(e.what()).rfind("sgfx: FogParameters: ", 0), 0u) << e.what();
+        }
+        EXPECT_EQ(node->parameters().density, 1e-3f);
+        EXPECT_EQ(node->parameters().falloff, 4.5e-3f);
+    }
+    EXPECT_THROW(node->setMode(FogMode(3)), std::invalid_argument);
+    EXPECT_EQ(node->mode(), FogMode::Forward);
+    EXPECT_NO_THROW(node->setParameters(with([](FogParameters& p) { p.up = {0, 2, 0}; })));
+    EXPECT_FLOAT_EQ(node->parameters().up.y, 1.0f); // normalised
+}
+
+TEST(FogNodeApi, ModesSwitchAtRunTimeWithoutErrors) {
+    auto v = perspectiveViewer({0, 0, 8}, {0, 60, 0});
+    auto fogNode = FogNode::create(testFog(FogResponse::Exponential));
+    fogNode->addChild(
+        panel(400, 400, glm::translate(glm::mat4(1.0f), {0, 190, 0}), flat({0.2f, 0.5f, 0.1f})));
+    v->setSceneData(fogNode);
+    Image first;
+    for (int i = 0; i < 7; ++i) {
+        fogNode->setMode(FogMode(i % 3));
+        v->frame();
+        expectNoGlErrors(*v);
+        if (i == 0) first = v->capture();
+    }
+    fogNode->setMode(FogMode::Forward);
+    v->frame();
+    EXPECT_EQ(v->capture().pixels, first.pixels);
+    fogNode->enabled = false;
+    v->frame();
+    EXPECT_NE(v->capture().pixels, first.pixels);
+}
