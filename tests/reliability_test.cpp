@@ -6,6 +6,7 @@
 #include <PolygonScene.h>
 #include <ProcessMemory.h>
 #include <debugtint/DebugTintNode.h>
+#include <fog/FogNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/ObjWriter.h>
@@ -120,15 +121,19 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
         rtt->setPerspective(40, 1, 500);
         rtt->renderTarget = Texture::create(nullptr);
         rtt->addChild(scene.vehicle);
+        auto fogNode = FogNode::create(FogParameters::ground());
+        fogNode->addChild(scene.root);
         auto root = Group::create();
-        root->addChild(scene.root);
+        root->addChild(fogNode);
         root->addChild(tint);
         root->addChild(rtt);
         auto v = Viewer::createHeadless(96, 64);
         v->camera()->setLookAt({40, -60, 25}, {0, 0, 2});
         v->setSceneData(root);
-        v->frame();
-        v->frame();
+        for (FogMode mode : {FogMode::ForwardSplit, FogMode::PostProcess, FogMode::Forward}) {
+            fogNode->setMode(mode); // each mode's passes make their targets
+            v->frame();
+        }
         EXPECT_TRUE(glErrors(*v).empty());
         EXPECT_GT(gl::liveObjects().total(), 50);
     }
@@ -150,6 +155,14 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             root->addChild(tint);
             v->frame();
             root->removeChild(tint.get());
+        } else if (kind == 2) {
+            // Fog in a mode that changes each cycle: pre-pass, sky and post-process targets.
+            static int n = 0;
+            auto fogNode = FogNode::create(FogParameters::ground(), FogMode(n++ % 3));
+            fogNode->addChild(flatQuad(1, {1, 1, 1}, {0, 0, 0.5f}));
+            root->addChild(fogNode);
+            v->frame();
+            root->removeChild(fogNode.get());
         } else {
             auto rtt = Camera::create();
             rtt->setViewport(0, 0, 8, 8);
@@ -163,7 +176,8 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             v->frame(); // the renderer drops the dead camera's target
         }
     };
-    for (int kind = 0; kind < 2; ++kind) {
+    const char* names[] = {"tint", "rtt", "fog"};
+    for (int kind = 0; kind < 3; ++kind) {
         // Warm-up: program variants, and llvmpipe pools that level off after ~1000 frames.
         for (int i = 0; i < 1000; ++i)
             cycle(kind);
@@ -174,8 +188,8 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             cycle(kind);
         v->frame(); // the last cycle's dead camera target goes at the next frame
         const long growth = sgfxdemo::residentKb() - rss0;
-        RecordProperty(kind == 0 ? "tint_rss_growth_kb" : "rtt_rss_growth_kb", int(growth));
-        std::printf("effect kind %d: 1000 cycles, RSS growth %ld kB\n", kind, growth);
+        RecordProperty(std::string(names[kind]) + "_rss_growth_kb", int(growth));
+        std::printf("effect %s: 1000 cycles, RSS growth %ld kB\n", names[kind], growth);
 #ifndef __SANITIZE_ADDRESS__
         EXPECT_LT(growth, 4096) << "RSS grew by " << growth << " kB over 1000 cycles";
 #else
@@ -194,7 +208,10 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     auto v = orthoTopViewer(32, 2.0f);
     auto tint = DebugTintNode::create({0, 0, 1, 0.25f});
     tint->addChild(flatQuad(2.0f, {1.0f, 0.5f, 0.0f}));
-    auto root = Group::create();
+    // Fog of zero density: every pass of every mode runs and resizes, and the image stays exact.
+    FogParameters clearAir;
+    clearAir.density = 0.0f;
+    auto root = FogNode::create(clearAir);
     root->addChild(tint);
     root->addChild(flatQuad(4.0f, {0.0f, 0.3f, 0.0f}, {0, 0, -0.5f}));
     v->setSceneData(root);
@@ -208,7 +225,9 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     while (sizes.size() < 200)
         sizes.emplace_back(side(rng), side(rng));
     sizes.emplace_back(64, 48);
+    int sizeIndex = 0;
     for (const auto& [w, h] : sizes) {
+        root->setMode(FogMode(sizeIndex++ % 3));
         v->camera()->setViewport(0, 0, w, h);
         ASSERT_NO_THROW(v->frame()) << w << "x" << h;
         const auto errors = glErrors(*v);
@@ -368,6 +387,70 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          (void)DebugTintNode::create({kNaN, 0, 0, 0});
                      },
                      "not finite"});
+
+    // FogNode
+    auto fogNode = FogNode::create(FogParameters::ground(), FogMode::ForwardSplit);
+    auto fogSame = [=] {
+        return fogNode->parameters().density == 1e-3f && fogNode->parameters().falloff == 4.5e-3f &&
+               fogNode->mode() == FogMode::ForwardSplit;
+    };
+    auto fogCase = [&](std::string label, std::function<void(FogParameters&)> edit, std::string expect) {
+        cases.push_back({"FogNode", std::move(label),
+                         [=] {
+                             FogParameters p = FogParameters::ground();
+                             edit(p);
+                             fogNode->setParameters(p);
+                         },
+                         std::move(expect), fogSame});
+    };
+    for (int i = 0; i < 6; ++i) {
+        const float bad = badFloats[i];
+        const bool finite = std::isfinite(bad);
+        if (badNames[i] != "zero") {
+            if (bad < 0.0f || !finite || bad > 1e6f)
+                fogCase(
+                    "density " + badNames[i], [=](FogParameters& p) { p.density = bad; },
+                    finite ? "outside" : "finite");
+            fogCase(
+                "skyDistance " + badNames[i], [=](FogParameters& p) { p.skyDistance = bad; }, "skyDistance");
+        } else {
+            fogCase(
+                "up zero", [](FogParameters& p) { p.up = glm::vec3(0.0f); }, "zero length");
+            fogCase(
+                "skyDistance zero", [](FogParameters& p) { p.skyDistance = 0.0f; }, "skyDistance");
+        }
+        if (bad < 0.0f || !finite || bad > 1e3f)
+            fogCase(
+                "falloff " + badNames[i], [=](FogParameters& p) { p.falloff = bad; },
+                finite ? "outside" : "finite");
+        if (bad < 0.0f || !finite || bad > 1e6f)
+            for (int c = 0; c < 3; ++c)
+                fogCase(
+                    "color[" + std::to_string(c) + "] " + badNames[i],
+                    [=](FogParameters& p) { p.color[c] = bad; }, "color[" + std::to_string(c) + "]");
+        if (!finite) {
+            fogCase(
+                "referenceHeight " + badNames[i], [=](FogParameters& p) { p.referenceHeight = bad; },
+                "referenceHeight");
+            fogCase(
+                "up.y " + badNames[i], [=](FogParameters& p) { p.up.y = bad; }, "up[1]");
+        }
+        if (bad < 0.0f || !finite || bad > 1.0f)
+            fogCase(
+                "maxOpacity " + badNames[i], [=](FogParameters& p) { p.maxOpacity = bad; }, "maxOpacity");
+    }
+    fogCase(
+        "response 7", [](FogParameters& p) { p.response = FogResponse(7); }, "response");
+    fogCase(
+        "sky 9", [](FogParameters& p) { p.sky = FogSky(9); }, "sky has an invalid");
+    cases.push_back({"FogNode", "setMode 3", [=] { fogNode->setMode(FogMode(3)); }, "invalid mode", fogSame});
+    cases.push_back({"FogNode", "create with NaN density",
+                     [] {
+                         FogParameters p;
+                         p.density = kNaN;
+                         (void)FogNode::create(p);
+                     },
+                     "density"});
 
     // Image and PNG files
     for (auto [w, h, c] : {std::tuple{0, 4, 4},

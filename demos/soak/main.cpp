@@ -6,6 +6,7 @@
 #include "ProcessMemory.h"
 
 #include <debugtint/DebugTintNode.h>
+#include <fog/FogNode.h>
 #include <sgfx/Viewer.h>
 
 #include <chrono>
@@ -72,9 +73,12 @@ int main(int argc, char** argv) {
         // Every effect node that exists, around parts of the scene.
         auto tint = sgfx::DebugTintNode::create({1.0f, 0.2f, 0.1f, 0.3f});
         tint->addChild(scene.vehicle);
+        // Ground fog whose mode changes every 500 frames and whose density breathes.
+        auto fog = sgfx::FogNode::create(sgfx::FogParameters::ground());
+        fog->addChild(scene.root);
+        fog->addChild(tint);
         auto root = sgfx::Group::create();
-        root->addChild(scene.root);
-        root->addChild(tint);
+        root->addChild(fog);
 
         auto viewer = sgfx::Viewer::createHeadless(args.width, args.height);
         viewer->renderer().options().colorTarget = sgfx::RendererOptions::ColorTarget::Rgba32F;
@@ -97,6 +101,10 @@ int main(int argc, char** argv) {
                 polygon::cameraPose(float(f % kPathFrames) / kPathFrames, so.extent);
             cam.setLookAt(pose.eye, pose.target, pose.up);
             tint->setTint({1.0f, 0.2f, 0.1f, float(0.5 + 0.5 * std::sin(f * dt))});
+            fog->setMode(sgfx::FogMode(f / 500 % 3));
+            sgfx::FogParameters fp = sgfx::FogParameters::ground();
+            fp.density = float(1e-3 * (1.0 + std::sin(f * dt * 0.3)) / std::max(args.scale, 1e-3f));
+            fog->setParameters(fp);
             viewer->frame(dt);
             const sgfx::FloatImage img = viewer->renderer().readPixelsLinear();
             for (std::size_t i = 0; i < img.rgba.size(); ++i)
