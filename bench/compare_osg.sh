@@ -13,7 +13,7 @@ obj=$(mktemp -d)/polygon.obj
 field() { sed -n "s/.*$1=\([0-9.]*\).*/\1/p"; }
 sg=(); og=()
 for ((i = 0; i < rounds; ++i)); do
-  sg+=("$("$build/demos/polygon" --bench "$frames" --size "$size" "$@" | grep '^BENCH' | field ms_per_frame)")
+  sg+=("$("$build/demos/polygon" --bench "$frames" --size "$size" --fog off "$@" | grep '^BENCH' | field ms_per_frame)")
   og+=("$("$build/bench/osg_polygon" "$obj" --frames "$frames" --size "$size" | grep '^BENCH' | field ms_per_frame)")
 done
 median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2] + a[NR/2+1]) / 2}'; }

@@ -26,6 +26,7 @@
 #include <osg/GLExtensions>
 #include <osg/Geode>
 #include <osg/Geometry>
+#include <osg/Fog>
 #include <osg/Light>
 #include <osg/LightModel>
 #include <osg/Material>
@@ -66,6 +67,7 @@ struct Options {
     bool osgCulling = false; // keep OSG's DEFAULT_CULLING (adds small-feature culling, no near/far planes)
     bool linearPng = false;  // write the PNG as rendered (linear) instead of sRGB-encoding it
     bool osgStats = false;   // collect OSG's per-camera cull/draw CPU times (osg::Stats)
+    float fogDensity = 0.0f; // > 0: osg::Fog (EXP, fixed-function distance fog) with this density
     // Lighting defaults follow demos/polygon/PolygonScene.cpp: a directional sun at azimuth -35 deg,
     // elevation 50 deg, colour (1, 0.95, 0.86) x 1.1, and an ambient light (0.30, 0.34, 0.42).
     osg::Vec3 toSun{0.5266f, -0.3687f, 0.7660f}; // towards the light (minus the travel direction)
@@ -80,7 +82,7 @@ struct Options {
         stderr,
         "usage: osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize]\n"
         "                   [--osg-culling] [--osg-stats] [--linear-png] [--sun-dir X,Y,Z] [--sun R,G,B]\n"
-        "                   [--ambient R,G,B] [--clear R,G,B]\n"
+        "                   [--ambient R,G,B] [--clear R,G,B] [--fog DENSITY]\n"
         "  --size WxH      viewport (default 1280x720)\n"
         "  --frames N      timed frames, one camera-path lap (default 300), after 3 warm-up frames\n"
         "  --out FILE.png  write the last frame (sRGB-encoded like sgfx's output unless --linear-png)\n"
@@ -89,7 +91,8 @@ struct Options {
         "  --osg-stats     print OSG's own cull/draw CPU times per frame (osg::Stats)\n"
         "  --sun-dir X,Y,Z direction towards the sun (default 0.527,-0.369,0.766, the demo's)\n"
         "  --sun R,G,B     sun colour (default 1.1,1.045,0.946); --ambient R,G,B (0.30,0.34,0.42)\n"
-        "  --clear R,G,B   linear clear colour (default 0.42,0.60,0.85)\n");
+        "  --clear R,G,B   linear clear colour (default 0.42,0.60,0.85)\n"
+        "  --fog DENSITY   osg::Fog in EXP mode (distance only, no height) over the whole scene\n");
     std::exit(msg ? 2 : 0);
 }
 
@@ -116,6 +119,9 @@ Options parse(int argc, char** argv) {
             o.osgCulling = true;
         } else if (a == "--linear-png") {
             o.linearPng = true;
+        } else if (a == "--fog") {
+            o.fogDensity = float(std::atof(next().c_str()));
+            if (!(o.fogDensity > 0.0f)) usage("--fog expects a positive density");
         } else if (a == "--osg-stats") {
             o.osgStats = true;
         } else if (a == "--sun-dir" || a == "--sun" || a == "--ambient" || a == "--clear") {
@@ -313,6 +319,13 @@ int main(int argc, char** argv) {
     ss->setAttributeAndModes(lightModel.get(), osg::StateAttribute::ON);
     ss->setMode(GL_LIGHTING, osg::StateAttribute::ON);
     ss->setAttributeAndModes(new osg::CullFace(osg::CullFace::BACK), osg::StateAttribute::ON);
+    if (opt.fogDensity > 0.0f) {
+        osg::ref_ptr<osg::Fog> fog = new osg::Fog;
+        fog->setMode(osg::Fog::EXP);
+        fog->setDensity(opt.fogDensity);
+        fog->setColor(osg::Vec4(0.70f, 0.74f, 0.80f, 1.0f)); // sgfx's default fog colour
+        ss->setAttributeAndModes(fog.get(), osg::StateAttribute::ON);
+    }
 
     // ---- viewer embedded in our context
     osgViewer::Viewer viewer;

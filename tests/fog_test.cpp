@@ -466,3 +466,35 @@ TEST(FogNodeApi, ModesSwitchAtRunTimeWithoutErrors) {
     v->frame();
     EXPECT_NE(v->capture().pixels, first.pixels);
 }
+
+// The split's pre-pass keeps alpha-mask cut-outs: the wall seen through the holes of a masked
+// card (a tree's leaves) is foreground there, so ForwardSplit equals Forward pixel for pixel.
+TEST(FogSplit, AlphaMaskCutOutsStayOutOfThePrePass) {
+    Image images[2];
+    for (int i = 0; i < 2; ++i) {
+        auto v = perspectiveViewer({0, 0, 3}, {0, 10, 3});
+        auto fogNode = FogNode::create(testFog(FogResponse::Exponential), i ? FogMode::ForwardSplit : FogMode::Forward);
+        fogNode->addChild(panel(400, 400, facingCamera(60, 3), flat({0.9f, 0.3f, 0.1f})));
+        auto mask = std::make_shared<Image>();
+        mask->width = 4;
+        mask->height = 1;
+        mask->channels = 1;
+        mask->pixels = {0, 255, 0, 255}; // vertical stripes: two holes
+        auto tex = Texture::create(mask, false);
+        tex->minFilter = tex->magFilter = Filter::Nearest;
+        auto card = flat({0.1f, 0.6f, 0.3f});
+        card->alphaTexture = tex;
+        card->alphaCutoff = 0.5f;
+        fogNode->addChild(panel(6, 6, facingCamera(10, 3), card));
+        v->setSceneData(fogNode);
+        v->frame();
+        expectNoGlErrors(*v);
+        images[i] = v->capture();
+    }
+    int differing = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+            for (int c = 0; c < 3; ++c)
+                differing += std::abs(pixelAt(images[0], x, y)[c] - pixelAt(images[1], x, y)[c]) > 1;
+    EXPECT_EQ(differing, 0);
+}

@@ -3,6 +3,7 @@
 #include "CameraPath.h"
 #include "PolygonScene.h"
 
+#include <fog/FogNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/Viewer.h>
@@ -65,6 +66,19 @@ options:
   --frames N          with --window: close after N frames (scripted runs)
   --count-fragments   with --bench: also count fragments that pass the depth test (an
                       occlusion query per frame, which itself costs a little time)
+
+effects:
+  --fog off|forward|split|post
+                      height fog over the whole scene (default forward): in every material
+                      (forward), the paper's depth pre-pass split (split) or its full-screen
+                      post-process (post)
+  --fog-preset solid|ground
+                      the paper's figure 1 parameters: solid (rho0 = 1e-4, b = 1e-4) or
+                      ground fog (rho0 = 1e-3, b = 4.5e-3, default)
+  --fog-density R     density rho0 per metre at height 0 (overrides the preset)
+  --fog-falloff B     falloff b per metre (overrides the preset)
+  --fog-response linear|exp
+                      k = clamp(F, 0, 1) as in the paper, or 1 - e^-F (default)
   -h, --help          show this help
 
 exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
@@ -90,6 +104,8 @@ struct Options {
     sgfx::RendererOptions::Lighting lighting = sgfx::RendererOptions::Lighting::PerPixel;
     bool countFragments = false;
     long windowFrames = 0; // --window: quit after this many frames (0 = until closed)
+    std::optional<sgfx::FogMode> fog = sgfx::FogMode::Forward;
+    sgfx::FogParameters fogParameters = sgfx::FogParameters::ground();
 };
 
 template <class T> T parseNumber(std::string_view option, std::string_view text) {
@@ -175,6 +191,40 @@ Options parseArgs(int argc, char** argv) {
             if (o.windowFrames < 1) throw UsageError("--frames: N must be at least 1");
         } else if (arg == "--count-fragments") {
             o.countFragments = true;
+        } else if (arg == "--fog") {
+            const std::string_view v = value();
+            if (v == "off")
+                o.fog.reset();
+            else if (v == "forward")
+                o.fog = sgfx::FogMode::Forward;
+            else if (v == "split")
+                o.fog = sgfx::FogMode::ForwardSplit;
+            else if (v == "post")
+                o.fog = sgfx::FogMode::PostProcess;
+            else
+                throw UsageError("--fog: '" + std::string(v) + "' is not off, forward, split or post");
+        } else if (arg == "--fog-preset") {
+            const std::string_view v = value();
+            const sgfx::FogParameters keep = o.fogParameters;
+            if (v == "solid")
+                o.fogParameters = sgfx::FogParameters::solid();
+            else if (v == "ground")
+                o.fogParameters = sgfx::FogParameters::ground();
+            else
+                throw UsageError("--fog-preset: '" + std::string(v) + "' is not solid or ground");
+            o.fogParameters.response = keep.response;
+        } else if (arg == "--fog-density") {
+            o.fogParameters.density = parseNumber<float>(arg, value());
+        } else if (arg == "--fog-falloff") {
+            o.fogParameters.falloff = parseNumber<float>(arg, value());
+        } else if (arg == "--fog-response") {
+            const std::string_view v = value();
+            if (v == "linear")
+                o.fogParameters.response = sgfx::FogResponse::Linear;
+            else if (v == "exp")
+                o.fogParameters.response = sgfx::FogResponse::Exponential;
+            else
+                throw UsageError("--fog-response: '" + std::string(v) + "' is not linear or exp");
         } else if (arg == "--lighting") {
             const std::string_view v = value();
             if (v == "pixel")
@@ -187,7 +237,20 @@ Options parseArgs(int argc, char** argv) {
             throw UsageError("unknown option '" + std::string(arg) + "'");
         }
     }
+    try {
+        o.fogParameters.validate();
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--fog-*: ") + e.what());
+    }
     return o;
+}
+
+// The scene with the chosen effects around it.
+sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& scene) {
+    if (!o.fog) return scene.root;
+    auto fog = sgfx::FogNode::create(o.fogParameters, *o.fog);
+    fog->addChild(scene.root);
+    return fog;
 }
 
 std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
@@ -223,7 +286,7 @@ void reportGlErrors(sgfx::Viewer& viewer) {
 int runStill(const Options& o, const polygon::PolygonScene& scene) {
     auto viewer = makeHeadlessViewer(o);
     setupCamera(*viewer, startPose(o, o.time));
-    viewer->setSceneData(scene.root);
+    viewer->setSceneData(sceneWithEffects(o, scene));
     viewer->frame();
     viewer->writeScreenshot(o.out);
     reportGlErrors(*viewer);
@@ -245,7 +308,7 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
     using clock = std::chrono::steady_clock;
     auto viewer = makeHeadlessViewer(o);
     setupCamera(*viewer, polygon::cameraPose(0.0f, kExtent));
-    viewer->setSceneData(scene.root);
+    viewer->setSceneData(sceneWithEffects(o, scene));
     for (int i = 0; i < 3; ++i) {
         viewer->frame();
         glFinish();
@@ -317,7 +380,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     sgfx::Viewer viewer(std::move(window));
     viewer.renderer().options().lighting = o.lighting;
     setupCamera(viewer, startPose(o, o.time));
-    viewer.setSceneData(scene.root);
+    viewer.setSceneData(sceneWithEffects(o, scene));
     const polygon::Terrain terrain(o.seed);
 
     const polygon::CameraPose start = startPose(o, o.time);

@@ -598,6 +598,20 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             program = &composer_.program(item.program(), snippets, features);
             programKey = item.programKey;
             programChanged = true;
+        } else if (depthOnly && override) {
+            // Alpha-masked built-in materials keep their cut-outs in depth passes: their own
+            // variant (no effects) with colour writes off; everything else the depth-only program.
+            const bool masked = !item.program() && (item.features & FeatureAlphaMask);
+            const std::uint64_t key = masked ? item.features : ~0ull;
+            if (key != programKey) {
+                program =
+                    masked ? &composer_.program(nullptr, {},
+                                                ShaderComposer::withWorldPosition(
+                                                    (item.features & ~FeatureBlend) | viewFeatures_, false))
+                           : override;
+                programKey = key;
+                programChanged = true;
+            }
         }
         s.log.program = program;
         if (program->get() != s.program) {

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Fog cost on the proving ground, shaped like the seed paper's Table 1 (resolution x fog off / on):
+# for each size, alternates `polygon --bench` with --fog off, forward, split and post, and
+# osg_polygon without and with osg::Fog, ROUNDS times (interleaved, so machine drift hits every
+# column), then prints median ms/frame, FPS and the overhead of each mode over fog off.
+# Usage: bench/fog_table.sh [BUILD_DIR] [ROUNDS] [SIZE:FRAMES ...]
+#   default sizes: 1280x720:40 1920x1080:24 3840x2160:8
+set -euo pipefail
+build=${1:-build}; rounds=${2:-3}; shift $(( $# < 2 ? $# : 2 ))
+sizes=("$@"); [ ${#sizes[@]} -gt 0 ] || sizes=(1280x720:40 1920x1080:24 3840x2160:8)
+export MALLOC_MMAP_THRESHOLD_=131072 # llvmpipe timings swing with malloc history: pin it for all
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+"$build/demos/polygon" --export-obj "$tmp/polygon.obj" >/dev/null
+have_osg=0; [ -x "$build/bench/osg_polygon" ] && have_osg=1
+field() { sed -n "s/.*$1=\([0-9.]*\).*/\1/p"; }
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2] + a[NR/2+1]) / 2}'; }
+modes=(off forward split post)
+echo "| resolution | fog off ms (FPS) | Forward | ForwardSplit | PostProcess | OSG off ms | OSG + osg::Fog |"
+echo "|---|---|---|---|---|---|---|"
+for entry in "${sizes[@]}"; do
+  size=${entry%%:*}; frames=${entry##*:}
+  declare -A runs=()
+  for ((r = 0; r < rounds; ++r)); do
+    for m in "${modes[@]}"; do
+      runs[$m]+=" $("$build/demos/polygon" --bench "$frames" --size "$size" --fog "$m" | grep '^BENCH' | field ms_per_frame)"
+    done
+    if ((have_osg)); then
+      runs[osg]+=" $("$build/bench/osg_polygon" "$tmp/polygon.obj" --frames "$frames" --size "$size" | grep '^BENCH' | field ms_per_frame)"
+      runs[osgfog]+=" $("$build/bench/osg_polygon" "$tmp/polygon.obj" --frames "$frames" --size "$size" --fog 0.001 | grep '^BENCH' | field ms_per_frame)"
+    fi
+  done
+  declare -A med=()
+  for k in "${!runs[@]}"; do med[$k]=$(median ${runs[$k]}); echo "# $size $k: ${runs[$k]}" >&2; done
+  cell() { awk -v m="$1" -v b="$2" 'BEGIN { printf "%.1f ms (%.1f), %+.1f %%", m, 1000 / m, 100 * (m / b - 1) }'; }
+  row="| $size | $(awk -v m="${med[off]}" 'BEGIN { printf "%.1f (%.1f)", m, 1000 / m }')"
+  for m in forward split post; do row+=" | $(cell "${med[$m]}" "${med[off]}")"; done
+  if ((have_osg)); then
+    row+=" | $(awk -v m="${med[osg]}" 'BEGIN { printf "%.1f", m }') | $(cell "${med[osgfog]}" "${med[osg]}")"
+  else
+    row+=" | n/a | n/a"
+  fi
+  echo "$row |"
+  unset runs med
+done
