@@ -236,6 +236,49 @@ TEST(Culling, CullVisitorDropsOutsideKeepsInsideAndStraddling) {
     EXPECT_EQ(all.opaque.size(), 5u);
 }
 
+// A node with culling switched off is visited (its effect planned) even when everything is out of
+// view, and so are its ancestors; its children are still culled on their own.
+TEST(Culling, CullingInactiveNodeAndItsAncestorsAreAlwaysVisited) {
+    struct Planner : EffectNode {
+        std::string_view kind() const override { return "planner"; }
+        const ShaderSnippet& snippet() const override {
+            static const ShaderSnippet s{};
+            return s;
+        }
+        void planFrame(FramePlan&) const override { ++planned; }
+        mutable int planned = 0;
+    };
+    auto cam = perspectiveCamera();
+    auto outside = Transform::create(glm::translate(glm::mat4(1.0f), {0, 0, 50})); // behind the camera
+    auto group = Group::create();
+    auto effect = std::make_shared<Planner>();
+    effect->addChild(unitBox("hidden"));
+    group->addChild(effect);
+    outside->addChild(group);
+    cam->addChild(outside);
+    FramePlan plan;
+    {
+        RenderQueue q;
+        CullVisitor cv(*cam, q, &plan);
+        cv.run(*cam);
+        EXPECT_EQ(effect->planned, 0); // culled with its parents
+    }
+    effect->setCullingActive(false);
+    EXPECT_TRUE(outside->cullingDisabledInSubtree()); // propagated to the ancestors
+    {
+        RenderQueue q;
+        CullVisitor cv(*cam, q, &plan);
+        cv.run(*cam);
+        EXPECT_EQ(effect->planned, 1);
+        EXPECT_EQ(q.size(), 0u); // the box below is still culled
+    }
+    effect->setCullingActive(true);
+    EXPECT_FALSE(outside->cullingDisabledInSubtree());
+    group->removeChild(effect.get());
+    effect->setCullingActive(false);
+    EXPECT_FALSE(outside->cullingDisabledInSubtree()); // no longer a descendant
+}
+
 TEST(Culling, NodeMaskHidesFromCull) {
     auto cam = perspectiveCamera();
     auto t = Transform::create(glm::translate(glm::mat4(1.0f), {0, 0, -10}));

@@ -79,6 +79,9 @@ effects:
   --fog-falloff B     falloff b per metre (overrides the preset)
   --fog-response linear|exp
                       k = clamp(F, 0, 1) as in the paper, or 1 - e^-F (default)
+  --fog-sky off|far|distance
+                      fog on pixels without geometry: none, to the far plane, or along the
+                      ray to 100 km (default)
   -h, --help          show this help
 
 exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
@@ -205,7 +208,7 @@ Options parseArgs(int argc, char** argv) {
                 throw UsageError("--fog: '" + std::string(v) + "' is not off, forward, split or post");
         } else if (arg == "--fog-preset") {
             const std::string_view v = value();
-            const sgfx::FogParameters keep = o.fogParameters;
+            const sgfx::FogParameters keep = o.fogParameters; // response and sky stay as chosen
             if (v == "solid")
                 o.fogParameters = sgfx::FogParameters::solid();
             else if (v == "ground")
@@ -213,10 +216,21 @@ Options parseArgs(int argc, char** argv) {
             else
                 throw UsageError("--fog-preset: '" + std::string(v) + "' is not solid or ground");
             o.fogParameters.response = keep.response;
+            o.fogParameters.sky = keep.sky;
         } else if (arg == "--fog-density") {
             o.fogParameters.density = parseNumber<float>(arg, value());
         } else if (arg == "--fog-falloff") {
             o.fogParameters.falloff = parseNumber<float>(arg, value());
+        } else if (arg == "--fog-sky") {
+            const std::string_view v = value();
+            if (v == "off")
+                o.fogParameters.sky = sgfx::FogSky::Off;
+            else if (v == "far")
+                o.fogParameters.sky = sgfx::FogSky::FarPlane;
+            else if (v == "distance")
+                o.fogParameters.sky = sgfx::FogSky::Distance;
+            else
+                throw UsageError("--fog-sky: '" + std::string(v) + "' is not off, far or distance");
         } else if (arg == "--fog-response") {
             const std::string_view v = value();
             if (v == "linear")

@@ -23,17 +23,32 @@ template <class T> T expQuotient(T y) {
     return (T(1) - std::exp(-y)) / y;
 }
 
+// Relative density e^(−b·h) at height h (seed eq. 3 without ρ0), held at e^50 below −50/b.
+template <class T> T densityFactor(T falloff, T height) {
+    return std::exp(std::min(-falloff * height, T(kMaxExponent)));
+}
+
 // Optical depth F = ∫ ρ0·e^(−b·h(t)) dt along the segment from A to B, with h the height above
-// the reference plane (seed eq. 5). Eq. 6 in a form that combines exponents:
-//   F = ρ0·S·(e^(−b·hA) − e^(−b·hB)) / (b·(hB − hA)) = ρ0·S·e^(−b·min(hA, hB))·q(b·|hB − hA|)
-// with q(y) = (1 − e^(−y))/y. It holds for b = 0, horizontal and vertical rays, and either
-// end below the plane; it is never negative, NaN or Inf for validated parameters.
-template <class T> T opticalDepth(T density, T falloff, T heightA, T heightB, T length) {
+// the reference plane (seed eq. 5), given the density factors eA = e^(−b·hA), eB = e^(−b·hB).
+// Eq. 6 with its exponents combined, so nothing overflows in float32:
+//   F = ρ0·S·(eA − eB) / (b·(hB − hA))
+// and below b·|Δh| = 0.01 the same mean density as max(eA, eB)·(1 − e^(−y))/y by its series (no
+// cancellation, no jump). The mean never falls below the smallest density on the segment (it can
+// only by rounding, or where the density is held). One exp per end: the eye's end is a per-view
+// constant, so the shader pays one exp per fragment.
+template <class T>
+T opticalDepthFromFactors(T density, T falloff, T heightA, T heightB, T eA, T eB, T length) {
     if (!(density > T(0)) || !(length > T(0))) return T(0);
     const T s = std::min(length, T(kMaxSegment));
-    const T low = std::min(heightA, heightB);
     const T y = falloff * std::abs(heightB - heightA);
-    return density * s * std::exp(std::min(-falloff * low, T(kMaxExponent))) * expQuotient(y);
+    const T mean = y < T(kSeriesBelow) ? std::max(eA, eB) * expQuotient(y)
+                                       : std::max(std::abs(eA - eB) / y, std::min(eA, eB));
+    return density * s * mean;
+}
+
+template <class T> T opticalDepth(T density, T falloff, T heightA, T heightB, T length) {
+    return opticalDepthFromFactors(density, falloff, heightA, heightB, densityFactor(falloff, heightA),
+                                   densityFactor(falloff, heightB), length);
 }
 
 enum class Response { Linear, Exponential };

@@ -1,4 +1,5 @@
 #include "fog/FogNode.h"
+#include "fog/FogMath.h"
 
 #include "EmbeddedShaders.h"
 
@@ -161,7 +162,7 @@ public:
         glEnable(GL_FRAMEBUFFER_SRGB);
         r.setBlend(BlendMode::Alpha);
         glUseProgram(program.get());
-        setUniforms(program, parameters);
+        setUniforms(program, parameters, r.frame().eye);
         r.drawFullscreen(program, post_
                                       ? DepthState{.test = false, .write = false, .func = CompareFunc::Always}
                                       : DepthState{.test = true, .write = false, .func = CompareFunc::Equal});
@@ -250,11 +251,13 @@ void FogNode::planFrame(FramePlan& plan) const {
     }
 }
 
-void FogNode::applyUniforms(gl::Program& program, const DrawContext&) const {
-    if (mode_ != FogMode::PostProcess) setUniforms(program, parameters_);
+void FogNode::applyUniforms(gl::Program& program, const DrawContext& context) const {
+    if (mode_ != FogMode::PostProcess) setUniforms(program, parameters_, context.frame.eye);
 }
 
-void FogNode::setUniforms(gl::Program& program, const FogParameters& p) {
+void FogNode::setUniforms(gl::Program& program, const FogParameters& p, const glm::vec3& eye) {
+    const float eyeHeight = fog::heightOf(eye, p.up, p.referenceHeight);
+    program.set("sgfx_fogEye", glm::vec2(eyeHeight, fog::densityFactor(p.falloff, eyeHeight)));
     program.set("sgfx_fogDensity", p.density);
     program.set("sgfx_fogFalloff", p.falloff);
     program.set("sgfx_fogColor", p.color);

@@ -74,8 +74,9 @@ public:
     const FogParameters& parameters() const { return parameters_; }
     FogMode mode() const { return mode_; }
 
-    // Sets the fog uniforms (fog_optical_depth.glsl) on any program that declares them.
-    static void setUniforms(gl::Program& program, const FogParameters& parameters);
+    // Sets the fog uniforms (fog_optical_depth.glsl) on any program that declares them, for a view
+    // whose eye is at `eye`.
+    static void setUniforms(gl::Program& program, const FogParameters& parameters, const glm::vec3& eye);
 
 private:
     class DepthPrePass;

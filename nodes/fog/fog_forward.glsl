@@ -1,1 +1,1 @@
-sgfx_color = sgfx_fogApply(sgfx_color, sgfx_fogAmount(sgfx_fogOpticalDepth(sgfx_eyePos, sgfx_worldPos)));
+sgfx_color = sgfx_fogApply(sgfx_color, sgfx_fogAmount(sgfx_fogOpticalDepthFromEye(sgfx_worldPos)));

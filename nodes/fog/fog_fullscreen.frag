@@ -24,5 +24,5 @@ void main() {
         if (sgfx_fogShape.z == 0.0) discard;
         if (sgfx_fogShape.z > 0.0) p = sgfx_eye.xyz + normalize(p - sgfx_eye.xyz) * sgfx_fogShape.z;
     }
-    sgfx_fragColor = vec4(sgfx_fogColor, sgfx_fogAmount(sgfx_fogOpticalDepth(sgfx_eye.xyz, p)));
+    sgfx_fragColor = vec4(sgfx_fogColor, sgfx_fogAmount(sgfx_fogOpticalDepthFromEye(p)));
 }

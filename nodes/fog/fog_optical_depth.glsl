@@ -6,21 +6,39 @@ uniform vec3 sgfx_fogColor;    // linear RGB
 uniform vec4 sgfx_fogPlane;    // xyz: unit up, w: reference height
 uniform vec4 sgfx_fogShape;    // x: 1 = exponential response, 0 = linear; y: max opacity;
                                // z: sky distance (0: no sky fog, < 0: to the far plane)
+uniform vec2 sgfx_fogEye;      // the eye's height and density factor e^(−b·h), per view
 
-// (1 − e^(−y)) / y, continuous at 0: a series below 1e-2, so horizontal rays do not cancel.
-float sgfx_fogExpQuotient(float y) {
-    return y < 1e-2 ? 1.0 - y * (0.5 - y * (1.0 / 6.0 - y * (1.0 / 24.0 - y / 120.0))) : (1.0 - exp(-y)) / y;
+float sgfx_fogHeight(vec3 p) {
+    return dot(p, sgfx_fogPlane.xyz) - sgfx_fogPlane.w;
 }
 
-// F on the segment a → b (eq. 6 with combined exponents; F_f of §2 when a = Pn).
-float sgfx_fogOpticalDepth(vec3 a, vec3 b) {
-    float s = length(b - a);
+// e^(−b·h), held at e^50 below −50/b.
+float sgfx_fogDensityFactor(float h) {
+    return exp(min(-sgfx_fogFalloff * h, 50.0));
+}
+
+// F on a segment of length s between heights ha, hb with density factors ea, eb (eq. 6 with
+// combined exponents; its series below b·|Δh| = 0.01).
+float sgfx_fogOpticalDepthOf(float ha, float hb, float ea, float eb, float s) {
     if (!(sgfx_fogDensity > 0.0) || !(s > 0.0)) return 0.0;
     s = min(s, 1e10);
-    float ha = dot(a, sgfx_fogPlane.xyz) - sgfx_fogPlane.w;
-    float hb = dot(b, sgfx_fogPlane.xyz) - sgfx_fogPlane.w;
     float y = sgfx_fogFalloff * abs(hb - ha);
-    return sgfx_fogDensity * s * exp(min(-sgfx_fogFalloff * min(ha, hb), 50.0)) * sgfx_fogExpQuotient(y);
+    float mean = y < 1e-2 ? max(ea, eb) * (1.0 - y * (0.5 - y * (1.0 / 6.0 - y * (1.0 / 24.0 - y / 120.0))))
+                          : max(abs(ea - eb) / y, min(ea, eb));
+    return sgfx_fogDensity * s * mean;
+}
+
+// F on the segment a → b (F_f of §2 when a = Pn).
+float sgfx_fogOpticalDepth(vec3 a, vec3 b) {
+    float ha = sgfx_fogHeight(a), hb = sgfx_fogHeight(b);
+    return sgfx_fogOpticalDepthOf(ha, hb, sgfx_fogDensityFactor(ha), sgfx_fogDensityFactor(hb), length(b - a));
+}
+
+// F from the eye to p: one exp per fragment.
+float sgfx_fogOpticalDepthFromEye(vec3 p) {
+    float hp = sgfx_fogHeight(p);
+    return sgfx_fogOpticalDepthOf(sgfx_fogEye.x, hp, sgfx_fogEye.y, sgfx_fogDensityFactor(hp),
+                                  distance(p, sgfx_eye.xyz));
 }
 
 // k from F: eq. 7's clamp, or Beer–Lambert.
