@@ -42,7 +42,7 @@ std::vector<Case> grid() {
         for (double b : {0.0, 1e-6, 1e-4, 4.5e-3, 0.05})
             for (double hO : {-50.0, 0.0, 2.0, 100.0, 20000.0})
                 for (double el : {-90.0, -60.0, -10.0, -0.01, 0.0, 0.01, 10.0, 60.0, 90.0})
-                    for (double S : {0.0, 1e-3, 1.0, 100.0, 1e4, 1e5, 1e7}) {
+                    for (double S : {0.0, 1e-3, 1.0, 100.0, 1e4, 2e4, 1e5, 1e7}) {
                         const double lowest = std::min(hO, hO + S * std::sin(el * std::numbers::pi / 180));
                         // Below −40/b the shader holds the density (kMaxExponent); tested apart.
                         if (b > 0 && -b * lowest > 40.0) continue;
