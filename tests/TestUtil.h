@@ -37,4 +37,34 @@ inline std::unique_ptr<Viewer> orthoTopViewer(int size, float halfExtent) {
     return v;
 }
 
+// An application's own program that knows nothing of sgfx's effects: transforms positions and
+// writes the uniform `appColor`. The composer wraps its fragment stage for effects.
+inline const char* const kForeignVert = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 sgfx_model;
+layout(std140, binding = 0) uniform SgfxFrame {
+    mat4 sgfx_view; mat4 sgfx_projection; mat4 sgfx_viewProjection; mat4 sgfx_invViewProjection;
+    vec4 sgfx_eye; vec4 sgfx_viewport; vec4 sgfx_ambientLight; vec4 sgfx_time; ivec4 sgfx_lightCount;
+    vec4 sgfx_lightVector[8]; vec4 sgfx_lightColor[8];
+};
+void main() { gl_Position = sgfx_viewProjection * sgfx_model * vec4(a_position, 1.0); }
+)";
+inline const char* const kForeignFrag = R"(#version 450 core
+uniform vec3 appColor;
+layout(location = 0) out vec4 fragOut;
+void main() {
+    fragOut = vec4(appColor, 1.0);
+}
+)";
+
+// Number of colour channels (RGB) of two equally sized images that differ by more than `tolerance`.
+inline int channelsDiffering(const Image& a, const Image& b, int tolerance = 1) {
+    int n = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x)
+            for (int c = 0; c < 3; ++c)
+                n += std::abs(pixelAt(a, x, y)[c] - pixelAt(b, x, y)[c]) > tolerance;
+    return n;
+}
+
 } // namespace sgfx::test

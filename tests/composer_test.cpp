@@ -37,25 +37,6 @@ ShaderSnippet snippet(std::string name, std::string decl, std::string color) {
     return s;
 }
 
-const char* kForeignVert = R"(#version 450 core
-layout(location = 0) in vec3 a_position;
-uniform mat4 sgfx_model;
-layout(std140, binding = 0) uniform SgfxFrame {
-    mat4 sgfx_view; mat4 sgfx_projection; mat4 sgfx_viewProjection; mat4 sgfx_invViewProjection;
-    vec4 sgfx_eye; vec4 sgfx_viewport; vec4 sgfx_ambientLight; vec4 sgfx_time; ivec4 sgfx_lightCount;
-    vec4 sgfx_lightVector[8]; vec4 sgfx_lightColor[8];
-};
-void main() { gl_Position = sgfx_viewProjection * sgfx_model * vec4(a_position, 1.0); }
-)";
-
-const char* kForeignFrag = R"(#version 450 core
-uniform vec3 appColor;
-layout(location = 0) out vec4 fragOut;
-void main() {
-    fragOut = vec4(appColor, 1.0);
-}
-)";
-
 std::size_t countOf(const std::string& text, const std::string& what) {
     std::size_t n = 0;
     for (auto p = text.find(what); p != std::string::npos; p = text.find(what, p + 1))
