@@ -45,7 +45,8 @@ Without a mode option it renders one frame headless (OSMesa) and writes a PNG.
 
 modes (at most one):
   --window            fly through the scene in a window (WASD move, Q/E down/up, Shift fast,
-                      left mouse drag to look, Esc quits); without a display it says
+                      left mouse drag to look, F cycles the fog mode, Esc quits); without a
+                      display it says
                       "no display: rendering headless" and writes the PNG instead
   --bench N           render N frames along the camera path (t = i/N) after 3 warm-up
                       frames, glFinish after each, and print timings and render statistics
@@ -394,7 +395,12 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     sgfx::Viewer viewer(std::move(window));
     viewer.renderer().options().lighting = o.lighting;
     setupCamera(viewer, startPose(o, o.time));
-    viewer.setSceneData(sceneWithEffects(o, scene));
+    // Fog is always in the graph here so F can cycle it: off, forward, split, post.
+    auto fog = sgfx::FogNode::create(o.fogParameters, o.fog.value_or(sgfx::FogMode::Forward));
+    fog->enabled = o.fog.has_value();
+    fog->addChild(scene.root);
+    viewer.setSceneData(fog);
+    bool fogKeyDown = false;
     const polygon::Terrain terrain(o.seed);
 
     const polygon::CameraPose start = startPose(o, o.time);
@@ -405,7 +411,8 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     bool dragging = false;
     double last = glfwGetTime(), titleTime = last;
     int frames = 0;
-    std::cout << "window: WASD move, Q/E down/up, Shift fast, left mouse drag to look, Esc quits"
+    std::cout << "window: WASD move, Q/E down/up, Shift fast, left mouse drag to look, F cycles the fog "
+                 "mode, Esc quits"
               << std::endl;
 
     long total = 0;
@@ -415,6 +422,18 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
         const float dt = float(std::min(now - last, 0.1));
         last = now;
         if (glfwGetKey(win, GLFW_KEY_ESCAPE) == GLFW_PRESS) glfwSetWindowShouldClose(win, GLFW_TRUE);
+        const bool fogKey = glfwGetKey(win, GLFW_KEY_F) == GLFW_PRESS;
+        if (fogKey && !fogKeyDown) { // off → forward → split → post → off
+            if (!fog->enabled) {
+                fog->enabled = true;
+                fog->setMode(sgfx::FogMode::Forward);
+            } else if (fog->mode() == sgfx::FogMode::PostProcess) {
+                fog->enabled = false;
+            } else {
+                fog->setMode(sgfx::FogMode(int(fog->mode()) + 1));
+            }
+        }
+        fogKeyDown = fogKey;
 
         double x = 0, y = 0;
         glfwGetCursorPos(win, &x, &y);
@@ -448,9 +467,13 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
         ++frames;
         ++total;
         if (now - titleTime >= 1.0) {
-            const std::string title = "sgfx polygon - " +
-                                      std::to_string(int(std::lround(frames / (now - titleTime)))) +
-                                      " fps, " + std::to_string(viewer.stats().triangles) + " triangles";
+            const std::string title =
+                "sgfx polygon - " + std::to_string(int(std::lround(frames / (now - titleTime)))) + " fps, " +
+                std::to_string(viewer.stats().triangles) + " triangles, fog " +
+                (!fog->enabled                                ? "off"
+                 : fog->mode() == sgfx::FogMode::Forward      ? "forward"
+                 : fog->mode() == sgfx::FogMode::ForwardSplit ? "split"
+                                                              : "post");
             glfwSetWindowTitle(win, title.c_str());
             titleTime = now;
             frames = 0;
