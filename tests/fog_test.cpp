@@ -465,3 +465,39 @@ TEST(FogSplit, AlphaMaskCutOutsStayOutOfThePrePass) {
     }
     EXPECT_EQ(channelsDiffering(images[0], images[1]), 0);
 }
+
+// A render-to-texture camera with split fog inside: its pre-pass draws its own view's items
+// (not the main view's), so its image equals the Forward one. Shown on a quad in the main view.
+TEST(FogSplit, RenderToTextureViewsUseTheirOwnPrePass) {
+    Image images[2];
+    for (int i = 0; i < 2; ++i) {
+        auto v = orthoTopViewer(64, 1.0f);
+        auto rtt = Camera::create();
+        rtt->setViewport(0, 0, 48, 48);
+        rtt->setPerspective(60.0f, 0.5f, 2000.0f);
+        rtt->setLookAt({0, 0, 3}, {0, 10, 3});
+        rtt->clearColor = {0, 0, 0, 1};
+        rtt->renderTarget = Texture::create(nullptr);
+        auto fogNode = FogNode::create(testFog(FogResponse::Exponential), i ? FogMode::ForwardSplit : FogMode::Forward);
+        fogNode->addChild(panel(400, 400, facingCamera(40, 3), flat({0.9f, 0.3f, 0.1f})));
+        rtt->addChild(fogNode);
+        // The display: ambient light 1 times the texture.
+        auto screen = Material::create();
+        screen->ambient = glm::vec3(1.0f);
+        screen->diffuse = glm::vec4(0, 0, 0, 1);
+        screen->baseColorTexture = rtt->renderTarget;
+        auto display = panel(2, 2, glm::mat4(1.0f), screen);
+        auto ambient = Light::create(LightType::Ambient);
+        auto root = Group::create();
+        root->addChild(ambient);
+        root->addChild(rtt);
+        root->addChild(display);
+        v->setSceneData(root);
+        v->frame();
+        expectNoGlErrors(*v);
+        images[i] = v->capture();
+    }
+    EXPECT_EQ(channelsDiffering(images[0], images[1]), 0);
+    // And the fog is there: the centre is not the wall's own colour.
+    EXPECT_GT(std::abs(pixelAt(images[1], 32, 32)[1] - srgbByte(0.3)), 10);
+}

@@ -7,9 +7,11 @@
 
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sgfx {
 
@@ -101,39 +103,59 @@ public:
     PassStage stage() const override { return PassStage::PrePass; }
     void execute(Renderer& r) override {
         const gl::RenderTarget& view = r.currentTarget();
-        if (!fbo_) fbo_ = gl::createFramebuffer();
-        if (width_ != view.width || height_ != view.height || !depth_) {
-            depth_ = gl::createTexture(GL_TEXTURE_2D);
-            glTextureStorage2D(depth_.get(), 1, GL_DEPTH_COMPONENT32F, view.width, view.height);
-            glTextureParameteri(depth_.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            glTextureParameteri(depth_.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            glTextureParameteri(depth_.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-            glTextureParameteri(depth_.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-            glNamedFramebufferTexture(fbo_.get(), GL_DEPTH_ATTACHMENT, depth_.get(), 0);
-            glNamedFramebufferDrawBuffer(fbo_.get(), GL_NONE);
-            glNamedFramebufferReadBuffer(fbo_.get(), GL_NONE);
-            width_ = view.width;
-            height_ = view.height;
-            if (glCheckNamedFramebufferStatus(fbo_.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-                throw std::runtime_error("sgfx: fog depth pre-pass: framebuffer incomplete at " +
-                                         std::to_string(width_) + "x" + std::to_string(height_));
-        }
+        Target& t = targetFor(view.width, view.height, r.frame().frameNumber);
         r.bindTexture(kEffectTextureUnit, 0); // not sampled while it is being written
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
-        glViewport(0, 0, width_, height_);
+        glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
+        glViewport(0, 0, t.width, t.height);
         glDepthMask(GL_TRUE);
         glClearDepth(1.0);
         glClear(GL_DEPTH_BUFFER_BIT);
         gl::Program& depthOnly = r.depthOnlyProgram();
         r.drawItems(r.queue().opaque, &depthOnly, true);
         r.drawItems(r.queue().transparent, &depthOnly, true);
-        r.bindTexture(kEffectTextureUnit, depth_.get());
+        r.bindTexture(kEffectTextureUnit, t.depth.get());
     }
 
 private:
-    gl::FramebufferObject fbo_;
-    gl::TextureObject depth_;
-    int width_ = 0, height_ = 0;
+    struct Target {
+        gl::FramebufferObject fbo;
+        gl::TextureObject depth;
+        int width = 0, height = 0;
+        std::uint64_t lastUse = 0;
+    };
+
+    // One target per view size, so a render-to-texture view and the main view do not reallocate
+    // each other's every frame; the least recently used of more than four goes.
+    Target& targetFor(int width, int height, std::uint64_t frame) {
+        for (Target& t : targets_)
+            if (t.width == width && t.height == height) {
+                t.lastUse = frame;
+                return t;
+            }
+        if (targets_.size() >= 4)
+            targets_.erase(
+                std::min_element(targets_.begin(), targets_.end(),
+                                 [](const Target& a, const Target& b) { return a.lastUse < b.lastUse; }));
+        Target& t = targets_.emplace_back();
+        t.fbo = gl::createFramebuffer();
+        t.depth = gl::createTexture(GL_TEXTURE_2D);
+        glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, width, height);
+        glTextureParameteri(t.depth.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(t.depth.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTextureParameteri(t.depth.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(t.depth.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
+        glNamedFramebufferDrawBuffer(t.fbo.get(), GL_NONE);
+        glNamedFramebufferReadBuffer(t.fbo.get(), GL_NONE);
+        t.width = width;
+        t.height = height;
+        t.lastUse = frame;
+        if (glCheckNamedFramebufferStatus(t.fbo.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw std::runtime_error("sgfx: fog depth pre-pass: framebuffer incomplete at " +
+                                     std::to_string(width) + "x" + std::to_string(height));
+        return t;
+    }
+    std::vector<Target> targets_;
 };
 
 // Seed §1's post-process (every pixel) or the forward modes' sky (uncovered pixels only).

@@ -135,7 +135,9 @@ public:
     void setBlend(BlendMode mode);
 
     ShaderComposer& composer() { return composer_; }
-    const RenderQueue& queue() const { return queue_; }
+    // The queue of the view being drawn (a render-to-texture camera's inside its passes), else the
+    // main view's.
+    const RenderQueue& queue() const { return *current_; }
     const FrameData& frame() const { return frame_; }
     const FrameStats& stats() const { return stats_; }
     gl::RenderTarget& sceneTarget();
