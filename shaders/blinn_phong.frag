@@ -103,11 +103,14 @@ void main() {
 #endif
     vec3 sgfx_eyePos = sgfx_eye.xyz;
     // @sgfx:ambient
-    vec3 color = sgfx_matEmissive + sgfx_ambient * ambientColor;
+    // Light the surface scatters (scaled by its coverage when the output is premultiplied) and
+    // light it adds on top (emission, specular reflection: glass keeps its highlights).
+    vec3 color = sgfx_ambient * ambientColor;
+    vec3 added = sgfx_matEmissive;
 #ifdef SGFX_VERTEX_LIGHTING
     color += base.rgb * (gl_FrontFacing ? v_diffuseFront : v_diffuseBack);
 #ifdef SGFX_SPECULAR
-    color += sgfx_matSpecular * (gl_FrontFacing ? v_specularFront : v_specularBack);
+    added += sgfx_matSpecular * (gl_FrontFacing ? v_specularFront : v_specularBack);
 #endif
 #else
     vec3 N = surfaceNormal();
@@ -123,15 +126,21 @@ void main() {
         vec3 L = lv.xyz; // directions come normalised
 #endif
         float NdotL = max(dot(N, L), 0.0);
-        vec3 lit = base.rgb * NdotL;
+        color += sgfx_lightColor[i].rgb * base.rgb * NdotL;
 #ifdef SGFX_SPECULAR
         vec3 H = normalize(L + V);
-        lit += NdotL > 0.0 ? sgfx_matSpecular * pow(max(dot(N, H), 0.0), sgfx_matShininess) : vec3(0.0);
+        added += NdotL > 0.0 ? sgfx_lightColor[i].rgb * sgfx_matSpecular * pow(max(dot(N, H), 0.0), sgfx_matShininess)
+                             : vec3(0.0);
 #endif
-        color += sgfx_lightColor[i].rgb * lit;
     }
 #endif
-    vec4 sgfx_color = vec4(color, base.a);
+    // Premultiplied output (SGFX_BLEND_PREMULTIPLIED): colour effects at the hook below see and
+    // keep premultiplied colour.
+#ifdef SGFX_BLEND_PREMULTIPLIED
+    vec4 sgfx_color = vec4(color * base.a + added, base.a);
+#else
+    vec4 sgfx_color = vec4(color + added, base.a);
+#endif
     // @sgfx:color
     sgfx_fragColor = sgfx_color;
 }

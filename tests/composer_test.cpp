@@ -62,7 +62,7 @@ TEST(ComposerText, HooksReceiveSnippetCodeInOrder) {
     EXPECT_LT(p.fragment.find("sgfx_color.r += 0.1;"), p.fragment.find("sgfx_color.g += 0.2;"));
     EXPECT_LT(p.fragment.find("sgfx_ambient *= 0.5;"), p.fragment.find("vec3 color = sgfx_matEmissive"));
     EXPECT_GT(p.fragment.find("sgfx_color.g += 0.2;"),
-              p.fragment.find("vec4 sgfx_color = vec4(color, base.a);"));
+              p.fragment.find("vec4 sgfx_color = vec4(color + added, base.a);"));
     EXPECT_EQ(p.fragment.rfind("#version 450 core", 0), 0u); // #version stays first
     EXPECT_NE(p.fragment.find("#define BETA 1"), std::string::npos);
     // Source names for #line numbers.

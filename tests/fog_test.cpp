@@ -194,8 +194,10 @@ GlassResult renderGlass(FogMode mode, float alpha, float glassDist, float wallDi
             auto& ss = g->getOrCreateStateSet();
             ss.blend.set(BlendMode::Alpha);
             ss.cullFace.set(CullFace::None);
-            // The seed's figure 2 setup: the glass is in the depth buffer.
-            ss.depth.set(DepthState{.test = true, .write = true, .func = CompareFunc::Less});
+            // The seed's figure 2 setup: the glass is in the depth buffer ("depth-writing glass").
+            TransparencyDetails details;
+            details.writeDepth = true;
+            ss.transparency.set(details);
             fogNode->addChild(g);
         }
         v->setSceneData(fogNode);
@@ -478,7 +480,8 @@ TEST(FogSplit, RenderToTextureViewsUseTheirOwnPrePass) {
         rtt->setLookAt({0, 0, 3}, {0, 10, 3});
         rtt->clearColor = {0, 0, 0, 1};
         rtt->renderTarget = Texture::create(nullptr);
-        auto fogNode = FogNode::create(testFog(FogResponse::Exponential), i ? FogMode::ForwardSplit : FogMode::Forward);
+        auto fogNode =
+            FogNode::create(testFog(FogResponse::Exponential), i ? FogMode::ForwardSplit : FogMode::Forward);
         fogNode->addChild(panel(400, 400, facingCamera(40, 3), flat({0.9f, 0.3f, 0.1f})));
         rtt->addChild(fogNode);
         // The display: ambient light 1 times the texture.

@@ -111,8 +111,9 @@ public:
         glClearDepth(1.0);
         glClear(GL_DEPTH_BUFFER_BIT);
         gl::Program& depthOnly = r.depthOnlyProgram();
-        r.drawItems(r.queue().opaque, &depthOnly, true);
-        r.drawItems(r.queue().transparent, &depthOnly, true);
+        r.drawItems(r.queue().opaque, &depthOnly, DrawMode::DepthOnly);
+        r.drawItems(r.queue().transparent, &depthOnly, DrawMode::DepthOnly);
+        r.drawItems(r.queue().claimed, &depthOnly, DrawMode::DepthOnly);
         r.bindTexture(kEffectTextureUnit, t.depth.get());
     }
 

@@ -186,7 +186,33 @@ void CullVisitor::apply(Geometry& g) {
                       (std::uint64_t(item.features) << 32);
     computedNear = std::min(computedNear, item.depth - vs.radius);
     computedFar = std::max(computedFar, item.depth + vs.radius);
-    (transparent ? queue_.transparent : queue_.opaque).push_back(item);
+    if (!transparent) {
+        queue_.opaque.push_back(item);
+    } else {
+        const BlendMode blend = state->blendMode();
+        const auto& effects = queue_.effectSets[item.effectSet].effects;
+        if (std::any_of(effects.begin(), effects.end(),
+                        [&](const EffectNode* e) { return e->drawsBlended(blend); })) {
+            queue_.claimed.push_back(item);
+        } else {
+            const TransparencyDetails details = state->transparency.value.value_or(TransparencyDetails{});
+            details.validate();
+            item.order = details.order;
+            item.depth += details.depthBias;
+            const bool triangles = g.mode == PrimitiveMode::Triangles ||
+                                   g.mode == PrimitiveMode::TriangleStrip ||
+                                   g.mode == PrimitiveMode::TriangleFan;
+            if (details.twoPass && triangles &&
+                state->cullFace.value.value_or(CullFace::Back) == CullFace::None) {
+                // A closed double-sided object blends its far side first.
+                item.faces = RenderItem::Faces::Back;
+                queue_.transparent.push_back(item);
+                item.faces = RenderItem::Faces::Front;
+                item.sequence = sequence_++;
+            }
+            queue_.transparent.push_back(item);
+        }
+    }
     popState(g);
 }
 

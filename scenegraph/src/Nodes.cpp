@@ -316,11 +316,21 @@ ResolvedState ResolvedState::merged(const StateSet& c) const {
     mergeAttr(s.depth, c.depth);
     mergeAttr(s.cullFace, c.cullFace);
     mergeAttr(s.renderBin, c.renderBin);
+    mergeAttr(s.transparency, c.transparency);
     for (const auto& [name, attr] : c.uniforms)
         mergeAttr(s.uniforms[name], attr);
     for (const auto& [name, attr] : c.textures)
         mergeAttr(s.textures[name], attr);
     return s;
+}
+
+void TransparencyDetails::validate() const {
+    if (!std::isfinite(depthBias) || std::abs(depthBias) > 1e10f)
+        throw std::invalid_argument("sgfx: TransparencyDetails: depthBias = " + std::to_string(depthBias) +
+                                    " must be finite and within 1e10 metres");
+    if (!std::isfinite(resortAngle) || resortAngle < 0.0f || resortAngle > 180.0f)
+        throw std::invalid_argument("sgfx: TransparencyDetails: resortAngle = " +
+                                    std::to_string(resortAngle) + " must be in [0, 180] degrees");
 }
 
 bool ResolvedState::transparent() const {

@@ -13,6 +13,7 @@ const ShaderProgram* RenderItem::program() const {
 void RenderQueue::clear() {
     opaque.clear();
     transparent.clear();
+    claimed.clear();
     effectSets.resize(1);
     lights.clear();
     ambientLight = glm::vec3(0.0f);
@@ -46,9 +47,13 @@ void RenderQueue::sort() {
         if (a.depth != b.depth) return a.depth < b.depth;
         return a.sequence < b.sequence;
     });
-    // Transparent: back to front; equal depths keep cull order so nothing flickers.
-    std::stable_sort(transparent.begin(), transparent.end(),
-                     [](const RenderItem& a, const RenderItem& b) { return a.depth > b.depth; });
+    // Transparent: explicit order first, then back to front; equal depths keep cull order (a
+    // total order, so nothing flickers and the two faces of a double-sided item stay together).
+    std::sort(transparent.begin(), transparent.end(), [](const RenderItem& a, const RenderItem& b) {
+        if (a.order != b.order) return a.order < b.order;
+        if (a.depth != b.depth) return a.depth > b.depth;
+        return a.sequence < b.sequence;
+    });
 }
 
 } // namespace sgfx

@@ -5,6 +5,7 @@
 #include "sgfx/CullVisitor.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/GraphicsContext.h"
+#include "sgfx/TriangleSort.h"
 #include "sgfx/gl/Objects.h"
 
 #include <glad/gl.h>
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <unordered_map>
 
 namespace sgfx {
@@ -226,6 +228,18 @@ struct Renderer::Impl {
         gl::RenderTarget target;
     };
     std::unordered_map<const Camera*, CameraTarget> cameraTargets;
+    // Per-triangle back-to-front orders, one per (mesh, view); dropped when the mesh dies, is
+    // edited, or was not drawn for a while.
+    struct SortedMesh {
+        std::weak_ptr<const Node> owner;
+        std::uint64_t revision = 0;
+        std::uint64_t lastUse = 0;
+        std::unique_ptr<TriangleDepthSort> sort;
+        gl::BufferObject indices;
+    };
+    std::map<std::pair<const Geometry*, const Camera*>, SortedMesh> sortedMeshes;
+    const Camera* camera = nullptr; // the view being drawn
+    std::uint64_t frames = 0;
     gl::RenderTarget* current = &scene; // target of the view being drawn
     gl::BufferObject frameUbo;
     gl::VertexArrayObject emptyVao; // full-screen passes take their vertices from gl_VertexID
@@ -350,6 +364,10 @@ void Renderer::setBlend(BlendMode mode) {
     impl_->setBlend(mode);
 }
 
+void Renderer::resetStateCache() {
+    impl_->invalidate();
+}
+
 gl::Program& Renderer::depthOnlyProgram() {
     static const BaseShader base{"depth_only", "depth_only.vert",
                                  std::string(shaders::embedded("depth_only.vert")), "depth_only.frag",
@@ -392,6 +410,10 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     frame_.frameNumber = frameNumber;
     // Forget the targets of render-to-texture cameras that no longer exist.
     std::erase_if(impl_->cameraTargets, [](const auto& e) { return e.second.owner.expired(); });
+    ++impl_->frames;
+    std::erase_if(impl_->sortedMeshes, [&](const auto& e) {
+        return e.second.owner.expired() || impl_->frames - e.second.lastUse > 600;
+    });
     renderView(camera, impl_->scene, queue_, plan_, 0);
     impl_->log.stage = "outside a frame";
     if (!options_.glErrors) {
@@ -489,6 +511,7 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     impl_->invalidate();
     current_ = &queue;
     impl_->current = &target;
+    impl_->camera = &camera;
 
     runPasses(plan, PassStage::Compute, target);
     runPasses(plan, PassStage::PrePass, target);
@@ -512,6 +535,7 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     impl_->log.stage = "main pass";
     drawItems(queue.opaque);
     runPasses(plan, PassStage::AfterOpaque, target);
+    runPasses(plan, PassStage::Transparent, target);
     impl_->log.stage = "main pass";
     drawItems(queue.transparent);
     if (fragments) {
@@ -565,8 +589,12 @@ void Renderer::copyToTexture(const gl::RenderTarget& from, const Texture& to) {
                        0, from.width, from.height, 1);
 }
 
-void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override, bool depthOnly) {
+void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override, DrawMode mode) {
     Impl& s = *impl_;
+    if (std::uint8_t(mode) > std::uint8_t(DrawMode::PassBlend))
+        throw std::invalid_argument("sgfx: Renderer::drawItems: invalid DrawMode " +
+                                    std::to_string(int(mode)));
+    const bool depthOnly = mode == DrawMode::DepthOnly;
     if (depthOnly) {
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         s.setBlend(BlendMode::Off);
@@ -635,11 +663,14 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (item.state != state) {
             state = item.state;
             validateEnums(*state, *item.geometry);
-            if (!depthOnly) {
+            if (mode == DrawMode::Main) {
                 s.setBlend(state->blendMode());
-                s.setDepth(state->depth.value.value_or(DepthState{}));
+                DepthState d = state->depth.value.value_or(DepthState{});
+                // Blended surfaces do not hide what is drawn after them, unless asked to.
+                if (item.features & FeatureBlend)
+                    d.write = d.write && state->transparency.value && state->transparency.value->writeDepth;
+                s.setDepth(d);
             }
-            s.setCull(state->cullFace.value.value_or(CullFace::Back));
             unsigned unit = FirstUserUnit;
             for (const auto& [name, tex] : state->textures) {
                 if (!tex.value || !*tex.value || unit >= kEffectTextureUnit) continue;
@@ -666,15 +697,50 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             }
             ++stats_.stateChanges;
         }
+        switch (item.faces) {
+        case RenderItem::Faces::Back:
+            s.setCull(CullFace::Front);
+            break;
+        case RenderItem::Faces::Front:
+            s.setCull(CullFace::Back);
+            break;
+        case RenderItem::Faces::AsState:
+            s.setCull(state->cullFace.value.value_or(CullFace::Back));
+            break;
+        }
         const Geometry& g = *item.geometry;
         gl::GeometryBuffers& b = buffersFor(g);
         program->set("sgfx_model", item.model);
         program->set("sgfx_normalMatrix", glm::mat3(glm::transpose(glm::inverse(item.model))));
         glBindVertexArray(b.vao.get());
-        if (b.indexed)
+        const TransparencyDetails* details =
+            state->transparency.value ? &*state->transparency.value : nullptr;
+        if (details && details->sortTriangles && (item.features & FeatureBlend) && !depthOnly &&
+            g.triangleCount() > 0) {
+            // Self-overlapping mesh: its triangles back to front, from an index buffer of this view.
+            Impl::SortedMesh& mesh = s.sortedMeshes[{&g, s.camera}];
+            if (!mesh.sort || mesh.revision != g.revision() || mesh.owner.expired()) {
+                mesh.owner = g.weak_from_this();
+                mesh.revision = g.revision();
+                mesh.sort = std::make_unique<TriangleDepthSort>(g);
+                mesh.indices = gl::createBuffer();
+                glNamedBufferData(mesh.indices.get(), GLsizeiptr(mesh.sort->indices().size_bytes()), nullptr,
+                                  GL_STREAM_DRAW);
+            }
+            mesh.lastUse = s.frames;
+            if (mesh.sort->update(frame_.view * item.model, details->resortAngle)) {
+                glNamedBufferSubData(mesh.indices.get(), 0, GLsizeiptr(mesh.sort->indices().size_bytes()),
+                                     mesh.sort->indices().data());
+                ++stats_.triangleSorts;
+            }
+            glVertexArrayElementBuffer(b.vao.get(), mesh.indices.get());
+            glDrawElements(GL_TRIANGLES, GLsizei(mesh.sort->indices().size()), GL_UNSIGNED_INT, nullptr);
+            glVertexArrayElementBuffer(b.vao.get(), b.indexed ? b.indices.get() : 0);
+        } else if (b.indexed) {
             glDrawElements(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr);
-        else
+        } else {
             glDrawArrays(b.mode, 0, GLsizei(b.count));
+        }
         ++stats_.drawCalls;
         stats_.triangles += g.triangleCount();
     }

@@ -1,5 +1,6 @@
 #pragma once
 #include "sgfx/Group.h"
+#include "sgfx/StateSet.h"
 
 #include <string>
 #include <string_view>
@@ -43,6 +44,9 @@ public:
     virtual void planFrame(FramePlan&) const {}
     // Sets this effect's uniforms on a program that contains its snippet.
     virtual void applyUniforms(gl::Program&, const DrawContext&) const {}
+    // Whether this effect draws the blended items below it that use `mode` itself (in a pass of
+    // its own, from RenderQueue::claimed) instead of the main pass's sorted transparent stage.
+    virtual bool drawsBlended(BlendMode) const { return false; }
     bool enabled = true;
 };
 

@@ -31,19 +31,27 @@ struct RenderItem {
     glm::mat4 model{1.0f};
     const ResolvedState* state = nullptr;
     std::uint32_t effectSet = 0; // index into RenderQueue::effectSets
-    float depth = 0.0f;          // view-space distance of the bound's centre along -Z
+    float depth = 0.0f;          // view-space distance of the bound's centre along -Z (transparent
+                                 // items: plus TransparencyDetails::depthBias)
+    std::int32_t order = 0;      // transparent items: TransparencyDetails::order
     std::int8_t depthBucket = 0; // floor(log2(depth)): opaque items sort near-to-far by it first
     std::uint32_t sequence = 0;  // cull order, keeps sorting stable
     std::uint64_t programKey = 0;
     std::uint32_t features = 0; // built-in material variant (MaterialFeature bits)
+    // Which faces this item draws (a double-sided transparent item is queued twice: back faces,
+    // then front faces); AsState = as its state's CullFace says.
+    enum class Faces : std::uint8_t { AsState, Back, Front } faces = Faces::AsState;
 
     const ShaderProgram* program() const;
 };
 
 class RenderQueue {
 public:
-    std::vector<RenderItem> opaque;                 // drawn first; sorted by program, material, front to back
-    std::vector<RenderItem> transparent;            // drawn last; sorted back to front
+    std::vector<RenderItem> opaque;      // drawn first; sorted by program, material, front to back
+    std::vector<RenderItem> transparent; // drawn last; sorted by order, then back to front
+    // Blended items an effect above them draws itself (EffectNode::drawsBlended), e.g. an
+    // order-independent transparency pass; not drawn by the main pass. Cull order.
+    std::vector<RenderItem> claimed;
     std::vector<EffectSet> effectSets{EffectSet{}}; // [0] = no effect
     std::vector<LightInfo> lights;
     glm::vec3 ambientLight{0.0f};
@@ -52,7 +60,7 @@ public:
 
     void clear();
     void sort();
-    std::size_t size() const { return opaque.size() + transparent.size(); }
+    std::size_t size() const { return opaque.size() + transparent.size() + claimed.size(); }
     std::uint32_t internEffectSet(std::vector<const EffectNode*> effects);
 
 private:

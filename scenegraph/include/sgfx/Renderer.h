@@ -37,8 +37,17 @@ struct DrawContext {
 };
 
 // When a pass runs: Compute and PrePass before the main pass; AfterOpaque between the opaque and
-// the transparent items (the background is final, nothing blended over it yet); Post at the end.
-enum class PassStage : std::uint8_t { Compute, PrePass, AfterOpaque, Post };
+// the transparent items (the background is final, nothing blended over it yet); Transparent after
+// that, for passes that draw blended items themselves (RenderQueue::claimed), before the sorted
+// transparent items; Post at the end.
+enum class PassStage : std::uint8_t { Compute, PrePass, AfterOpaque, Transparent, Post };
+
+// How Renderer::drawItems treats each item's state.
+enum class DrawMode : std::uint8_t {
+    Main,      // the item's blend, depth and faces (blended items: depth writes off unless asked)
+    DepthOnly, // no colour writes, no blending, depth test and write on for every item
+    PassBlend, // blend and depth state as the calling pass set them; the item's faces
+};
 
 // Texture units 12..15 belong to effects (user textures of a StateSet use 4..11). An effect binds
 // its textures there through Renderer::bindTexture and declares `layout(binding = N)` samplers.
@@ -72,7 +81,8 @@ struct FrameStats {
     std::size_t stateChanges = 0; // program, material, blend/depth/cull and texture binds
     std::size_t culledNodes = 0;
     std::size_t items = 0;
-    std::uint64_t fragments = 0; // with RendererOptions::countFragments
+    std::size_t triangleSorts = 0; // per-triangle re-sorts (TransparencyDetails::sortTriangles)
+    std::uint64_t fragments = 0;   // with RendererOptions::countFragments
     double cullMs = 0.0, drawMs = 0.0;
 };
 
@@ -118,9 +128,8 @@ public:
 
     // Draws the queue's items with each item's composed program (the main pass), or with
     // `override` for geometry-only passes (depth pre-pass, G-buffer).
-    // `depthOnly`: no colour writes, no blending, depth test and write on for every item.
     void drawItems(std::span<const RenderItem> items, gl::Program* override = nullptr,
-                   bool depthOnly = false);
+                   DrawMode mode = DrawMode::Main);
     // Draws one full-screen triangle with `program` into whatever framebuffer is bound (vertex
     // stage: ShaderComposer::fullscreenVertex(), v_uv in [0, 1]); depth test and writes off
     // unless `depth` says otherwise. No culling.
@@ -133,6 +142,9 @@ public:
     void bindTexture(unsigned unit, unsigned texture);
     // Sets the blend state through the cache (full-screen passes that blend onto the target).
     void setBlend(BlendMode mode);
+    // Forgets the cached GL state: a pass that set blend, depth or program state directly calls
+    // it before using the renderer's draw functions again.
+    void resetStateCache();
 
     ShaderComposer& composer() { return composer_; }
     // The queue of the view being drawn (a render-to-texture camera's inside its passes), else the

@@ -51,6 +51,22 @@ struct DepthState {
     bool operator==(const DepthState&) const = default;
 };
 
+// How a blended item is ordered and drawn in the transparent stage (OSG's render bin details,
+// three.js's renderOrder). Items are drawn by ascending `order`, then back to front by the view
+// depth of their bound's centre plus `depthBias`, then in cull order.
+struct TransparencyDetails {
+    int order = 0;              // explicit order: lower is drawn first, whatever the depths
+    float depthBias = 0.0f;     // metres added to the sort depth (positive: drawn earlier, as if farther)
+    bool twoPass = true;        // double-sided items (CullFace::None): back faces first, then front faces
+    bool sortTriangles = false; // re-sort the triangles back to front (self-overlapping meshes)
+    float resortAngle = 5.0f;   // degrees the view direction may turn before triangles are re-sorted
+    bool writeDepth = false;    // "depth-writing glass": later items and depth readers see it
+    bool operator==(const TransparencyDetails&) const = default;
+
+    // Throws std::invalid_argument naming the field (non-finite bias, angle outside [0, 180]).
+    void validate() const;
+};
+
 using UniformValue = std::variant<int, float, glm::vec2, glm::vec3, glm::vec4, glm::mat3, glm::mat4>;
 
 // The attributes a StateSet may set and a ResolvedState holds, each with its flags.
@@ -61,6 +77,7 @@ struct StateAttributes {
     StateAttr<DepthState> depth;
     StateAttr<CullFace> cullFace;
     StateAttr<RenderBin> renderBin;
+    StateAttr<TransparencyDetails> transparency;
     // Named uniforms and sampler textures for foreign shaders (and effect tuning).
     std::map<std::string, StateAttr<UniformValue>, std::less<>> uniforms;
     std::map<std::string, StateAttr<std::shared_ptr<Texture>>, std::less<>> textures;
