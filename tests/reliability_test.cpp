@@ -13,6 +13,7 @@
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/gl/Objects.h>
+#include <transparency/TransparencyBin.h>
 
 #include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -42,6 +43,16 @@ std::shared_ptr<Node> flatQuad(float size, glm::vec3 color, glm::vec3 pos = {0, 
     m->emissive = color;
     q->getOrCreateStateSet().material.set(m);
     t->addChild(q);
+    return t;
+}
+
+// A blended flat quad (straight alpha, double-sided).
+std::shared_ptr<Node> glassQuad(float size, glm::vec3 color, float alpha, glm::vec3 pos = {0, 0, 0}) {
+    auto t = flatQuad(size, color, pos);
+    auto& ss = static_cast<Group&>(*t).child(0)->getOrCreateStateSet();
+    ss.material.value->get()->diffuse.a = alpha;
+    ss.blend.set(BlendMode::Alpha);
+    ss.cullFace.set(CullFace::None);
     return t;
 }
 
@@ -130,10 +141,16 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
         auto v = Viewer::createHeadless(96, 64);
         v->camera()->setLookAt({40, -60, 25}, {0, 0, 2});
         v->setSceneData(root);
-        for (FogMode mode : {FogMode::ForwardSplit, FogMode::PostProcess, FogMode::Forward}) {
-            fogNode->setMode(mode); // each mode's passes make their targets
-            v->frame();
-        }
+        // Self-overlapping glass: the cabin's triangles sorted per view.
+        TransparencyDetails perTriangle;
+        perTriangle.sortTriangles = true;
+        scene.glassBin->setDetails(perTriangle);
+        for (FogMode mode : {FogMode::ForwardSplit, FogMode::PostProcess, FogMode::Forward})
+            for (TransparencyMode t : {TransparencyMode::WeightedBlended, TransparencyMode::Sorted}) {
+                fogNode->setMode(mode); // each mode's passes make their targets
+                scene.glassBin->setMode(t);
+                v->frame();
+            }
         EXPECT_TRUE(glErrors(*v).empty());
         EXPECT_GT(gl::liveObjects().total(), 50);
     }
@@ -155,6 +172,18 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             root->addChild(tint);
             v->frame();
             root->removeChild(tint.get());
+        } else if (kind == 3) {
+            // A transparency bin whose mode changes each cycle: OIT targets, per-triangle orders.
+            static int n = 0;
+            auto bin = TransparencyBin::create(TransparencyMode(n++ % 2));
+            TransparencyDetails d;
+            d.sortTriangles = true;
+            bin->setDetails(d);
+            bin->addChild(glassQuad(1, {1, 0, 0}, 0.5f, {0, 0, 0.5f}));
+            bin->addChild(glassQuad(1, {0, 1, 0}, 0.5f, {0.2f, 0, 0.7f}));
+            root->addChild(bin);
+            v->frame();
+            root->removeChild(bin.get());
         } else if (kind == 2) {
             // Fog in a mode that changes each cycle: pre-pass, sky and post-process targets.
             static int n = 0;
@@ -176,8 +205,8 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             v->frame(); // the renderer drops the dead camera's target
         }
     };
-    const char* names[] = {"tint", "rtt", "fog"};
-    for (int kind = 0; kind < 3; ++kind) {
+    const char* names[] = {"tint", "rtt", "fog", "transparency"};
+    for (int kind = 0; kind < 4; ++kind) {
         // Warm-up: program variants, and llvmpipe pools that level off after ~1000 frames.
         for (int i = 0; i < 1000; ++i)
             cycle(kind);
@@ -213,6 +242,11 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     clearAir.density = 0.0f;
     auto root = FogNode::create(clearAir);
     root->addChild(tint);
+    // Clear glass in a bin that switches between sorted and OIT: its targets resize, the image
+    // stays exact.
+    auto bin = TransparencyBin::create();
+    bin->addChild(glassQuad(3.0f, {1, 1, 1}, 0.0f, {0, 0, 0.5f}));
+    root->addChild(bin);
     root->addChild(flatQuad(4.0f, {0.0f, 0.3f, 0.0f}, {0, 0, -0.5f}));
     v->setSceneData(root);
     GLint maxDims[2] = {0, 0}, maxTex = 0;
@@ -227,6 +261,7 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     sizes.emplace_back(64, 48);
     int sizeIndex = 0;
     for (const auto& [w, h] : sizes) {
+        bin->setMode(TransparencyMode(sizeIndex % 2));
         root->setMode(FogMode(sizeIndex++ % 3));
         v->camera()->setViewport(0, 0, w, h);
         ASSERT_NO_THROW(v->frame()) << w << "x" << h;
@@ -451,6 +486,66 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          (void)FogNode::create(p);
                      },
                      "density"});
+
+    // TransparencyBin and TransparencyDetails
+    auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
+    auto binSame = [=] {
+        return bin->mode() == TransparencyMode::WeightedBlended && bin->oitParameters().depthScale == 1.0f &&
+               bin->oitParameters().weight == OitWeight::Depth7 && !bin->stateSet()->transparency.value;
+    };
+    cases.push_back({"TransparencyBin", "setMode 2", [=] { bin->setMode(TransparencyMode(2)); },
+                     "invalid mode", binSame});
+    cases.push_back({"TransparencyBin", "weight 5",
+                     [=] {
+                         OitParameters p;
+                         p.weight = OitWeight(5);
+                         bin->setOitParameters(p);
+                     },
+                     "weight", binSame});
+    for (int i = 0; i < 6; ++i) {
+        cases.push_back({"TransparencyBin", "depthScale " + badNames[i],
+                         [=] {
+                             OitParameters p;
+                             p.depthScale = badFloats[i];
+                             bin->setOitParameters(p);
+                         },
+                         "depthScale", binSame});
+        if (std::isnan(badFloats[i]) || std::isinf(badFloats[i]) || badNames[i] == "huge")
+            cases.push_back({"TransparencyBin", "setDetails depthBias " + badNames[i],
+                             [=] {
+                                 TransparencyDetails d;
+                                 d.depthBias = badFloats[i];
+                                 bin->setDetails(d);
+                             },
+                             "depthBias", binSame});
+        if (badNames[i] != "zero")
+            cases.push_back({"TransparencyBin", "setDetails resortAngle " + badNames[i],
+                             [=] {
+                                 TransparencyDetails d;
+                                 d.resortAngle = badNames[i] == "negative" ? -1.0f : badFloats[i];
+                                 bin->setDetails(d);
+                             },
+                             "resortAngle", binSame});
+    }
+    cases.push_back({"StateSet", "transparency depthBias NaN, at frame time",
+                     [&] {
+                         TransparencyDetails d;
+                         d.depthBias = kNaN;
+                         auto pane = glassQuad(1, {1, 1, 1}, 0.5f);
+                         static_cast<Group&>(*pane).child(0)->getOrCreateStateSet().transparency.set(d);
+                         scene->addChild(pane);
+                         struct Remove {
+                             Group& g;
+                             Node* n;
+                             ~Remove() { g.removeChild(n); }
+                         } remove{*scene, pane.get()};
+                         v->frame();
+                     },
+                     "depthBias",
+                     [&] {
+                         v->frame();
+                         return scene->numChildren() == 1 && glErrors(*v).empty();
+                     }});
 
     // Image and PNG files
     for (auto [w, h, c] : {std::tuple{0, 4, 4},

@@ -9,6 +9,7 @@
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Texture.h>
+#include <transparency/TransparencyBin.h>
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -578,8 +579,10 @@ std::shared_ptr<Group> makeVehicle() {
 }
 
 // ------------------------------------------------------------------------------------------ glass
-std::shared_ptr<Group> makeGlass(const Terrain& terrain) {
-    auto group = Group::create();
+// Two panes on stands and a closed glass cabin (double-sided: drawn back faces first), in a
+// TransparencyBin whose mode the demo chooses.
+std::shared_ptr<sgfx::TransparencyBin> makeGlass(const Terrain& terrain) {
+    auto group = sgfx::TransparencyBin::create();
     group->name = "glass";
     auto glass = StateSet::create();
     glass->material.set(makeMaterial(glm::vec3(0.55f, 0.75f, 0.85f), 0.3f, glm::vec3(0.8f), 80.0f));
@@ -588,6 +591,9 @@ std::shared_ptr<Group> makeGlass(const Terrain& terrain) {
     glass->renderBin.set(sgfx::RenderBin::Transparent);
     auto frameState =
         materialState(makeMaterial(glm::vec3(0.25f, 0.25f, 0.27f), 1.0f, glm::vec3(0.4f), 32.0f));
+    // The metal frames stay opaque inside the bin.
+    frameState->renderBin.set(sgfx::RenderBin::Opaque);
+    frameState->blend.set(sgfx::BlendMode::Off);
 
     const float w = 9.0f, h = 4.5f;
     auto pane = sgfx::shapes::quad(w, h); // upright below: local y -> z, facing -Y
@@ -609,6 +615,13 @@ std::shared_ptr<Group> makeGlass(const Terrain& terrain) {
             t->addChild(place(translate({sx * (0.5f * w + 0.075f), 0, 0.5f * (h + 0.2f)}), post));
         group->addChild(t);
     }
+    const glm::vec2 cabin(29.0f, 22.0f);
+    auto box = sgfx::shapes::box({3.0f, 3.0f, 2.5f});
+    box->name = "glass_cabin";
+    box->setStateSet(glass);
+    group->addChild(
+        place(translate(glm::vec3(cabin, terrain.height(cabin.x, cabin.y) + 1.25f)) * rotateZ(0.3f), box,
+              "glass_cabin_pose"));
     return group;
 }
 
@@ -773,7 +786,8 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     scene.vehicle->addChild(
         place(translate({18.0f, 17.0f, terrain.height(18.0f, 17.0f)}) * rotateZ(glm::radians(215.0f)),
               makeVehicle(), "vehicle_pose"));
-    scene.glass = makeGlass(terrain);
+    scene.glassBin = makeGlass(terrain);
+    scene.glass = scene.glassBin;
 
     scene.root->addChild(scene.terrain);
     scene.root->addChild(scene.roads);

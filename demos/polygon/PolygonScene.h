@@ -19,6 +19,10 @@
 #include <memory>
 #include <vector>
 
+namespace sgfx {
+class TransparencyBin;
+}
+
 namespace polygon {
 
 // Small deterministic PRNG (splitmix64): the same seed gives the same scene everywhere.
@@ -84,6 +88,7 @@ struct PolygonScene {
     std::shared_ptr<sgfx::Group> root;
     // Named subgraphs, also reachable from root (handy for tests and tools).
     std::shared_ptr<sgfx::Group> terrain, roads, buildings, trees, vehicle, glass;
+    std::shared_ptr<sgfx::TransparencyBin> glassBin; // == glass: its mode is the demo's choice
     SceneInfo info;
 };
 

@@ -8,6 +8,7 @@
 #include <sgfx/ObjWriter.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
+#include <transparency/TransparencyBin.h>
 
 #include <glad/gl.h>
 // After glad: GLFW must not pull in the system GL header.
@@ -40,13 +41,14 @@ const glm::vec4 kSkyColor{0.42f, 0.60f, 0.85f, 1.0f}; // linear
 const char* const kUsage = R"(usage: polygon [options]
 
 Renders the sgfx proving ground: hilly terrain in tiles, roads, a few hundred buildings,
-alpha-masked trees, a tracked robot vehicle and two glass panes, lit by a sun and the sky.
+alpha-masked trees, a tracked robot vehicle, two glass panes and a glass cabin, lit by a sun and
+the sky.
 Without a mode option it renders one frame headless (OSMesa) and writes a PNG.
 
 modes (at most one):
   --window            fly through the scene in a window (WASD move, Q/E down/up, Shift fast,
-                      left mouse drag to look, F cycles the fog mode, Esc quits); without a
-                      display it says
+                      left mouse drag to look, F cycles the fog mode, T switches the glass
+                      between sorted and OIT, Esc quits); without a display it says
                       "no display: rendering headless" and writes the PNG instead
   --bench N           render N frames along the camera path (t = i/N) after 3 warm-up
                       frames, glFinish after each, and print timings and render statistics
@@ -83,6 +85,9 @@ effects:
   --fog-sky off|far|distance
                       fog on pixels without geometry: none, to the far plane, or along the
                       ray to 100 km (default)
+  --transparency sorted|oit
+                      how the glass (two panes and a closed cabin) is blended: sorted back
+                      to front (default) or weighted blended order-independent transparency
   -h, --help          show this help
 
 exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
@@ -110,6 +115,7 @@ struct Options {
     long windowFrames = 0; // --window: quit after this many frames (0 = until closed)
     std::optional<sgfx::FogMode> fog = sgfx::FogMode::Forward;
     sgfx::FogParameters fogParameters = sgfx::FogParameters::ground();
+    sgfx::TransparencyMode transparency = sgfx::TransparencyMode::Sorted;
 };
 
 template <class T> T parseNumber(std::string_view option, std::string_view text) {
@@ -232,6 +238,14 @@ Options parseArgs(int argc, char** argv) {
                 o.fogParameters.sky = sgfx::FogSky::Distance;
             else
                 throw UsageError("--fog-sky: '" + std::string(v) + "' is not off, far or distance");
+        } else if (arg == "--transparency") {
+            const std::string_view v = value();
+            if (v == "sorted")
+                o.transparency = sgfx::TransparencyMode::Sorted;
+            else if (v == "oit")
+                o.transparency = sgfx::TransparencyMode::WeightedBlended;
+            else
+                throw UsageError("--transparency: '" + std::string(v) + "' is not sorted or oit");
         } else if (arg == "--fog-response") {
             const std::string_view v = value();
             if (v == "linear")
@@ -262,6 +276,7 @@ Options parseArgs(int argc, char** argv) {
 
 // The scene with the chosen effects around it.
 sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& scene) {
+    scene.glassBin->setMode(o.transparency);
     if (!o.fog) return scene.root;
     auto fog = sgfx::FogNode::create(o.fogParameters, *o.fog);
     fog->addChild(scene.root);
@@ -400,7 +415,8 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     fog->enabled = o.fog.has_value();
     fog->addChild(scene.root);
     viewer.setSceneData(fog);
-    bool fogKeyDown = false;
+    scene.glassBin->setMode(o.transparency);
+    bool fogKeyDown = false, transparencyKeyDown = false;
     const polygon::Terrain terrain(o.seed);
 
     const polygon::CameraPose start = startPose(o, o.time);
@@ -412,7 +428,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     double last = glfwGetTime(), titleTime = last;
     int frames = 0;
     std::cout << "window: WASD move, Q/E down/up, Shift fast, left mouse drag to look, F cycles the fog "
-                 "mode, Esc quits"
+                 "mode, T switches sorted/OIT glass, Esc quits"
               << std::endl;
 
     long total = 0;
@@ -434,6 +450,12 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
             }
         }
         fogKeyDown = fogKey;
+        const bool transparencyKey = glfwGetKey(win, GLFW_KEY_T) == GLFW_PRESS;
+        if (transparencyKey && !transparencyKeyDown)
+            scene.glassBin->setMode(scene.glassBin->mode() == sgfx::TransparencyMode::Sorted
+                                        ? sgfx::TransparencyMode::WeightedBlended
+                                        : sgfx::TransparencyMode::Sorted);
+        transparencyKeyDown = transparencyKey;
 
         double x = 0, y = 0;
         glfwGetCursorPos(win, &x, &y);
@@ -473,7 +495,8 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
                 (!fog->enabled                                ? "off"
                  : fog->mode() == sgfx::FogMode::Forward      ? "forward"
                  : fog->mode() == sgfx::FogMode::ForwardSplit ? "split"
-                                                              : "post");
+                                                              : "post") +
+                ", glass " + (scene.glassBin->mode() == sgfx::TransparencyMode::Sorted ? "sorted" : "OIT");
             glfwSetWindowTitle(win, title.c_str());
             titleTime = now;
             frames = 0;

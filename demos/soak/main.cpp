@@ -7,6 +7,7 @@
 
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
+#include <transparency/TransparencyBin.h>
 #include <sgfx/Viewer.h>
 
 #include <chrono>
@@ -79,6 +80,10 @@ int main(int argc, char** argv) {
         fog->addChild(tint);
         auto root = sgfx::Group::create();
         root->addChild(fog);
+        // The glass: sorted and order-independent in turn, the cabin's triangles sorted per view.
+        sgfx::TransparencyDetails perTriangle;
+        perTriangle.sortTriangles = true;
+        scene.glassBin->setDetails(perTriangle);
 
         auto viewer = sgfx::Viewer::createHeadless(args.width, args.height);
         viewer->renderer().options().colorTarget = sgfx::RendererOptions::ColorTarget::Rgba32F;
@@ -102,6 +107,7 @@ int main(int argc, char** argv) {
             cam.setLookAt(pose.eye, pose.target, pose.up);
             tint->setTint({1.0f, 0.2f, 0.1f, float(0.5 + 0.5 * std::sin(f * dt))});
             fog->setMode(sgfx::FogMode(f / 500 % 3));
+            scene.glassBin->setMode(sgfx::TransparencyMode(f / 250 % 2));
             sgfx::FogParameters fp = sgfx::FogParameters::ground();
             fp.density = float(1e-3 * (1.0 + std::sin(f * dt * 0.3)) / std::max(args.scale, 1e-3f));
             fog->setParameters(fp);
