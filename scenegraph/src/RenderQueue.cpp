@@ -3,6 +3,8 @@
 #include "sgfx/Effect.h"
 
 #include <algorithm>
+#include <bit>
+#include <utility>
 
 namespace sgfx {
 
@@ -49,11 +51,36 @@ void RenderQueue::sort() {
     });
     // Transparent: explicit order first, then back to front; equal depths keep cull order (a
     // total order, so nothing flickers and the two faces of a double-sided item stay together).
-    std::sort(transparent.begin(), transparent.end(), [](const RenderItem& a, const RenderItem& b) {
-        if (a.order != b.order) return a.order < b.order;
-        if (a.depth != b.depth) return a.depth > b.depth;
-        return a.sequence < b.sequence;
-    });
+    // Items are large (a matrix each) and arrive in cull order: a stable LSD radix sort of
+    // (order, depth) keys, then each item moved once.
+    const std::size_t n = transparent.size();
+    sortKeys_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const RenderItem& it = transparent[i];
+        std::uint32_t d = std::bit_cast<std::uint32_t>(it.depth + 0.0f); // -0 sorts as +0
+        d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u;             // monotone in depth
+        sortKeys_[i] = {(std::uint64_t(std::uint32_t(it.order) ^ 0x80000000u) << 32) | ~d, std::uint32_t(i)};
+    }
+    constexpr int kBits = 11;
+    constexpr std::uint32_t kMask = (1u << kBits) - 1;
+    sortScratchKeys_.resize(n);
+    for (int shift = 0; shift < 64; shift += kBits) {
+        std::uint32_t count[1u << kBits] = {};
+        for (const SortKey& k : sortKeys_)
+            ++count[(k.primary >> shift) & kMask];
+        if (count[(sortKeys_.empty() ? 0 : sortKeys_[0].primary >> shift) & kMask] == n) continue; // one digit
+        std::uint32_t sum = 0;
+        for (std::uint32_t& c : count)
+            sum += std::exchange(c, sum);
+        for (const SortKey& k : sortKeys_)
+            sortScratchKeys_[count[(k.primary >> shift) & kMask]++] = k;
+        sortKeys_.swap(sortScratchKeys_);
+    }
+    sortScratch_.clear();
+    sortScratch_.reserve(n);
+    for (const SortKey& k : sortKeys_)
+        sortScratch_.push_back(transparent[k.index]);
+    transparent.swap(sortScratch_);
 }
 
 } // namespace sgfx

@@ -51,7 +51,8 @@ bool TriangleDepthSort::update(const glm::mat4& mv, float thresholdDegrees) {
     ++sorts_;
 
     // Far to near = ascending view z. LSD radix sort on the order-preserving bits of the float
-    // (stable, so equal depths keep the mesh's order): O(n), about 3x faster than std::sort here.
+    // (stable, so equal depths keep the mesh's order): O(n), about 7x faster than std::sort on
+    // 10^5 triangles (bench/transparency_bench).
     const std::size_t n = centroids_.size();
     keys_.resize(n);
     scratch_.resize(n);

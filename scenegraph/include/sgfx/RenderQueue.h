@@ -65,6 +65,12 @@ public:
 
 private:
     std::vector<std::string> signatures_{std::string()}; // [0] = no snippet
+    struct SortKey {
+        std::uint64_t primary;
+        std::uint32_t index;
+    };
+    std::vector<SortKey> sortKeys_, sortScratchKeys_;
+    std::vector<RenderItem> sortScratch_;
 };
 
 } // namespace sgfx
