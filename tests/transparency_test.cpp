@@ -733,3 +733,24 @@ TEST(WeightedBlendedRender, OpaqueGeometryInFrontHidesTheLayers) {
         weightedBlended(panes.color, panes.alpha, std::array<double, 3>{9, 8, 7}, kBackground);
     EXPECT_LE(channelError(img, openX, kSize / 2, exp), 2);
 }
+
+TEST(WeightedBlendedRender, SingleLayersEqualTheOverOperatorInPerspective) {
+    // One layer per pixel: eq. 6 reduces to the over operator, so OIT and sorting must agree on
+    // every pixel, including a pane that leaves the frame and one far away (the passes are
+    // scissored to the layers' screen bounds).
+    auto make = [](std::shared_ptr<Group> parent) {
+        parent->addChild(pane({-3.0f, 2.0f, 0.0f}, {0.9f, 0.1f, 0.1f}, 0.5f, 6.0f));
+        parent->addChild(pane({1.5f, 8.0f, 0.5f}, {0.1f, 0.8f, 0.2f}, 0.7f, 1.0f));
+    };
+    auto sortedRoot = Group::create();
+    make(sortedRoot);
+    auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
+    make(bin);
+    auto vs = obliqueViewer(3.0f);
+    const Image s = render(*vs, sortedRoot);
+    auto vo = obliqueViewer(3.0f);
+    const Image o = render(*vo, bin);
+    EXPECT_LE(channelsDiffering(s, o, 2), 0);
+    auto ve = obliqueViewer(3.0f);
+    EXPECT_GT(channelsDiffering(s, render(*ve, Group::create()), 8), 1000) << "the panes are in view";
+}

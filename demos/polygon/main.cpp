@@ -59,7 +59,8 @@ options:
   --size WxH          image / bench / window size in pixels (default 1280x720)
   --time T            camera path time of the still image, 0 <= T < 1 (default 0.1)
   --look EX,EY,EZ,TX,TY,TZ
-                      still image from eye E looking at target T instead (metres, Z up)
+                      still image (or every --bench frame) from eye E looking at target T
+                      instead of the camera path (metres, Z up)
   --scale S           scale the triangle count, 0 < S <= 16 (default 1, about 600k
                       triangles): terrain resolution and numbers of buildings and trees
   --seed N            scene seed, an unsigned integer (default 1)
@@ -351,7 +352,8 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
     double triangles = 0, drawCalls = 0, stateChanges = 0, programChanges = 0, culled = 0, cullMs = 0,
            drawMs = 0, fragments = 0;
     for (int i = 0; i < n; ++i) {
-        const polygon::CameraPose pose = polygon::cameraPose(float(i) / float(n), kExtent);
+        // With --look every frame is from that pose (the cost of what it sees), else the path.
+        const polygon::CameraPose pose = o.look ? *o.look : polygon::cameraPose(float(i) / float(n), kExtent);
         viewer->camera()->setLookAt(pose.eye, pose.target, pose.up);
         const auto t0 = clock::now();
         viewer->frame();

@@ -2,11 +2,13 @@
 
 #include "EmbeddedShaders.h"
 
+#include <sgfx/Geometry.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/gl/Objects.h>
 
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -47,6 +49,39 @@ int equationOf(OitWeight w) {
     return 0;
 }
 
+// Pixels the items' bounding spheres may cover: the clear, the accumulation and the composite
+// are scissored to them (a software rasterizer pays for every pixel of a full-screen pass).
+glm::ivec4 screenBounds(std::span<const RenderItem> items, const FrameData& frame) {
+    glm::vec2 lo(0.0f), hi(0.0f);
+    bool any = false;
+    const bool perspective = frame.projection[2][3] != 0.0f;
+    const float nearZ = frame.projection[3][2] / (frame.projection[2][2] - 1.0f); // the near distance
+    for (const RenderItem& it : items) {
+        const BoundingSphere s = it.geometry->bound().transformed(it.model);
+        if (!s.valid()) continue;
+        const glm::vec3 c = glm::vec3(frame.view * glm::vec4(s.center, 1.0f));
+        if (perspective && (!(nearZ > 0.0f) || -c.z - s.radius <= nearZ))
+            return {0, 0, frame.width, frame.height}; // reaches the camera: everything
+        for (int k = 0; k < 8; ++k) {
+            const glm::vec3 corner = c + s.radius * glm::vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1);
+            const glm::vec4 clip = frame.projection * glm::vec4(corner, 1.0f);
+            const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+            lo = any ? glm::min(lo, ndc) : ndc;
+            hi = any ? glm::max(hi, ndc) : ndc;
+            any = true;
+        }
+    }
+    if (!any || !std::isfinite(lo.x + lo.y + hi.x + hi.y))
+        return {0, 0, any ? frame.width : 0, any ? frame.height : 0};
+    lo = glm::clamp(lo, -1.0f, 1.0f);
+    hi = glm::clamp(hi, -1.0f, 1.0f);
+    const int x0 = std::max(0, int(std::floor((lo.x * 0.5f + 0.5f) * float(frame.width))) - 1);
+    const int y0 = std::max(0, int(std::floor((lo.y * 0.5f + 0.5f) * float(frame.height))) - 1);
+    const int x1 = std::min(frame.width, int(std::ceil((hi.x * 0.5f + 0.5f) * float(frame.width))) + 1);
+    const int y1 = std::min(frame.height, int(std::ceil((hi.y * 0.5f + 0.5f) * float(frame.height))) + 1);
+    return {x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
+}
+
 } // namespace
 
 void OitParameters::validate() const {
@@ -71,6 +106,10 @@ public:
         if (items.empty()) return;
         const gl::RenderTarget& view = r.currentTarget();
         allocate(view);
+        const glm::ivec4 rect = screenBounds(items, r.frame());
+        if (rect.z <= 0 || rect.w <= 0) return;
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(rect.x, rect.y, rect.z, rect.w);
 
         r.bindTexture(kAccumUnit, 0); // not sampled while being written
         r.bindTexture(kRevealUnit, 0);
@@ -99,6 +138,7 @@ public:
         r.drawFullscreen(compositeProgram(r));
         r.bindTexture(kAccumUnit, 0);
         r.bindTexture(kRevealUnit, 0);
+        glDisable(GL_SCISSOR_TEST);
     }
 
 private:

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Cost of the glass's transparency mode on the proving ground at one size: alternates
+# `polygon --bench` with --transparency sorted and oit, ROUNDS times (interleaved, so machine
+# drift hits both), along the camera path and from a fixed view onto the glass (two panes and the
+# closed cabin fill much of the frame), then prints median ms/frame and the OIT/sorted ratio.
+# Usage: bench/transparency_table.sh [BUILD_DIR] [ROUNDS] [SIZE] [FRAMES]
+set -euo pipefail
+build=${1:-build}; rounds=${2:-3}; size=${3:-1280x720}; frames=${4:-40}
+export MALLOC_MMAP_THRESHOLD_=131072 # llvmpipe timings swing with malloc history: pin it for all
+field() { sed -n "s/.*$1=\([0-9.]*\).*/\1/p"; }
+median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2] + a[NR/2+1]) / 2}'; }
+glass_view=(--look 22,8,3.5,30,22,2)
+echo "| view ($size, fog off) | sorted ms (FPS) | OIT ms (FPS) | OIT / sorted |"
+echo "|---|---|---|---|"
+for view in path glass; do
+  declare -A runs=()
+  extra=(); [ "$view" = glass ] && extra=("${glass_view[@]}")
+  for ((r = 0; r < rounds; ++r)); do
+    for m in sorted oit; do
+      runs[$m]+=" $("$build/demos/polygon" --bench "$frames" --size "$size" --fog off --transparency "$m" "${extra[@]}" | grep '^BENCH' | field ms_per_frame)"
+    done
+  done
+  for k in sorted oit; do echo "# $view $k: ${runs[$k]}" >&2; done
+  s=$(median ${runs[sorted]}); o=$(median ${runs[oit]})
+  awk -v v="$view" -v s="$s" -v o="$o" 'BEGIN { printf "| %s | %.1f (%.1f) | %.1f (%.1f) | %.3f |\n", (v == "path" ? "camera path" : "looking at the glass"), s, 1000 / s, o, 1000 / o, o / s }'
+  unset runs
+done
