@@ -49,8 +49,9 @@ int equationOf(OitWeight w) {
     return 0;
 }
 
-// Pixels the items' bounding spheres may cover: the clear, the accumulation and the composite
-// are scissored to them (a software rasterizer pays for every pixel of a full-screen pass).
+// Pixels the items' bounding spheres may cover: the accumulation and the composite are
+// scissored to them (a software rasterizer pays for every pixel of a full-screen pass).
+
 glm::ivec4 screenBounds(std::span<const RenderItem> items, const FrameData& frame) {
     glm::vec2 lo(0.0f), hi(0.0f);
     bool any = false;
@@ -108,8 +109,6 @@ public:
         allocate(view);
         const glm::ivec4 rect = screenBounds(items, r.frame());
         if (rect.z <= 0 || rect.w <= 0) return;
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(rect.x, rect.y, rect.z, rect.w);
 
         r.bindTexture(kAccumUnit, 0); // not sampled while being written
         r.bindTexture(kRevealUnit, 0);
@@ -117,8 +116,12 @@ public:
         glViewport(0, 0, view.width, view.height);
         glDisable(GL_FRAMEBUFFER_SRGB);
         const float zero[4] = {0, 0, 0, 0}, one[4] = {1, 1, 1, 1};
+        // Whole-target clears: llvmpipe clears whole tiles at once, a scissored clear pixel by
+        // pixel (5x slower at 720p).
         glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, 0, zero);
         glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, 1, one);
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(rect.x, rect.y, rect.z, rect.w);
         glEnable(GL_BLEND);
         glBlendEquation(GL_FUNC_ADD);
         glBlendFunci(0, GL_ONE, GL_ONE);
