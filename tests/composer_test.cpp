@@ -95,6 +95,12 @@ TEST(ComposerText, ForeignMainIsRenamedAndWrapped) {
     EXPECT_NE(p.fragment.find("vec4 sgfx_color = fragOut;"), std::string::npos);
     EXPECT_NE(p.fragment.find("fragOut = sgfx_color;"), std::string::npos);
     EXPECT_EQ(p.vertex, prog->vertexSource);
+    // An output without a location is pinned to 0 (snippets may add located outputs).
+    auto unlocated = ShaderProgram::create(
+        "app2", kForeignVert, "#version 450 core\nout vec4 color;\nvoid main() { color = vec4(1); }\n");
+    const ComposedProgram u = ShaderComposer::composeForeign(*unlocated, list);
+    EXPECT_NE(u.fragment.find("layout(location = 0) out vec4 color;"), std::string::npos) << u.fragment;
+    EXPECT_EQ(countOf(u.fragment, "out vec4 color;"), 1u);
     // A shader without a colour output cannot be wrapped: say so.
     auto bad = ShaderProgram::create("noout", kForeignVert, "#version 450 core\nvoid main() {}\n");
     try {

@@ -6,6 +6,7 @@
 #include <sgfx/CullVisitor.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
+#include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/TriangleSort.h>
 #include <transparency/OitMath.h>
@@ -753,4 +754,25 @@ TEST(WeightedBlendedRender, SingleLayersEqualTheOverOperatorInPerspective) {
     EXPECT_LE(channelsDiffering(s, o, 2), 0);
     auto ve = obliqueViewer(3.0f);
     EXPECT_GT(channelsDiffering(s, render(*ve, Group::create()), 8), 1000) << "the panes are in view";
+}
+
+TEST(WeightedBlendedRender, ForeignShadersAccumulateThroughTheWrap) {
+    // The application's own program, blended in a weighted blended bin: the composer's wrap adds
+    // the second output. One layer, so the result is the over operator.
+    static const char* frag = R"(#version 450 core
+uniform vec4 appColor;
+out vec4 fragOut;
+void main() { fragOut = appColor; }
+)";
+    auto program = ShaderProgram::create("app_glass", kForeignVert, frag);
+    auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
+    auto q = shapes::quad(2, 2);
+    auto& ss = q->getOrCreateStateSet();
+    ss.program.set(program);
+    ss.setUniform("appColor", glm::vec4(0.9f, 0.6f, 0.1f, 0.4f));
+    bin->addChild(q);
+    auto v = topViewer();
+    const Image img = render(*v, bin);
+    EXPECT_LE(channelError(img, kSize / 2, kSize / 2, over({0.9, 0.6, 0.1}, 0.4, kBackground)), 2);
+    EXPECT_LE(channelError(img, 2, 2, kBackground), 1);
 }

@@ -51,7 +51,6 @@ int equationOf(OitWeight w) {
 
 // Pixels the items' bounding spheres may cover: the accumulation and the composite are
 // scissored to them (a software rasterizer pays for every pixel of a full-screen pass).
-
 glm::ivec4 screenBounds(std::span<const RenderItem> items, const FrameData& frame) {
     glm::vec2 lo(0.0f), hi(0.0f);
     bool any = false;

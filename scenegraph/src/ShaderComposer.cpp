@@ -228,9 +228,11 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
     if (!std::regex_search(src, mainRe))
         throw ShaderError("sgfx: foreign fragment shader '" + prog.name + "' has no `void main()` to wrap");
     std::string output;
+    bool located = false;
     for (auto it = std::sregex_iterator(src.begin(), src.end(), outRe); it != std::sregex_iterator(); ++it) {
         if (output.empty() || (*it)[1].matched) output = (*it)[2].str();
-        if ((*it)[1].matched) break;
+        located = (*it)[1].matched;
+        if (located) break;
     }
     if (output.empty())
         throw ShaderError("sgfx: foreign fragment shader '" + prog.name +
@@ -243,7 +245,14 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
         out += s->defines.empty() ? "" : s->defines + "\n";
     p.fragmentSources.push_back(prog.name + ".frag");
     out += lineDirective(2, 0);
-    out += std::regex_replace(std::string(body), mainRe, "void sgfx_user_main()");
+    std::string user = std::regex_replace(std::string(body), mainRe, "void sgfx_user_main()");
+    // Snippets may add outputs (weighted blended OIT adds location 1); GLSL then wants every
+    // output located, so the application's colour output is pinned to location 0.
+    if (!located)
+        user = std::regex_replace(user, std::regex("\\bout\\s+vec4\\s+" + output + "\\s*;"),
+                                  "layout(location = 0) out vec4 " + output + ";",
+                                  std::regex_constants::format_first_only);
+    out += user;
     out += '\n';
     if (src.find("SgfxFrame") == std::string::npos)
         appendChunk(out, p.fragmentSources, "<sgfx frame block>", shaders::embedded("frame_block.glsl"));
