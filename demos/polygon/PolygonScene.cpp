@@ -615,6 +615,22 @@ std::shared_ptr<sgfx::TransparencyBin> makeGlass(const Terrain& terrain) {
             t->addChild(place(translate({sx * (0.5f * w + 0.075f), 0, 0.5f * (h + 0.2f)}), post));
         group->addChild(t);
     }
+    // Two tinted panes crossing each other: no order of the two is right everywhere, so sorting
+    // gets one side wrong and order-independent transparency does not.
+    auto amber = StateSet::create();
+    *amber = *glass;
+    amber->material.set(makeMaterial(glm::vec3(0.95f, 0.55f, 0.1f), 0.5f, glm::vec3(0.6f), 60.0f));
+    const glm::vec2 cross(24.0f, 12.0f);
+    const float crossZ = terrain.height(cross.x, cross.y) + 1.5f;
+    for (int i = 0; i < 2; ++i) {
+        auto q = sgfx::shapes::quad(4.0f, 3.0f);
+        q->name = i == 0 ? "glass_cross_blue" : "glass_cross_amber";
+        q->setStateSet(i == 0 ? glass : amber);
+        group->addChild(
+            place(translate(glm::vec3(cross, crossZ)) * rotateZ(0.6f + float(i) * glm::half_pi<float>()) *
+                      rotateX(glm::half_pi<float>()),
+                  q, "glass_cross"));
+    }
     const glm::vec2 cabin(29.0f, 22.0f);
     auto box = sgfx::shapes::box({3.0f, 3.0f, 2.5f});
     box->name = "glass_cabin";
