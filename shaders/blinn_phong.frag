@@ -41,6 +41,11 @@ layout(binding = 1) uniform sampler2D sgfx_alphaMap;
 layout(binding = 2) uniform sampler2D sgfx_normalMap;
 
 layout(location = 0) out vec4 sgfx_fragColor;
+#ifdef SGFX_GBUFFER
+// G-buffer variant (pre-passes such as ambient occlusion): location 0 holds the view-space normal.
+layout(location = 1) out vec4 sgfx_gDepth;    // linear view depth, metres
+layout(location = 2) out vec4 sgfx_gPosition; // view-space position
+#endif
 
 // @sgfx:fragment_decl
 
@@ -93,6 +98,17 @@ void main() {
 #endif
 #ifndef SGFX_BLEND
     base.a = 1.0; // opaque surfaces write opaque pixels whatever the material's alpha
+#endif
+#ifdef SGFX_GBUFFER
+#if defined(SGFX_ALPHA_MAP) && defined(SGFX_TEXCOORDS) && !defined(SGFX_ALPHA_MASK)
+    // SSAO seed §1: texels of an alpha map below ε cut holes in the G-buffer.
+    if (texture(sgfx_alphaMap, v_texcoord).r < 1.0 / 255.0) discard;
+#endif
+    vec4 gView = sgfx_view * vec4(v_worldPos, 1.0);
+    sgfx_fragColor = vec4(normalize(mat3(sgfx_view) * surfaceNormal()), 0.0); // seed §1: N_vcs
+    sgfx_gDepth = vec4(-gView.z);
+    sgfx_gPosition = vec4(gView.xyz, 1.0);
+    return;
 #endif
 
     vec3 sgfx_ambient = sgfx_ambientLight.rgb;

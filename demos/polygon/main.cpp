@@ -3,6 +3,7 @@
 #include "CameraPath.h"
 #include "PolygonScene.h"
 
+#include <ao/AmbientOcclusionNode.h>
 #include <fog/FogNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/ObjWriter.h>
@@ -86,6 +87,12 @@ effects:
   --fog-sky off|far|distance
                       fog on pixels without geometry: none, to the far plane, or along the
                       ray to 100 km (default)
+  --ao off|on         screen-space ambient occlusion on the ambient light (default off)
+  --ao-samples M      samples per pixel, 8..64 (default 32)
+  --ao-radius R       kernel radius in metres (default 0.5)
+  --ao-half           compute the occlusion at half resolution
+  --ao-debug raw|blurred
+                      show the occlusion map instead of the scene
   --transparency sorted|oit
                       how the glass (two panes and a closed cabin) is blended: sorted back
                       to front (default) or weighted blended order-independent transparency
@@ -117,6 +124,8 @@ struct Options {
     std::optional<sgfx::FogMode> fog = sgfx::FogMode::Forward;
     sgfx::FogParameters fogParameters = sgfx::FogParameters::ground();
     sgfx::TransparencyMode transparency = sgfx::TransparencyMode::Sorted;
+    bool ao = false;
+    sgfx::AmbientOcclusionParameters aoParameters;
 };
 
 template <class T> T parseNumber(std::string_view option, std::string_view text) {
@@ -239,6 +248,24 @@ Options parseArgs(int argc, char** argv) {
                 o.fogParameters.sky = sgfx::FogSky::Distance;
             else
                 throw UsageError("--fog-sky: '" + std::string(v) + "' is not off, far or distance");
+        } else if (arg == "--ao") {
+            const std::string_view v = value();
+            if (v != "on" && v != "off") throw UsageError("--ao: '" + std::string(v) + "' is not on or off");
+            o.ao = v == "on";
+        } else if (arg == "--ao-samples") {
+            o.aoParameters.samples = parseNumber<int>(arg, value());
+        } else if (arg == "--ao-radius") {
+            o.aoParameters.radius = parseNumber<float>(arg, value());
+        } else if (arg == "--ao-half") {
+            o.aoParameters.halfResolution = true;
+        } else if (arg == "--ao-debug") {
+            const std::string_view v = value();
+            if (v == "raw")
+                o.aoParameters.debugView = sgfx::AoDebugView::Raw;
+            else if (v == "blurred")
+                o.aoParameters.debugView = sgfx::AoDebugView::Blurred;
+            else
+                throw UsageError("--ao-debug: '" + std::string(v) + "' is not raw or blurred");
         } else if (arg == "--transparency") {
             const std::string_view v = value();
             if (v == "sorted")
@@ -272,15 +299,26 @@ Options parseArgs(int argc, char** argv) {
     } catch (const std::invalid_argument& e) {
         throw UsageError(std::string("--fog-*: ") + e.what());
     }
+    try {
+        o.aoParameters.validate();
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--ao-*: ") + e.what());
+    }
     return o;
 }
 
 // The scene with the chosen effects around it.
 sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& scene) {
     scene.glassBin->setMode(o.transparency);
-    if (!o.fog) return scene.root;
+    sgfx::NodePtr world = scene.root;
+    if (o.ao) {
+        auto ao = sgfx::AmbientOcclusionNode::create(o.aoParameters);
+        ao->addChild(world);
+        world = ao;
+    }
+    if (!o.fog) return world;
     auto fog = sgfx::FogNode::create(o.fogParameters, *o.fog);
-    fog->addChild(scene.root);
+    fog->addChild(world);
     return fog;
 }
 
@@ -351,6 +389,8 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
     ms.reserve(std::size_t(n));
     double triangles = 0, drawCalls = 0, stateChanges = 0, programChanges = 0, culled = 0, cullMs = 0,
            drawMs = 0, fragments = 0;
+    viewer->renderer().options().timePasses = true;     // GPU time per pass from timer queries
+    std::vector<std::pair<std::string, double>> passMs; // summed over the frames, in frame order
     for (int i = 0; i < n; ++i) {
         // With --look every frame is from that pose (the cost of what it sees), else the path.
         const polygon::CameraPose pose = o.look ? *o.look : polygon::cameraPose(float(i) / float(n), kExtent);
@@ -369,6 +409,14 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
         cullMs += st.cullMs;
         drawMs += st.drawMs;
         fragments += double(st.fragments);
+        for (const auto& pt : st.passTimes) {
+            auto it =
+                std::find_if(passMs.begin(), passMs.end(), [&](const auto& e) { return e.first == pt.name; });
+            if (it == passMs.end())
+                passMs.emplace_back(pt.name, pt.gpuMs);
+            else
+                it->second += pt.gpuMs;
+        }
     }
     reportGlErrors(*viewer);
     const double dn = double(n);
@@ -387,6 +435,10 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
     std::printf("                   culled nodes %.1f  cull %.2f ms  draw submit %.2f ms (CPU)\n",
                 culled / dn, cullMs / dn, drawMs / dn);
     std::printf("  scene            %zu triangles\n", sceneTriangles);
+    std::printf("  GPU ms per pass  ");
+    for (const auto& [name, total] : passMs)
+        std::printf("%s %.2f  ", name.c_str(), total / dn);
+    std::printf("\n");
     if (o.countFragments)
         std::printf("  fragments        %.0f passed depth per frame = %.2f per pixel\n", fragments / dn,
                     fragments / dn / (double(o.width) * o.height));
@@ -395,6 +447,14 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
                 mean, fps, triangles / dn, drawCalls / dn, stateChanges / dn, programChanges / dn, med,
                 sceneTriangles, o.width, o.height, int(viewer->context().kind().size()),
                 viewer->context().kind().data());
+    std::printf("PASSES");
+    for (const auto& [name, total] : passMs) {
+        std::string key = name;
+        std::replace_if(
+            key.begin(), key.end(), [](char c) { return c == ' ' || c == ':'; }, '_');
+        std::printf(" %s=%.3f", key.c_str(), total / dn);
+    }
+    std::printf("\n");
     return 0;
 }
 

@@ -18,8 +18,8 @@ namespace sgfx {
 
 namespace {
 
-constexpr unsigned kAccumUnit = kEffectTextureUnit;
-constexpr unsigned kRevealUnit = kEffectTextureUnit + 1;
+constexpr unsigned kAccumUnit = kEffectTextureUnit + 2; // units 14, 15: this pass's own
+constexpr unsigned kRevealUnit = kEffectTextureUnit + 3;
 
 std::string text(std::string_view file) {
     return std::string(nodes::shaders::embedded(file));

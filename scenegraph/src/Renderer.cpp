@@ -240,6 +240,16 @@ struct Renderer::Impl {
     std::map<std::pair<const Geometry*, const Camera*>, SortedMesh> sortedMeshes;
     const Camera* camera = nullptr; // the view being drawn
     std::uint64_t frames = 0;
+    // RendererOptions::timePasses: queries of this frame, read at its end.
+    std::vector<std::pair<std::string, gl::QueryObject>> timers;
+    void beginTimer(bool on, std::string name) {
+        if (!on) return;
+        timers.emplace_back(std::move(name), gl::createQuery(GL_TIME_ELAPSED));
+        glBeginQuery(GL_TIME_ELAPSED, timers.back().second.get());
+    }
+    void endTimer(bool on) {
+        if (on) glEndQuery(GL_TIME_ELAPSED);
+    }
     gl::RenderTarget* current = &scene; // target of the view being drawn
     gl::BufferObject frameUbo;
     gl::VertexArrayObject emptyVao; // full-screen passes take their vertices from gl_VertexID
@@ -368,6 +378,13 @@ void Renderer::resetStateCache() {
     impl_->invalidate();
 }
 
+gl::Program& Renderer::gbufferProgram() {
+    static const BaseShader base{"gbuffer_flat", "gbuffer_flat.vert",
+                                 std::string(shaders::embedded("gbuffer_flat.vert")), "gbuffer_flat.frag",
+                                 std::string(shaders::embedded("gbuffer_flat.frag"))};
+    return composer_.program(base, {}, 0);
+}
+
 gl::Program& Renderer::depthOnlyProgram() {
     static const BaseShader base{"depth_only", "depth_only.vert",
                                  std::string(shaders::embedded("depth_only.vert")), "depth_only.frag",
@@ -414,8 +431,15 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     std::erase_if(impl_->sortedMeshes, [&](const auto& e) {
         return e.second.owner.expired() || impl_->frames - e.second.lastUse > 600;
     });
+    impl_->timers.clear();
     renderView(camera, impl_->scene, queue_, plan_, 0);
     impl_->log.stage = "outside a frame";
+    for (auto& [name, query] : impl_->timers) {
+        GLuint64 ns = 0;
+        glGetQueryObjectui64v(query.get(), GL_QUERY_RESULT, &ns);
+        stats_.passTimes.push_back({name, double(ns) * 1e-6});
+    }
+    impl_->timers.clear();
     if (!options_.glErrors) {
         const char* env = std::getenv("SGFX_GL_ERRORS");
         options_.glErrors = env && std::string_view(env) == "throw" ? RendererOptions::GlErrorPolicy::Throw
@@ -533,11 +557,16 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
         glBeginQuery(GL_SAMPLES_PASSED, fragments.get());
     }
     impl_->log.stage = "main pass";
+    const bool timing = options_.timePasses;
+    impl_->beginTimer(timing, "main: opaque");
     drawItems(queue.opaque);
+    impl_->endTimer(timing);
     runPasses(plan, PassStage::AfterOpaque, target);
     runPasses(plan, PassStage::Transparent, target);
     impl_->log.stage = "main pass";
+    impl_->beginTimer(timing, "main: transparent");
     drawItems(queue.transparent);
+    impl_->endTimer(timing);
     if (fragments) {
         glEndQuery(GL_SAMPLES_PASSED);
         GLuint64 n = 0;
@@ -554,7 +583,9 @@ void Renderer::runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& tar
     for (auto& p : plan.passes) {
         if (p->stage() != stage) continue;
         impl_->log.stage = p->name();
+        impl_->beginTimer(options_.timePasses, std::string(p->name()));
         p->execute(*this);
+        impl_->endTimer(options_.timePasses);
         impl_->invalidate(); // the pass may have changed GL state behind the cache
         // Back to the view's target and sRGB encoding, whatever the pass bound.
         glBindFramebuffer(GL_FRAMEBUFFER, target.fbo.get());
@@ -591,12 +622,13 @@ void Renderer::copyToTexture(const gl::RenderTarget& from, const Texture& to) {
 
 void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override, DrawMode mode) {
     Impl& s = *impl_;
-    if (std::uint8_t(mode) > std::uint8_t(DrawMode::PassBlend))
+    if (std::uint8_t(mode) > std::uint8_t(DrawMode::GBuffer))
         throw std::invalid_argument("sgfx: Renderer::drawItems: invalid DrawMode " +
                                     std::to_string(int(mode)));
-    const bool depthOnly = mode == DrawMode::DepthOnly;
+    // Geometry-only passes: no effects, no blending, depth test and write for every item.
+    const bool depthOnly = mode == DrawMode::DepthOnly || mode == DrawMode::GBuffer;
     if (depthOnly) {
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        if (mode == DrawMode::DepthOnly) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         s.setBlend(BlendMode::Off);
         s.setDepth(DepthState{});
     }
@@ -629,14 +661,19 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         } else if (depthOnly && override) {
             // Alpha-masked built-in materials keep their cut-outs in depth passes: their own
             // variant (no effects) with colour writes off; everything else the depth-only program.
-            const bool masked = !item.program() && (item.features & FeatureAlphaMask);
-            const std::uint64_t key = masked ? item.features : ~0ull;
+            // G-buffer passes: every built-in material's G-buffer variant (normal maps, cut-outs).
+            const bool builtin = !item.program();
+            const bool own = builtin && (mode == DrawMode::GBuffer || (item.features & FeatureAlphaMask));
+            const std::uint32_t lighting = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
+                                           FeatureVertexLighting | FeatureLightCountMask | FeaturePointLights;
+            const std::uint32_t features =
+                mode == DrawMode::GBuffer
+                    ? (item.features & ~lighting) | FeatureGBuffer | FeatureWorldPosition
+                    : ShaderComposer::withWorldPosition((item.features & ~FeatureBlend) | viewFeatures_,
+                                                        false);
+            const std::uint64_t key = own ? features : ~0ull;
             if (key != programKey) {
-                program =
-                    masked ? &composer_.program(nullptr, {},
-                                                ShaderComposer::withWorldPosition(
-                                                    (item.features & ~FeatureBlend) | viewFeatures_, false))
-                           : override;
+                program = own ? &composer_.program(nullptr, {}, features) : override;
                 programKey = key;
                 programChanged = true;
             }
@@ -745,7 +782,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         stats_.triangles += g.triangleCount();
     }
     glBindVertexArray(0);
-    if (depthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    if (mode == DrawMode::DepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     s.log.item = nullptr;
     s.log.program = nullptr;
 }

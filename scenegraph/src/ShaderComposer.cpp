@@ -157,7 +157,8 @@ std::string ShaderComposer::featureDefines(std::uint32_t f) {
         {FeaturePointLights, "SGFX_POINT_LIGHTS"},
         {FeatureBlendPremultiplied, "SGFX_BLEND_PREMULTIPLIED"},
         {FeatureBlendAdditive, "SGFX_BLEND_ADDITIVE"},
-        {FeatureBlendMultiply, "SGFX_BLEND_MULTIPLY"}};
+        {FeatureBlendMultiply, "SGFX_BLEND_MULTIPLY"},
+        {FeatureGBuffer, "SGFX_GBUFFER"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";

@@ -47,10 +47,15 @@ enum class DrawMode : std::uint8_t {
     Main,      // the item's blend, depth and faces (blended items: depth writes off unless asked)
     DepthOnly, // no colour writes, no blending, depth test and write on for every item
     PassBlend, // blend and depth state as the calling pass set them; the item's faces
+    GBuffer,   // like DepthOnly, but writing the G-buffer variant's outputs (FeatureGBuffer); items
+               // with foreign shaders use the `override` program (Renderer::gbufferProgram())
 };
 
 // Texture units 12..15 belong to effects (user textures of a StateSet use 4..11). An effect binds
 // its textures there through Renderer::bindTexture and declares `layout(binding = N)` samplers.
+// Textures the materials read during the main pass keep their unit for the whole frame: 12 fog
+// depth (split mode), 13 ambient occlusion map; 14 and 15 are for a pass's own use (OIT). A pass
+// may also use units 0..3 for its own inputs: the materials rebind them after every pass.
 inline constexpr unsigned kEffectTextureUnit = 12;
 inline constexpr unsigned kEffectTextureUnits = 4;
 
@@ -82,7 +87,14 @@ struct FrameStats {
     std::size_t culledNodes = 0;
     std::size_t items = 0;
     std::size_t triangleSorts = 0; // per-triangle re-sorts (TransparencyDetails::sortTriangles)
-    std::uint64_t fragments = 0;   // with RendererOptions::countFragments
+    // GPU time of each pass and of the main pass's item drawing, in frame order, from timer
+    // queries (RendererOptions::timePasses).
+    struct PassTime {
+        std::string name;
+        double gpuMs = 0.0;
+    };
+    std::vector<PassTime> passTimes;
+    std::uint64_t fragments = 0; // with RendererOptions::countFragments
     double cullMs = 0.0, drawMs = 0.0;
 };
 
@@ -103,6 +115,9 @@ struct RendererOptions {
     // otherwise Collect.
     enum class GlErrorPolicy : std::uint8_t { Collect, Throw };
     std::optional<GlErrorPolicy> glErrors;
+    // Time every pass on the GPU (FrameStats::passTimes); the results are waited for at the end
+    // of the frame, so off unless profiling.
+    bool timePasses = false;
 };
 
 // Owns GL-side resources for one context: composed programs, the scene target, the state cache.
@@ -138,6 +153,8 @@ public:
                                                                          .func = CompareFunc::Always});
     // Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
     gl::Program& depthOnlyProgram();
+    // G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.
+    gl::Program& gbufferProgram();
     // Binds a texture to a unit through the renderer's state cache (effect units: see above).
     void bindTexture(unsigned unit, unsigned texture);
     // Sets the blend state through the cache (full-screen passes that blend onto the target).

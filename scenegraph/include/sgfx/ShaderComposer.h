@@ -83,6 +83,9 @@ enum MaterialFeature : std::uint32_t {
     FeatureBlendAdditive = 1u << 19,
     FeatureBlendMultiply = 1u << 20,
     FeatureBlendKindMask = FeatureBlendPremultiplied | FeatureBlendAdditive | FeatureBlendMultiply,
+    // G-buffer variant: writes the view-space normal (location 0), linear view depth (1) and
+    // view-space position (2) instead of a colour, keeping cut-outs and normal maps.
+    FeatureGBuffer = 1u << 21,
     // Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,

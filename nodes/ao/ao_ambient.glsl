@@ -1,0 +1,5 @@
+// SSAO seed §4: the ambient intensity times (1 − k), k being the occluded fraction. Blended
+// surfaces (glass, particles) are not in the G-buffer and are not occluded.
+#ifndef SGFX_BLEND
+sgfx_ambient *= 1.0 - sgfx_ambientOcclusion();
+#endif
