@@ -345,6 +345,47 @@ void main() {
     EXPECT_LE(r.k({0.3f, 0.5f, 0.0f}), 0.02);
 }
 
+TEST(AmbientOcclusion, FogAppliesAfterTheOcclusion) {
+    // Homogeneous fog (falloff 0) over the corner: the crease pixel is the occluded ambient
+    // 1 − k, then fogged over its distance: mix(1 − k, fog, 1 − e^(−ρ·S)).
+    auto corner = [] {
+        auto scene = Group::create();
+        scene->addChild(floorPlane(20));
+        scene->addChild(
+            placed(at({0, 2, 0}) * glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1, 0, 0)),
+                   shapes::quad(20, 20)));
+        return scene;
+    };
+    const glm::vec3 eye(0, -3, 3), crease(0.3f, 1.94f, 0.0f);
+    const Render plain = renderAo(corner(), AmbientOcclusionParameters{}, eye, {0, 2, 0});
+    const double k = plain.k(crease);
+    ASSERT_GT(k, 0.1);
+    FogParameters fp;
+    fp.density = 0.05f;
+    fp.falloff = 0.0f;
+    fp.color = glm::vec3(0.2f, 0.4f, 0.6f);
+    fp.sky = FogSky::Off;
+    auto fog = FogNode::create(fp);
+    auto ao = AmbientOcclusionNode::create();
+    ao->addChild(corner());
+    fog->addChild(ao);
+    const Render fogged = renderAo(fog, std::nullopt, eye, {0, 2, 0});
+    // The pixel's own surface point: the view ray through the pixel centre meets the floor.
+    const glm::vec4 c = fogged.viewProjection * glm::vec4(crease, 1.0f);
+    const int x = int((c.x / c.w * 0.5f + 0.5f) * kSize), y = int((0.5f - c.y / c.w * 0.5f) * kSize);
+    const glm::mat4 inv = glm::inverse(fogged.viewProjection);
+    const glm::vec2 ndc((x + 0.5f) / kSize * 2 - 1, 1 - (y + 0.5f) / kSize * 2);
+    const glm::vec4 n4 = inv * glm::vec4(ndc, -1, 1), f4 = inv * glm::vec4(ndc, 1, 1);
+    const glm::vec3 nearP = glm::vec3(n4) / n4.w, dir = glm::normalize(glm::vec3(f4) / f4.w - nearP);
+    const glm::vec3 hit = nearP + dir * (-nearP.z / dir.z);
+    const double kf = 1.0 - std::exp(-0.05 * glm::length(hit - eye));
+    for (int ch = 0; ch < 3; ++ch) {
+        const double expected = (1.0 - plain.kAt(x, y)) * (1 - kf) + fp.color[ch] * kf;
+        EXPECT_NEAR(fogged.image.rgba[(std::size_t(y) * kSize + x) * 4 + ch], expected, 2e-3)
+            << "channel " << ch;
+    }
+}
+
 TEST(AmbientOcclusion, DebugViewShowsTheRawAndBlurredMaps) {
     auto scene = Group::create();
     scene->addChild(floorPlane(20));

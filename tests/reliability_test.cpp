@@ -5,6 +5,7 @@
 #include <CameraPath.h>
 #include <PolygonScene.h>
 #include <ProcessMemory.h>
+#include <ao/AmbientOcclusionNode.h>
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
 #include <sgfx/Geometry.h>
@@ -133,7 +134,9 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
         rtt->renderTarget = Texture::create(nullptr);
         rtt->addChild(scene.vehicle);
         auto fogNode = FogNode::create(FogParameters::ground());
-        fogNode->addChild(scene.root);
+        auto aoNode = AmbientOcclusionNode::create();
+        aoNode->addChild(scene.root);
+        fogNode->addChild(aoNode);
         auto root = Group::create();
         root->addChild(fogNode);
         root->addChild(tint);
@@ -149,6 +152,10 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
             for (TransparencyMode t : {TransparencyMode::WeightedBlended, TransparencyMode::Sorted}) {
                 fogNode->setMode(mode); // each mode's passes make their targets
                 scene.glassBin->setMode(t);
+                AmbientOcclusionParameters ap;
+                ap.halfResolution = t == TransparencyMode::Sorted;
+                ap.gbuffer = mode == FogMode::Forward ? AoGBuffer::PaperPositions : AoGBuffer::LinearDepth;
+                aoNode->setParameters(ap);
                 v->frame();
             }
         EXPECT_TRUE(glErrors(*v).empty());
@@ -184,6 +191,17 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             root->addChild(bin);
             v->frame();
             root->removeChild(bin.get());
+        } else if (kind == 4) {
+            // Ambient occlusion alternating full and half resolution, depth and position G-buffers.
+            static int n = 0;
+            AmbientOcclusionParameters p;
+            p.halfResolution = n % 2 == 0;
+            p.gbuffer = AoGBuffer(n++ / 2 % 2);
+            auto ao = AmbientOcclusionNode::create(p);
+            ao->addChild(flatQuad(1, {1, 1, 1}, {0, 0, 0.5f}));
+            root->addChild(ao);
+            v->frame();
+            root->removeChild(ao.get());
         } else if (kind == 2) {
             // Fog in a mode that changes each cycle: pre-pass, sky and post-process targets.
             static int n = 0;
@@ -205,8 +223,8 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             v->frame(); // the renderer drops the dead camera's target
         }
     };
-    const char* names[] = {"tint", "rtt", "fog", "transparency"};
-    for (int kind = 0; kind < 4; ++kind) {
+    const char* names[] = {"tint", "rtt", "fog", "transparency", "ao"};
+    for (int kind = 0; kind < 5; ++kind) {
         // Warm-up: program variants, and llvmpipe pools that level off after ~1000 frames.
         for (int i = 0; i < 1000; ++i)
             cycle(kind);
@@ -247,6 +265,11 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     auto bin = TransparencyBin::create();
     bin->addChild(glassQuad(3.0f, {1, 1, 1}, 0.0f, {0, 0, 0.5f}));
     root->addChild(bin);
+    // Ambient occlusion over everything: its G-buffer and maps resize with the view (the quads'
+    // materials have no ambient term, so the image stays exact).
+    auto ao = AmbientOcclusionNode::create();
+    ao->addChild(tint);
+    root->replaceChild(0, ao);
     root->addChild(flatQuad(4.0f, {0.0f, 0.3f, 0.0f}, {0, 0, -0.5f}));
     v->setSceneData(root);
     GLint maxDims[2] = {0, 0}, maxTex = 0;
@@ -262,6 +285,9 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     int sizeIndex = 0;
     for (const auto& [w, h] : sizes) {
         bin->setMode(TransparencyMode(sizeIndex % 2));
+        AmbientOcclusionParameters ap;
+        ap.halfResolution = sizeIndex % 4 < 2;
+        ao->setParameters(ap);
         root->setMode(FogMode(sizeIndex++ % 3));
         v->camera()->setViewport(0, 0, w, h);
         ASSERT_NO_THROW(v->frame()) << w << "x" << h;
@@ -546,6 +572,52 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          v->frame();
                          return scene->numChildren() == 1 && glErrors(*v).empty();
                      }});
+
+    // AmbientOcclusionNode
+    auto aoNode = AmbientOcclusionNode::create();
+    auto aoSame = [=] {
+        const AmbientOcclusionParameters& p = aoNode->parameters();
+        return p.samples == 32 && p.radius == 0.5f && p.bias == 0.025f && p.blurSize == 5;
+    };
+    auto aoCase = [&](std::string label, std::function<void(AmbientOcclusionParameters&)> edit,
+                      std::string expect) {
+        cases.push_back({"AmbientOcclusionNode", std::move(label),
+                         [=] {
+                             AmbientOcclusionParameters p;
+                             edit(p);
+                             aoNode->setParameters(p);
+                         },
+                         std::move(expect), aoSame});
+    };
+    for (int i = 0; i < 6; ++i) {
+        const float bad = badFloats[i];
+        aoCase(
+            "radius " + badNames[i], [=](auto& p) { p.radius = bad; }, "radius");
+        if (badNames[i] != "zero")
+            aoCase(
+                "bias " + badNames[i], [=](auto& p) { p.bias = bad; }, "bias");
+        if (badNames[i] != "zero")
+            aoCase(
+                "intensity " + badNames[i], [=](auto& p) { p.intensity = bad; }, "intensity");
+        aoCase(
+            "power " + badNames[i], [=](auto& p) { p.power = bad; }, "power");
+    }
+    for (int m : {0, 7, 65, -32, 1 << 30})
+        aoCase(
+            "samples " + std::to_string(m), [=](auto& p) { p.samples = m; }, "samples");
+    for (int n : {0, 2, 17, -1})
+        aoCase(
+            "blurSize " + std::to_string(n), [=](auto& p) { p.blurSize = n; }, "blurSize");
+    aoCase(
+        "kernel 9", [](auto& p) { p.kernel = AoKernel(9); }, "kernel");
+    aoCase(
+        "compare 9", [](auto& p) { p.compare = AoCompare(9); }, "compare");
+    aoCase(
+        "blur 9", [](auto& p) { p.blur = AoBlur(9); }, "blur has");
+    aoCase(
+        "gbuffer 9", [](auto& p) { p.gbuffer = AoGBuffer(9); }, "gbuffer");
+    aoCase(
+        "debugView 9", [](auto& p) { p.debugView = AoDebugView(9); }, "debugView");
 
     // Image and PNG files
     for (auto [w, h, c] : {std::tuple{0, 4, 4},

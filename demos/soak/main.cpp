@@ -5,10 +5,11 @@
 #include "PolygonScene.h"
 #include "ProcessMemory.h"
 
+#include <ao/AmbientOcclusionNode.h>
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
-#include <transparency/TransparencyBin.h>
 #include <sgfx/Viewer.h>
+#include <transparency/TransparencyBin.h>
 
 #include <chrono>
 #include <cmath>
@@ -76,7 +77,10 @@ int main(int argc, char** argv) {
         tint->addChild(scene.vehicle);
         // Ground fog whose mode changes every 500 frames and whose density breathes.
         auto fog = sgfx::FogNode::create(sgfx::FogParameters::ground());
-        fog->addChild(scene.root);
+        // Ambient occlusion, switched between full and half resolution, on and off.
+        auto ao = sgfx::AmbientOcclusionNode::create();
+        ao->addChild(scene.root);
+        fog->addChild(ao);
         fog->addChild(tint);
         auto root = sgfx::Group::create();
         root->addChild(fog);
@@ -108,6 +112,13 @@ int main(int argc, char** argv) {
             tint->setTint({1.0f, 0.2f, 0.1f, float(0.5 + 0.5 * std::sin(f * dt))});
             fog->setMode(sgfx::FogMode(f / 500 % 3));
             scene.glassBin->setMode(sgfx::TransparencyMode(f / 250 % 2));
+            if (f % 300 == 0) {
+                sgfx::AmbientOcclusionParameters ap;
+                ap.halfResolution = f / 300 % 2 == 1;
+                ap.samples = f / 600 % 2 ? 16 : 32;
+                ao->setParameters(ap);
+                ao->enabled = f / 900 % 3 != 2;
+            }
             sgfx::FogParameters fp = sgfx::FogParameters::ground();
             fp.density = float(1e-3 * (1.0 + std::sin(f * dt * 0.3)) / std::max(args.scale, 1e-3f));
             fog->setParameters(fp);
