@@ -643,6 +643,10 @@ std::shared_ptr<sgfx::TransparencyBin> makeGlass(const Terrain& terrain) {
 
 } // namespace
 
+std::shared_ptr<sgfx::Group> buildVehicle() {
+    return makeVehicle();
+}
+
 // ------------------------------------------------------------------------------------------ scene
 PolygonScene buildPolygonScene(const SceneOptions& options) {
     if (!(options.scale > 0.0f && options.scale <= 16.0f))

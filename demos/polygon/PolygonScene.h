@@ -96,4 +96,7 @@ struct PolygonScene {
 // or a non-finite or non-positive extent.
 PolygonScene buildPolygonScene(const SceneOptions& options = {});
 
+// The tracked robot vehicle alone, at the origin, facing +X (for figures and tests).
+std::shared_ptr<sgfx::Group> buildVehicle();
+
 } // namespace polygon

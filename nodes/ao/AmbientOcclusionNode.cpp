@@ -147,8 +147,8 @@ struct AmbientOcclusionNode::Shared {
         int width = 0, height = 0, mapWidth = 0, mapHeight = 0;
         bool positions = false;
         std::uint64_t lastUse = 0;
-        gl::FramebufferObject gbuffer, raw, blurred;
-        gl::TextureObject normal, depth, position, zbuffer, rawMap, blurredMap;
+        gl::FramebufferObject gbuffer, raw, half, blurred; // half: after the blur's x pass
+        gl::TextureObject normal, depth, position, zbuffer, rawMap, halfMap, blurredMap;
     };
     std::vector<Targets> targets;
     Targets* current = nullptr; // the view being drawn (set by the G-buffer pass)
@@ -198,6 +198,7 @@ struct AmbientOcclusionNode::Shared {
             checkComplete(fbo.get(), "occlusion map", mw, mh);
         };
         mapTarget(t.raw, t.rawMap);
+        mapTarget(t.half, t.halfMap);
         mapTarget(t.blurred, t.blurredMap);
         return t;
     }
@@ -307,14 +308,18 @@ public:
             static const ShaderSnippet box = definesOnly("ao_box", "#define SGFX_AO_BOX");
             gl::Program& program =
                 r.composer().program(base, std::array{p.blur == AoBlur::Box ? &box : &bilateral}, 0);
-            glBindFramebuffer(GL_FRAMEBUFFER, t->blurred.get());
             glViewport(0, 0, t->mapWidth, t->mapHeight);
             glDisable(GL_FRAMEBUFFER_SRGB);
             r.setBlend(BlendMode::Off);
-            r.bindTexture(0, t->rawMap.get());
             glUseProgram(program.get());
-            program.set("sgfx_aoBlur", glm::vec2(float(p.blurSize), p.radius));
-            r.drawFullscreen(program);
+            // Separable: along x into `half`, then along y into `blurred`.
+            for (int pass = 0; pass < 2; ++pass) {
+                glBindFramebuffer(GL_FRAMEBUFFER, pass == 0 ? t->half.get() : t->blurred.get());
+                r.bindTexture(0, pass == 0 ? t->rawMap.get() : t->halfMap.get());
+                program.set("sgfx_aoBlur", glm::vec4(float(p.blurSize), p.radius, pass == 0 ? 1.0f : 0.0f,
+                                                     pass == 0 ? 0.0f : 1.0f));
+                r.drawFullscreen(program);
+            }
         }
         r.bindTexture(kMapUnit, p.blurSize > 1 ? t->blurredMap.get() : t->rawMap.get());
     }

@@ -24,14 +24,14 @@ void main() {
     }
     float R = sgfx_aoShape.x, delta = sgfx_aoShape.y;
     bool rangeCheck = sgfx_aoShape.z > 0.5, plane = sgfx_aoShape.w > 0.5;
-    vec3 P = sgfx_aoPosition(gp);
+    vec2 gsize = vec2(textureSize(sgfx_aoGDepth, 0));
+    vec3 P = sgfx_aoPosition(gp, d, gsize);
     vec3 N = normalize(texelFetch(sgfx_aoGNormal, gp, 0).xyz);
     // Seed §2: TBN by Gram–Schmidt from a per-pixel random vector, B = N × T.
     vec3 Vr = vec3(texelFetch(sgfx_aoNoise, ivec2(gl_FragCoord.xy) & 3, 0).xy, 0.0);
     vec3 T = Vr - N * dot(Vr, N);
     T = dot(T, T) > 1e-8 ? normalize(T) : normalize(abs(N.x) < 0.9 ? cross(N, vec3(1, 0, 0)) : cross(N, vec3(0, 1, 0)));
     mat3 tbn = mat3(T, cross(N, T), N);
-    vec2 gsize = vec2(textureSize(sgfx_aoGDepth, 0));
     float occlusion = 0.0;
     for (int i = 0; i < sgfx_aoSamples; ++i) {
         vec3 A = P + R * (tbn * sgfx_aoKernel[i]);
@@ -42,7 +42,7 @@ void main() {
         ivec2 tp = ivec2(uv * gsize);
         float dt = texelFetch(sgfx_aoGDepth, tp, 0).r;
         if (dt <= 0.0) continue; // background: open
-        vec3 Pt = sgfx_aoPosition(tp);
+        vec3 Pt = sgfx_aoPosition(tp, dt, gsize);
         float zt = plane ? sgfx_aoPlaneDepth(Pt, normalize(texelFetch(sgfx_aoGNormal, tp, 0).xyz), A) : Pt.z;
         if (zt >= A.z + delta) // seed §2: F(z_A, z_t)
             occlusion += rangeCheck ? smoothstep(0.0, 1.0, R / abs(P.z - zt)) : 1.0;

@@ -8,13 +8,12 @@ bool sgfx_aoPerspective() {
     return sgfx_projection[2][3] != 0.0;
 }
 
-// P_vcs of G-buffer pixel `p`.
-vec3 sgfx_aoPosition(ivec2 p) {
+// P_vcs of G-buffer pixel `p` whose linear depth is `d` (`size`: the G-buffer's size).
+vec3 sgfx_aoPosition(ivec2 p, float d, vec2 size) {
 #ifdef SGFX_AO_POSITIONS
     return texelFetch(sgfx_aoGPosition, p, 0).xyz;
 #else
-    float d = texelFetch(sgfx_aoGDepth, p, 0).r;
-    vec2 ndc = (vec2(p) + 0.5) / vec2(textureSize(sgfx_aoGDepth, 0)) * 2.0 - 1.0;
+    vec2 ndc = (vec2(p) + 0.5) / size * 2.0 - 1.0;
     if (sgfx_aoPerspective())
         return vec3((ndc + vec2(sgfx_projection[2][0], sgfx_projection[2][1])) * d /
                         vec2(sgfx_projection[0][0], sgfx_projection[1][1]),
