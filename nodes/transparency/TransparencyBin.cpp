@@ -137,7 +137,7 @@ public:
         r.setBlend(BlendMode::Alpha);
         r.bindTexture(kAccumUnit, accum_.get());
         r.bindTexture(kRevealUnit, reveal_.get());
-        r.drawFullscreen(compositeProgram(r));
+        r.drawFullscreen(compositeProgram(r, samples_ > 1));
         r.bindTexture(kAccumUnit, 0);
         r.bindTexture(kRevealUnit, 0);
         glDisable(GL_SCISSOR_TEST);
@@ -146,18 +146,29 @@ public:
 private:
     void allocate(const gl::RenderTarget& view) {
         const GLenum revealFormat = revealage8Bit ? GL_R8 : GL_R16F;
-        if (!fbo_ || width_ != view.width || height_ != view.height || revealFormat_ != revealFormat) {
+        if (!fbo_ || width_ != view.width || height_ != view.height || revealFormat_ != revealFormat ||
+            samples_ != view.samples) {
+            // A multisampled view (MSAA) gets multisampled sums, composited per sample.
+            const bool ms = view.samples > 1;
             fbo_ = gl::createFramebuffer();
-            accum_ = gl::createTexture(GL_TEXTURE_2D);
-            reveal_ = gl::createTexture(GL_TEXTURE_2D);
-            glTextureStorage2D(accum_.get(), 1, GL_RGBA16F, view.width, view.height);
-            glTextureStorage2D(reveal_.get(), 1, revealFormat, view.width, view.height);
-            for (GLuint t : {accum_.get(), reveal_.get()}) {
-                glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-                glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-                glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-                glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            accum_ = gl::createTexture(ms ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D);
+            reveal_ = gl::createTexture(ms ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D);
+            if (ms) {
+                glTextureStorage2DMultisample(accum_.get(), view.samples, GL_RGBA16F, view.width, view.height,
+                                              GL_TRUE);
+                glTextureStorage2DMultisample(reveal_.get(), view.samples, revealFormat, view.width,
+                                              view.height, GL_TRUE);
+            } else {
+                glTextureStorage2D(accum_.get(), 1, GL_RGBA16F, view.width, view.height);
+                glTextureStorage2D(reveal_.get(), 1, revealFormat, view.width, view.height);
+                for (GLuint t : {accum_.get(), reveal_.get()}) {
+                    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+                    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+                    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+                    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+                }
             }
+            samples_ = view.samples;
             glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, accum_.get(), 0);
             glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT1, reveal_.get(), 0);
             const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -177,7 +188,7 @@ private:
                                      std::to_string(view.width) + "x" + std::to_string(view.height));
     }
 
-    static gl::Program& compositeProgram(Renderer& r) {
+    static gl::Program& compositeProgram(Renderer& r, bool multisample) {
         static const BaseShader base{"oit_composite", "blit.vert",
                                      std::string(ShaderComposer::fullscreenVertex()), "oit_composite.frag",
                                      text("oit_composite.frag")};
@@ -188,13 +199,20 @@ private:
                         "\n#define SGFX_OIT_REVEAL_UNIT " + std::to_string(kRevealUnit);
             return s;
         }();
-        return r.composer().program(base, std::array{&units}, 0);
+        static const ShaderSnippet ms = [] {
+            ShaderSnippet s = units;
+            s.name = "oit_units_ms";
+            s.defines += "\n#define SGFX_OIT_MULTISAMPLE";
+            return s;
+        }();
+        return r.composer().program(base, std::array{multisample ? &ms : &units}, 0);
     }
 
     gl::FramebufferObject fbo_;
     gl::TextureObject accum_, reveal_;
     int width_ = 0, height_ = 0;
     GLenum revealFormat_ = 0;
+    int samples_ = 1;
     GLuint depth_ = 0;
 };
 

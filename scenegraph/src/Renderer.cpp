@@ -1,5 +1,6 @@
 #include "sgfx/Renderer.h"
 
+#include "AntiAliasing.h"
 #include "EmbeddedShaders.h"
 #include "sgfx/Camera.h"
 #include "sgfx/CullVisitor.h"
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <cstdlib>
 #include <cstring>
 #include <map>
@@ -238,7 +240,9 @@ struct Renderer::Impl {
         gl::BufferObject indices;
     };
     std::map<std::pair<const Geometry*, const Camera*>, SortedMesh> sortedMeshes;
-    const Camera* camera = nullptr; // the view being drawn
+    const Camera* camera = nullptr;                           // the view being drawn
+    std::unordered_map<const Camera*, aa::ViewState> aaViews; // per camera, dropped with it
+    std::vector<std::string> warnings;
     std::uint64_t frames = 0;
     // RendererOptions::timePasses: queries of this frame, read at its end.
     std::vector<std::pair<std::string, gl::QueryObject>> timers;
@@ -408,6 +412,10 @@ void Renderer::drawFullscreen(gl::Program& program, const DepthState& depth) {
     ++stats_.drawCalls;
 }
 
+std::vector<std::string> Renderer::takeWarnings() {
+    return std::exchange(impl_->warnings, {});
+}
+
 std::vector<std::string> Renderer::takeGlErrors() {
     // Errors the debug output did not report (no KHR_debug, or SGFX_GL_DEBUG off).
     for (GLenum e; (e = glGetError()) != GL_NO_ERROR;) {
@@ -427,6 +435,7 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     frame_.frameNumber = frameNumber;
     // Forget the targets of render-to-texture cameras that no longer exist.
     std::erase_if(impl_->cameraTargets, [](const auto& e) { return e.second.owner.expired(); });
+    std::erase_if(impl_->aaViews, [](const auto& e) { return e.second.owner.expired(); });
     ++impl_->frames;
     std::erase_if(impl_->sortedMeshes, [&](const auto& e) {
         return e.second.owner.expired() || impl_->frames - e.second.lastUse > 600;
@@ -502,13 +511,20 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
         const float zNear = std::max(cull.computedNear * 0.99f, zFar * camera.nearFarRatio);
         projection = glm::perspective(glm::radians(camera.fovy()), vp.aspect(), zNear, zFar);
     }
+    // ---- anti-aliasing: where the view is drawn (a multisample or larger target, else the
+    // view's own), and TAA's sub-pixel jitter
+    aa::ViewState& aa = impl_->aaViews[&camera];
+    if (aa.owner.expired()) aa = {}, aa.owner = camera.weak_from_this();
+    aa::begin(aa, camera, projection * camera.viewMatrix, target.width, target.height, impl_->warnings);
+    gl::RenderTarget& draw = aa::drawTarget(aa, target);
+    projection = aa.jitter * projection;
     frame_.view = camera.viewMatrix;
     frame_.projection = projection;
     frame_.viewProjection = projection * camera.viewMatrix;
     frame_.inverseViewProjection = glm::inverse(frame_.viewProjection);
     frame_.eye = glm::vec3(glm::inverse(camera.viewMatrix)[3]);
-    frame_.width = vp.width;
-    frame_.height = vp.height;
+    frame_.width = draw.width;
+    frame_.height = draw.height;
 
     // ---- per-view uniforms, shared by every program through binding 0
     FrameBlock fb{};
@@ -517,7 +533,7 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     fb.viewProjection = frame_.viewProjection;
     fb.invViewProjection = frame_.inverseViewProjection;
     fb.eye = glm::vec4(frame_.eye, 1.0f);
-    fb.viewport = glm::vec4(0.0f, 0.0f, float(vp.width), float(vp.height));
+    fb.viewport = glm::vec4(0.0f, 0.0f, float(draw.width), float(draw.height));
     fb.ambientLight = glm::vec4(queue.ambientLight, 0.0f);
     fb.time = glm::vec4(float(frame_.time), 0, 0, 0);
     const int nLights = std::min<int>(int(queue.lights.size()), kMaxLights);
@@ -534,15 +550,15 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, impl_->frameUbo.get());
     impl_->invalidate();
     current_ = &queue;
-    impl_->current = &target;
+    impl_->current = &draw;
     impl_->camera = &camera;
 
-    runPasses(plan, PassStage::Compute, target);
-    runPasses(plan, PassStage::PrePass, target);
+    runPasses(plan, PassStage::Compute, draw);
+    runPasses(plan, PassStage::PrePass, draw);
 
     // ---- main pass: linear shading, sRGB-encoded once by the framebuffer on write
-    glBindFramebuffer(GL_FRAMEBUFFER, target.fbo.get());
-    glViewport(0, 0, vp.width, vp.height);
+    glBindFramebuffer(GL_FRAMEBUFFER, draw.fbo.get());
+    glViewport(0, 0, draw.width, draw.height);
     glEnable(GL_FRAMEBUFFER_SRGB);
     glDepthMask(GL_TRUE);
     impl_->depthKnown = false;
@@ -561,8 +577,8 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     impl_->beginTimer(timing, "main: opaque");
     drawItems(queue.opaque);
     impl_->endTimer(timing);
-    runPasses(plan, PassStage::AfterOpaque, target);
-    runPasses(plan, PassStage::Transparent, target);
+    runPasses(plan, PassStage::AfterOpaque, draw);
+    runPasses(plan, PassStage::Transparent, draw);
     impl_->log.stage = "main pass";
     impl_->beginTimer(timing, "main: transparent");
     drawItems(queue.transparent);
@@ -574,7 +590,20 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
         stats_.fragments += n;
     }
 
+    // ---- down to the view's own single-sample target; post passes read its colour and depth
+    if (&draw != &target) {
+        impl_->log.stage = "anti-aliasing resolve";
+        aa::resolve(*this, aa, draw, target);
+        impl_->current = &target;
+        frame_.width = target.width;
+        frame_.height = target.height;
+        const glm::vec4 viewport(0.0f, 0.0f, float(target.width), float(target.height));
+        glNamedBufferSubData(impl_->frameUbo.get(), offsetof(FrameBlock, viewport), sizeof viewport,
+                             &viewport);
+    }
     runPasses(plan, PassStage::Post, target);
+    impl_->log.stage = "anti-aliasing";
+    aa::finish(*this, aa, target);
     current_ = &queue_;
     impl_->current = &impl_->scene;
 }

@@ -4,12 +4,61 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
+
 namespace sgfx {
 
 struct Viewport {
     int x = 0, y = 0, width = 640, height = 480;
     float aspect() const { return height > 0 ? float(width) / float(height) : 1.0f; }
     bool operator==(const Viewport&) const = default;
+};
+
+// Anti-aliasing of one camera's image (Camera::setAntiAliasing). Headless and windowed renders
+// take the same path; the targets follow the viewport.
+struct AntiAliasing {
+    enum class Mode : std::uint8_t {
+        None,
+        Msaa, // multisample colour and depth, resolved before the post passes
+        Ssaa, // rendered `factor`× larger per axis, box-filtered down
+        Fxaa, // fast approximate AA on the final image (Lottes' FXAA 3.11, written from its description)
+        Taa,  // temporal: Halton(2,3) sub-pixel jitter, history reprojected and clamped
+    };
+    enum class FxaaQuality : std::uint8_t { Low, Medium, High };
+    Mode mode = Mode::None;
+    int samples = 4; // MSAA samples; clamped to GL_MAX_SAMPLES with a warning
+    int factor = 2;  // SSAA per axis, 2..4
+    FxaaQuality fxaaQuality = FxaaQuality::Medium;
+    float taaFeedback = 0.9375f; // TAA: history weight once 1/(1 − feedback) = 16 frames are in, [0, 0.98]
+
+    static AntiAliasing none() { return {}; }
+    static AntiAliasing msaa(int samples = 4) {
+        AntiAliasing a;
+        a.mode = Mode::Msaa;
+        a.samples = samples;
+        return a;
+    }
+    static AntiAliasing ssaa(int factor = 2) {
+        AntiAliasing a;
+        a.mode = Mode::Ssaa;
+        a.factor = factor;
+        return a;
+    }
+    static AntiAliasing fxaa(FxaaQuality q = FxaaQuality::Medium) {
+        AntiAliasing a;
+        a.mode = Mode::Fxaa;
+        a.fxaaQuality = q;
+        return a;
+    }
+    static AntiAliasing taa(float feedback = 0.9375f) {
+        AntiAliasing a;
+        a.mode = Mode::Taa;
+        a.taaFeedback = feedback;
+        return a;
+    }
+    // Throws std::invalid_argument naming the field (samples < 1, factor outside 1..4, ...).
+    void validate() const;
+    bool operator==(const AntiAliasing&) const = default;
 };
 
 // A view into the graph: its children are the scene. View space looks down -Z.
@@ -35,6 +84,14 @@ public:
     // viewer's own camera it receives a copy of the final image.
     std::shared_ptr<Texture> renderTarget;
 
+    // Validated (std::invalid_argument, the previous setting kept).
+    void setAntiAliasing(const AntiAliasing& aa);
+    const AntiAliasing& antiAliasing() const { return antiAliasing_; }
+    // TAA: drop the history at the next frame (a camera cut). Large jumps of the view are
+    // detected on their own.
+    void resetHistory() { ++historyEpoch_; }
+    std::uint64_t historyEpoch() const { return historyEpoch_; }
+
     // Perspective projection kept symbolic so a resize can refresh the aspect ratio.
     // Throws std::invalid_argument for fovy outside (0,180), near <= 0 or far <= near.
     void setPerspective(float fovyDegrees, float zNear, float zFar);
@@ -50,6 +107,8 @@ public:
     glm::vec3 eyePosition() const;
 
 private:
+    AntiAliasing antiAliasing_;
+    std::uint64_t historyEpoch_ = 0;
     bool perspective_ = false;
     glm::mat4 perspectiveMatrix_{1.0f};
     float fovy_ = 45.0f, zNear_ = 0.1f, zFar_ = 1000.0f;

@@ -177,6 +177,9 @@ public:
 
     // GL errors and high-severity KHR_debug messages seen since the last call.
     std::vector<std::string> takeGlErrors();
+    // Settings the renderer had to change (an MSAA sample count above the driver's limit), each
+    // once, since the last call.
+    std::vector<std::string> takeWarnings();
 
 private:
     struct Impl;

@@ -219,8 +219,9 @@ static std::string formatName(GLenum f) {
     }
 }
 
-void RenderTarget::resize(int w, int h, unsigned format) {
-    if (w == width && h == height && format == colorFormat && fbo) return;
+void RenderTarget::resize(int w, int h, unsigned format, int sampleCount) {
+    sampleCount = std::max(sampleCount, 1);
+    if (w == width && h == height && format == colorFormat && sampleCount == samples && fbo) return;
     GLint maxSize = 0, maxViewport[2] = {0, 0};
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
     glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
@@ -229,29 +230,36 @@ void RenderTarget::resize(int w, int h, unsigned format) {
         throw std::invalid_argument("sgfx: render target size " + std::to_string(w) + "x" +
                                     std::to_string(h) + " is outside the driver's 1x1.." +
                                     std::to_string(maxW) + "x" + std::to_string(maxH));
-    color = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(color.get(), 1, format, w, h);
-    glTextureParameteri(color.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(color.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(color.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(color.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    depth = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(depth.get(), 1, GL_DEPTH_COMPONENT32F, w, h);
-    glTextureParameteri(depth.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(depth.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(depth.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(depth.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    const bool ms = sampleCount > 1;
+    const GLenum target = ms ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D;
+    auto make = [&](GLenum internalFormat, GLint filter) {
+        TextureObject t = createTexture(target);
+        if (ms) {
+            glTextureStorage2DMultisample(t.get(), sampleCount, internalFormat, w, h, GL_TRUE);
+        } else {
+            glTextureStorage2D(t.get(), 1, internalFormat, w, h);
+            glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, filter);
+            glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, filter);
+            glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        }
+        return t;
+    };
+    color = make(format, GL_LINEAR);
+    depth = make(GL_DEPTH_COMPONENT32F, GL_NEAREST);
     fbo = createFramebuffer();
     glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
     glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
     const GLenum status = glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
         throw std::runtime_error("sgfx: scene framebuffer " + std::to_string(w) + "x" + std::to_string(h) +
+                                 (ms ? " with " + std::to_string(sampleCount) + " samples" : std::string()) +
                                  " (colour " + formatName(format) +
                                  ", depth DEPTH_COMPONENT32F) is incomplete: " + statusName(status));
     width = w;
     height = h;
     colorFormat = format;
+    samples = sampleCount;
 }
 
 } // namespace sgfx::gl

@@ -127,10 +127,11 @@ struct RenderTarget {
     TextureObject depth;
     int width = 0, height = 0;
     unsigned colorFormat = 0; // GL internal format of `color`
+    int samples = 1;          // > 1: multisample textures (GL_TEXTURE_2D_MULTISAMPLE)
     // (Re)allocates for a new size or colour format (GL_SRGB8_ALPHA8 by default); throws
     // std::invalid_argument for a size outside the driver's limits and std::runtime_error naming
     // the attachment formats when the framebuffer is incomplete.
-    void resize(int w, int h, unsigned format = 0x8C43 /* GL_SRGB8_ALPHA8 */);
+    void resize(int w, int h, unsigned format = 0x8C43 /* GL_SRGB8_ALPHA8 */, int samples = 1);
 };
 
 } // namespace sgfx::gl

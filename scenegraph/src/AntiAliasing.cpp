@@ -1,0 +1,204 @@
+#include "AntiAliasing.h"
+
+#include "EmbeddedShaders.h"
+#include "sgfx/Renderer.h"
+
+#include <glad/gl.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+
+namespace sgfx::aa {
+
+namespace {
+
+gl::Program& fullscreenProgram(Renderer& r, const char* name, const char* fragment) {
+    const BaseShader base{name, "blit.vert", std::string(shaders::embedded("blit.vert")), fragment,
+                          std::string(shaders::embedded(fragment))};
+    return r.composer().program(base, {}, 0);
+}
+
+void ensureCopy(ViewState& s, const gl::RenderTarget& target) {
+    if (s.copy && s.copyWidth == target.width && s.copyHeight == target.height &&
+        s.copyFormat == target.colorFormat)
+        return;
+    s.copy = gl::createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(s.copy.get(), 1, target.colorFormat, target.width, target.height);
+    glTextureParameteri(s.copy.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(s.copy.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(s.copy.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(s.copy.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    s.copyWidth = target.width;
+    s.copyHeight = target.height;
+    s.copyFormat = target.colorFormat;
+}
+
+// The finished image into `copy`, and `fbo` drawing into the target's colour (plus `extra`).
+void prepareFullscreen(ViewState& s, const gl::RenderTarget& target, GLuint extra = 0) {
+    ensureCopy(s, target);
+    glCopyImageSubData(target.color.get(), GL_TEXTURE_2D, 0, 0, 0, 0, s.copy.get(), GL_TEXTURE_2D, 0, 0, 0, 0,
+                       target.width, target.height, 1);
+    if (!s.fbo) s.fbo = gl::createFramebuffer();
+    glNamedFramebufferTexture(s.fbo.get(), GL_COLOR_ATTACHMENT0, target.color.get(), 0);
+    glNamedFramebufferTexture(s.fbo.get(), GL_COLOR_ATTACHMENT1, extra, 0);
+    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GLenum(extra ? GL_COLOR_ATTACHMENT1 : GL_NONE)};
+    glNamedFramebufferDrawBuffers(s.fbo.get(), 2, buffers);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.fbo.get());
+    glViewport(0, 0, target.width, target.height);
+    glEnable(GL_FRAMEBUFFER_SRGB);
+}
+
+} // namespace
+
+float halton(std::uint32_t index, std::uint32_t base) {
+    float f = 1.0f, r = 0.0f;
+    for (; index > 0; index /= base) {
+        f /= float(base);
+        r += f * float(index % base);
+    }
+    return r;
+}
+
+void begin(ViewState& s, const Camera& camera, const glm::mat4& viewProjection, int width, int height,
+           std::vector<std::string>& warnings) {
+    const AntiAliasing& a = camera.antiAliasing();
+    if (!(a == s.settings)) s.frames = 0, s.warned = false;
+    s.settings = a;
+    s.samples = 1;
+    if (a.mode == AntiAliasing::Mode::Msaa && a.samples > 1) {
+        GLint maxSamples = 1;
+        glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+        s.samples = std::min(a.samples, std::max(1, int(maxSamples)));
+        if (s.samples != a.samples) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf,
+                          "sgfx: MSAA: %d samples asked, the driver allows %d (GL_MAX_SAMPLES): using %d",
+                          a.samples, int(maxSamples), s.samples);
+            if (!s.warned) warnings.emplace_back(buf);
+            s.warned = true;
+        }
+    }
+    s.jitter = glm::mat4(1.0f);
+    s.previousViewProjection = s.viewProjection;
+    s.viewProjection = viewProjection;
+    if (a.mode != AntiAliasing::Mode::Taa) return;
+    // A camera cut (or a jump no history can follow) starts the accumulation again.
+    const glm::mat4 view = camera.viewMatrix;
+    const glm::vec3 eye = glm::vec3(glm::inverse(view)[3]),
+                    lastEye = glm::vec3(glm::inverse(s.previousView)[3]);
+    const glm::vec3 forward = -glm::vec3(glm::transpose(view)[2]),
+                    lastForward = -glm::vec3(glm::transpose(s.previousView)[2]);
+    const bool cut = s.epoch != camera.historyEpoch() || glm::length(eye - lastEye) > 2.0f ||
+                     glm::dot(forward, lastForward) < std::cos(glm::radians(15.0f));
+    if (cut) s.frames = 0;
+    s.epoch = camera.historyEpoch();
+    s.previousView = view;
+    // Halton(2, 3) points within the pixel, 16 of them in turn: the image moves by minus the
+    // offset, so each pixel samples the scene at (h₂, h₃) from its lower left corner.
+    const std::uint32_t i = s.sequence++ % 16 + 1;
+    const glm::vec2 offset(halton(i, 2) - 0.5f, halton(i, 3) - 0.5f);
+    s.jitter = glm::translate(
+        glm::mat4(1.0f), glm::vec3(-2.0f * offset.x / float(width), -2.0f * offset.y / float(height), 0.0f));
+}
+
+gl::RenderTarget& drawTarget(ViewState& s, gl::RenderTarget& target) {
+    const AntiAliasing& a = s.settings;
+    if (a.mode == AntiAliasing::Mode::Msaa && s.samples > 1) {
+        s.msaa.resize(target.width, target.height, target.colorFormat, s.samples);
+        return s.msaa;
+    }
+    if (a.mode == AntiAliasing::Mode::Ssaa && a.factor > 1) {
+        GLint maxSize = 0;
+        glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+        if (long(target.width) * a.factor > maxSize || long(target.height) * a.factor > maxSize)
+            throw std::invalid_argument("sgfx: SSAA " + std::to_string(a.factor) + "x of " +
+                                        std::to_string(target.width) + "x" + std::to_string(target.height) +
+                                        " needs " + std::to_string(target.width * a.factor) + "x" +
+                                        std::to_string(target.height * a.factor) +
+                                        ", beyond the driver's texture limit " + std::to_string(maxSize));
+        s.ssaa.resize(target.width * a.factor, target.height * a.factor, target.colorFormat);
+        return s.ssaa;
+    }
+    return target;
+}
+
+void resolve(Renderer& r, ViewState& s, gl::RenderTarget& from, gl::RenderTarget& to) {
+    // Depth: one sample per pixel, for the post passes that read it. Colour: the mean of the
+    // samples (MSAA) or of the factor×factor block (SSAA), in linear colour.
+    glBlitNamedFramebuffer(from.fbo.get(), to.fbo.get(), 0, 0, from.width, from.height, 0, 0, to.width,
+                           to.height, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    const bool ms = from.samples > 1;
+    gl::Program& program = ms ? fullscreenProgram(r, "aa_resolve", "aa_resolve.frag")
+                              : fullscreenProgram(r, "aa_downsample", "aa_downsample.frag");
+    glBindFramebuffer(GL_FRAMEBUFFER, to.fbo.get());
+    glViewport(0, 0, to.width, to.height);
+    glEnable(GL_FRAMEBUFFER_SRGB);
+    r.resetStateCache();
+    r.setBlend(BlendMode::Off);
+    r.bindTexture(0, from.color.get());
+    glUseProgram(program.get());
+    if (ms)
+        program.set("sgfx_aaSampleCount", from.samples);
+    else
+        program.set("sgfx_aaFactor", s.settings.factor);
+    r.drawFullscreen(program);
+    r.bindTexture(0, 0);
+    r.resetStateCache();
+}
+
+void finish(Renderer& r, ViewState& s, gl::RenderTarget& target) {
+    const AntiAliasing& a = s.settings;
+    if (a.mode == AntiAliasing::Mode::Fxaa) {
+        prepareFullscreen(s, target);
+        gl::Program& program = fullscreenProgram(r, "fxaa", "fxaa.frag");
+        static const glm::vec4 presets[] = {
+            {0.25f, 0.0833f, 0.5f, 5.0f}, {0.166f, 0.0625f, 0.75f, 8.0f}, {0.125f, 0.0312f, 1.0f, 12.0f}};
+        r.resetStateCache();
+        r.setBlend(BlendMode::Off);
+        r.bindTexture(0, s.copy.get());
+        glUseProgram(program.get());
+        program.set("sgfx_fxaa", presets[std::size_t(a.fxaaQuality)]);
+        r.drawFullscreen(program);
+        r.bindTexture(0, 0);
+        r.resetStateCache();
+    } else if (a.mode == AntiAliasing::Mode::Taa) {
+        if (!s.history[0] || s.historyWidth != target.width || s.historyHeight != target.height) {
+            for (auto& h : s.history) {
+                h = gl::createTexture(GL_TEXTURE_2D);
+                glTextureStorage2D(h.get(), 1, GL_RGBA16F, target.width, target.height);
+                glTextureParameteri(h.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+                glTextureParameteri(h.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+                glTextureParameteri(h.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+                glTextureParameteri(h.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            }
+            s.historyWidth = target.width;
+            s.historyHeight = target.height;
+            s.frames = 0;
+        }
+        const int read = s.historyIndex, write = 1 - s.historyIndex;
+        prepareFullscreen(s, target, s.history[write].get());
+        gl::Program& program = fullscreenProgram(r, "taa_resolve", "taa_resolve.frag");
+        r.resetStateCache();
+        r.setBlend(BlendMode::Off);
+        r.bindTexture(0, s.copy.get());
+        r.bindTexture(1, target.depth.get());
+        r.bindTexture(2, s.history[read].get());
+        glUseProgram(program.get());
+        // Accumulate evenly until the history holds 1/(1 − feedback) frames, then blend.
+        const float alpha = std::max(1.0f / float(s.frames + 1), 1.0f - a.taaFeedback);
+        program.set("sgfx_taaAlpha", alpha);
+        program.set("sgfx_taaReprojection", s.previousViewProjection * glm::inverse(s.viewProjection));
+        r.drawFullscreen(program);
+        for (unsigned u = 0; u < 3; ++u)
+            r.bindTexture(u, 0);
+        r.resetStateCache();
+        glNamedFramebufferTexture(s.fbo.get(), GL_COLOR_ATTACHMENT1, 0, 0);
+        s.historyIndex = write;
+        ++s.frames;
+    }
+}
+
+} // namespace sgfx::aa
