@@ -6,34 +6,36 @@
 in vec2 v_uv;
 layout(location = 0) out vec4 sgfx_fragColor;
 layout(binding = 0) uniform sampler2D sgfx_aaSource; // the finished image (linear on fetch)
-uniform vec4 sgfx_fxaa; // edge threshold, minimum threshold, sub-pixel amount, search steps
+layout(binding = 1) uniform sampler2D sgfx_aaLuma;   // its perceptual luma (fxaa_luma.frag)
+uniform vec3 sgfx_fxaa; // edge threshold, minimum threshold, sub-pixel amount
+// SGFX_FXAA_STEPS (the preset's search length) is compiled in, so the walk unrolls.
 
-// Perceptual luma: FXAA's thresholds are tuned for gamma-encoded values.
-float luma(vec3 c) {
-    return sqrt(dot(c, vec3(0.299, 0.587, 0.114)));
-}
+ivec2 sgfx_last; // set first thing in main
 float lumaAt(vec2 uv) {
-    return luma(textureLod(sgfx_aaSource, uv, 0.0).rgb);
+    return textureLod(sgfx_aaLuma, uv, 0.0).r;
 }
 float lumaOff(ivec2 p, ivec2 o) {
-    return luma(texelFetch(sgfx_aaSource, clamp(p + o, ivec2(0), textureSize(sgfx_aaSource, 0) - 1), 0).rgb);
+    return texelFetch(sgfx_aaLuma, clamp(p + o, ivec2(0), sgfx_last), 0).r;
 }
 
-const float kSteps[12] = float[](1.0, 1.0, 1.0, 1.0, 1.0, 1.5, 2.0, 2.0, 2.0, 2.0, 4.0, 8.0);
+// Step lengths along the edge, in pixels (FXAA 3.11's quality ladder).
+float stepLengthAt(int i) {
+    return i < 5 ? 1.0 : i == 5 ? 1.5 : i < 10 ? 2.0 : i == 10 ? 4.0 : 8.0;
+}
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    vec2 texel = 1.0 / vec2(textureSize(sgfx_aaSource, 0));
+    sgfx_last = textureSize(sgfx_aaLuma, 0) - 1;
+    vec2 texel = 1.0 / vec2(sgfx_last + 1);
     vec2 uv = (vec2(p) + 0.5) * texel;
-    vec4 centre = texelFetch(sgfx_aaSource, p, 0);
-    float M = luma(centre.rgb);
+    float M = texelFetch(sgfx_aaLuma, p, 0).r;
     float N = lumaOff(p, ivec2(0, 1)), S = lumaOff(p, ivec2(0, -1));
     float E = lumaOff(p, ivec2(1, 0)), W = lumaOff(p, ivec2(-1, 0));
     float lo = min(M, min(min(N, S), min(E, W))), hi = max(M, max(max(N, S), max(E, W)));
     float range = hi - lo;
     // 1. Not on an edge: keep the pixel.
     if (range < max(sgfx_fxaa.y, hi * sgfx_fxaa.x)) {
-        sgfx_fragColor = centre;
+        sgfx_fragColor = texelFetch(sgfx_aaSource, p, 0);
         return;
     }
     float NW = lumaOff(p, ivec2(-1, 1)), NE = lumaOff(p, ivec2(1, 1));
@@ -65,15 +67,14 @@ void main() {
     vec2 uv1 = edgeUv - dir, uv2 = edgeUv + dir;
     float end1 = lumaAt(uv1) - localAverage, end2 = lumaAt(uv2) - localAverage;
     bool done1 = abs(end1) >= gradientScaled, done2 = abs(end2) >= gradientScaled;
-    int steps = int(sgfx_fxaa.w);
-    for (int i = 1; i < steps && !(done1 && done2); ++i) {
+    for (int i = 1; i < SGFX_FXAA_STEPS && !(done1 && done2); ++i) {
         if (!done1) {
-            uv1 -= dir * kSteps[i];
+            uv1 -= dir * stepLengthAt(i);
             end1 = lumaAt(uv1) - localAverage;
             done1 = abs(end1) >= gradientScaled;
         }
         if (!done2) {
-            uv2 += dir * kSteps[i];
+            uv2 += dir * stepLengthAt(i);
             end2 = lumaAt(uv2) - localAverage;
             done2 = abs(end2) >= gradientScaled;
         }
@@ -98,5 +99,5 @@ void main() {
         finalUv.y += offset * stepLength;
     else
         finalUv.x += offset * stepLength;
-    sgfx_fragColor = vec4(textureLod(sgfx_aaSource, finalUv, 0.0).rgb, centre.a);
+    sgfx_fragColor = vec4(textureLod(sgfx_aaSource, finalUv, 0.0).rgb, 1.0);
 }

@@ -156,6 +156,11 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
                 ap.halfResolution = t == TransparencyMode::Sorted;
                 ap.gbuffer = mode == FogMode::Forward ? AoGBuffer::PaperPositions : AoGBuffer::LinearDepth;
                 aoNode->setParameters(ap);
+                static const AntiAliasing modes[] = {AntiAliasing::msaa(4), AntiAliasing::ssaa(2),
+                                                     AntiAliasing::fxaa(), AntiAliasing::taa(),
+                                                     AntiAliasing::none()};
+                static int m = 0;
+                v->camera()->setAntiAliasing(modes[m++ % 5]);
                 v->frame();
             }
         EXPECT_TRUE(glErrors(*v).empty());
@@ -191,6 +196,23 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             root->addChild(bin);
             v->frame();
             root->removeChild(bin.get());
+        } else if (kind == 5) {
+            // A render-to-texture camera with anti-aliasing, each cycle another mode.
+            static int n = 0;
+            static const AntiAliasing modes[] = {AntiAliasing::msaa(4), AntiAliasing::ssaa(2),
+                                                 AntiAliasing::fxaa(), AntiAliasing::taa(),
+                                                 AntiAliasing::none()};
+            auto rtt = Camera::create();
+            rtt->setViewport(0, 0, 8, 8);
+            rtt->setLookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0});
+            rtt->projectionMatrix = glm::ortho(-1.f, 1.f, -1.f, 1.f, 0.1f, 10.f);
+            rtt->renderTarget = Texture::create(nullptr);
+            rtt->setAntiAliasing(modes[n++ % 5]);
+            rtt->addChild(flatQuad(1, {1, 1, 0}));
+            root->addChild(rtt);
+            v->frame();
+            root->removeChild(rtt.get());
+            v->frame(); // the renderer drops the dead camera's targets and AA state
         } else if (kind == 4) {
             // Ambient occlusion alternating full and half resolution, depth and position G-buffers.
             static int n = 0;
@@ -223,8 +245,8 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             v->frame(); // the renderer drops the dead camera's target
         }
     };
-    const char* names[] = {"tint", "rtt", "fog", "transparency", "ao"};
-    for (int kind = 0; kind < 5; ++kind) {
+    const char* names[] = {"tint", "rtt", "fog", "transparency", "ao", "aa"};
+    for (int kind = 0; kind < 6; ++kind) {
         // Warm-up: program variants, and llvmpipe pools that level off after ~1000 frames.
         for (int i = 0; i < 1000; ++i)
             cycle(kind);
@@ -288,6 +310,12 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
         AmbientOcclusionParameters ap;
         ap.halfResolution = sizeIndex % 4 < 2;
         ao->setParameters(ap);
+        // Anti-aliasing modes in turn; SSAA only where twice the size fits the driver.
+        const AntiAliasing modes[] = {AntiAliasing::msaa(4), AntiAliasing::fxaa(), AntiAliasing::taa(),
+                                      AntiAliasing::none(), AntiAliasing::ssaa(2)};
+        AntiAliasing aa = modes[sizeIndex % 5];
+        if (aa.mode == AntiAliasing::Mode::Ssaa && (2 * w > maxW || 2 * h > maxH)) aa = AntiAliasing::none();
+        v->camera()->setAntiAliasing(aa);
         root->setMode(FogMode(sizeIndex++ % 3));
         v->camera()->setViewport(0, 0, w, h);
         ASSERT_NO_THROW(v->frame()) << w << "x" << h;
@@ -572,6 +600,29 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          v->frame();
                          return scene->numChildren() == 1 && glErrors(*v).empty();
                      }});
+
+    // Camera::setAntiAliasing
+    auto aaCam = Camera::create();
+    aaCam->setAntiAliasing(AntiAliasing::msaa(4));
+    auto aaSame = [=] { return aaCam->antiAliasing() == AntiAliasing::msaa(4); };
+    auto aaCase = [&](std::string label, AntiAliasing a, std::string expect) {
+        cases.push_back({"AntiAliasing", std::move(label), [=] { aaCam->setAntiAliasing(a); },
+                         std::move(expect), aaSame});
+    };
+    for (int n : {0, -1, 65, 1 << 30})
+        aaCase("msaa samples " + std::to_string(n), AntiAliasing::msaa(n), "samples");
+    for (int f : {0, -2, 5, 100})
+        aaCase("ssaa factor " + std::to_string(f), AntiAliasing::ssaa(f), "factor");
+    for (float fb : {kNaN, kInf, -0.1f, 0.99f, 1.0f})
+        aaCase("taa feedback " + std::to_string(fb), AntiAliasing::taa(fb), "taaFeedback");
+    {
+        AntiAliasing m;
+        m.mode = AntiAliasing::Mode(9);
+        aaCase("mode 9", m, "mode");
+        AntiAliasing q = AntiAliasing::fxaa();
+        q.fxaaQuality = AntiAliasing::FxaaQuality(7);
+        aaCase("fxaa quality 7", q, "fxaaQuality");
+    }
 
     // AmbientOcclusionNode
     auto aoNode = AmbientOcclusionNode::create();

@@ -19,6 +19,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -49,7 +50,8 @@ Without a mode option it renders one frame headless (OSMesa) and writes a PNG.
 modes (at most one):
   --window            fly through the scene in a window (WASD move, Q/E down/up, Shift fast,
                       left mouse drag to look, F cycles the fog mode, T switches the glass
-                      between sorted and OIT, Esc quits); without a display it says
+                      between sorted and OIT, M cycles anti-aliasing, Esc quits); without
+                      a display it says
                       "no display: rendering headless" and writes the PNG instead
   --bench N           render N frames along the camera path (t = i/N) after 3 warm-up
                       frames, glFinish after each, and print timings and render statistics
@@ -93,6 +95,12 @@ effects:
   --ao-half           compute the occlusion at half resolution
   --ao-debug raw|blurred
                       show the occlusion map instead of the scene
+  --aa none|msaa|msaa2|msaa4|msaa8|ssaa2|ssaa3|ssaa4|fxaa|fxaa-low|fxaa-high|taa
+                      anti-aliasing of the camera (default none; msaa = msaa4); TAA
+                      converges over 16 frames: --bench and --frames show it, a still
+                      renders 16 frames first
+  --crop X,Y,W,H,Z    write only the W×H region at (X, Y) of the image, each pixel
+                      shown as Z×Z (comparison crops)
   --transparency sorted|oit
                       how the glass (two panes and a closed cabin) is blended: sorted back
                       to front (default) or weighted blended order-independent transparency
@@ -124,6 +132,8 @@ struct Options {
     std::optional<sgfx::FogMode> fog = sgfx::FogMode::Forward;
     sgfx::FogParameters fogParameters = sgfx::FogParameters::ground();
     sgfx::TransparencyMode transparency = sgfx::TransparencyMode::Sorted;
+    sgfx::AntiAliasing aa;
+    std::optional<std::array<int, 5>> crop;
     bool ao = false;
     sgfx::AmbientOcclusionParameters aoParameters;
 };
@@ -248,6 +258,40 @@ Options parseArgs(int argc, char** argv) {
                 o.fogParameters.sky = sgfx::FogSky::Distance;
             else
                 throw UsageError("--fog-sky: '" + std::string(v) + "' is not off, far or distance");
+        } else if (arg == "--aa") {
+            const std::string_view v = value();
+            using Q = sgfx::AntiAliasing::FxaaQuality;
+            if (v == "none")
+                o.aa = sgfx::AntiAliasing::none();
+            else if (v == "msaa")
+                o.aa = sgfx::AntiAliasing::msaa(4);
+            else if (v.starts_with("msaa") && v.size() == 5 && v[4] >= '1' && v[4] <= '8')
+                o.aa = sgfx::AntiAliasing::msaa(v[4] - '0');
+            else if (v.starts_with("ssaa") && v.size() == 5 && v[4] >= '2' && v[4] <= '4')
+                o.aa = sgfx::AntiAliasing::ssaa(v[4] - '0');
+            else if (v == "fxaa")
+                o.aa = sgfx::AntiAliasing::fxaa(Q::Medium);
+            else if (v == "fxaa-low")
+                o.aa = sgfx::AntiAliasing::fxaa(Q::Low);
+            else if (v == "fxaa-high")
+                o.aa = sgfx::AntiAliasing::fxaa(Q::High);
+            else if (v == "taa")
+                o.aa = sgfx::AntiAliasing::taa();
+            else
+                throw UsageError("--aa: '" + std::string(v) + "' is not one of the modes listed in --help");
+        } else if (arg == "--crop") {
+            const std::string_view v = value();
+            std::array<int, 5> c{};
+            std::size_t pos = 0;
+            for (int k = 0; k < 5; ++k) {
+                const std::size_t comma = k < 4 ? v.find(',', pos) : v.size();
+                if (comma == std::string_view::npos) throw UsageError("--crop: expected X,Y,W,H,Z");
+                c[std::size_t(k)] = parseNumber<int>(arg, v.substr(pos, comma - pos));
+                pos = comma + 1;
+            }
+            if (c[0] < 0 || c[1] < 0 || c[2] < 1 || c[3] < 1 || c[4] < 1 || c[4] > 16)
+                throw UsageError("--crop: X, Y must be >= 0, W, H >= 1 and Z in 1..16");
+            o.crop = c;
         } else if (arg == "--ao") {
             const std::string_view v = value();
             if (v != "on" && v != "off") throw UsageError("--ao: '" + std::string(v) + "' is not on or off");
@@ -332,6 +376,7 @@ std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
     }
     viewer->renderer().options().lighting = o.lighting;
     viewer->renderer().options().countFragments = o.countFragments;
+    viewer->camera()->setAntiAliasing(o.aa);
     return viewer;
 }
 
@@ -356,7 +401,29 @@ int runStill(const Options& o, const polygon::PolygonScene& scene) {
     auto viewer = makeHeadlessViewer(o);
     setupCamera(*viewer, startPose(o, o.time));
     viewer->setSceneData(sceneWithEffects(o, scene));
-    viewer->frame();
+    const int frames = o.aa.mode == sgfx::AntiAliasing::Mode::Taa ? 16 : 1; // TAA's history fills
+    for (int i = 0; i < frames; ++i)
+        viewer->frame();
+    if (o.crop) {
+        const auto [cx, cy, cw, ch, zoom] = *o.crop;
+        const sgfx::Image full = viewer->capture();
+        if (cx + cw > full.width || cy + ch > full.height)
+            throw UsageError("--crop: the region leaves the " + std::to_string(full.width) + "x" +
+                             std::to_string(full.height) + " image");
+        sgfx::Image out;
+        out.width = cw * zoom;
+        out.height = ch * zoom;
+        out.channels = 4;
+        out.pixels.resize(std::size_t(out.width) * out.height * 4);
+        for (int y = 0; y < out.height; ++y)
+            for (int x = 0; x < out.width; ++x)
+                std::copy_n(full.pixel(cx + x / zoom, cy + y / zoom), 4, out.pixel(x, y));
+        sgfx::writePng(o.out, out);
+        std::cout << "wrote " << o.out << " (" << out.width << "x" << out.height << ", a crop of " << o.width
+                  << "x" << o.height << ")\n";
+        reportGlErrors(*viewer);
+        return 0;
+    }
     viewer->writeScreenshot(o.out);
     reportGlErrors(*viewer);
     const sgfx::FrameStats& st = viewer->stats();
@@ -471,6 +538,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     GLFWwindow* win = window->handle();
     sgfx::Viewer viewer(std::move(window));
     viewer.renderer().options().lighting = o.lighting;
+    viewer.camera()->setAntiAliasing(o.aa);
     setupCamera(viewer, startPose(o, o.time));
     // Fog is always in the graph here so F can cycle it: off, forward, split, post.
     auto fog = sgfx::FogNode::create(o.fogParameters, o.fog.value_or(sgfx::FogMode::Forward));
@@ -478,7 +546,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     fog->addChild(scene.root);
     viewer.setSceneData(fog);
     scene.glassBin->setMode(o.transparency);
-    bool fogKeyDown = false, transparencyKeyDown = false;
+    bool fogKeyDown = false, transparencyKeyDown = false, aaKeyDown = false;
     const polygon::Terrain terrain(o.seed);
 
     const polygon::CameraPose start = startPose(o, o.time);
@@ -490,7 +558,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     double last = glfwGetTime(), titleTime = last;
     int frames = 0;
     std::cout << "window: WASD move, Q/E down/up, Shift fast, left mouse drag to look, F cycles the fog "
-                 "mode, T switches sorted/OIT glass, Esc quits"
+                 "mode, T switches sorted/OIT glass, M cycles anti-aliasing, Esc quits"
               << std::endl;
 
     long total = 0;
@@ -518,6 +586,16 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
                                         ? sgfx::TransparencyMode::WeightedBlended
                                         : sgfx::TransparencyMode::Sorted);
         transparencyKeyDown = transparencyKey;
+        const bool aaKey = glfwGetKey(win, GLFW_KEY_M) == GLFW_PRESS;
+        if (aaKey && !aaKeyDown) { // none → MSAA 4× → SSAA 2× → FXAA → TAA → none
+            using M = sgfx::AntiAliasing::Mode;
+            static const sgfx::AntiAliasing cycle[] = {
+                sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
+                sgfx::AntiAliasing::fxaa(), sgfx::AntiAliasing::taa()};
+            const M current = viewer.camera()->antiAliasing().mode;
+            viewer.camera()->setAntiAliasing(cycle[(std::size_t(current) + 1) % std::size(cycle)]);
+        }
+        aaKeyDown = aaKey;
 
         double x = 0, y = 0;
         glfwGetCursorPos(win, &x, &y);
@@ -558,7 +636,10 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
                  : fog->mode() == sgfx::FogMode::Forward      ? "forward"
                  : fog->mode() == sgfx::FogMode::ForwardSplit ? "split"
                                                               : "post") +
-                ", glass " + (scene.glassBin->mode() == sgfx::TransparencyMode::Sorted ? "sorted" : "OIT");
+                ", glass " + (scene.glassBin->mode() == sgfx::TransparencyMode::Sorted ? "sorted" : "OIT") +
+                ", AA " +
+                std::array{"none", "MSAA 4x", "SSAA 2x", "FXAA",
+                           "TAA"}[std::size_t(viewer.camera()->antiAliasing().mode)];
             glfwSetWindowTitle(win, title.c_str());
             titleTime = now;
             frames = 0;

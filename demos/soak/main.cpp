@@ -112,6 +112,12 @@ int main(int argc, char** argv) {
             tint->setTint({1.0f, 0.2f, 0.1f, float(0.5 + 0.5 * std::sin(f * dt))});
             fog->setMode(sgfx::FogMode(f / 500 % 3));
             scene.glassBin->setMode(sgfx::TransparencyMode(f / 250 % 2));
+            if (f % 400 == 0) { // anti-aliasing modes in turn
+                static const sgfx::AntiAliasing modes[] = {
+                    sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::fxaa(),
+                    sgfx::AntiAliasing::taa(), sgfx::AntiAliasing::ssaa(2)};
+                cam.setAntiAliasing(modes[f / 400 % 5]);
+            }
             if (f % 300 == 0) {
                 sgfx::AmbientOcclusionParameters ap;
                 ap.halfResolution = f / 300 % 2 == 1;

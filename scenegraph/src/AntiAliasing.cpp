@@ -15,14 +15,16 @@ namespace sgfx::aa {
 
 namespace {
 
-gl::Program& fullscreenProgram(Renderer& r, const char* name, const char* fragment) {
+gl::Program& fullscreenProgram(Renderer& r, const char* name, const char* fragment,
+                               const ShaderSnippet* defines = nullptr) {
     const BaseShader base{name, "blit.vert", std::string(shaders::embedded("blit.vert")), fragment,
                           std::string(shaders::embedded(fragment))};
+    if (defines) return r.composer().program(base, std::array{defines}, 0);
     return r.composer().program(base, {}, 0);
 }
 
 void ensureCopy(ViewState& s, const gl::RenderTarget& target) {
-    if (s.copy && s.copyWidth == target.width && s.copyHeight == target.height &&
+    if (s.copy.get() && s.copyWidth == target.width && s.copyHeight == target.height &&
         s.copyFormat == target.colorFormat)
         return;
     s.copy = gl::createTexture(GL_TEXTURE_2D);
@@ -106,6 +108,15 @@ void begin(ViewState& s, const Camera& camera, const glm::mat4& viewProjection, 
 
 gl::RenderTarget& drawTarget(ViewState& s, gl::RenderTarget& target) {
     const AntiAliasing& a = s.settings;
+    // Targets the current mode does not use are released (a mode switch frees its memory).
+    if (a.mode != AntiAliasing::Mode::Msaa) s.msaa = {};
+    if (a.mode != AntiAliasing::Mode::Ssaa) s.ssaa = {};
+    if (a.mode != AntiAliasing::Mode::Fxaa && a.mode != AntiAliasing::Mode::Taa) s.copy = {}, s.fbo = {};
+    if (a.mode != AntiAliasing::Mode::Fxaa) s.luma = {}, s.lumaFbo = {}, s.lumaWidth = s.lumaHeight = 0;
+    if (a.mode != AntiAliasing::Mode::Taa) {
+        s.history[0] = {}, s.history[1] = {};
+        s.historyWidth = s.historyHeight = 0;
+    }
     if (a.mode == AntiAliasing::Mode::Msaa && s.samples > 1) {
         s.msaa.resize(target.width, target.height, target.colorFormat, s.samples);
         return s.msaa;
@@ -152,17 +163,47 @@ void resolve(Renderer& r, ViewState& s, gl::RenderTarget& from, gl::RenderTarget
 void finish(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     const AntiAliasing& a = s.settings;
     if (a.mode == AntiAliasing::Mode::Fxaa) {
-        prepareFullscreen(s, target);
-        gl::Program& program = fullscreenProgram(r, "fxaa", "fxaa.frag");
-        static const glm::vec4 presets[] = {
-            {0.25f, 0.0833f, 0.5f, 5.0f}, {0.166f, 0.0625f, 0.75f, 8.0f}, {0.125f, 0.0312f, 1.0f, 12.0f}};
+        // Luma first (one channel for the edge search), then the filter from the image's copy.
+        if (!s.luma || s.lumaWidth != target.width || s.lumaHeight != target.height) {
+            s.luma = gl::createTexture(GL_TEXTURE_2D);
+            glTextureStorage2D(s.luma.get(), 1, GL_R16F, target.width, target.height);
+            glTextureParameteri(s.luma.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+            glTextureParameteri(s.luma.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+            glTextureParameteri(s.luma.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            glTextureParameteri(s.luma.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            s.lumaFbo = gl::createFramebuffer();
+            glNamedFramebufferTexture(s.lumaFbo.get(), GL_COLOR_ATTACHMENT0, s.luma.get(), 0);
+            s.lumaWidth = target.width;
+            s.lumaHeight = target.height;
+        }
         r.resetStateCache();
         r.setBlend(BlendMode::Off);
+        glBindFramebuffer(GL_FRAMEBUFFER, s.lumaFbo.get());
+        glViewport(0, 0, target.width, target.height);
+        r.bindTexture(0, target.color.get());
+        r.drawFullscreen(fullscreenProgram(r, "fxaa_luma", "fxaa_luma.frag"));
+        r.bindTexture(0, 0);
+        prepareFullscreen(s, target);
+        auto stepsDefine = [](const char* name, int steps) {
+            ShaderSnippet d;
+            d.name = name;
+            d.defines = "#define SGFX_FXAA_STEPS " + std::to_string(steps);
+            return d;
+        };
+        static const ShaderSnippet steps[] = {stepsDefine("fxaa_low", 5), stepsDefine("fxaa_medium", 8),
+                                              stepsDefine("fxaa_high", 12)};
+        const std::size_t q = std::size_t(a.fxaaQuality);
+        gl::Program& program = fullscreenProgram(r, "fxaa", "fxaa.frag", &steps[q]);
+        // Edge threshold, minimum threshold and sub-pixel amount of FXAA 3.11's presets.
+        static const glm::vec3 presets[] = {
+            {0.25f, 0.0833f, 0.5f}, {0.166f, 0.0625f, 0.75f}, {0.125f, 0.0312f, 1.0f}};
         r.bindTexture(0, s.copy.get());
+        r.bindTexture(1, s.luma.get());
         glUseProgram(program.get());
-        program.set("sgfx_fxaa", presets[std::size_t(a.fxaaQuality)]);
+        program.set("sgfx_fxaa", presets[q]);
         r.drawFullscreen(program);
         r.bindTexture(0, 0);
+        r.bindTexture(1, 0);
         r.resetStateCache();
     } else if (a.mode == AntiAliasing::Mode::Taa) {
         if (!s.history[0] || s.historyWidth != target.width || s.historyHeight != target.height) {

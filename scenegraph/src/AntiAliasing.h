@@ -24,6 +24,9 @@ struct ViewState {
     int copyWidth = 0, copyHeight = 0;
     unsigned copyFormat = 0;
     gl::FramebufferObject fbo;
+    gl::TextureObject luma; // FXAA: perceptual luma, R16F
+    gl::FramebufferObject lumaFbo;
+    int lumaWidth = 0, lumaHeight = 0;
     gl::TextureObject history[2]; // TAA, linear RGBA16F
     int historyWidth = 0, historyHeight = 0, historyIndex = 0;
     glm::mat4 jitter{1.0f};

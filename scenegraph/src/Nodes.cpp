@@ -281,7 +281,8 @@ void Camera::setViewport(int x, int y, int w, int h) {
 
 void AntiAliasing::validate() const {
     auto refuse = [](const std::string& what) { throw std::invalid_argument("sgfx: AntiAliasing: " + what); };
-    if (std::uint8_t(mode) > std::uint8_t(Mode::Taa)) refuse("mode has an invalid value " + std::to_string(int(mode)));
+    if (std::uint8_t(mode) > std::uint8_t(Mode::Taa))
+        refuse("mode has an invalid value " + std::to_string(int(mode)));
     if (samples < 1 || samples > 64) refuse("samples = " + std::to_string(samples) + " is outside [1, 64]");
     if (factor < 1 || factor > 4) refuse("factor = " + std::to_string(factor) + " is outside [1, 4]");
     if (std::uint8_t(fxaaQuality) > std::uint8_t(FxaaQuality::High))

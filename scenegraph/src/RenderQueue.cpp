@@ -58,7 +58,7 @@ void RenderQueue::sort() {
     for (std::size_t i = 0; i < n; ++i) {
         const RenderItem& it = transparent[i];
         std::uint32_t d = std::bit_cast<std::uint32_t>(it.depth + 0.0f); // -0 sorts as +0
-        d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u;             // monotone in depth
+        d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u;              // monotone in depth
         sortKeys_[i] = {(std::uint64_t(std::uint32_t(it.order) ^ 0x80000000u) << 32) | ~d, std::uint32_t(i)};
     }
     constexpr int kBits = 11;
@@ -68,7 +68,8 @@ void RenderQueue::sort() {
         std::uint32_t count[1u << kBits] = {};
         for (const SortKey& k : sortKeys_)
             ++count[(k.primary >> shift) & kMask];
-        if (count[(sortKeys_.empty() ? 0 : sortKeys_[0].primary >> shift) & kMask] == n) continue; // one digit
+        if (count[(sortKeys_.empty() ? 0 : sortKeys_[0].primary >> shift) & kMask] == n)
+            continue; // one digit
         std::uint32_t sum = 0;
         for (std::uint32_t& c : count)
             sum += std::exchange(c, sum);

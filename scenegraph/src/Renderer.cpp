@@ -593,7 +593,9 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     // ---- down to the view's own single-sample target; post passes read its colour and depth
     if (&draw != &target) {
         impl_->log.stage = "anti-aliasing resolve";
+        impl_->beginTimer(options_.timePasses, "aa resolve");
         aa::resolve(*this, aa, draw, target);
+        impl_->endTimer(options_.timePasses);
         impl_->current = &target;
         frame_.width = target.width;
         frame_.height = target.height;
@@ -603,7 +605,12 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     }
     runPasses(plan, PassStage::Post, target);
     impl_->log.stage = "anti-aliasing";
+    const bool postAa =
+        aa.settings.mode == AntiAliasing::Mode::Fxaa || aa.settings.mode == AntiAliasing::Mode::Taa;
+    impl_->beginTimer(options_.timePasses && postAa,
+                      aa.settings.mode == AntiAliasing::Mode::Fxaa ? "aa fxaa" : "aa taa");
     aa::finish(*this, aa, target);
+    impl_->endTimer(options_.timePasses && postAa);
     current_ = &queue_;
     impl_->current = &impl_->scene;
 }
