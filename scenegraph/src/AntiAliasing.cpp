@@ -130,6 +130,17 @@ gl::RenderTarget& drawTarget(ViewState& s, gl::RenderTarget& target) {
                                         " needs " + std::to_string(target.width * a.factor) + "x" +
                                         std::to_string(target.height * a.factor) +
                                         ", beyond the driver's texture limit " + std::to_string(maxSize));
+        // Colour and 32-bit depth per sample; refuse what would not fit a sensible budget.
+        const int colourBytes = target.colorFormat == GL_RGBA32F   ? 16
+                                : target.colorFormat == GL_RGBA16F ? 8
+                                                                   : 4;
+        const double mib =
+            double(target.width) * a.factor * target.height * a.factor * (colourBytes + 4) / 1048576.0;
+        if (mib > 2048.0)
+            throw std::invalid_argument("sgfx: SSAA " + std::to_string(a.factor) + "x of " +
+                                        std::to_string(target.width) + "x" + std::to_string(target.height) +
+                                        " needs " + std::to_string(int(mib)) +
+                                        " MiB of targets, over the 2048 MiB limit");
         s.ssaa.resize(target.width * a.factor, target.height * a.factor, target.colorFormat);
         return s.ssaa;
     }
