@@ -9,6 +9,7 @@
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
 #include <sgfx/Viewer.h>
+#include <sgfx/gl/Objects.h>
 #include <transparency/TransparencyBin.h>
 
 #include <chrono>
@@ -100,10 +101,12 @@ int main(int argc, char** argv) {
         // llvmpipe grows its pools over the first ~1000 frames, then levels off.
         const long warmup = std::min<long>(1000, args.frames / 2);
         long rssStart = 0;
+        std::size_t programsStart = 0;
         auto t0 = std::chrono::steady_clock::now();
         for (long f = 0; f < args.frames; ++f) {
             if (f == warmup) {
                 rssStart = sgfxdemo::residentKb();
+                programsStart = viewer->renderer().composer().size();
                 t0 = std::chrono::steady_clock::now();
             }
             const polygon::CameraPose pose =
@@ -145,9 +148,11 @@ int main(int argc, char** argv) {
         const long measured = args.frames - warmup;
         const long rssEnd = sgfxdemo::residentKb();
         std::printf(
-            "SOAK ok frames=%ld size=%dx%d fps=%.1f rss_start_kb=%ld rss_end_kb=%ld rss_growth_kb=%ld\n",
+            "SOAK ok frames=%ld size=%dx%d fps=%.1f rss_start_kb=%ld rss_end_kb=%ld rss_growth_kb=%ld "
+            "programs_start=%zu programs_end=%zu gl_objects=%ld\n",
             args.frames, args.width, args.height, measured > 0 ? double(measured) / seconds : 0.0, rssStart,
-            rssEnd, rssEnd - rssStart);
+            rssEnd, rssEnd - rssStart, programsStart, viewer->renderer().composer().size(),
+            sgfx::gl::liveObjects().total());
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "soak: %s\n", e.what());
