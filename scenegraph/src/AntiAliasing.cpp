@@ -112,7 +112,10 @@ gl::RenderTarget& drawTarget(ViewState& s, gl::RenderTarget& target) {
     if (a.mode != AntiAliasing::Mode::Msaa) s.msaa = {};
     if (a.mode != AntiAliasing::Mode::Ssaa) s.ssaa = {};
     if (a.mode != AntiAliasing::Mode::Fxaa && a.mode != AntiAliasing::Mode::Taa) s.copy = {}, s.fbo = {};
-    if (a.mode != AntiAliasing::Mode::Fxaa) s.luma = {}, s.lumaFbo = {}, s.lumaWidth = s.lumaHeight = 0;
+    if (a.mode != AntiAliasing::Mode::Fxaa) {
+        s.luma = {}, s.lumaFbo = {}, s.stencil = {};
+        s.lumaWidth = s.lumaHeight = s.stencilWidth = s.stencilHeight = 0;
+    }
     if (a.mode != AntiAliasing::Mode::Taa) {
         s.history[0] = {}, s.history[1] = {};
         s.historyWidth = s.historyHeight = 0;
@@ -195,6 +198,17 @@ void finish(Renderer& r, ViewState& s, gl::RenderTarget& target) {
         r.drawFullscreen(fullscreenProgram(r, "fxaa_luma", "fxaa_luma.frag"));
         r.bindTexture(0, 0);
         prepareFullscreen(s, target);
+        // Edge pixels into the stencil, so the filter below is shaded there only (a software
+        // rasterizer skips stencil-failed fragments before shading).
+        if (!s.stencil || s.stencilWidth != target.width || s.stencilHeight != target.height) {
+            s.stencil = gl::createTexture(GL_TEXTURE_2D);
+            glTextureStorage2D(s.stencil.get(), 1, GL_STENCIL_INDEX8, target.width, target.height);
+            s.stencilWidth = target.width;
+            s.stencilHeight = target.height;
+        }
+        glNamedFramebufferTexture(s.fbo.get(), GL_STENCIL_ATTACHMENT, s.stencil.get(), 0);
+        const GLint zero = 0;
+        glClearNamedFramebufferiv(s.fbo.get(), GL_STENCIL, 0, &zero);
         auto stepsDefine = [](const char* name, int steps) {
             ShaderSnippet d;
             d.name = name;
@@ -210,9 +224,23 @@ void finish(Renderer& r, ViewState& s, gl::RenderTarget& target) {
             {0.25f, 0.0833f, 0.5f}, {0.166f, 0.0625f, 0.75f}, {0.125f, 0.0312f, 1.0f}};
         r.bindTexture(0, s.copy.get());
         r.bindTexture(1, s.luma.get());
+        gl::Program& edges = fullscreenProgram(r, "fxaa_edges", "fxaa_edges.frag");
+        glUseProgram(edges.get());
+        edges.set("sgfx_fxaa", presets[q]);
+        glEnable(GL_STENCIL_TEST);
+        glStencilFunc(GL_ALWAYS, 1, 0xff);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+        glStencilMask(0xff);
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        r.drawFullscreen(edges);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glStencilFunc(GL_EQUAL, 1, 0xff);
+        glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
         glUseProgram(program.get());
         program.set("sgfx_fxaa", presets[q]);
         r.drawFullscreen(program);
+        glDisable(GL_STENCIL_TEST);
+        glNamedFramebufferTexture(s.fbo.get(), GL_STENCIL_ATTACHMENT, 0, 0);
         r.bindTexture(0, 0);
         r.bindTexture(1, 0);
         r.resetStateCache();

@@ -27,6 +27,8 @@ struct ViewState {
     gl::TextureObject luma; // FXAA: perceptual luma, R16F
     gl::FramebufferObject lumaFbo;
     int lumaWidth = 0, lumaHeight = 0;
+    gl::TextureObject stencil; // FXAA: the edge pixels
+    int stencilWidth = 0, stencilHeight = 0;
     gl::TextureObject history[2]; // TAA, linear RGBA16F
     int historyWidth = 0, historyHeight = 0, historyIndex = 0;
     glm::mat4 jitter{1.0f};
