@@ -5,11 +5,9 @@
 # queries; on llvmpipe "GPU" time is the rasterizer threads' time).
 # Usage: bench/ao_table.sh [BUILD_DIR] [ROUNDS] [SIZE:FRAMES ...]   (default 1280x720:24 1920x1080:16)
 set -euo pipefail
+source "$(dirname "$0")/common.sh"
 build=${1:-build}; rounds=${2:-3}; shift $(( $# < 2 ? $# : 2 ))
 sizes=("$@"); [ ${#sizes[@]} -gt 0 ] || sizes=(1280x720:24 1920x1080:16)
-export MALLOC_MMAP_THRESHOLD_=131072 # llvmpipe timings swing with malloc history: pin it for all
-field() { sed -n "s/.*[ ^]$1=\([0-9.]*\).*/\1/p"; }
-median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2] + a[NR/2+1]) / 2}'; }
 configs=(off "16" "32" "64" "16h" "32h" "64h")
 echo "| size | AO | ms/frame (FPS) | vs off | G-buffer ms | occlusion ms | blur ms |"
 echo "|---|---|---|---|---|---|---|"

@@ -6,14 +6,12 @@
 # Usage: bench/fog_table.sh [BUILD_DIR] [ROUNDS] [SIZE:FRAMES ...]
 #   default sizes: 1280x720:40 1920x1080:24 3840x2160:8
 set -euo pipefail
+source "$(dirname "$0")/common.sh"
 build=${1:-build}; rounds=${2:-3}; shift $(( $# < 2 ? $# : 2 ))
 sizes=("$@"); [ ${#sizes[@]} -gt 0 ] || sizes=(1280x720:40 1920x1080:24 3840x2160:8)
-export MALLOC_MMAP_THRESHOLD_=131072 # llvmpipe timings swing with malloc history: pin it for all
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 "$build/demos/polygon" --export-obj "$tmp/polygon.obj" >/dev/null
 have_osg=0; [ -x "$build/bench/osg_polygon" ] && have_osg=1
-field() { sed -n "s/.*$1=\([0-9.]*\).*/\1/p"; }
-median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2] + a[NR/2+1]) / 2}'; }
 modes=(off forward split post)
 echo "| resolution | fog off ms (FPS) | Forward | ForwardSplit | PostProcess | OSG off ms | OSG + osg::Fog |"
 echo "|---|---|---|---|---|---|---|"

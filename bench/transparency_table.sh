@@ -5,10 +5,8 @@
 # closed cabin fill much of the frame), then prints median ms/frame and the OIT/sorted ratio.
 # Usage: bench/transparency_table.sh [BUILD_DIR] [ROUNDS] [SIZE] [FRAMES]
 set -euo pipefail
+source "$(dirname "$0")/common.sh"
 build=${1:-build}; rounds=${2:-3}; size=${3:-1280x720}; frames=${4:-40}
-export MALLOC_MMAP_THRESHOLD_=131072 # llvmpipe timings swing with malloc history: pin it for all
-field() { sed -n "s/.*$1=\([0-9.]*\).*/\1/p"; }
-median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR+1)/2] : (a[NR/2] + a[NR/2+1]) / 2}'; }
 glass_view=(--look 22,8,3.5,30,22,2)
 echo "| view ($size, fog off) | sorted ms (FPS) | OIT ms (FPS) | OIT / sorted |"
 echo "|---|---|---|---|"

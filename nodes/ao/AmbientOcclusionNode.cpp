@@ -1,6 +1,6 @@
 #include "ao/AmbientOcclusionNode.h"
 
-#include "EmbeddedShaders.h"
+#include "ParameterChecks.h"
 
 #include <sgfx/gl/Objects.h>
 
@@ -19,25 +19,18 @@ namespace {
 
 constexpr unsigned kMapUnit = kEffectTextureUnit + 1; // 13: read by the materials in the main pass
 
-std::string text(std::string_view file) {
-    return std::string(nodes::shaders::embedded(file));
-}
+using nodes::number;
 
-std::string number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
+std::string text(std::string_view file) {
+    return nodes::shaderText(file);
 }
 
 [[noreturn]] void refuse(const std::string& what) {
-    throw std::invalid_argument("sgfx: AmbientOcclusionParameters: " + what);
+    nodes::refuse("AmbientOcclusionParameters", what);
 }
 
 void checkRange(const char* name, float v, double lo, double hi, bool openLow = false) {
-    if (!std::isfinite(v)) refuse(std::string(name) + " is " + number(v) + "; it must be finite");
-    if (v < lo || v > hi || (openLow && v == lo))
-        refuse(std::string(name) + " = " + number(v) + " is outside " + (openLow ? "(" : "[") + number(lo) +
-               ", " + number(hi) + "]");
+    nodes::checkRange("AmbientOcclusionParameters", name, v, lo, hi, openLow);
 }
 
 // A full-screen base shader whose fragment stage may include ao_view_position.glsl.

@@ -1,7 +1,7 @@
 #include "fog/FogNode.h"
 #include "fog/FogMath.h"
 
-#include "EmbeddedShaders.h"
+#include "ParameterChecks.h"
 
 #include <sgfx/gl/Objects.h>
 
@@ -17,25 +17,18 @@ namespace sgfx {
 
 namespace {
 
-std::string number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", v);
-    return buf;
-}
+using nodes::number;
 
 [[noreturn]] void refuse(const std::string& what) {
-    throw std::invalid_argument("sgfx: FogParameters: " + what);
+    nodes::refuse("FogParameters", what);
 }
 
 void checkRange(const char* name, float v, double lo, double hi) {
-    if (!std::isfinite(v)) refuse(std::string(name) + " is " + number(v) + "; it must be finite");
-    if (v < lo || v > hi)
-        refuse(std::string(name) + " = " + number(v) + " is outside [" + number(lo) + ", " + number(hi) +
-               "]");
+    nodes::checkRange("FogParameters", name, v, lo, hi);
 }
 
 std::string text(std::string_view file) {
-    return std::string(nodes::shaders::embedded(file));
+    return nodes::shaderText(file);
 }
 
 const std::string& unitDefine() {

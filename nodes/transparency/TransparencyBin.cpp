@@ -1,6 +1,6 @@
 #include "transparency/TransparencyBin.h"
 
-#include "EmbeddedShaders.h"
+#include "ParameterChecks.h"
 
 #include <sgfx/Geometry.h>
 #include <sgfx/StateSet.h>
@@ -22,7 +22,7 @@ constexpr unsigned kAccumUnit = kEffectTextureUnit + 2; // units 14, 15: this pa
 constexpr unsigned kRevealUnit = kEffectTextureUnit + 3;
 
 std::string text(std::string_view file) {
-    return std::string(nodes::shaders::embedded(file));
+    return nodes::shaderText(file);
 }
 
 ShaderSnippet oitSnippet() {
@@ -86,11 +86,8 @@ glm::ivec4 screenBounds(std::span<const RenderItem> items, const FrameData& fram
 
 void OitParameters::validate() const {
     if (std::uint8_t(weight) > std::uint8_t(OitWeight::WindowDepth10))
-        throw std::invalid_argument("sgfx: OitParameters: weight has an invalid value " +
-                                    std::to_string(int(weight)));
-    if (!std::isfinite(depthScale) || depthScale <= 0.0f || depthScale > 1e9f)
-        throw std::invalid_argument("sgfx: OitParameters: depthScale = " + std::to_string(depthScale) +
-                                    " must be in (0, 1e9] metres");
+        nodes::refuse("OitParameters", "weight has an invalid value " + std::to_string(int(weight)));
+    nodes::checkRange("OitParameters", "depthScale", depthScale, 0.0, 1e9, true);
 }
 
 // Accumulates every claimed item of the view into (Σ C·w, Σ α·w) and Π(1 − α), against the
