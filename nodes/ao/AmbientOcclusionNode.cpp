@@ -1,6 +1,7 @@
 #include "ao/AmbientOcclusionNode.h"
 
 #include "ParameterChecks.h"
+#include "TargetCache.h"
 
 #include <sgfx/gl/Objects.h>
 
@@ -143,7 +144,7 @@ struct AmbientOcclusionNode::Shared {
         gl::FramebufferObject gbuffer, raw, half, blurred; // half: after the blur's x pass
         gl::TextureObject normal, depth, position, zbuffer, rawMap, halfMap, blurredMap;
     };
-    std::vector<Targets> targets;
+    nodes::TargetCache<Targets> targets;
     Targets* current = nullptr; // the view being drawn (set by the G-buffer pass)
     gl::TextureObject noise;
     std::uint32_t noiseSeed = 0;
@@ -156,19 +157,16 @@ struct AmbientOcclusionNode::Shared {
         const bool half = parameters.halfResolution;
         const bool positions = parameters.gbuffer == AoGBuffer::PaperPositions;
         const int mw = half ? (w + 1) / 2 : w, mh = half ? (h + 1) / 2 : h;
-        for (Targets& t : targets)
-            if (t.width == w && t.height == h && t.mapWidth == mw && t.mapHeight == mh &&
-                t.positions == positions) {
-                t.lastUse = frame;
-                return t;
-            }
-        if (targets.size() >= 4)
-            targets.erase(
-                std::min_element(targets.begin(), targets.end(),
-                                 [](const Targets& a, const Targets& b) { return a.lastUse < b.lastUse; }));
-        Targets& t = targets.emplace_back();
-        t.width = w, t.height = h, t.mapWidth = mw, t.mapHeight = mh, t.positions = positions,
-        t.lastUse = frame;
+        return targets.get(
+            frame,
+            [&](const Targets& t) {
+                return t.width == w && t.height == h && t.mapWidth == mw && t.mapHeight == mh &&
+                       t.positions == positions;
+            },
+            [&](Targets& t) { init(t, w, h, mw, mh, positions); });
+    }
+
+    static void init(Targets& t, int w, int h, int mw, int mh, bool positions) {
         t.normal = texture2D(GL_RGBA16F, w, h);
         t.depth = texture2D(GL_R32F, w, h);
         t.zbuffer = texture2D(GL_DEPTH_COMPONENT32F, w, h);
@@ -193,7 +191,8 @@ struct AmbientOcclusionNode::Shared {
         mapTarget(t.raw, t.rawMap);
         mapTarget(t.half, t.halfMap);
         mapTarget(t.blurred, t.blurredMap);
-        return t;
+        // Only a complete set is ever matched.
+        t.width = w, t.height = h, t.mapWidth = mw, t.mapHeight = mh, t.positions = positions;
     }
 
     GLuint noiseTexture() {

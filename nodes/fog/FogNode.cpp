@@ -2,6 +2,7 @@
 #include "fog/FogMath.h"
 
 #include "ParameterChecks.h"
+#include "TargetCache.h"
 
 #include <sgfx/gl/Objects.h>
 
@@ -121,16 +122,12 @@ private:
     // One target per view size, so a render-to-texture view and the main view do not reallocate
     // each other's every frame; the least recently used of more than four goes.
     Target& targetFor(int width, int height, std::uint64_t frame) {
-        for (Target& t : targets_)
-            if (t.width == width && t.height == height) {
-                t.lastUse = frame;
-                return t;
-            }
-        if (targets_.size() >= 4)
-            targets_.erase(
-                std::min_element(targets_.begin(), targets_.end(),
-                                 [](const Target& a, const Target& b) { return a.lastUse < b.lastUse; }));
-        Target& t = targets_.emplace_back();
+        return targets_.get(
+            frame, [&](const Target& t) { return t.width == width && t.height == height; },
+            [&](Target& t) { init(t, width, height); });
+    }
+
+    static void init(Target& t, int width, int height) {
         t.fbo = gl::createFramebuffer();
         t.depth = gl::createTexture(GL_TEXTURE_2D);
         glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, width, height);
@@ -141,15 +138,13 @@ private:
         glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
         glNamedFramebufferDrawBuffer(t.fbo.get(), GL_NONE);
         glNamedFramebufferReadBuffer(t.fbo.get(), GL_NONE);
-        t.width = width;
-        t.height = height;
-        t.lastUse = frame;
         if (glCheckNamedFramebufferStatus(t.fbo.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
             throw std::runtime_error("sgfx: fog depth pre-pass: framebuffer incomplete at " +
                                      std::to_string(width) + "x" + std::to_string(height));
-        return t;
+        t.width = width; // only a complete target is ever matched
+        t.height = height;
     }
-    std::vector<Target> targets_;
+    nodes::TargetCache<Target> targets_;
 };
 
 // Seed §1's post-process (every pixel) or the forward modes' sky (uncovered pixels only).
