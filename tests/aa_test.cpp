@@ -296,6 +296,26 @@ TEST(AntiAliasing, TaaConvergesOnAStaticScene) {
     EXPECT_GT(cut.worst, 0.3);
 }
 
+TEST(AntiAliasing, TaaDropsItsHistoryWhenTheCameraJumps) {
+    // 16 frames from one place, then a jump of 5 m along the edge (over the 2 m a frame TAA
+    // follows; the edge stays where it was on screen): the next image is a single jittered
+    // sample per pixel, the same as a reset history gives.
+    const glm::vec3 along(-std::sin(kAngle) * 5.0f, std::cos(kAngle) * 5.0f, 0.0f);
+    auto moved = [&](Viewer& v) { v.camera()->setLookAt(along + glm::vec3(0, 0, 10), along, {0, 1, 0}); };
+    auto v = edgeViewer(AntiAliasing::taa());
+    renderFrames(*v, 16);
+    moved(*v);
+    const Image jumped = renderFrames(*v, 1);
+    auto fresh = edgeViewer(AntiAliasing::taa());
+    moved(*fresh);
+    renderFrames(*fresh, 16); // the jitter sequence continues: frame 17 uses the same offset below
+    moved(*fresh);
+    fresh->camera()->resetHistory();
+    const Image reference = renderFrames(*fresh, 1);
+    EXPECT_EQ(channelsDiffering(jumped, reference, 0), 0);
+    EXPECT_GT(edgeError(jumped).worst, 0.3) << "one jittered sample, no history";
+}
+
 TEST(AntiAliasing, SixteenSamplesOnLlvmpipeGiveTheDriversMaximumAndAWarning) {
     auto v = edgeViewer(AntiAliasing::msaa(16));
     const EdgeError e = edgeError(renderFrames(*v));
