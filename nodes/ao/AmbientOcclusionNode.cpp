@@ -51,16 +51,6 @@ ShaderSnippet definesOnly(std::string name, std::string defines) {
     return s;
 }
 
-gl::TextureObject texture2D(GLenum format, int w, int h) {
-    gl::TextureObject t = gl::createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(t.get(), 1, format, w, h);
-    glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return t;
-}
-
 void checkComplete(GLuint fbo, const char* what, int w, int h) {
     if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw std::runtime_error(std::string("sgfx: ambient occlusion: ") + what +
@@ -167,23 +157,23 @@ struct AmbientOcclusionNode::Shared {
     }
 
     static void init(Targets& t, int w, int h, int mw, int mh, bool positions) {
-        t.normal = texture2D(GL_RGBA16F, w, h);
-        t.depth = texture2D(GL_R32F, w, h);
-        t.zbuffer = texture2D(GL_DEPTH_COMPONENT32F, w, h);
+        t.normal = gl::createTexture2D(GL_RGBA16F, w, h);
+        t.depth = gl::createTexture2D(GL_R32F, w, h);
+        t.zbuffer = gl::createTexture2D(GL_DEPTH_COMPONENT32F, w, h);
         t.gbuffer = gl::createFramebuffer();
         glNamedFramebufferTexture(t.gbuffer.get(), GL_COLOR_ATTACHMENT0, t.normal.get(), 0);
         glNamedFramebufferTexture(t.gbuffer.get(), GL_COLOR_ATTACHMENT1, t.depth.get(), 0);
         glNamedFramebufferTexture(t.gbuffer.get(), GL_DEPTH_ATTACHMENT, t.zbuffer.get(), 0);
         GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE};
         if (positions) {
-            t.position = texture2D(GL_RGBA16F, w, h);
+            t.position = gl::createTexture2D(GL_RGBA16F, w, h);
             glNamedFramebufferTexture(t.gbuffer.get(), GL_COLOR_ATTACHMENT2, t.position.get(), 0);
             buffers[2] = GL_COLOR_ATTACHMENT2;
         }
         glNamedFramebufferDrawBuffers(t.gbuffer.get(), 3, buffers);
         checkComplete(t.gbuffer.get(), "G-buffer", w, h);
         auto mapTarget = [&](gl::FramebufferObject& fbo, gl::TextureObject& map) {
-            map = texture2D(GL_RG32F, mw, mh);
+            map = gl::createTexture2D(GL_RG32F, mw, mh);
             fbo = gl::createFramebuffer();
             glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, map.get(), 0);
             checkComplete(fbo.get(), "occlusion map", mw, mh);
@@ -198,7 +188,7 @@ struct AmbientOcclusionNode::Shared {
     GLuint noiseTexture() {
         if (!noise || noiseSeed != parameters.seed) {
             const std::vector<glm::vec2> n = ao::rotationNoise(parameters.seed);
-            noise = texture2D(GL_RG32F, 4, 4);
+            noise = gl::createTexture2D(GL_RG32F, 4, 4);
             glTextureSubImage2D(noise.get(), 0, 0, 0, 4, 4, GL_RG, GL_FLOAT, n.data());
             noiseSeed = parameters.seed;
         }

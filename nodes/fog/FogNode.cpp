@@ -129,12 +129,7 @@ private:
 
     static void init(Target& t, int width, int height) {
         t.fbo = gl::createFramebuffer();
-        t.depth = gl::createTexture(GL_TEXTURE_2D);
-        glTextureStorage2D(t.depth.get(), 1, GL_DEPTH_COMPONENT32F, width, height);
-        glTextureParameteri(t.depth.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(t.depth.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glTextureParameteri(t.depth.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        glTextureParameteri(t.depth.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        t.depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, width, height);
         glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
         glNamedFramebufferDrawBuffer(t.fbo.get(), GL_NONE);
         glNamedFramebufferReadBuffer(t.fbo.get(), GL_NONE);

@@ -148,22 +148,16 @@ private:
             // A multisampled view (MSAA) gets multisampled sums, composited per sample.
             const bool ms = view.samples > 1;
             fbo_ = gl::createFramebuffer();
-            accum_ = gl::createTexture(ms ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D);
-            reveal_ = gl::createTexture(ms ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D);
             if (ms) {
+                accum_ = gl::createTexture(GL_TEXTURE_2D_MULTISAMPLE);
+                reveal_ = gl::createTexture(GL_TEXTURE_2D_MULTISAMPLE);
                 glTextureStorage2DMultisample(accum_.get(), view.samples, GL_RGBA16F, view.width, view.height,
                                               GL_TRUE);
                 glTextureStorage2DMultisample(reveal_.get(), view.samples, revealFormat, view.width,
                                               view.height, GL_TRUE);
             } else {
-                glTextureStorage2D(accum_.get(), 1, GL_RGBA16F, view.width, view.height);
-                glTextureStorage2D(reveal_.get(), 1, revealFormat, view.width, view.height);
-                for (GLuint t : {accum_.get(), reveal_.get()}) {
-                    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-                    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-                    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-                    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-                }
+                accum_ = gl::createTexture2D(GL_RGBA16F, view.width, view.height);
+                reveal_ = gl::createTexture2D(revealFormat, view.width, view.height);
             }
             samples_ = view.samples;
             glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, accum_.get(), 0);

@@ -10,29 +10,39 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace sgfx::aa {
 
 namespace {
 
-gl::Program& fullscreenProgram(Renderer& r, const char* name, const char* fragment,
-                               const ShaderSnippet* defines = nullptr) {
-    const BaseShader base{name, "blit.vert", std::string(shaders::embedded("blit.vert")), fragment,
-                          std::string(shaders::embedded(fragment))};
+BaseShader fullscreenBase(const char* name, const char* fragment) {
+    return BaseShader{name, "blit.vert", std::string(shaders::embedded("blit.vert")), fragment,
+                      std::string(shaders::embedded(fragment))};
+}
+
+gl::Program& fullscreenProgram(Renderer& r, const BaseShader& base, const ShaderSnippet* defines = nullptr) {
     if (defines) return r.composer().program(base, std::array{defines}, 0);
     return r.composer().program(base, {}, 0);
+}
+
+// The full-screen programs of anti-aliasing, their base shaders built once (thread-safe).
+enum class Stage { Downsample, Resolve, FxaaLuma, FxaaEdges, Fxaa, TaaResolve };
+const BaseShader& base(Stage stage) {
+    static const std::array<BaseShader, 6> bases = {fullscreenBase("aa_downsample", "aa_downsample.frag"),
+                                                    fullscreenBase("aa_resolve", "aa_resolve.frag"),
+                                                    fullscreenBase("fxaa_luma", "fxaa_luma.frag"),
+                                                    fullscreenBase("fxaa_edges", "fxaa_edges.frag"),
+                                                    fullscreenBase("fxaa", "fxaa.frag"),
+                                                    fullscreenBase("taa_resolve", "taa_resolve.frag")};
+    return bases[std::size_t(stage)];
 }
 
 void ensureCopy(ViewState& s, const gl::RenderTarget& target) {
     if (s.copy.get() && s.copyWidth == target.width && s.copyHeight == target.height &&
         s.copyFormat == target.colorFormat)
         return;
-    s.copy = gl::createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(s.copy.get(), 1, target.colorFormat, target.width, target.height);
-    glTextureParameteri(s.copy.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTextureParameteri(s.copy.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(s.copy.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(s.copy.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    s.copy = gl::createTexture2D(target.colorFormat, target.width, target.height, GL_LINEAR);
     s.copyWidth = target.width;
     s.copyHeight = target.height;
     s.copyFormat = target.colorFormat;
@@ -156,8 +166,8 @@ void resolve(Renderer& r, ViewState& s, gl::RenderTarget& from, gl::RenderTarget
     glBlitNamedFramebuffer(from.fbo.get(), to.fbo.get(), 0, 0, from.width, from.height, 0, 0, to.width,
                            to.height, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
     const bool ms = from.samples > 1;
-    gl::Program& program = ms ? fullscreenProgram(r, "aa_resolve", "aa_resolve.frag")
-                              : fullscreenProgram(r, "aa_downsample", "aa_downsample.frag");
+    gl::Program& program =
+        ms ? fullscreenProgram(r, base(Stage::Resolve)) : fullscreenProgram(r, base(Stage::Downsample));
     glBindFramebuffer(GL_FRAMEBUFFER, to.fbo.get());
     glViewport(0, 0, to.width, to.height);
     glEnable(GL_FRAMEBUFFER_SRGB);
@@ -179,12 +189,7 @@ void finish(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     if (a.mode == AntiAliasing::Mode::Fxaa) {
         // Luma first (one channel for the edge search), then the filter from the image's copy.
         if (!s.luma || s.lumaWidth != target.width || s.lumaHeight != target.height) {
-            s.luma = gl::createTexture(GL_TEXTURE_2D);
-            glTextureStorage2D(s.luma.get(), 1, GL_R16F, target.width, target.height);
-            glTextureParameteri(s.luma.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-            glTextureParameteri(s.luma.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-            glTextureParameteri(s.luma.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-            glTextureParameteri(s.luma.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            s.luma = gl::createTexture2D(GL_R16F, target.width, target.height, GL_LINEAR);
             s.lumaFbo = gl::createFramebuffer();
             glNamedFramebufferTexture(s.lumaFbo.get(), GL_COLOR_ATTACHMENT0, s.luma.get(), 0);
             s.lumaWidth = target.width;
@@ -195,14 +200,13 @@ void finish(Renderer& r, ViewState& s, gl::RenderTarget& target) {
         glBindFramebuffer(GL_FRAMEBUFFER, s.lumaFbo.get());
         glViewport(0, 0, target.width, target.height);
         r.bindTexture(0, target.color.get());
-        r.drawFullscreen(fullscreenProgram(r, "fxaa_luma", "fxaa_luma.frag"));
+        r.drawFullscreen(fullscreenProgram(r, base(Stage::FxaaLuma)));
         r.bindTexture(0, 0);
         prepareFullscreen(s, target);
         // Edge pixels into the stencil, so the filter below is shaded there only (a software
         // rasterizer skips stencil-failed fragments before shading).
         if (!s.stencil || s.stencilWidth != target.width || s.stencilHeight != target.height) {
-            s.stencil = gl::createTexture(GL_TEXTURE_2D);
-            glTextureStorage2D(s.stencil.get(), 1, GL_STENCIL_INDEX8, target.width, target.height);
+            s.stencil = gl::createTexture2D(GL_STENCIL_INDEX8, target.width, target.height);
             s.stencilWidth = target.width;
             s.stencilHeight = target.height;
         }
@@ -218,13 +222,13 @@ void finish(Renderer& r, ViewState& s, gl::RenderTarget& target) {
         static const ShaderSnippet steps[] = {stepsDefine("fxaa_low", 5), stepsDefine("fxaa_medium", 8),
                                               stepsDefine("fxaa_high", 12)};
         const std::size_t q = std::size_t(a.fxaaQuality);
-        gl::Program& program = fullscreenProgram(r, "fxaa", "fxaa.frag", &steps[q]);
+        gl::Program& program = fullscreenProgram(r, base(Stage::Fxaa), &steps[q]);
         // Edge threshold, minimum threshold and sub-pixel amount of FXAA 3.11's presets.
         static const glm::vec3 presets[] = {
             {0.25f, 0.0833f, 0.5f}, {0.166f, 0.0625f, 0.75f}, {0.125f, 0.0312f, 1.0f}};
         r.bindTexture(0, s.copy.get());
         r.bindTexture(1, s.luma.get());
-        gl::Program& edges = fullscreenProgram(r, "fxaa_edges", "fxaa_edges.frag");
+        gl::Program& edges = fullscreenProgram(r, base(Stage::FxaaEdges));
         glUseProgram(edges.get());
         edges.set("sgfx_fxaa", presets[q]);
         glEnable(GL_STENCIL_TEST);
@@ -246,21 +250,15 @@ void finish(Renderer& r, ViewState& s, gl::RenderTarget& target) {
         r.resetStateCache();
     } else if (a.mode == AntiAliasing::Mode::Taa) {
         if (!s.history[0] || s.historyWidth != target.width || s.historyHeight != target.height) {
-            for (auto& h : s.history) {
-                h = gl::createTexture(GL_TEXTURE_2D);
-                glTextureStorage2D(h.get(), 1, GL_RGBA16F, target.width, target.height);
-                glTextureParameteri(h.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-                glTextureParameteri(h.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-                glTextureParameteri(h.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-                glTextureParameteri(h.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-            }
+            for (auto& h : s.history)
+                h = gl::createTexture2D(GL_RGBA16F, target.width, target.height, GL_LINEAR);
             s.historyWidth = target.width;
             s.historyHeight = target.height;
             s.frames = 0;
         }
         const int read = s.historyIndex, write = 1 - s.historyIndex;
         prepareFullscreen(s, target, s.history[write].get());
-        gl::Program& program = fullscreenProgram(r, "taa_resolve", "taa_resolve.frag");
+        gl::Program& program = fullscreenProgram(r, base(Stage::TaaResolve));
         r.resetStateCache();
         r.setBlend(BlendMode::Off);
         r.bindTexture(0, s.copy.get());

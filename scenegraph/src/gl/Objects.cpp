@@ -85,6 +85,15 @@ TextureObject createTexture(unsigned target) {
     glCreateTextures(target, 1, &n);
     return TextureObject(n);
 }
+TextureObject createTexture2D(unsigned format, int width, int height, int filter) {
+    TextureObject t = createTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.get(), 1, format, width, height);
+    glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, filter);
+    glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, filter);
+    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return t;
+}
 FramebufferObject createFramebuffer() {
     GLuint n = 0;
     glCreateFramebuffers(1, &n);
@@ -231,18 +240,10 @@ void RenderTarget::resize(int w, int h, unsigned format, int sampleCount) {
                                     std::to_string(h) + " is outside the driver's 1x1.." +
                                     std::to_string(maxW) + "x" + std::to_string(maxH));
     const bool ms = sampleCount > 1;
-    const GLenum target = ms ? GL_TEXTURE_2D_MULTISAMPLE : GL_TEXTURE_2D;
     auto make = [&](GLenum internalFormat, GLint filter) {
-        TextureObject t = createTexture(target);
-        if (ms) {
-            glTextureStorage2DMultisample(t.get(), sampleCount, internalFormat, w, h, GL_TRUE);
-        } else {
-            glTextureStorage2D(t.get(), 1, internalFormat, w, h);
-            glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, filter);
-            glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, filter);
-            glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-            glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        }
+        if (!ms) return createTexture2D(internalFormat, w, h, filter);
+        TextureObject t = createTexture(GL_TEXTURE_2D_MULTISAMPLE);
+        glTextureStorage2DMultisample(t.get(), sampleCount, internalFormat, w, h, GL_TRUE);
         return t;
     };
     color = make(format, GL_LINEAR);

@@ -75,6 +75,9 @@ using QueryObject = Object<Kind::Query>;
 BufferObject createBuffer();
 VertexArrayObject createVertexArray();
 TextureObject createTexture(unsigned target);
+// A single-level 2D texture for a pass's own use: `filter` (GL_NEAREST or GL_LINEAR) both ways,
+// clamped to its edges.
+TextureObject createTexture2D(unsigned format, int width, int height, int filter = 0x2600 /* GL_NEAREST */);
 FramebufferObject createFramebuffer();
 QueryObject createQuery(unsigned target);
 
