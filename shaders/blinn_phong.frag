@@ -92,6 +92,13 @@ void main() {
 #if defined(SGFX_ALPHA_MAP) && defined(SGFX_TEXCOORDS)
     base.a *= texture(sgfx_alphaMap, v_texcoord).r;
 #endif
+    float sgfx_coverage = 1.0; // scales all the surface adds, emission and highlights included
+#if defined(SGFX_BASE_MODIFIER) && !defined(SGFX_GBUFFER)
+    // A base shader built on this material may adjust the surface colour and its coverage here
+    // by defining SGFX_BASE_MODIFIER and `void sgfx_modifyBase(inout vec4 base, inout float
+    // coverage)` (soft particles).
+    sgfx_modifyBase(base, sgfx_coverage);
+#endif
 #ifdef SGFX_ALPHA_MASK
     if (base.a < sgfx_alphaCutoff) discard;
     base.a = 1.0; // what passes the mask is opaque
@@ -156,6 +163,11 @@ void main() {
     vec4 sgfx_color = vec4(color * base.a + added, base.a);
 #else
     vec4 sgfx_color = vec4(color + added, base.a);
+#endif
+#ifdef SGFX_BLEND_PREMULTIPLIED
+    sgfx_color *= sgfx_coverage;
+#else
+    sgfx_color.a *= sgfx_coverage;
 #endif
     // @sgfx:color
     sgfx_fragColor = sgfx_color;

@@ -57,7 +57,7 @@ glm::ivec4 screenBounds(std::span<const RenderItem> items, const FrameData& fram
     const bool perspective = frame.projection[2][3] != 0.0f;
     const float nearZ = frame.projection[3][2] / (frame.projection[2][2] - 1.0f); // the near distance
     for (const RenderItem& it : items) {
-        const BoundingSphere s = it.geometry->bound().transformed(it.model);
+        const BoundingSphere s = it.worldBound();
         if (!s.valid()) continue;
         const glm::vec3 c = glm::vec3(frame.view * glm::vec4(s.center, 1.0f));
         if (perspective && (!(nearZ > 0.0f) || -c.z - s.radius <= nearZ))

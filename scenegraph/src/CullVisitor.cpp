@@ -1,6 +1,7 @@
 #include "sgfx/CullVisitor.h"
 
 #include "sgfx/Camera.h"
+#include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
@@ -165,55 +166,83 @@ void CullVisitor::apply(Geometry& g) {
     if (g.positions.empty()) return;
     pushState(g);
     const ResolvedState* state = state_.back();
-    const BoundingSphere vs = g.bound().transformed(modelView_.back());
     RenderItem item;
     item.geometry = &g;
-    item.model = model_.back();
-    item.state = state;
-    item.effectSet = effectSet_.back();
-    item.depth = -vs.center.z;
-    item.depthBucket = item.depth > 1.0f ? std::int8_t(std::min(std::ilogb(item.depth), 127)) : 0;
-    item.sequence = sequence_++;
     const bool transparent = state->transparent();
-    const ShaderProgram* foreign = item.program();
+    const ShaderProgram* foreign = state->program.value ? state->program.value->get() : nullptr;
     item.features = foreign ? ShaderComposer::blendFeatures(transparent, state->blendMode()) |
                                   (transparent ? std::uint32_t(FeatureBlend) : 0u)
                             : ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent,
                                                           state->blendMode());
-    // Equal keys mean one program: (foreign shader or built-in variant, effect snippets).
-    const auto prog = std::uint64_t(reinterpret_cast<std::uintptr_t>(foreign));
-    item.programKey = (prog << 8) ^ (std::uint64_t(queue_.effectSets[item.effectSet].signature) << 44) ^
+    const bool triangles = g.mode == PrimitiveMode::Triangles || g.mode == PrimitiveMode::TriangleStrip ||
+                           g.mode == PrimitiveMode::TriangleFan;
+    queueItem(item, *state, g.bound().transformed(modelView_.back()), reinterpret_cast<std::uintptr_t>(foreign),
+              triangles);
+    popState(g);
+}
+
+void CullVisitor::apply(Drawable& d) {
+    // Its own world bound (content in world space may lie far from its parent's frame).
+    const BoundingSphere world = d.worldBound(model_.back());
+    if (!world.valid()) {
+        ++culledNodes;
+        return;
+    }
+    const BoundingSphere vs = world.transformed(view_);
+    for (int i = 0; i < 6; ++i)
+        if ((planeMask_.back() & (1u << i)) && viewFrustum_.planes[std::size_t(i)].distance(vs.center) < -vs.radius) {
+            ++culledNodes;
+            return;
+        }
+    pushState(d);
+    const ResolvedState* state = state_.back();
+    const bool transparent = state->transparent();
+    RenderItem item;
+    item.drawable = &d;
+    item.features = d.features(*state) | ShaderComposer::blendFeatures(transparent, state->blendMode()) |
+                    (transparent ? std::uint32_t(FeatureBlend) : 0u);
+    if (plan_ && plannedDrawables_.insert(&d).second) d.planFrame(*plan_);
+    // Tagged so a drawable's base shader never shares a key with a foreign program.
+    queueItem(item, *state, vs, reinterpret_cast<std::uintptr_t>(&d.baseShader()) | 1u, false);
+    popState(d);
+}
+
+void CullVisitor::queueItem(RenderItem item, const ResolvedState& state, const BoundingSphere& vs,
+                            std::uintptr_t program, bool twoPassable) {
+    item.model = model_.back();
+    item.state = &state;
+    item.effectSet = effectSet_.back();
+    item.depth = -vs.center.z;
+    item.depthBucket = item.depth > 1.0f ? std::int8_t(std::min(std::ilogb(item.depth), 127)) : 0;
+    item.sequence = sequence_++;
+    // Equal keys mean one program: (foreign shader, drawable base or built-in variant, snippets).
+    item.programKey = (std::uint64_t(program) << 8) ^
+                      (std::uint64_t(queue_.effectSets[item.effectSet].signature) << 44) ^
                       (std::uint64_t(item.features) << 32);
     computedNear = std::min(computedNear, item.depth - vs.radius);
     computedFar = std::max(computedFar, item.depth + vs.radius);
-    if (!transparent) {
+    if (!state.transparent()) {
         queue_.opaque.push_back(item);
-    } else {
-        const BlendMode blend = state->blendMode();
-        const auto& effects = queue_.effectSets[item.effectSet].effects;
-        if (std::any_of(effects.begin(), effects.end(),
-                        [&](const EffectNode* e) { return e->drawsBlended(blend); })) {
-            queue_.claimed.push_back(item);
-        } else {
-            const TransparencyDetails details = state->transparency.value.value_or(TransparencyDetails{});
-            details.validate();
-            item.order = details.order;
-            item.depth += details.depthBias;
-            const bool triangles = g.mode == PrimitiveMode::Triangles ||
-                                   g.mode == PrimitiveMode::TriangleStrip ||
-                                   g.mode == PrimitiveMode::TriangleFan;
-            if (details.twoPass && triangles &&
-                state->cullFace.value.value_or(CullFace::Back) == CullFace::None) {
-                // A closed double-sided object blends its far side first.
-                item.faces = RenderItem::Faces::Back;
-                queue_.transparent.push_back(item);
-                item.faces = RenderItem::Faces::Front;
-                item.sequence = sequence_++;
-            }
-            queue_.transparent.push_back(item);
-        }
+        return;
     }
-    popState(g);
+    const BlendMode blend = state.blendMode();
+    const auto& effects = queue_.effectSets[item.effectSet].effects;
+    if (std::any_of(effects.begin(), effects.end(), [&](const EffectNode* e) { return e->drawsBlended(blend); })) {
+        queue_.claimed.push_back(item);
+        return;
+    }
+    const TransparencyDetails details = state.transparency.value.value_or(TransparencyDetails{});
+    details.validate();
+    item.order = details.order;
+    item.depth += details.depthBias;
+    if (details.twoPass && twoPassable && state.cullFace.value.value_or(CullFace::Back) == CullFace::None) {
+        // A closed double-sided object blends its far side first.
+        item.faces = RenderItem::Faces::Back;
+        queue_.transparent.push_back(item);
+        item.faces = RenderItem::Faces::Front;
+        item.sequence = sequence_++;
+    }
+    queue_.transparent.push_back(item);
 }
 
 } // namespace sgfx

@@ -1,4 +1,5 @@
 #include "sgfx/Camera.h"
+#include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
@@ -184,6 +185,10 @@ Geometry::Geometry() = default;
 Geometry::~Geometry() = default;
 
 void Geometry::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
+
+void Drawable::accept(NodeVisitor& v) {
     v.apply(*this);
 }
 

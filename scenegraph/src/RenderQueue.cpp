@@ -1,5 +1,8 @@
 #include "sgfx/RenderQueue.h"
 
+#include "sgfx/Drawable.h"
+#include "sgfx/Geometry.h"
+
 #include "sgfx/Effect.h"
 
 #include <algorithm>
@@ -9,7 +12,17 @@
 namespace sgfx {
 
 const ShaderProgram* RenderItem::program() const {
-    return state && state->program.value ? state->program.value->get() : nullptr;
+    // A drawable brings its own base shader; a StateSet's program applies to geometry only.
+    return !drawable && state && state->program.value ? state->program.value->get() : nullptr;
+}
+
+BoundingSphere RenderItem::worldBound() const {
+    return drawable ? drawable->worldBound(model) : geometry->bound().transformed(model);
+}
+
+const Node& RenderItem::node() const {
+    if (drawable) return *drawable;
+    return *geometry;
 }
 
 void RenderQueue::clear() {

@@ -3,6 +3,7 @@
 #include "AntiAliasing.h"
 #include "EmbeddedShaders.h"
 #include "sgfx/Camera.h"
+#include "sgfx/Drawable.h"
 #include "sgfx/CullVisitor.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/GraphicsContext.h"
@@ -187,9 +188,9 @@ struct DebugLog {
     void add(std::string_view message) {
         if (messages.size() >= 64) return; // an error storm: the first ones say enough
         std::string site = "[" + std::string(stage) + "]";
-        if (item && item->geometry)
+        if (item)
             site += " drawing '" +
-                    (item->geometry->name.empty() ? std::string("<unnamed>") : item->geometry->name) + "'";
+                    (item->node().name.empty() ? std::string("<unnamed>") : item->node().name) + "'";
         if (program) site += " with " + program->description();
         messages.push_back(site + ": " + std::string(message));
     }
@@ -205,10 +206,11 @@ void GLAPIENTRY onDebugMessage(GLenum source, GLenum type, GLuint, GLenum severi
 }
 
 // Enum values outside their range (a cast from bad data) would index GL tables out of bounds.
-void validateEnums(const ResolvedState& st, const Geometry& g) {
+void validateEnums(const ResolvedState& st, const RenderItem& item) {
+    const Node& n = item.node();
     auto bad = [&](const char* what, int v) {
         throw std::invalid_argument("sgfx: state of '" +
-                                    (g.name.empty() ? std::string("<unnamed>") : g.name) +
+                                    (n.name.empty() ? std::string("<unnamed>") : n.name) +
                                     "' has an invalid " + what + " value " + std::to_string(v));
     };
     if (st.blend.value && std::uint8_t(*st.blend.value) > std::uint8_t(BlendMode::Multiply))
@@ -217,7 +219,8 @@ void validateEnums(const ResolvedState& st, const Geometry& g) {
         bad("CullFace", int(*st.cullFace.value));
     if (st.depth.value && std::uint8_t(st.depth.value->func) > std::uint8_t(CompareFunc::Always))
         bad("CompareFunc", int(st.depth.value->func));
-    if (std::uint8_t(g.mode) > std::uint8_t(PrimitiveMode::TriangleFan)) bad("PrimitiveMode", int(g.mode));
+    if (item.geometry && std::uint8_t(item.geometry->mode) > std::uint8_t(PrimitiveMode::TriangleFan))
+        bad("PrimitiveMode", int(item.geometry->mode));
 }
 
 } // namespace
@@ -410,6 +413,11 @@ void Renderer::drawFullscreen(gl::Program& program, const DepthState& depth) {
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
     ++stats_.drawCalls;
+}
+
+void Renderer::warn(std::string message) {
+    if (std::find(impl_->warnings.begin(), impl_->warnings.end(), message) == impl_->warnings.end())
+        impl_->warnings.push_back(std::move(message));
 }
 
 std::vector<std::string> Renderer::takeWarnings() {
@@ -677,7 +685,27 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
     for (const RenderItem& item : items) {
         s.log.item = &item;
         bool programChanged = false;
-        if (!override && item.programKey != programKey) {
+        if (item.drawable) {
+            // Its own base shader: composed with the effects in the main pass; in depth and
+            // G-buffer passes its plain or G-buffer variant.
+            const std::uint64_t key = depthOnly ? item.programKey ^ (std::uint64_t(mode) << 60) : item.programKey;
+            if (key != programKey) {
+                snippets.clear();
+                if (!depthOnly)
+                    for (const EffectNode* e : current_->effectSets[item.effectSet].effects)
+                        snippets.push_back(&e->snippet());
+                const std::uint32_t lighting = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
+                                               FeatureVertexLighting | FeatureLightCountMask | FeaturePointLights;
+                const std::uint32_t features =
+                    mode == DrawMode::GBuffer     ? (item.features & ~lighting) | FeatureGBuffer
+                    : mode == DrawMode::DepthOnly ? item.features & ~FeatureBlend
+                                                  : item.features | viewFeatures_;
+                program = &composer_.program(item.drawable->baseShader(), snippets,
+                                             features | FeatureWorldPosition);
+                programKey = key;
+                programChanged = true;
+            }
+        } else if (!override && item.programKey != programKey) {
             const EffectSet& set = current_->effectSets[item.effectSet];
             snippets.clear();
             for (const EffectNode* e : set.effects)
@@ -735,7 +763,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         }
         if (item.state != state) {
             state = item.state;
-            validateEnums(*state, *item.geometry);
+            validateEnums(*state, item);
             if (mode == DrawMode::Main) {
                 s.setBlend(state->blendMode());
                 DepthState d = state->depth.value.value_or(DepthState{});
@@ -780,6 +808,13 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         case RenderItem::Faces::AsState:
             s.setCull(state->cullFace.value.value_or(CullFace::Back));
             break;
+        }
+        if (item.drawable) {
+            program->set("sgfx_model", item.model);
+            item.drawable->draw(*this, *program, item); // binds its own vertex arrays and units
+            ++stats_.drawCalls;
+            stats_.triangles += item.drawable->triangleCount();
+            continue;
         }
         const Geometry& g = *item.geometry;
         gl::GeometryBuffers& b = buffersFor(g);

@@ -125,10 +125,18 @@ ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base,
                                                std::span<const ShaderSnippet* const> snippets,
                                                std::uint32_t features) {
     ComposedProgram p;
-    p.vertex =
-        composeStage(base.vertexName, base.vertexSource, kVertexHooks, snippets, features, p.vertexSources);
-    p.fragment = composeStage(base.fragmentName, base.fragmentSource, kFragmentHooks, snippets, features,
-                              p.fragmentSources);
+    const bool geometry = !base.geometrySource.empty();
+    p.vertex = composeStage(base.vertexName, base.vertexSource,
+                            geometry ? std::span<const Hook>{} : std::span<const Hook>(kVertexHooks), snippets,
+                            features, p.vertexSources);
+    if (geometry)
+        p.geometry = composeStage(base.geometryName, base.geometrySource, kVertexHooks, snippets, features,
+                                  p.geometrySources);
+    if (!base.fragmentSource.empty())
+        p.fragment = composeStage(base.fragmentName, base.fragmentSource, kFragmentHooks, snippets, features,
+                                  p.fragmentSources);
+    p.feedbackVaryings = base.feedbackVaryings;
+    p.feedbackInterleaved = base.feedbackInterleaved;
     p.description = describe(base.name, snippets);
     std::string variant = featureDefines(features);
     for (auto& c : variant)

@@ -1,5 +1,6 @@
 #include "sgfx/Viewer.h"
 
+#include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/StateSet.h"
@@ -21,6 +22,10 @@ public:
     void apply(Geometry& g) override {
         g.gpu().reset();
         apply(static_cast<Node&>(g));
+    }
+    void apply(Drawable& d) override {
+        d.releaseGLObjects();
+        apply(static_cast<Node&>(d));
     }
     void apply(Camera& c) override {
         release(c.renderTarget.get());

@@ -1,6 +1,7 @@
 #include "sgfx/Visitors.h"
 
 #include "sgfx/Camera.h"
+#include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
@@ -19,6 +20,9 @@ void NodeVisitor::apply(Transform& t) {
 }
 void NodeVisitor::apply(Geometry& g) {
     apply(static_cast<Node&>(g));
+}
+void NodeVisitor::apply(Drawable& d) {
+    apply(static_cast<Node&>(d));
 }
 void NodeVisitor::apply(Camera& c) {
     apply(static_cast<Group&>(c));
@@ -49,12 +53,24 @@ void UpdateVisitor::apply(Node& node) {
     traverse(node);
 }
 
+void UpdateVisitor::apply(Drawable& d) {
+    d.update(*this);
+    apply(static_cast<Node&>(d));
+}
+
 // ---------------------------------------------------------------- ComputeBoundsVisitor
 void ComputeBoundsVisitor::apply(Transform& t) {
     const glm::mat4 saved = matrix_;
     matrix_ = matrix_ * t.matrix();
     traverse(t);
     matrix_ = saved;
+}
+
+void ComputeBoundsVisitor::apply(Drawable& d) {
+    const BoundingSphere s = d.worldBound(matrix_);
+    if (!s.valid()) return;
+    min = glm::min(min, s.center - glm::vec3(s.radius));
+    max = glm::max(max, s.center + glm::vec3(s.radius));
 }
 
 void ComputeBoundsVisitor::apply(Geometry& g) {
@@ -69,6 +85,12 @@ void ComputeBoundsVisitor::apply(Geometry& g) {
 void StatsVisitor::apply(Node& n) {
     ++nodes;
     traverse(n);
+}
+
+void StatsVisitor::apply(Drawable& d) {
+    ++nodes;
+    ++drawables;
+    triangles += d.triangleCount();
 }
 
 void StatsVisitor::apply(Geometry& g) {

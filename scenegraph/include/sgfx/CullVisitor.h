@@ -19,6 +19,7 @@ public:
     void apply(Node& node) override;
     void apply(Transform& t) override;
     void apply(Geometry& g) override;
+    void apply(Drawable& d) override;
     void apply(Camera& c) override;
     void apply(Light& l) override;
     void apply(EffectNode& e) override;
@@ -38,6 +39,9 @@ private:
     void pushState(const Node& n);
     void popState(const Node& n);
     void traverseWithState(Node& n);
+    // Fills the item's common fields and puts it in the opaque, claimed or transparent list.
+    void queueItem(RenderItem item, const ResolvedState& state, const BoundingSphere& viewBound,
+                   std::uintptr_t program, bool twoPassable);
 
     RenderQueue& queue_;
     FramePlan* plan_;
@@ -51,6 +55,7 @@ private:
     std::vector<std::uint32_t> effectSet_;
     std::vector<std::uint8_t> planeMask_;
     std::unordered_set<const EffectNode*> planned_;
+    std::unordered_set<const Drawable*> plannedDrawables_;
     std::uint32_t sequence_ = 0;
 };
 

@@ -8,6 +8,7 @@ class Node;
 class Group;
 class Transform;
 class Geometry;
+class Drawable;
 class Camera;
 class Light;
 class EffectNode;
@@ -28,6 +29,7 @@ public:
     virtual void apply(Group& group);
     virtual void apply(Transform& transform);
     virtual void apply(Geometry& geometry);
+    virtual void apply(Drawable& drawable);
     virtual void apply(Camera& camera);
     virtual void apply(Light& light);
     virtual void apply(EffectNode& effect);

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Math.h"
 #include "sgfx/StateSet.h"
 
 #include <glm/glm.hpp>
@@ -10,6 +11,8 @@
 namespace sgfx {
 
 class Geometry;
+class Drawable;
+class Node;
 class EffectNode;
 class ShaderProgram;
 class Camera;
@@ -27,7 +30,8 @@ struct LightInfo {
 };
 
 struct RenderItem {
-    const Geometry* geometry = nullptr;
+    const Geometry* geometry = nullptr; // one of these two is set
+    const Drawable* drawable = nullptr;
     glm::mat4 model{1.0f};
     const ResolvedState* state = nullptr;
     std::uint32_t effectSet = 0; // index into RenderQueue::effectSets
@@ -43,6 +47,8 @@ struct RenderItem {
     enum class Faces : std::uint8_t { AsState, Back, Front } faces = Faces::AsState;
 
     const ShaderProgram* program() const;
+    const Node& node() const; // the geometry or drawable
+    BoundingSphere worldBound() const;
 };
 
 class RenderQueue {

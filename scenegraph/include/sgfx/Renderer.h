@@ -180,6 +180,8 @@ public:
     // Settings the renderer had to change (an MSAA sample count above the driver's limit), each
     // once, since the last call.
     std::vector<std::string> takeWarnings();
+    // Adds a warning for takeWarnings() (an effect that refused a setting and kept its last one).
+    void warn(std::string message);
 
 private:
     struct Impl;

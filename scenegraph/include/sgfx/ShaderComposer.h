@@ -46,19 +46,29 @@ public:
 
 struct ComposedProgram {
     std::string vertex;
-    std::string fragment;
+    std::string geometry; // optional
+    std::string fragment; // may be empty for a transform-feedback-only program
+    // Transform feedback outputs, captured into one buffer (interleaved) or one buffer each.
+    std::vector<std::string> feedbackVaryings;
+    bool feedbackInterleaved = true;
     // Per stage: source-string numbers used in #line directives → names
     // ("blinn_phong.frag", "debug_tint.colorCode").
     std::vector<std::string> vertexSources;
+    std::vector<std::string> geometrySources;
     std::vector<std::string> fragmentSources;
     std::string description; // "blinn_phong + [debug_tint]"
 };
 
-// A material shader written once with hook markers (`// @sgfx:NAME` lines).
+// A material shader written once with hook markers (`// @sgfx:NAME` lines). With a geometry
+// stage, the vertex hooks (`vertex_decl`, `vertex`) live in the geometry stage, which is where
+// the world positions are made (particle sprites); the vertex stage then has no hooks.
 struct BaseShader {
     std::string name;
     std::string vertexName, vertexSource;
     std::string fragmentName, fragmentSource;
+    std::string geometryName = {}, geometrySource = {};
+    std::vector<std::string> feedbackVaryings = {};
+    bool feedbackInterleaved = true;
 };
 
 // What a built-in material variant contains; each bit becomes a #define (SGFX_BASE_MAP, ...)

@@ -14,6 +14,7 @@ public:
     UpdateVisitor()
         : NodeVisitor(Mode::ActiveChildren) {}
     void apply(Node& node) override;
+    void apply(Drawable& drawable) override;
 
     double simulationTime = 0.0; // seconds
     double deltaTime = 0.0;
@@ -27,6 +28,7 @@ public:
         : NodeVisitor(Mode::ActiveChildren) {}
     void apply(Transform& t) override;
     void apply(Geometry& g) override;
+    void apply(Drawable& d) override;
 
     glm::vec3 min{std::numeric_limits<float>::max()};
     glm::vec3 max{-std::numeric_limits<float>::max()};
@@ -43,6 +45,7 @@ public:
         : NodeVisitor(Mode::ActiveChildren) {}
     void apply(Node& n) override;
     void apply(Geometry& g) override;
+    void apply(Drawable& d) override;
 
     std::size_t nodes = 0;
     std::size_t drawables = 0;

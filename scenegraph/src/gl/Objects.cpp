@@ -122,7 +122,10 @@ ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::
         glGetShaderiv(s.get(), GL_INFO_LOG_LENGTH, &len);
         std::string log(std::size_t(std::max(len, 1)), '\0');
         glGetShaderInfoLog(s.get(), len, nullptr, log.data());
-        throw ShaderError("sgfx: " + std::string(stage == GL_VERTEX_SHADER ? "vertex" : "fragment") +
+        const char* stageName = stage == GL_VERTEX_SHADER     ? "vertex"
+                                : stage == GL_GEOMETRY_SHADER ? "geometry"
+                                                              : "fragment";
+        throw ShaderError("sgfx: " + std::string(stageName) +
                           " shader of " + std::string(description) + " failed to compile:\n" +
                           ShaderComposer::translateLog(log.c_str(), names));
     }
@@ -132,15 +135,26 @@ ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::
 
 Program::Program(const ComposedProgram& c)
     : description_(c.description) {
-    ShaderObject vs = compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description);
-    ShaderObject fs = compile(GL_FRAGMENT_SHADER, c.fragment, c.fragmentSources, c.description);
+    std::vector<ShaderObject> stages;
+    stages.push_back(compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description));
+    if (!c.geometry.empty())
+        stages.push_back(compile(GL_GEOMETRY_SHADER, c.geometry, c.geometrySources, c.description));
+    if (!c.fragment.empty() || c.feedbackVaryings.empty())
+        stages.push_back(compile(GL_FRAGMENT_SHADER, c.fragment, c.fragmentSources, c.description));
     name_ = glCreateProgram();
     ++liveObjects().counts[std::size_t(Kind::Program)];
-    glAttachShader(name_, vs.get());
-    glAttachShader(name_, fs.get());
+    for (const ShaderObject& st : stages)
+        glAttachShader(name_, st.get());
+    if (!c.feedbackVaryings.empty()) {
+        std::vector<const char*> names;
+        for (const std::string& v : c.feedbackVaryings)
+            names.push_back(v.c_str());
+        glTransformFeedbackVaryings(name_, GLsizei(names.size()), names.data(),
+                                    c.feedbackInterleaved ? GL_INTERLEAVED_ATTRIBS : GL_SEPARATE_ATTRIBS);
+    }
     glLinkProgram(name_);
-    glDetachShader(name_, vs.get());
-    glDetachShader(name_, fs.get());
+    for (const ShaderObject& st : stages)
+        glDetachShader(name_, st.get());
     GLint ok = 0;
     glGetProgramiv(name_, GL_LINK_STATUS, &ok);
     if (!ok) {

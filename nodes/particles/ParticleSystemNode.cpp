@@ -1,0 +1,718 @@
+#include "particles/ParticleSystemNode.h"
+
+#include "ParameterChecks.h"
+#include "TargetCache.h"
+
+#include <sgfx/Material.h>
+#include <sgfx/Renderer.h>
+#include <sgfx/StateSet.h>
+#include <sgfx/Visitors.h>
+#include <sgfx/gl/Objects.h>
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+
+namespace sgfx {
+
+namespace {
+
+using particles::ParticleRecord;
+
+// The soft particles' copy of the opaque depth: a pass-local unit, bound at every draw.
+constexpr unsigned kDepthUnit = kEffectTextureUnit + 2;
+
+// Bytes per particle of each stream: one interleaved record, or (age + P, v, r0, r).
+constexpr std::array<int, 4> kSplitStrides{16, 12, 12, 12};
+constexpr int kRecordBytes = 52;
+
+void check(const char* name, float v, double lo, double hi, bool openLow = false) {
+    nodes::checkRange("ParticleSettings", name, v, lo, hi, openLow);
+}
+void checkVector(const char* name, glm::vec3 v, double limit) {
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(v[i]) || std::abs(v[i]) > limit)
+            nodes::refuse("ParticleSettings", std::string(name) + " = (" + nodes::number(v.x) + ", " +
+                                                  nodes::number(v.y) + ", " + nodes::number(v.z) +
+                                                  ") must be finite and within ±" + nodes::number(limit));
+}
+
+// Replaces `#include "file"` lines with the embedded file (one level is all the shaders use).
+std::string expandIncludes(std::string_view file) {
+    std::string src = nodes::shaderText(file);
+    const std::string key = "#include \"";
+    for (auto at = src.find(key); at != std::string::npos; at = src.find(key)) {
+        const auto close = src.find('"', at + key.size());
+        const auto eol = src.find('\n', at);
+        const std::string name = src.substr(at + key.size(), close - at - key.size());
+        src.replace(at, eol - at, nodes::shaderText(name));
+    }
+    return src;
+}
+
+const BaseShader& updateShader(ParticleLayout layout) {
+    static const auto make = [](bool interleaved) {
+        BaseShader b{interleaved ? "particle_update_interleaved" : "particle_update_split", "particle_update.vert",
+                     expandIncludes("particle_update.vert"), "", ""};
+        b.feedbackVaryings = {"o_state", "o_velocity", "o_angles0", "o_angles"};
+        b.feedbackInterleaved = interleaved;
+        return b;
+    };
+    static const BaseShader interleaved = make(true), split = make(false);
+    return layout == ParticleLayout::Split ? split : interleaved;
+}
+
+// The built-in material's fragment stage with the soft-particle modifier in front of it.
+std::string particleFragment() {
+    std::string material = ShaderComposer::blinnPhong().fragmentSource;
+    const auto eol = material.find('\n');
+    return material.substr(0, eol + 1) + "#define SGFX_PARTICLE_DEPTH_UNIT " + std::to_string(kDepthUnit) + "\n" +
+           nodes::shaderText("particle_soft.glsl") + material.substr(eol + 1);
+}
+
+const BaseShader& drawShader(ParticlePath path) {
+    static const BaseShader geometry = [] {
+        BaseShader b{"particles_gs", "particle_points.vert", nodes::shaderText("particle_points.vert"),
+                     "particle_material.frag", particleFragment()};
+        b.geometryName = "particle_corners.geom";
+        b.geometrySource = expandIncludes("particle_corners.geom");
+        return b;
+    }();
+    static const BaseShader instanced{"particles_instanced", "particle_instanced.vert",
+                                      expandIncludes("particle_instanced.vert"), "particle_material.frag",
+                                      particleFragment()};
+    return path == ParticlePath::GeometryShader ? geometry : instanced;
+}
+
+int trianglesPerParticle(ParticleShape s) {
+    return s == ParticleShape::Hexagon || s == ParticleShape::Tetrahedron ? 4 : 2;
+}
+
+std::shared_ptr<Texture> makeTexture(std::shared_ptr<Image> image) {
+    auto t = Texture::create(std::move(image), true);
+    t->wrapS = t->wrapT = Wrap::ClampToEdge;
+    return t;
+}
+
+// A soft round puff: white, opacity falling smoothly to 0 at the edge.
+std::shared_ptr<Texture> puffTexture() {
+    constexpr int n = 64;
+    auto img = Image::create(n, n, 4);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const float dx = (float(x) + 0.5f) / n - 0.5f, dy = (float(y) + 0.5f) / n - 0.5f;
+            const float r = std::sqrt(dx * dx + dy * dy) * 2.0f;
+            const float a = r >= 1.0f ? 0.0f : (1.0f - r * r) * (1.0f - r * r);
+            std::uint8_t* p = img->pixel(x, y);
+            p[0] = p[1] = p[2] = 255;
+            p[3] = std::uint8_t(std::lround(a * 255.0f));
+        }
+    return makeTexture(img);
+}
+
+// A leaf: a pointed ellipse with a midrib, green to autumn orange across the image.
+std::shared_ptr<Texture> leafTexture() {
+    constexpr int n = 64;
+    auto img = Image::create(n, n, 4);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const float u = (float(x) + 0.5f) / n * 2.0f - 1.0f, v = (float(y) + 0.5f) / n * 2.0f - 1.0f;
+            const float halfWidth = 0.55f * (1.0f - v * v) * (1.0f - 0.3f * v);
+            const bool inside = std::abs(u) < halfWidth && std::abs(v) < 0.95f;
+            const bool rib = std::abs(u) < 0.04f;
+            const float t = 0.5f + 0.5f * u;
+            std::uint8_t* p = img->pixel(x, y);
+            p[0] = std::uint8_t(rib ? 120 : 90 + 140 * t);
+            p[1] = std::uint8_t(rib ? 110 : 130 - 40 * t);
+            p[2] = std::uint8_t(rib ? 40 : 30);
+            p[3] = inside ? 255 : 0;
+        }
+    return makeTexture(img);
+}
+
+std::shared_ptr<ParticleSystemNode> withState(std::string name, const ParticleSettings& s,
+                                              const std::function<void(StateSet&, Material&)>& style) {
+    auto node = ParticleSystemNode::create(s);
+    node->name = std::move(name);
+    auto state = ParticleSystemNode::defaultState();
+    style(*state, **state->material.value);
+    node->setStateSet(state);
+    return node;
+}
+
+} // namespace
+
+// ---------------------------------------------------------------- settings
+void ParticleSettings::validate() const {
+    if (capacity == 0 || capacity > ParticleSystemNode::kMaxCapacity)
+        nodes::refuse("ParticleSettings", "capacity = " + std::to_string(capacity) + " is outside [1, " +
+                                              std::to_string(ParticleSystemNode::kMaxCapacity) +
+                                              "] (2 × 52 bytes of GPU buffer per particle)");
+    const particles::Emitter& e = emitter;
+    check("emitter.lifetime (tmax)", e.lifetime, 0.0, 1e6, true);
+    check("emitter.size.x (W)", e.size.x, 0.0, 1e7);
+    check("emitter.size.y (H)", e.size.y, 0.0, 1e7);
+    checkVector("emitter.velocity (v0)", e.velocity, 1e6);
+    checkVector("emitter.acceleration (a)", e.acceleration, 1e6);
+    check("emitter.velocitySpread (kv)", e.velocitySpread, 0.0, 1e6);
+    check("emitter.rotationRange (krot)", e.rotationRange, 0.0, 3.14159265358979);
+    check("emitter.rotationSpeed (kvel)", e.rotationSpeed, 0.0, 1e6);
+    check("sizeStart", sizeStart, 0.0, 1e6);
+    check("sizeEnd", sizeEnd, 0.0, 1e6);
+    check("stretch", stretch, 0.0, 1e3);
+    check("softness", softness, 0.0, 1e6);
+    for (int i = 0; i < 4; ++i) {
+        check("colorStart", colorStart[i], 0.0, i == 3 ? 1.0 : 1e6);
+        check("colorEnd", colorEnd[i], 0.0, i == 3 ? 1.0 : 1e6);
+    }
+    if (std::uint8_t(respawn) > std::uint8_t(particles::Respawn::Paper))
+        nodes::refuse("ParticleSettings", "respawn has an invalid value " + std::to_string(int(respawn)));
+    if (std::uint8_t(bounce) > std::uint8_t(particles::RotationBounce::Clamp))
+        nodes::refuse("ParticleSettings", "bounce has an invalid value " + std::to_string(int(bounce)));
+    if (std::uint8_t(start) > std::uint8_t(particles::StartMode::Burst))
+        nodes::refuse("ParticleSettings", "start has an invalid value " + std::to_string(int(start)));
+    if (std::uint8_t(shape) > std::uint8_t(ParticleShape::Quad))
+        nodes::refuse("ParticleSettings", "shape has an invalid value " + std::to_string(int(shape)));
+    if (std::uint8_t(path) > std::uint8_t(ParticlePath::Instanced))
+        nodes::refuse("ParticleSettings", "path has an invalid value " + std::to_string(int(path)));
+    if (std::uint8_t(layout) > std::uint8_t(ParticleLayout::Split))
+        nodes::refuse("ParticleSettings", "layout has an invalid value " + std::to_string(int(layout)));
+}
+
+// ---------------------------------------------------------------- GPU state
+// Two copies of the array (M and M'), each one buffer (interleaved) or four (split), with a
+// vertex array per copy for points (update, geometry-shader draws) and for instances.
+struct ParticleSystemNode::Gpu {
+    ParticleLayout layout = ParticleLayout::Interleaved;
+    std::uint32_t capacity = 0;
+    int current = 0; // which copy holds M
+    std::array<std::array<gl::BufferObject, 4>, 2> buffers;
+    std::array<gl::VertexArrayObject, 2> pointVao, instanceVao;
+    gl::VertexArrayObject emptyVao;
+
+    int streams() const { return layout == ParticleLayout::Split ? 4 : 1; }
+    int stride(int s) const { return layout == ParticleLayout::Split ? kSplitStrides[std::size_t(s)] : kRecordBytes; }
+
+    // Allocates both copies; false (and nothing kept) when the driver runs out of memory.
+    bool allocate(ParticleLayout l, std::uint32_t n) {
+        layout = l;
+        capacity = n;
+        while (glGetError() != GL_NO_ERROR) {
+        }
+        for (auto& copy : buffers)
+            for (int s = 0; s < streams(); ++s) {
+                copy[std::size_t(s)] = gl::createBuffer();
+                glNamedBufferData(copy[std::size_t(s)].get(), GLsizeiptr(n) * stride(s), nullptr, GL_DYNAMIC_COPY);
+            }
+        if (glGetError() == GL_OUT_OF_MEMORY) return false;
+        emptyVao = gl::createVertexArray();
+        for (int c = 0; c < 2; ++c) {
+            pointVao[std::size_t(c)] = gl::createVertexArray();
+            instanceVao[std::size_t(c)] = gl::createVertexArray();
+            for (GLuint vao : {pointVao[std::size_t(c)].get(), instanceVao[std::size_t(c)].get()}) {
+                static const int sizes[4] = {4, 3, 3, 3};
+                static const int offsets[4] = {0, 16, 28, 40};
+                for (int a = 0; a < 4; ++a) {
+                    const int binding = layout == ParticleLayout::Split ? a : 0;
+                    glVertexArrayAttribFormat(vao, GLuint(a), sizes[a], GL_FLOAT, GL_FALSE,
+                                              layout == ParticleLayout::Split ? 0 : GLuint(offsets[a]));
+                    glVertexArrayAttribBinding(vao, GLuint(a), GLuint(binding));
+                    glEnableVertexArrayAttrib(vao, GLuint(a));
+                }
+                for (int s = 0; s < streams(); ++s) {
+                    glVertexArrayVertexBuffer(vao, GLuint(s), buffers[std::size_t(c)][std::size_t(s)].get(), 0,
+                                              stride(s));
+                    if (vao == instanceVao[std::size_t(c)].get()) glVertexArrayBindingDivisor(vao, GLuint(s), 1);
+                }
+            }
+        }
+        return true;
+    }
+
+    // Binds copy `c` from particle `first` on as the transform feedback targets.
+    void bindFeedback(int c, std::uint32_t first, std::uint32_t count) const {
+        for (int s = 0; s < streams(); ++s)
+            glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s), buffers[std::size_t(c)][std::size_t(s)].get(),
+                              GLintptr(first) * stride(s), GLsizeiptr(count) * stride(s));
+    }
+    void unbindFeedback() const {
+        for (int s = 0; s < streams(); ++s)
+            glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s), 0);
+    }
+};
+
+// ---------------------------------------------------------------- passes
+struct ParticleSystemNode::Pass : RenderPass {
+    explicit Pass(ParticleSystemNode& n)
+        : node(n) {}
+    std::string_view name() const override { return "particles: simulate"; }
+    PassStage stage() const override { return PassStage::Compute; }
+    void execute(Renderer& r) override { node.simulate(r); }
+    ParticleSystemNode& node;
+};
+
+// The opaque scene's depth, copied after the opaque items for soft particles.
+struct ParticleSystemNode::DepthCopy : RenderPass {
+    std::string_view name() const override { return "particles: depth copy"; }
+    PassStage stage() const override { return PassStage::AfterOpaque; }
+    void execute(Renderer& r) override {
+        gl::RenderTarget& t = r.currentTarget();
+        Target& own = targets.get(
+            r.frame().frameNumber, [&](const Target& e) { return e.width == t.width && e.height == t.height; },
+            [&](Target& e) {
+                e.width = t.width;
+                e.height = t.height;
+                e.depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, t.width, t.height);
+                e.fbo = gl::createFramebuffer();
+                glNamedFramebufferTexture(e.fbo.get(), GL_DEPTH_ATTACHMENT, e.depth.get(), 0);
+            });
+        glBlitNamedFramebuffer(t.fbo.get(), own.fbo.get(), 0, 0, t.width, t.height, 0, 0, t.width, t.height,
+                               GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+        current = own.depth.get();
+    }
+    struct Target {
+        int width = 0, height = 0;
+        gl::TextureObject depth;
+        gl::FramebufferObject fbo;
+        std::uint64_t lastUse = 0;
+    };
+    nodes::TargetCache<Target> targets;
+    GLuint current = 0; // the view being drawn's copy
+};
+
+// ---------------------------------------------------------------- node
+std::shared_ptr<ParticleSystemNode> ParticleSystemNode::create(const ParticleSettings& settings) {
+    return std::make_shared<ParticleSystemNode>(settings);
+}
+
+ParticleSystemNode::ParticleSystemNode(const ParticleSettings& settings)
+    : pass_(std::make_shared<Pass>(*this))
+    , depthCopy_(std::make_shared<DepthCopy>()) {
+    settings.validate();
+    settings_ = settings;
+    // Particles live in world space and move every frame: the node tests its own world bound,
+    // so its ancestors' (parent-frame) bounds never drop it.
+    setCullingActive(false);
+}
+
+ParticleSystemNode::~ParticleSystemNode() = default;
+
+std::shared_ptr<StateSet> ParticleSystemNode::defaultState() {
+    auto state = std::make_shared<StateSet>();
+    auto m = Material::create();
+    m->ambient = glm::vec3(1.0f);
+    m->diffuse = glm::vec4(1.0f);
+    state->material.set(m);
+    state->cullFace.set(CullFace::None);
+    return state;
+}
+
+void ParticleSystemNode::setSettings(const ParticleSettings& s) {
+    s.validate();
+    settings_ = s;
+    dirtyBound();
+}
+
+void ParticleSystemNode::setEmitter(const particles::Emitter& e) {
+    ParticleSettings s = settings_;
+    s.emitter = e;
+    setSettings(s);
+}
+
+void ParticleSystemNode::setCapacity(std::uint32_t n) {
+    ParticleSettings s = settings_;
+    s.capacity = n;
+    setSettings(s);
+}
+
+void ParticleSystemNode::advance(double dt) {
+    if (!std::isfinite(dt) || dt < 0.0)
+        nodes::refuse("ParticleSystemNode::advance", "dt = " + nodes::number(dt) + " must be finite and ≥ 0");
+    // Longer than a few lifetimes changes nothing but float precision (every particle respawns).
+    const float cap = 4.0f * settings_.emitter.lifetime;
+    if (dt == 0.0) return;
+    if (pendingSteps_.empty()) pendingSteps_.push_back(0.0f);
+    pendingSteps_.back() = std::min(cap, pendingSteps_.back() + float(dt));
+}
+
+void ParticleSystemNode::queueStep(float dt) {
+    if (!std::isfinite(dt) || dt < 0.0f)
+        nodes::refuse("ParticleSystemNode::queueStep", "dt = " + nodes::number(dt) + " must be finite and ≥ 0");
+    pendingSteps_.push_back(dt);
+}
+
+void ParticleSystemNode::reset() {
+    resetPending_ = true;
+    pendingSteps_.clear();
+}
+
+void ParticleSystemNode::update(UpdateVisitor& uv) {
+    if (!paused && timeScale > 0.0f && std::isfinite(timeScale)) advance(uv.deltaTime * double(timeScale));
+}
+
+ParticlePath ParticleSystemNode::resolvedPath() const {
+    if (settings_.path != ParticlePath::Auto) return settings_.path;
+    if (autoPath_ < 0) {
+        // Measured with bench/particles_table.sh: on llvmpipe the instanced path wins (the
+        // geometry shader runs per point on the CPU threads); GPUs generally prefer it too.
+        autoPath_ = int(ParticlePath::Instanced);
+    }
+    return ParticlePath(autoPath_);
+}
+
+const BaseShader& ParticleSystemNode::baseShader() const {
+    return drawShader(resolvedPath());
+}
+
+std::uint32_t ParticleSystemNode::features(const ResolvedState& state) const {
+    std::uint32_t f = FeatureNormals | FeatureTexCoords | FeatureVertexColor | FeatureWorldPosition;
+    if (const Material* m = state.material.value ? state.material.value->get() : nullptr) {
+        if (m->baseColorTexture) f |= FeatureBaseMap;
+        if (m->alphaTexture) f |= FeatureAlphaMap;
+        if (m->alphaCutoff) f |= FeatureAlphaMask;
+        if (m->specular != glm::vec3(0.0f)) f |= FeatureSpecular;
+    }
+    return f;
+}
+
+BoundingSphere ParticleSystemNode::worldBound(const glm::mat4& model) const {
+    lastModel_ = model;
+    const particles::Emitter& e = settings_.emitter;
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (int i = 0; i < 4; ++i) {
+        const glm::vec3 c(model * glm::vec4((i & 1 ? 0.5f : -0.5f) * e.size.x, (i & 2 ? 0.5f : -0.5f) * e.size.y,
+                                            0.0f, 1.0f));
+        lo = glm::min(lo, c);
+        hi = glm::max(hi, c);
+    }
+    // Reach of P0 + v·t + ½·a·t² over t ∈ [0, tmax] with v within v0 ± kv per axis.
+    const float tmax = e.lifetime;
+    float vmax = 0.0f;
+    for (int c = 0; c < 3; ++c) {
+        float dlo = 0.0f, dhi = 0.0f;
+        for (const float v : {e.velocity[c] - e.velocitySpread, e.velocity[c] + e.velocitySpread}) {
+            const float a = e.acceleration[c];
+            float ts[3] = {0.0f, tmax, 0.0f};
+            if (a != 0.0f) ts[2] = std::clamp(-v / a, 0.0f, tmax);
+            for (const float t : ts) {
+                const float d = v * t + 0.5f * a * t * t;
+                dlo = std::min(dlo, d);
+                dhi = std::max(dhi, d);
+            }
+            vmax = std::max(vmax, std::abs(v) + std::abs(a) * tmax);
+        }
+        lo[c] += dlo;
+        hi[c] += dhi;
+    }
+    float margin = std::max(settings_.sizeStart, settings_.sizeEnd);
+    if (settings_.shape == ParticleShape::Tetrahedron) margin *= 1.0f + settings_.stretch * vmax * 1.7321f;
+    BoundingSphere s;
+    s.center = 0.5f * (lo + hi);
+    s.radius = 0.5f * glm::length(hi - lo) + margin;
+    return s;
+}
+
+BoundingSphere ParticleSystemNode::computeBound() const {
+    const glm::mat4 model = lastModel_;
+    return worldBound(model).transformed(glm::inverse(model));
+}
+
+void ParticleSystemNode::planFrame(FramePlan& plan) const {
+    plan.add(pass_);
+    if (settings_.softness > 0.0f) plan.add(depthCopy_);
+}
+
+std::size_t ParticleSystemNode::triangleCount() const {
+    return std::size_t(gpu_ ? gpu_->capacity : 0) * std::size_t(trianglesPerParticle(settings_.shape));
+}
+
+void ParticleSystemNode::releaseGLObjects() {
+    gpu_.reset();
+    depthCopy_ = std::make_shared<DepthCopy>();
+    resetPending_ = true;
+}
+
+void ParticleSystemNode::simulate(Renderer& r) {
+    const ParticleSettings& s = settings_;
+    gl::Program& program = r.composer().program(updateShader(s.layout), {}, 0);
+    const GLuint p = program.get();
+    emitterMatrix_ = lastModel_;
+    auto setCommon = [&](float dt) {
+        const particles::Emitter& e = s.emitter;
+        program.set("u_emitter", emitterMatrix_);
+        program.set("u_emitterSize", e.size);
+        program.set("u_velocity", e.velocity);
+        program.set("u_spread", e.velocitySpread);
+        program.set("u_acceleration", e.acceleration);
+        program.set("u_krot", e.rotationRange);
+        program.set("u_kvel", e.rotationSpeed);
+        program.set("u_tmax", e.lifetime);
+        program.set("u_dt", dt);
+        glProgramUniform1ui(p, program.location("u_step"), step_);
+        glProgramUniform1ui(p, program.location("u_seed"), s.seed);
+        program.set("u_carryAge", s.respawn == particles::Respawn::CarryAge ? 1 : 0);
+        program.set("u_reflect", s.bounce == particles::RotationBounce::Reflect ? 1 : 0);
+    };
+    glUseProgram(p);
+    glEnable(GL_RASTERIZER_DISCARD);
+    // Sets up particles [first, first + count) of copy `c` by the start mode `init` (1..3).
+    auto initialise = [&](int c, int init, std::uint32_t first, std::uint32_t count) {
+        setCommon(0.0f);
+        program.set("u_init", init);
+        glProgramUniform1ui(p, program.location("u_initFirst"), first);
+        glProgramUniform1ui(p, program.location("u_initCount"), count);
+        glBindVertexArray(gpu_->emptyVao.get());
+        gpu_->bindFeedback(c, first, count);
+        glBeginTransformFeedback(GL_POINTS);
+        glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
+        glEndTransformFeedback();
+        gpu_->unbindFeedback();
+    };
+
+    if (!gpu_ || gpu_->capacity != s.capacity || gpu_->layout != s.layout) {
+        auto next = std::make_unique<Gpu>();
+        if (!next->allocate(s.layout, s.capacity)) {
+            r.warn("sgfx: ParticleSystemNode '" + name + "': the driver could not allocate " +
+                   std::to_string(std::uint64_t(s.capacity) * 2 * kRecordBytes) + " bytes for " +
+                   std::to_string(s.capacity) + " particles; keeping " +
+                   std::to_string(gpu_ ? gpu_->capacity : 0));
+            if (gpu_) {
+                settings_.capacity = gpu_->capacity;
+                settings_.layout = gpu_->layout;
+            }
+        } else {
+            std::uint32_t kept = 0;
+            if (gpu_ && !resetPending_) {
+                // Keep the live particles: copy what fits, record by record across layouts.
+                kept = std::min(gpu_->capacity, s.capacity);
+                if (gpu_->layout == next->layout) {
+                    for (int st = 0; st < next->streams(); ++st)
+                        glCopyNamedBufferSubData(gpu_->buffers[std::size_t(gpu_->current)][std::size_t(st)].get(),
+                                                 next->buffers[0][std::size_t(st)].get(), 0, 0,
+                                                 GLsizeiptr(kept) * next->stride(st));
+                } else {
+                    std::vector<ParticleRecord> records = readRecords();
+                    records.resize(kept);
+                    std::vector<std::uint8_t> bytes;
+                    for (int st = 0; st < next->streams(); ++st) {
+                        bytes.assign(std::size_t(kept) * std::size_t(next->stride(st)), 0);
+                        for (std::uint32_t i = 0; i < kept; ++i) {
+                            const auto* src = reinterpret_cast<const std::uint8_t*>(&records[i]);
+                            const int from = next->layout == ParticleLayout::Split ? (st == 0 ? 0 : 4 + 12 * st) : 0;
+                            std::memcpy(bytes.data() + std::size_t(i) * std::size_t(next->stride(st)), src + from,
+                                        std::size_t(next->stride(st)));
+                        }
+                        glNamedBufferSubData(next->buffers[0][std::size_t(st)].get(), 0, GLsizeiptr(bytes.size()),
+                                             bytes.data());
+                    }
+                }
+            }
+            gpu_ = std::move(next);
+            // Particles added by growing are born at the steady rate (a reset sets all up below).
+            if (!resetPending_ && kept < s.capacity)
+                initialise(0, int(particles::StartMode::Ramp) + 1, kept, s.capacity - kept);
+        }
+    }
+    if (gpu_ && resetPending_) {
+        step_ = 0;
+        initialise(gpu_->current, int(s.start) + 1, 0, gpu_->capacity);
+        resetPending_ = false;
+    }
+    if (gpu_) {
+        program.set("u_init", 0);
+        for (const float dt : pendingSteps_) {
+            ++step_;
+            setCommon(dt);
+            const int src = gpu_->current, dst = 1 - src;
+            glBindVertexArray(gpu_->pointVao[std::size_t(src)].get());
+            gpu_->bindFeedback(dst, 0, gpu_->capacity);
+            glBeginTransformFeedback(GL_POINTS);
+            glDrawArrays(GL_POINTS, 0, GLsizei(gpu_->capacity));
+            glEndTransformFeedback();
+            gpu_->unbindFeedback();
+            gpu_->current = dst; // M' becomes M (seed: the pointers swap)
+        }
+    }
+    pendingSteps_.clear();
+    glBindVertexArray(0);
+    glDisable(GL_RASTERIZER_DISCARD);
+}
+
+std::vector<ParticleRecord> ParticleSystemNode::readRecords() const {
+    std::vector<ParticleRecord> out;
+    if (!gpu_) return out;
+    const Gpu& g = *gpu_;
+    out.resize(g.capacity);
+    if (g.layout == ParticleLayout::Interleaved) {
+        glGetNamedBufferSubData(g.buffers[std::size_t(g.current)][0].get(), 0, GLsizeiptr(g.capacity) * kRecordBytes,
+                                out.data());
+        return out;
+    }
+    std::vector<std::uint8_t> bytes;
+    for (int st = 0; st < 4; ++st) {
+        const int stride = g.stride(st);
+        bytes.resize(std::size_t(g.capacity) * std::size_t(stride));
+        glGetNamedBufferSubData(g.buffers[std::size_t(g.current)][std::size_t(st)].get(), 0,
+                                GLsizeiptr(bytes.size()), bytes.data());
+        const int to = st == 0 ? 0 : 4 + 12 * st;
+        for (std::uint32_t i = 0; i < g.capacity; ++i)
+            std::memcpy(reinterpret_cast<std::uint8_t*>(&out[i]) + to, bytes.data() + std::size_t(i) * std::size_t(stride),
+                        std::size_t(stride));
+    }
+    return out;
+}
+
+void ParticleSystemNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {
+    if (!gpu_) return;
+    const ParticleSettings& s = settings_;
+    program.set("sgfx_model", glm::mat4(1.0f)); // particles are in world space
+    program.set("u_shape", int(s.shape));
+    program.set("u_size", glm::vec2(s.sizeStart, s.sizeEnd));
+    program.set("u_colorStart", s.colorStart);
+    program.set("u_colorEnd", s.colorEnd);
+    program.set("u_tmax", s.emitter.lifetime);
+    program.set("u_krot", s.emitter.rotationRange);
+    program.set("u_stretch", s.shape == ParticleShape::Tetrahedron ? s.stretch : 0.0f);
+    const bool soft = s.softness > 0.0f && (item.features & FeatureBlend) && depthCopy_->current;
+    program.set("sgfx_particleSoftness", soft ? s.softness : 0.0f);
+    if (soft) r.bindTexture(kDepthUnit, depthCopy_->current);
+    const Gpu& g = *gpu_;
+    if (resolvedPath() == ParticlePath::GeometryShader) {
+        glBindVertexArray(g.pointVao[std::size_t(g.current)].get());
+        glDrawArrays(GL_POINTS, 0, GLsizei(g.capacity));
+    } else {
+        glBindVertexArray(g.instanceVao[std::size_t(g.current)].get());
+        glDrawArraysInstanced(GL_TRIANGLES, 0, 3 * trianglesPerParticle(s.shape), GLsizei(g.capacity));
+    }
+}
+
+// ---------------------------------------------------------------- presets
+std::shared_ptr<ParticleSystemNode> ParticleSystemNode::rain(glm::vec2 area, std::uint32_t count) {
+    ParticleSettings s;
+    s.capacity = count;
+    s.emitter.size = area;
+    s.emitter.velocity = {0.8f, 0.4f, -9.0f}; // terminal speed: drag balances gravity
+    s.emitter.velocitySpread = 0.4f;
+    s.emitter.acceleration = {0.0f, 0.0f, 0.0f};
+    s.emitter.lifetime = 4.0f; // falls 36 m: put the emitter about that high
+    s.shape = ParticleShape::Tetrahedron;
+    s.sizeStart = s.sizeEnd = 0.02f;
+    s.stretch = 2.5f;
+    s.colorStart = s.colorEnd = {0.75f, 0.8f, 0.85f, 0.35f};
+    return withState("rain", s, [](StateSet& st, Material& m) {
+        st.blend.set(BlendMode::Alpha);
+        m.ambient = glm::vec3(0.6f);
+        m.diffuse = glm::vec4(0.6f, 0.65f, 0.7f, 1.0f);
+        m.specular = glm::vec3(0.6f);
+        m.shininess = 64.0f;
+    });
+}
+
+std::shared_ptr<ParticleSystemNode> ParticleSystemNode::snow(glm::vec2 area, std::uint32_t count) {
+    ParticleSettings s;
+    s.capacity = count;
+    s.emitter.size = area;
+    s.emitter.velocity = {0.3f, 0.2f, -1.2f};
+    s.emitter.velocitySpread = 0.35f;
+    s.emitter.acceleration = {0.0f, 0.0f, 0.0f};
+    s.emitter.rotationRange = 1.0f;
+    s.emitter.rotationSpeed = 1.5f;
+    s.emitter.lifetime = 25.0f; // falls 30 m
+    s.shape = ParticleShape::Hexagon;
+    s.sizeStart = s.sizeEnd = 0.03f;
+    return withState("snow", s, [](StateSet&, Material& m) {
+        m.ambient = glm::vec3(0.9f);
+        m.diffuse = glm::vec4(0.9f, 0.92f, 0.95f, 1.0f);
+    });
+}
+
+std::shared_ptr<ParticleSystemNode> ParticleSystemNode::leaves(glm::vec2 area, std::uint32_t count) {
+    ParticleSettings s;
+    s.capacity = count;
+    s.emitter.size = area;
+    s.emitter.velocity = {0.5f, 0.0f, -1.0f};
+    s.emitter.velocitySpread = 0.6f;
+    s.emitter.acceleration = {0.2f, 0.0f, 0.0f};
+    s.emitter.rotationRange = 1.2f;
+    s.emitter.rotationSpeed = 2.5f;
+    s.emitter.lifetime = 10.0f;
+    s.shape = ParticleShape::Quad;
+    s.sizeStart = s.sizeEnd = 0.12f;
+    return withState("leaves", s, [](StateSet&, Material& m) {
+        m.baseColorTexture = leafTexture();
+        m.alphaCutoff = 0.5f;
+        m.ambient = glm::vec3(0.8f);
+    });
+}
+
+std::shared_ptr<ParticleSystemNode> ParticleSystemNode::smoke(float sourceWidth, std::uint32_t count) {
+    ParticleSettings s;
+    s.capacity = count;
+    s.emitter.size = {sourceWidth, sourceWidth};
+    s.emitter.velocity = {0.0f, 0.0f, 1.5f};
+    s.emitter.velocitySpread = 0.3f;
+    s.emitter.acceleration = {0.3f, 0.0f, 0.2f}; // a light wind and buoyancy
+    s.emitter.lifetime = 6.0f;
+    s.sizeStart = 0.5f * sourceWidth + 0.2f;
+    s.sizeEnd = 3.0f * sourceWidth + 1.0f;
+    s.colorStart = {0.45f, 0.45f, 0.45f, 0.5f};
+    s.colorEnd = {0.6f, 0.6f, 0.6f, 0.0f};
+    s.softness = 1.0f;
+    return withState("smoke", s, [](StateSet& st, Material& m) {
+        st.blend.set(BlendMode::Premultiplied);
+        m.baseColorTexture = puffTexture();
+    });
+}
+
+std::shared_ptr<ParticleSystemNode> ParticleSystemNode::waterJet(glm::vec3 direction, float speed,
+                                                                 std::uint32_t count) {
+    if (!(glm::length(direction) > 0.0f) || !std::isfinite(glm::length(direction)))
+        nodes::refuse("ParticleSystemNode::waterJet", "direction must be a finite non-zero vector");
+    ParticleSettings s;
+    s.capacity = count;
+    s.emitter.size = {0.1f, 0.1f};
+    s.emitter.velocity = glm::normalize(direction) * speed;
+    s.emitter.velocitySpread = 0.05f * speed;
+    s.emitter.acceleration = {0.0f, 0.0f, -9.81f};
+    s.emitter.lifetime = 2.0f * speed / 9.81f;
+    s.sizeStart = 0.06f;
+    s.sizeEnd = 0.3f;
+    s.colorStart = {0.85f, 0.92f, 1.0f, 0.6f};
+    s.colorEnd = {0.85f, 0.92f, 1.0f, 0.15f};
+    s.softness = 0.3f;
+    return withState("water jet", s, [](StateSet& st, Material& m) {
+        st.blend.set(BlendMode::Premultiplied);
+        m.baseColorTexture = puffTexture();
+        m.specular = glm::vec3(0.4f);
+        m.shininess = 48.0f;
+    });
+}
+
+std::shared_ptr<ParticleSystemNode> ParticleSystemNode::sparks(std::uint32_t count) {
+    ParticleSettings s;
+    s.capacity = count;
+    s.emitter.size = {0.2f, 0.2f};
+    s.emitter.velocity = {0.0f, 0.0f, 4.0f};
+    s.emitter.velocitySpread = 3.0f;
+    s.emitter.acceleration = {0.0f, 0.0f, -9.81f};
+    s.emitter.lifetime = 1.2f;
+    s.sizeStart = 0.05f;
+    s.sizeEnd = 0.01f;
+    s.colorStart = {1.0f, 1.0f, 1.0f, 1.0f};
+    s.colorEnd = {1.0f, 1.0f, 1.0f, 0.0f};
+    return withState("sparks", s, [](StateSet& st, Material& m) {
+        st.blend.set(BlendMode::Additive); // commutes: no sorting needed
+        m.ambient = glm::vec3(0.0f);
+        m.diffuse = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+        m.emissive = glm::vec3(4.0f, 1.8f, 0.5f);
+        m.baseColorTexture = puffTexture();
+    });
+}
+
+} // namespace sgfx
