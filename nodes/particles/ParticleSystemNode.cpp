@@ -68,26 +68,32 @@ const BaseShader& updateShader(ParticleLayout layout) {
     return layout == ParticleLayout::Split ? split : interleaved;
 }
 
-// The built-in material's fragment stage with the soft-particle modifier in front of it.
-std::string particleFragment() {
-    std::string material = ShaderComposer::blinnPhong().fragmentSource;
-    const auto eol = material.find('\n');
-    return material.substr(0, eol + 1) + "#define SGFX_PARTICLE_DEPTH_UNIT " + std::to_string(kDepthUnit) + "\n" +
-           nodes::shaderText("particle_soft.glsl") + material.substr(eol + 1);
-}
-
-const BaseShader& drawShader(ParticlePath path) {
-    static const BaseShader geometry = [] {
-        BaseShader b{"particles_gs", "particle_points.vert", nodes::shaderText("particle_points.vert"),
-                     "particle_material.frag", particleFragment()};
+// A draw program's base: the path's vertex (and geometry) stage and the built-in material's
+// fragment stage, with the shape and the soft-particle modifier compiled in.
+BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft) {
+    static const char* const shapes[] = {"sprite", "hexagon", "tetrahedron", "quad"};
+    const std::string defines = "#define SGFX_PARTICLE_SHAPE " + std::to_string(int(shape)) + "\n";
+    auto withDefines = [&](std::string src) {
+        const auto eol = src.find('\n');
+        return src.substr(0, eol + 1) + defines + src.substr(eol + 1);
+    };
+    std::string fragment = ShaderComposer::blinnPhong().fragmentSource;
+    if (soft) {
+        const auto eol = fragment.find('\n');
+        fragment = fragment.substr(0, eol + 1) + "#define SGFX_PARTICLE_DEPTH_UNIT " + std::to_string(kDepthUnit) +
+                   "\n" + nodes::shaderText("particle_soft.glsl") + fragment.substr(eol + 1);
+    }
+    const std::string name = std::string(path == ParticlePath::GeometryShader ? "particles_gs_" : "particles_instanced_") +
+                             shapes[int(shape)] + (soft ? "_soft" : "");
+    if (path == ParticlePath::GeometryShader) {
+        BaseShader b{name, "particle_points.vert", nodes::shaderText("particle_points.vert"),
+                     soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
         b.geometryName = "particle_corners.geom";
-        b.geometrySource = expandIncludes("particle_corners.geom");
+        b.geometrySource = withDefines(expandIncludes("particle_corners.geom"));
         return b;
-    }();
-    static const BaseShader instanced{"particles_instanced", "particle_instanced.vert",
-                                      expandIncludes("particle_instanced.vert"), "particle_material.frag",
-                                      particleFragment()};
-    return path == ParticlePath::GeometryShader ? geometry : instanced;
+    }
+    return BaseShader{name, "particle_instanced.vert", withDefines(expandIncludes("particle_instanced.vert")),
+                      soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
 }
 
 int trianglesPerParticle(ParticleShape s) {
@@ -367,7 +373,12 @@ ParticlePath ParticleSystemNode::resolvedPath() const {
 }
 
 const BaseShader& ParticleSystemNode::baseShader() const {
-    return drawShader(resolvedPath());
+    const int key = int(resolvedPath()) | int(settings_.shape) << 2 | (settings_.softness > 0.0f ? 1 << 4 : 0);
+    if (!shader_ || shaderKey_ != key) {
+        shader_ = std::make_unique<BaseShader>(drawShader(resolvedPath(), settings_.shape, settings_.softness > 0.0f));
+        shaderKey_ = key;
+    }
+    return *shader_;
 }
 
 std::uint32_t ParticleSystemNode::features(const ResolvedState& state) const {
@@ -572,23 +583,29 @@ void ParticleSystemNode::draw(Renderer& r, gl::Program& program, const RenderIte
     if (!gpu_) return;
     const ParticleSettings& s = settings_;
     program.set("sgfx_model", glm::mat4(1.0f)); // particles are in world space
-    program.set("u_shape", int(s.shape));
     program.set("u_size", glm::vec2(s.sizeStart, s.sizeEnd));
     program.set("u_colorStart", s.colorStart);
     program.set("u_colorEnd", s.colorEnd);
     program.set("u_tmax", s.emitter.lifetime);
     program.set("u_krot", s.emitter.rotationRange);
     program.set("u_stretch", s.shape == ParticleShape::Tetrahedron ? s.stretch : 0.0f);
-    const bool soft = s.softness > 0.0f && (item.features & FeatureBlend) && depthCopy_->current;
-    program.set("sgfx_particleSoftness", soft ? s.softness : 0.0f);
-    if (soft) r.bindTexture(kDepthUnit, depthCopy_->current);
+    if (s.softness > 0.0f) {
+        // Opaque particles, or a view without the depth copy, are drawn hard.
+        const bool soft = (item.features & FeatureBlend) && depthCopy_->current;
+        program.set("sgfx_particleSoftness", soft ? s.softness : 0.0f);
+        r.bindTexture(kDepthUnit, soft ? depthCopy_->current : 0);
+    }
     const Gpu& g = *gpu_;
     if (resolvedPath() == ParticlePath::GeometryShader) {
         glBindVertexArray(g.pointVao[std::size_t(g.current)].get());
         glDrawArrays(GL_POINTS, 0, GLsizei(g.capacity));
     } else {
         glBindVertexArray(g.instanceVao[std::size_t(g.current)].get());
-        glDrawArraysInstanced(GL_TRIANGLES, 0, 3 * trianglesPerParticle(s.shape), GLsizei(g.capacity));
+        // One strip per particle (4 or 6 vertices); the tetrahedron's four faces as triangles.
+        if (s.shape == ParticleShape::Tetrahedron)
+            glDrawArraysInstanced(GL_TRIANGLES, 0, 12, GLsizei(g.capacity));
+        else
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, s.shape == ParticleShape::Hexagon ? 6 : 4, GLsizei(g.capacity));
     }
 }
 

@@ -134,6 +134,8 @@ private:
     std::shared_ptr<Pass> pass_;
     std::shared_ptr<DepthCopy> depthCopy_;
     mutable int autoPath_ = -1; // resolved Auto path, per driver
+    mutable std::unique_ptr<BaseShader> shader_; // draw program base for (path, shape, soft)
+    mutable int shaderKey_ = -1;
 };
 
 } // namespace sgfx

@@ -40,8 +40,8 @@ void main() {
     float size = mix(u_size.x, u_size.y, life);
     vec4 color = mix(u_colorStart, u_colorEnd, life);
     mat3 frame = particleFrame(P, p_in[0].angles0, p_in[0].angles);
-    for (int s = 0; s < shapeStrips(); ++s) {
-        for (int k = 0; k < shapeStripLength(); ++k) {
+    for (int s = 0; s < kShapeStrips; ++s) {
+        for (int k = 0; k < kShapeStripLength; ++k) {
             vec3 local, normal;
             vec2 uv;
             shapeCorner(s, k, local, normal, uv);

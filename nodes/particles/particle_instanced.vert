@@ -17,14 +17,19 @@ out vec4 v_color;
 
 void main() {
     float age = a_state.x;
-    int perStrip = shapeStripLength() - 2; // triangles per strip
-    int triangle = gl_VertexID / 3;
-    int strip = triangle / perStrip;
-    if (age < 0.0 || strip >= shapeStrips()) {
-        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume: nothing drawn
+#if SGFX_PARTICLE_SHAPE == 2
+    // Separate faces: drawn as triangles, three vertices per strip of three.
+    int strip = gl_VertexID / 3;
+    int k = gl_VertexID % 3;
+#else
+    // One strip per particle: drawn as an instanced triangle strip.
+    int strip = 0;
+    int k = gl_VertexID;
+#endif
+    if (age < 0.0) {
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // not born: outside the clip volume
         return;
     }
-    int k = triangle - strip * perStrip + gl_VertexID % 3;
     vec3 P = a_state.yzw;
     float life = particleLife(age);
     vec3 local, normal;

@@ -11,8 +11,7 @@ float particleLinearDepth(float windowZ) {
 }
 
 void sgfx_modifyBase(inout vec4 base, inout float coverage) {
-    if (sgfx_particleSoftness <= 0.0) return;
     float scene = texelFetch(sgfx_particleSceneDepth, ivec2(gl_FragCoord.xy), 0).r;
     float gap = particleLinearDepth(scene) - particleLinearDepth(gl_FragCoord.z);
-    coverage *= clamp(gap / sgfx_particleSoftness, 0.0, 1.0);
+    coverage *= sgfx_particleSoftness > 0.0 ? clamp(gap / sgfx_particleSoftness, 0.0, 1.0) : 1.0;
 }
