@@ -14,7 +14,11 @@ in vec3 v_worldNormal;
 in vec4 v_worldTangent;
 #endif
 #ifdef SGFX_TEXCOORDS
+#ifdef SGFX_POINT_SPRITE
+#define v_texcoord gl_PointCoord // a base drawing point sprites: the texture runs over the point
+#else
 in vec2 v_texcoord;
+#endif
 #endif
 #ifdef SGFX_VERTEX_COLOR
 in vec4 v_color;

@@ -455,7 +455,69 @@ TEST_P(ParticlePaths, HexagonAndTetrahedronCoverTheirProjectedArea) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Particles, ParticlePaths,
-                         ::testing::Values(ParticlePath::GeometryShader, ParticlePath::Instanced));
+                         ::testing::Values(ParticlePath::GeometryShader, ParticlePath::Instanced, ParticlePath::Pulled,
+                                           ParticlePath::PointSprite));
+
+TEST(Particles, TrianglePathsDrawTheSameImage) {
+    // Geometry shader, instancing and vertex pulling make the same triangles from the same
+    // records: every shape's image is the same to the last bit of each channel (±1).
+    for (const ParticleShape shape :
+         {ParticleShape::Sprite, ParticleShape::Hexagon, ParticleShape::Tetrahedron, ParticleShape::Quad}) {
+        std::vector<Image> images;
+        for (const ParticlePath path : {ParticlePath::GeometryShader, ParticlePath::Instanced, ParticlePath::Pulled}) {
+            for (const ParticleLayout layout : {ParticleLayout::Interleaved, ParticleLayout::Split}) {
+                auto v = viewer({0, -12, 4}, {0, 0, 2});
+                ParticleSettings s;
+                s.capacity = 400;
+                s.shape = shape;
+                s.path = path;
+                s.layout = layout;
+                s.sizeStart = 0.3f;
+                s.sizeEnd = 0.6f;
+                s.stretch = 0.5f;
+                s.colorStart = {1.0f, 0.5f, 0.2f, 1.0f};
+                s.colorEnd = {0.2f, 0.6f, 1.0f, 1.0f};
+                s.emitter.size = {6.0f, 6.0f};
+                s.emitter.velocity = {0, 0, 2};
+                s.emitter.velocitySpread = 0.5f;
+                s.emitter.rotationRange = 1.0f;
+                s.emitter.rotationSpeed = 1.0f;
+                s.emitter.lifetime = 2.0f;
+                auto p = ParticleSystemNode::create(s);
+                auto root = Group::create();
+                root->addChild(p);
+                root->addChild(Light::create());
+                v->setSceneData(root);
+                for (int f = 0; f < 3; ++f)
+                    v->frame(0.1);
+                images.push_back(v->capture());
+                ASSERT_EQ(p->resolvedPath(), path);
+            }
+        }
+        ASSERT_GT(litPixels(images[0]), 100) << "shape " << int(shape);
+        for (std::size_t i = 1; i < images.size(); ++i)
+            EXPECT_EQ(channelsDiffering(images[0], images[i], 1), 0) << "shape " << int(shape) << " image " << i;
+    }
+}
+
+TEST(Particles, AutoPicksPointSpritesForSpritesAndPullingForTheRest) {
+    auto v = viewer({0, -12, 4}, {0, 0, 2});
+    auto sprite = ParticleSystemNode::create(ParticleSettings{});
+    ParticleSettings hex;
+    hex.shape = ParticleShape::Hexagon;
+    auto hexagons = ParticleSystemNode::create(hex);
+    auto root = Group::create();
+    root->addChild(sprite);
+    root->addChild(hexagons);
+    v->setSceneData(root);
+    v->frame(0.1);
+    EXPECT_EQ(sprite->resolvedPath(), ParticlePath::PointSprite);
+    EXPECT_EQ(hexagons->resolvedPath(), ParticlePath::Pulled);
+    ParticleSettings forced = hex;
+    forced.path = ParticlePath::PointSprite; // sprites only: the others are pulled
+    hexagons->setSettings(forced);
+    EXPECT_EQ(hexagons->resolvedPath(), ParticlePath::Pulled);
+}
 
 TEST(Particles, FoggedParticleMatchesTheFogFormula) {
     const float d = 20.0f;

@@ -1,7 +1,7 @@
 // Particle showcase and benchmark.
 //
 //   particles [--preset all|rain|snow|leaves|smoke|jet|sparks|cloud] [--count N]
-//             [--path gs|instanced] [--layout interleaved|split] [--size WxH] [--out FILE]
+//             [--path gs|instanced|pulled|points] [--layout interleaved|split] [--size WxH] [--out FILE]
 //             [--bench N] [--egl]
 //
 // Without --bench: simulates two seconds at 30 Hz and writes a PNG of the preset(s) over a
@@ -66,8 +66,12 @@ Options parse(int argc, char** argv) {
             o.count = number<std::uint32_t>(a, value());
         } else if (a == "--path") {
             const std::string v = value();
-            if (v != "gs" && v != "instanced") usage("--path: '" + v + "' is not gs or instanced");
-            o.path = v == "gs" ? sgfx::ParticlePath::GeometryShader : sgfx::ParticlePath::Instanced;
+            if (v != "gs" && v != "instanced" && v != "pulled" && v != "points")
+                usage("--path: '" + v + "' is not gs, instanced, pulled or points");
+            o.path = v == "gs"          ? sgfx::ParticlePath::GeometryShader
+                     : v == "instanced" ? sgfx::ParticlePath::Instanced
+                     : v == "pulled"    ? sgfx::ParticlePath::Pulled
+                                        : sgfx::ParticlePath::PointSprite;
         } else if (a == "--layout") {
             const std::string v = value();
             if (v != "interleaved" && v != "split") usage("--layout: '" + v + "' is not interleaved or split");
@@ -189,7 +193,10 @@ int main(int argc, char** argv) try {
         std::printf("GL_RENDERER: %s\n", viewer->context().renderer().c_str());
         std::printf("PARTICLES count=%u path=%s layout=%s size=%dx%d frame_ms=%.2f update_ms=%.2f draw_ms=%.2f\n",
                     systems[0]->settings().capacity,
-                    systems[0]->resolvedPath() == sgfx::ParticlePath::GeometryShader ? "gs" : "instanced",
+                    systems[0]->resolvedPath() == sgfx::ParticlePath::GeometryShader ? "gs"
+                    : systems[0]->resolvedPath() == sgfx::ParticlePath::Instanced    ? "instanced"
+                    : systems[0]->resolvedPath() == sgfx::ParticlePath::Pulled       ? "pulled"
+                                                                                      : "points",
                     o.layout == sgfx::ParticleLayout::Split ? "split" : "interleaved", o.width, o.height,
                     med(frame), med(update), med(draw));
         return 0;

@@ -27,6 +27,9 @@ using particles::ParticleRecord;
 
 // The soft particles' copy of the opaque depth: a pass-local unit, bound at every draw.
 constexpr unsigned kDepthUnit = kEffectTextureUnit + 2;
+// The vertex-pulling path's buffer textures: units above the 16 the renderer tracks (GL 4.5
+// guarantees 80 combined units), bound at every draw.
+constexpr unsigned kBufferUnit = 16;
 
 // Bytes per particle of each stream: one interleaved record, or (age + P, v, r0, r).
 constexpr std::array<int, 4> kSplitStrides{16, 12, 12, 12};
@@ -70,7 +73,7 @@ const BaseShader& updateShader(ParticleLayout layout) {
 
 // A draw program's base: the path's vertex (and geometry) stage and the built-in material's
 // fragment stage, with the shape and the soft-particle modifier compiled in.
-BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft) {
+BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft, ParticleLayout layout) {
     static const char* const shapes[] = {"sprite", "hexagon", "tetrahedron", "quad"};
     const std::string defines = "#define SGFX_PARTICLE_SHAPE " + std::to_string(int(shape)) + "\n";
     auto withDefines = [&](std::string src) {
@@ -83,7 +86,9 @@ BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft) {
         fragment = fragment.substr(0, eol + 1) + "#define SGFX_PARTICLE_DEPTH_UNIT " + std::to_string(kDepthUnit) +
                    "\n" + nodes::shaderText("particle_soft.glsl") + fragment.substr(eol + 1);
     }
-    const std::string name = std::string(path == ParticlePath::GeometryShader ? "particles_gs_" : "particles_instanced_") +
+    static const char* const paths[] = {"", "particles_gs_", "particles_instanced_", "particles_pulled_",
+                                        "particles_points_"};
+    const std::string name = std::string(paths[int(path)]) +
                              shapes[int(shape)] + (soft ? "_soft" : "");
     if (path == ParticlePath::GeometryShader) {
         BaseShader b{name, "particle_points.vert", nodes::shaderText("particle_points.vert"),
@@ -91,6 +96,21 @@ BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft) {
         b.geometryName = "particle_corners.geom";
         b.geometrySource = withDefines(expandIncludes("particle_corners.geom"));
         return b;
+    }
+    if (path == ParticlePath::PointSprite) {
+        const auto eol = fragment.find('\n');
+        fragment.insert(eol + 1, "#define SGFX_POINT_SPRITE\n");
+        return BaseShader{name, "particle_point.vert", withDefines(expandIncludes("particle_point.vert")),
+                          soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
+    }
+    if (path == ParticlePath::Pulled) {
+        std::string vertex = withDefines(expandIncludes("particle_pulled.vert"));
+        const auto eol = vertex.find('\n');
+        vertex.insert(eol + 1, "#define SGFX_PARTICLE_BUFFER_UNIT " + std::to_string(kBufferUnit) + "\n" +
+                                   (layout == ParticleLayout::Split ? "#define SGFX_PARTICLE_SPLIT\n" : ""));
+        return BaseShader{name + (layout == ParticleLayout::Split ? "_split" : ""), "particle_pulled.vert",
+                          std::move(vertex), soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag",
+                          std::move(fragment)};
     }
     return BaseShader{name, "particle_instanced.vert", withDefines(expandIncludes("particle_instanced.vert")),
                       soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
@@ -185,7 +205,7 @@ void ParticleSettings::validate() const {
         nodes::refuse("ParticleSettings", "start has an invalid value " + std::to_string(int(start)));
     if (std::uint8_t(shape) > std::uint8_t(ParticleShape::Quad))
         nodes::refuse("ParticleSettings", "shape has an invalid value " + std::to_string(int(shape)));
-    if (std::uint8_t(path) > std::uint8_t(ParticlePath::Instanced))
+    if (std::uint8_t(path) > std::uint8_t(ParticlePath::PointSprite))
         nodes::refuse("ParticleSettings", "path has an invalid value " + std::to_string(int(path)));
     if (std::uint8_t(layout) > std::uint8_t(ParticleLayout::Split))
         nodes::refuse("ParticleSettings", "layout has an invalid value " + std::to_string(int(layout)));
@@ -201,6 +221,7 @@ struct ParticleSystemNode::Gpu {
     std::array<std::array<gl::BufferObject, 4>, 2> buffers;
     std::array<gl::VertexArrayObject, 2> pointVao, instanceVao;
     gl::VertexArrayObject emptyVao;
+    std::array<std::array<gl::TextureObject, 4>, 2> bufferTextures; // vertex pulling's views
 
     int streams() const { return layout == ParticleLayout::Split ? 4 : 1; }
     int stride(int s) const { return layout == ParticleLayout::Split ? kSplitStrides[std::size_t(s)] : kRecordBytes; }
@@ -218,6 +239,14 @@ struct ParticleSystemNode::Gpu {
             }
         if (glGetError() == GL_OUT_OF_MEMORY) return false;
         emptyVao = gl::createVertexArray();
+        static const GLenum splitFormats[4] = {GL_RGBA32F, GL_RGB32F, GL_RGB32F, GL_RGB32F};
+        for (int c = 0; c < 2; ++c)
+            for (int s = 0; s < streams(); ++s) {
+                gl::TextureObject& t = bufferTextures[std::size_t(c)][std::size_t(s)];
+                t = gl::createTexture(GL_TEXTURE_BUFFER);
+                glTextureBuffer(t.get(), layout == ParticleLayout::Split ? splitFormats[s] : GL_R32F,
+                                buffers[std::size_t(c)][std::size_t(s)].get());
+            }
         for (int c = 0; c < 2; ++c) {
             pointVao[std::size_t(c)] = gl::createVertexArray();
             instanceVao[std::size_t(c)] = gl::createVertexArray();
@@ -363,19 +392,29 @@ void ParticleSystemNode::update(UpdateVisitor& uv) {
 }
 
 ParticlePath ParticleSystemNode::resolvedPath() const {
-    if (settings_.path != ParticlePath::Auto) return settings_.path;
-    if (autoPath_ < 0) {
-        // Measured with bench/particles_table.sh: on llvmpipe the instanced path wins (the
-        // geometry shader runs per point on the CPU threads); GPUs generally prefer it too.
-        autoPath_ = int(ParticlePath::Instanced);
+    ParticlePath p = settings_.path;
+    if (p == ParticlePath::Auto) {
+        // Measured with bench/particles_table.sh on llvmpipe: point sprites, then vertex
+        // pulling, are several times faster than instancing and the geometry shader (its draw
+        // module runs a tiny vertex batch per instance and per emitted primitive). No GPU was
+        // measured; the same order is used there.
+        p = settings_.shape == ParticleShape::Sprite ? ParticlePath::PointSprite : ParticlePath::Pulled;
     }
-    return ParticlePath(autoPath_);
+    if (p == ParticlePath::PointSprite && settings_.shape != ParticleShape::Sprite) p = ParticlePath::Pulled;
+    if (p == ParticlePath::Pulled) {
+        // Buffer textures hold GL_MAX_TEXTURE_BUFFER_SIZE texels (13 per particle interleaved).
+        if (maxBufferTexels_ < 0) glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxBufferTexels_);
+        const std::uint64_t texels = std::uint64_t(settings_.capacity) * (settings_.layout == ParticleLayout::Split ? 1 : 13);
+        if (texels > std::uint64_t(maxBufferTexels_)) p = ParticlePath::Instanced;
+    }
+    return p;
 }
 
 const BaseShader& ParticleSystemNode::baseShader() const {
-    const int key = int(resolvedPath()) | int(settings_.shape) << 2 | (settings_.softness > 0.0f ? 1 << 4 : 0);
+    const bool soft = settings_.softness > 0.0f;
+    const int key = int(resolvedPath()) | int(settings_.shape) << 2 | (soft ? 1 << 4 : 0) | int(settings_.layout) << 5;
     if (!shader_ || shaderKey_ != key) {
-        shader_ = std::make_unique<BaseShader>(drawShader(resolvedPath(), settings_.shape, settings_.softness > 0.0f));
+        shader_ = std::make_unique<BaseShader>(drawShader(resolvedPath(), settings_.shape, soft, settings_.layout));
         shaderKey_ = key;
     }
     return *shader_;
@@ -440,6 +479,7 @@ void ParticleSystemNode::planFrame(FramePlan& plan) const {
 }
 
 std::size_t ParticleSystemNode::triangleCount() const {
+    if (resolvedPath() == ParticlePath::PointSprite) return 0; // points
     return std::size_t(gpu_ ? gpu_->capacity : 0) * std::size_t(trianglesPerParticle(settings_.shape));
 }
 
@@ -596,9 +636,22 @@ void ParticleSystemNode::draw(Renderer& r, gl::Program& program, const RenderIte
         r.bindTexture(kDepthUnit, soft ? depthCopy_->current : 0);
     }
     const Gpu& g = *gpu_;
-    if (resolvedPath() == ParticlePath::GeometryShader) {
+    const ParticlePath path = resolvedPath();
+    if (path == ParticlePath::PointSprite) {
+        glEnable(GL_PROGRAM_POINT_SIZE);
+        glPointParameteri(GL_POINT_SPRITE_COORD_ORIGIN, GL_LOWER_LEFT); // v up, as the quads' B
         glBindVertexArray(g.pointVao[std::size_t(g.current)].get());
         glDrawArrays(GL_POINTS, 0, GLsizei(g.capacity));
+        glPointParameteri(GL_POINT_SPRITE_COORD_ORIGIN, GL_UPPER_LEFT);
+        glDisable(GL_PROGRAM_POINT_SIZE);
+    } else if (path == ParticlePath::GeometryShader) {
+        glBindVertexArray(g.pointVao[std::size_t(g.current)].get());
+        glDrawArrays(GL_POINTS, 0, GLsizei(g.capacity));
+    } else if (path == ParticlePath::Pulled) {
+        for (int st = 0; st < g.streams(); ++st)
+            glBindTextureUnit(kBufferUnit + unsigned(st), g.bufferTextures[std::size_t(g.current)][std::size_t(st)].get());
+        glBindVertexArray(g.emptyVao.get());
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(std::size_t(g.capacity) * 3 * std::size_t(trianglesPerParticle(s.shape))));
     } else {
         glBindVertexArray(g.instanceVao[std::size_t(g.current)].get());
         // One strip per particle (4 or 6 vertices); the tetrahedron's four faces as triangles.

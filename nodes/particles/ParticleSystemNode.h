@@ -27,10 +27,16 @@ enum class ParticleShape : std::uint8_t {
     Quad,        // a square of side k turned by the particle's angles (leaves)
 };
 
-// How the polygons are made: a geometry shader expanding points (the seed), or instanced
-// triangles whose vertex shader reads the particle per instance. Auto: the faster one on the
-// driver (measured: bench/particles_table.sh).
-enum class ParticlePath : std::uint8_t { Auto, GeometryShader, Instanced };
+// How the polygons are made, all from the same particle buffers:
+//  GeometryShader: points expanded by a geometry shader (the seed);
+//  Instanced:      one instance per particle, its record as per-instance attributes;
+//  Pulled:         one plain draw of all the triangles; each vertex reads its particle's record
+//                  from the buffer (vertex pulling, gl_VertexID / vertices per particle).
+//  PointSprite:    sprites only: one point per particle, the rasterizer makes a screen-aligned
+//                  square (side clamped to the driver's largest point size); other shapes use
+//                  Pulled instead.
+// Auto: the fastest on the driver (measured: bench/particles_table.sh).
+enum class ParticlePath : std::uint8_t { Auto, GeometryShader, Instanced, Pulled, PointSprite };
 
 // The particle buffers: one interleaved 52-byte record per particle, or four streams
 // (age + position, velocity, r0, r), one buffer each.
@@ -133,9 +139,9 @@ private:
     std::unique_ptr<Gpu> gpu_;
     std::shared_ptr<Pass> pass_;
     std::shared_ptr<DepthCopy> depthCopy_;
-    mutable int autoPath_ = -1; // resolved Auto path, per driver
     mutable std::unique_ptr<BaseShader> shader_; // draw program base for (path, shape, soft)
     mutable int shaderKey_ = -1;
+    mutable int maxBufferTexels_ = -1;
 };
 
 } // namespace sgfx
