@@ -4,7 +4,10 @@
 // particles, seen from (0, −60, 20) towards (0, 0, 8) with a 50° field of view. Alpha-blended,
 // unlit, untextured (osgParticle's default attributes without texture).
 //
-//   osg_particles N [--size WxH] [--frames F]
+//   osg_particles N [--size WxH] [--frames F] [--no-draw]
+//
+// --no-draw: the particle system's Geode is not drawn (node mask 0), so the frame is osgParticle's
+// simulation alone (the emitter and program nodes still run).
 //
 // Prints: OSG_PARTICLES count=... live=... frame_ms=... update_ms=... draw_ms=...
 // (update: the update traversal, where osgParticle emits, moves and kills particles; draw: the
@@ -38,7 +41,14 @@ int main(int argc, char** argv) {
     }
     const long n = std::strtol(argv[1], nullptr, 10);
     int width = 1280, height = 720, frames = 10;
-    for (int i = 2; i + 1 < argc; i += 2) {
+    bool draw = true;
+    for (int i = 2; i < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--no-draw")) {
+            draw = false;
+            --i;
+            continue;
+        }
+        if (i + 1 >= argc) break;
         if (!std::strcmp(argv[i], "--size") && std::sscanf(argv[i + 1], "%dx%d", &width, &height) == 2) continue;
         if (!std::strcmp(argv[i], "--frames")) {
             frames = std::atoi(argv[i + 1]);
@@ -96,6 +106,7 @@ int main(int argc, char** argv) {
     program->addOperator(accel);
     osg::ref_ptr<osg::Geode> geode = new osg::Geode;
     geode->addDrawable(ps.get());
+    if (!draw) geode->setNodeMask(0);
     osg::ref_ptr<osgParticle::ParticleSystemUpdater> updater = new osgParticle::ParticleSystemUpdater;
     updater->addParticleSystem(ps.get());
     osg::ref_ptr<osg::Group> root = new osg::Group;
@@ -133,20 +144,21 @@ int main(int argc, char** argv) {
     // Warm-up: one lifetime fills the system to its steady count.
     for (int i = 0; i < int(kLife / kDt) + 3; ++i)
         frame(nullptr, nullptr);
-    std::vector<double> total, update, draw;
+    std::vector<double> total, update, drawMs;
     for (int i = 0; i < frames; ++i) {
         double u = 0, d = 0;
         frame(&u, &d);
         update.push_back(u);
-        draw.push_back(d);
+        drawMs.push_back(d);
         total.push_back(u + d);
     }
     auto med = [](std::vector<double> v) {
         std::sort(v.begin(), v.end());
         return v[v.size() / 2];
     };
-    std::printf("OSG_PARTICLES count=%ld live=%d size=%dx%d frame_ms=%.2f update_ms=%.2f draw_ms=%.2f\n", n,
-                ps->numParticles() - ps->numDeadParticles(), width, height, med(total), med(update), med(draw));
+    std::printf("OSG_PARTICLES count=%ld live=%d size=%dx%d drawn=%d frame_ms=%.2f update_ms=%.2f draw_ms=%.2f\n", n,
+                ps->numParticles() - ps->numDeadParticles(), width, height, int(draw), med(total), med(update),
+                med(drawMs));
     OSMesaDestroyContext(ctx);
     return 0;
 }

@@ -5,6 +5,7 @@
 
 #include <ao/AmbientOcclusionNode.h>
 #include <fog/FogNode.h>
+#include <particles/ParticleSystemNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/Viewer.h>
@@ -17,6 +18,7 @@
 #include <GLFW/glfw3.h>
 
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <array>
@@ -104,6 +106,10 @@ effects:
   --transparency sorted|oit
                       how the glass (two panes and a closed cabin) is blended: sorted back
                       to front (default) or weighted blended order-independent transparency
+  --rain              rain: GPU particles (streaked tetrahedra) falling from 20 m above the
+                      camera over an 80 x 80 m area that follows it, lit and fogged with the
+                      scene
+  --rain-count N      raindrops, 1..16777216 (default 200000)
   -h, --help          show this help
 
 exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
@@ -136,6 +142,8 @@ struct Options {
     std::optional<std::array<int, 5>> crop;
     bool ao = false;
     sgfx::AmbientOcclusionParameters aoParameters;
+    bool rain = false;
+    std::uint32_t rainCount = 200000;
 };
 
 template <class T> T parseNumber(std::string_view option, std::string_view text) {
@@ -310,6 +318,12 @@ Options parseArgs(int argc, char** argv) {
                 o.aoParameters.debugView = sgfx::AoDebugView::Blurred;
             else
                 throw UsageError("--ao-debug: '" + std::string(v) + "' is not raw or blurred");
+        } else if (arg == "--rain") {
+            o.rain = true;
+        } else if (arg == "--rain-count") {
+            o.rainCount = parseNumber<std::uint32_t>(arg, value());
+            if (o.rainCount < 1 || o.rainCount > sgfx::ParticleSystemNode::kMaxCapacity)
+                throw UsageError("--rain-count: N must be in 1..16777216");
         } else if (arg == "--transparency") {
             const std::string_view v = value();
             if (v == "sorted")
@@ -351,10 +365,35 @@ Options parseArgs(int argc, char** argv) {
     return o;
 }
 
+// Rain over an area that follows `camera` (the drops already falling stay where they are).
+sgfx::NodePtr withRain(const Options& o, sgfx::NodePtr world, std::shared_ptr<const sgfx::Camera> camera) {
+    if (!o.rain) return world;
+    auto rain = sgfx::ParticleSystemNode::rain({80.0f, 80.0f}, o.rainCount);
+    auto above = sgfx::Transform::create();
+    above->updateCallback = [camera, rain = rain.get()](sgfx::Node& n, sgfx::UpdateVisitor&) {
+        // 20 m above the eye, falling long enough to reach the lowest ground (z = -10).
+        const glm::vec3 eye(glm::inverse(camera->viewMatrix)[3]);
+        const float height = eye.z + 20.0f;
+        static_cast<sgfx::Transform&>(n).setMatrix(glm::translate(glm::mat4(1.0f), glm::vec3(eye.x, eye.y, height)));
+        sgfx::particles::Emitter e = rain->settings().emitter;
+        const float lifetime = std::max(1.0f, (height + 10.0f) / -e.velocity.z);
+        if (std::abs(lifetime - e.lifetime) > 0.05f * e.lifetime) {
+            e.lifetime = lifetime;
+            rain->setEmitter(e);
+        }
+    };
+    above->addChild(rain);
+    auto group = sgfx::Group::create();
+    group->addChild(world);
+    group->addChild(above);
+    return group;
+}
+
 // The scene with the chosen effects around it.
-sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& scene) {
+sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& scene,
+                               std::shared_ptr<const sgfx::Camera> camera) {
     scene.glassBin->setMode(o.transparency);
-    sgfx::NodePtr world = scene.root;
+    sgfx::NodePtr world = withRain(o, scene.root, std::move(camera));
     if (o.ao) {
         auto ao = sgfx::AmbientOcclusionNode::create(o.aoParameters);
         ao->addChild(world);
@@ -400,7 +439,7 @@ void reportGlErrors(sgfx::Viewer& viewer) {
 int runStill(const Options& o, const polygon::PolygonScene& scene) {
     auto viewer = makeHeadlessViewer(o);
     setupCamera(*viewer, startPose(o, o.time));
-    viewer->setSceneData(sceneWithEffects(o, scene));
+    viewer->setSceneData(sceneWithEffects(o, scene, viewer->camera()));
     const int frames = o.aa.mode == sgfx::AntiAliasing::Mode::Taa ? 16 : 1; // TAA's history fills
     for (int i = 0; i < frames; ++i)
         viewer->frame();
@@ -444,7 +483,7 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
     using clock = std::chrono::steady_clock;
     auto viewer = makeHeadlessViewer(o);
     setupCamera(*viewer, polygon::cameraPose(0.0f, kExtent));
-    viewer->setSceneData(sceneWithEffects(o, scene));
+    viewer->setSceneData(sceneWithEffects(o, scene, viewer->camera()));
     for (int i = 0; i < 3; ++i) {
         viewer->frame();
         glFinish();
@@ -543,7 +582,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     // Fog is always in the graph here so F can cycle it: off, forward, split, post.
     auto fog = sgfx::FogNode::create(o.fogParameters, o.fog.value_or(sgfx::FogMode::Forward));
     fog->enabled = o.fog.has_value();
-    fog->addChild(scene.root);
+    fog->addChild(withRain(o, scene.root, viewer.camera()));
     viewer.setSceneData(fog);
     scene.glassBin->setMode(o.transparency);
     bool fogKeyDown = false, transparencyKeyDown = false, aaKeyDown = false;
