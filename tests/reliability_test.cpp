@@ -8,6 +8,7 @@
 #include <ao/AmbientOcclusionNode.h>
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
+#include <particles/ParticleSystemNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/ObjWriter.h>
@@ -141,6 +142,11 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
         root->addChild(fogNode);
         root->addChild(tint);
         root->addChild(rtt);
+        // Particles under the fog: soft smoke (its depth copies) and rain, their paths changing.
+        auto smoke = ParticleSystemNode::smoke(1.0f, 200);
+        auto rain = ParticleSystemNode::rain({20, 20}, 500);
+        aoNode->addChild(smoke);
+        aoNode->addChild(rain);
         auto v = Viewer::createHeadless(96, 64);
         v->camera()->setLookAt({40, -60, 25}, {0, 0, 2});
         v->setSceneData(root);
@@ -161,6 +167,13 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
                                                      AntiAliasing::none()};
                 static int m = 0;
                 v->camera()->setAntiAliasing(modes[m++ % 5]);
+                for (auto& p : {smoke, rain}) {
+                    ParticleSettings ps = p->settings();
+                    ps.path = ParticlePath(m % 5);
+                    ps.layout = ParticleLayout(m % 2);
+                    ps.capacity += 10; // grown: the buffers are remade with the live particles
+                    p->setSettings(ps);
+                }
                 v->frame();
             }
         EXPECT_TRUE(glErrors(*v).empty());
@@ -224,6 +237,21 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             root->addChild(ao);
             v->frame();
             root->removeChild(ao.get());
+        } else if (kind == 6) {
+            // A particle system whose path, layout and shape change each cycle, soft every other.
+            static int n = 0;
+            ParticleSettings s;
+            s.capacity = 64;
+            s.path = ParticlePath(n % 5);
+            s.layout = ParticleLayout(n / 5 % 2);
+            s.shape = ParticleShape(n / 10 % 4);
+            s.softness = n % 2 ? 0.5f : 0.0f;
+            ++n;
+            auto p = ParticleSystemNode::create(s);
+            p->getOrCreateStateSet().blend.set(BlendMode::Premultiplied);
+            root->addChild(p);
+            v->frame();
+            root->removeChild(p.get());
         } else if (kind == 2) {
             // Fog in a mode that changes each cycle: pre-pass, sky and post-process targets.
             static int n = 0;
@@ -245,8 +273,8 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             v->frame(); // the renderer drops the dead camera's target
         }
     };
-    const char* names[] = {"tint", "rtt", "fog", "transparency", "ao", "aa"};
-    for (int kind = 0; kind < 6; ++kind) {
+    const char* names[] = {"tint", "rtt", "fog", "transparency", "ao", "aa", "particles"};
+    for (int kind = 0; kind < 7; ++kind) {
         // Warm-up: program variants, and llvmpipe pools that level off after ~1000 frames.
         for (int i = 0; i < 1000; ++i)
             cycle(kind);
@@ -292,6 +320,14 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     auto ao = AmbientOcclusionNode::create();
     ao->addChild(tint);
     root->replaceChild(0, ao);
+    // Soft, invisible particles (zero opacity): their depth copies resize, the image stays exact.
+    ParticleSettings invisible;
+    invisible.capacity = 100;
+    invisible.softness = 0.5f;
+    invisible.colorStart = invisible.colorEnd = {1, 1, 1, 0};
+    auto particles = ParticleSystemNode::create(invisible);
+    particles->getOrCreateStateSet().blend.set(BlendMode::Premultiplied);
+    root->addChild(particles);
     root->addChild(flatQuad(4.0f, {0.0f, 0.3f, 0.0f}, {0, 0, -0.5f}));
     v->setSceneData(root);
     GLint maxDims[2] = {0, 0}, maxTex = 0;
@@ -623,6 +659,61 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
         q.fxaaQuality = AntiAliasing::FxaaQuality(7);
         aaCase("fxaa quality 7", q, "fxaaQuality");
     }
+
+    // ParticleSystemNode: every bad value is refused and the running system keeps its settings
+    // (its own viewer: the draw-time cases below break the shared scene's state on purpose)
+    std::shared_ptr<Viewer> particleViewer = orthoTopViewer(16, 1.0f);
+    auto particles = ParticleSystemNode::create();
+    particleViewer->setSceneData(particles);
+    particleViewer->frame();
+    Viewer* viewer = particleViewer.get();
+    auto particlesSame = [=] {
+        viewer->frame(); // still stepping and drawing
+        const ParticleSettings& s = particles->settings();
+        return s.capacity == 10000 && s.emitter.lifetime == 1.0f && s.sizeStart == 0.1f &&
+               particles->readRecords().size() == 10000;
+    };
+    auto particleCase = [&](std::string label, std::function<void(ParticleSettings&)> edit, std::string expect) {
+        cases.push_back({"ParticleSystemNode", std::move(label),
+                         [=] {
+                             ParticleSettings s;
+                             edit(s);
+                             particles->setSettings(s);
+                         },
+                         std::move(expect), particlesSame});
+    };
+    for (int i = 0; i < 6; ++i) {
+        const float bad = badFloats[i];
+        const bool finiteOk = badNames[i] == "zero" || badNames[i] == "huge";
+        if (badNames[i] != "huge")
+            particleCase("tmax " + badNames[i], [=](auto& s) { s.emitter.lifetime = bad; }, "tmax");
+        if (!finiteOk) {
+            particleCase("W " + badNames[i], [=](auto& s) { s.emitter.size.x = bad; }, "W");
+            particleCase("kv " + badNames[i], [=](auto& s) { s.emitter.velocitySpread = bad; }, "kv");
+            particleCase("kvel " + badNames[i], [=](auto& s) { s.emitter.rotationSpeed = bad; }, "kvel");
+            particleCase("sizeEnd " + badNames[i], [=](auto& s) { s.sizeEnd = bad; }, "sizeEnd");
+            particleCase("softness " + badNames[i], [=](auto& s) { s.softness = bad; }, "softness");
+            particleCase("stretch " + badNames[i], [=](auto& s) { s.stretch = bad; }, "stretch");
+        }
+        if (badNames[i] != "negative" && !finiteOk) { // vectors may point anywhere, but be finite
+            particleCase("v0 " + badNames[i], [=](auto& s) { s.emitter.velocity.x = bad; }, "v0");
+            particleCase("acceleration " + badNames[i], [=](auto& s) { s.emitter.acceleration.z = bad; },
+                         "acceleration");
+        }
+        if (badNames[i] != "zero")
+            particleCase("krot " + badNames[i], [=](auto& s) { s.emitter.rotationRange = bad; }, "krot");
+    }
+    for (std::uint32_t n : {0u, ParticleSystemNode::kMaxCapacity + 1, 0xffffffffu})
+        particleCase("capacity " + std::to_string(n), [=](auto& s) { s.capacity = n; }, "capacity");
+    particleCase("shape 7", [](auto& s) { s.shape = ParticleShape(7); }, "shape");
+    particleCase("path 9", [](auto& s) { s.path = ParticlePath(9); }, "path");
+    particleCase("layout 3", [](auto& s) { s.layout = ParticleLayout(3); }, "layout");
+    particleCase("respawn 4", [](auto& s) { s.respawn = particles::Respawn(4); }, "respawn");
+    particleCase("colorStart alpha 2", [](auto& s) { s.colorStart.a = 2.0f; }, "colorStart");
+    cases.push_back({"ParticleSystemNode", "advance NaN", [=] { particles->advance(kNaN); }, "dt", particlesSame});
+    cases.push_back({"ParticleSystemNode", "queueStep -1", [=] { particles->queueStep(-1.0f); }, "dt", particlesSame});
+    cases.push_back({"ParticleSystemNode", "waterJet direction 0",
+                     [] { (void)ParticleSystemNode::waterJet(glm::vec3(0.0f)); }, "direction"});
 
     // AmbientOcclusionNode
     auto aoNode = AmbientOcclusionNode::create();

@@ -8,9 +8,12 @@
 #include <ao/AmbientOcclusionNode.h>
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
+#include <particles/ParticleSystemNode.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/gl/Objects.h>
 #include <transparency/TransparencyBin.h>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -85,6 +88,16 @@ int main(int argc, char** argv) {
         fog->addChild(tint);
         auto root = sgfx::Group::create();
         root->addChild(fog);
+        // Particles in the fog: smoke (soft) beside the road and rain over the scene, whose
+        // capacity and draw path change as the run goes on.
+        auto smoke = sgfx::ParticleSystemNode::smoke(2.0f, 300);
+        auto smokeAt = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(20.0f, 10.0f, 0.0f)));
+        smokeAt->addChild(smoke);
+        auto rain = sgfx::ParticleSystemNode::rain({200.0f, 200.0f}, 2000);
+        auto rainAt = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 60.0f)));
+        rainAt->addChild(rain);
+        ao->addChild(smokeAt);
+        fog->addChild(rainAt);
         // The glass: sorted and order-independent in turn, the cabin's triangles sorted per view.
         sgfx::TransparencyDetails perTriangle;
         perTriangle.sortTriangles = true;
@@ -120,6 +133,14 @@ int main(int argc, char** argv) {
                     sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::fxaa(),
                     sgfx::AntiAliasing::taa(), sgfx::AntiAliasing::ssaa(2)};
                 cam.setAntiAliasing(modes[f / 400 % 5]);
+            }
+            if (f % 350 == 0) {
+                sgfx::ParticleSettings ps = rain->settings();
+                ps.capacity = f / 350 % 2 ? 3000 : 2000;
+                ps.path = sgfx::ParticlePath(f / 350 % 5);
+                ps.emitter.lifetime = 9.0f;
+                rain->setSettings(ps);
+                smoke->paused = f / 700 % 3 == 2;
             }
             if (f % 300 == 0) {
                 sgfx::AmbientOcclusionParameters ap;

@@ -511,6 +511,8 @@ void ParticleSystemNode::simulate(Renderer& r) {
         program.set("u_reflect", s.bounce == particles::RotationBounce::Reflect ? 1 : 0);
     };
     glUseProgram(p);
+    // Draws check the framebuffer even with rasterization off: bind one that is complete.
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r.currentTarget().fbo.get());
     glEnable(GL_RASTERIZER_DISCARD);
     // Sets up particles [first, first + count) of copy `c` by the start mode `init` (1..3).
     auto initialise = [&](int c, int init, std::uint32_t first, std::uint32_t count) {
