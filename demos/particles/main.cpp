@@ -149,7 +149,7 @@ int main(int argc, char** argv) try {
     auto scene = sgfx::Group::create();
     auto sun = sgfx::Light::create();
     sun->direction = glm::normalize(glm::vec3(-0.4f, 0.5f, -1.0f));
-    sun->color = glm::vec3(2.5f);
+    sun->color = glm::vec3(1.6f);
     auto sky = sgfx::Light::create(sgfx::LightType::Ambient);
     sky->color = glm::vec3(0.35f, 0.4f, 0.5f);
     scene->addChild(sun);
@@ -205,17 +205,17 @@ int main(int argc, char** argv) try {
     // Showcase: a ground plane in light fog with the presets side by side.
     auto ground = sgfx::shapes::quad(200.0f, 200.0f);
     auto grass = sgfx::Material::create();
-    grass->diffuse = glm::vec4(0.25f, 0.35f, 0.18f, 1.0f);
+    grass->diffuse = glm::vec4(0.12f, 0.2f, 0.08f, 1.0f);
     ground->getOrCreateStateSet().material.set(grass);
     scene->addChild(ground);
-    cam.setLookAt({0, -32, 9}, {0, 0, 5}, {0, 0, 1});
+    cam.setLookAt({0, -24, 6}, {0, 0, 4}, {0, 0, 1});
     if (o.preset == "all") {
-        place(preset("snow", o.count), {-14, 8, 30});
-        place(preset("rain", o.count), {14, 8, 36});
-        place(preset("leaves", o.count), {0, 0, 14});
+        place(preset("snow", o.count), {-16, 8, 30});
+        place(preset("rain", o.count), {16, 8, 36});
+        place(preset("leaves", o.count), {0, -8, 10});
         place(preset("smoke", o.count), {-6, 4, 0});
-        place(preset("jet", o.count), {4, -4, 0});
-        place(preset("sparks", o.count), {9, -6, 0.5f});
+        place(preset("jet", o.count), {3, -2, 0});
+        place(preset("sparks", o.count), {8, -6, 0.5f});
     } else {
         place(preset(o.preset, o.count), o.preset == "rain" ? glm::vec3(0, 8, 36)
                                          : o.preset == "snow" ? glm::vec3(0, 8, 30)

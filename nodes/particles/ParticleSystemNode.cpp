@@ -715,7 +715,7 @@ std::shared_ptr<ParticleSystemNode> ParticleSystemNode::leaves(glm::vec2 area, s
     s.emitter.rotationSpeed = 2.5f;
     s.emitter.lifetime = 10.0f;
     s.shape = ParticleShape::Quad;
-    s.sizeStart = s.sizeEnd = 0.12f;
+    s.sizeStart = s.sizeEnd = 0.15f;
     return withState("leaves", s, [](StateSet&, Material& m) {
         m.baseColorTexture = leafTexture();
         m.alphaCutoff = 0.5f;
@@ -733,8 +733,8 @@ std::shared_ptr<ParticleSystemNode> ParticleSystemNode::smoke(float sourceWidth,
     s.emitter.lifetime = 6.0f;
     s.sizeStart = 0.5f * sourceWidth + 0.2f;
     s.sizeEnd = 3.0f * sourceWidth + 1.0f;
-    s.colorStart = {0.45f, 0.45f, 0.45f, 0.5f};
-    s.colorEnd = {0.6f, 0.6f, 0.6f, 0.0f};
+    s.colorStart = {0.25f, 0.25f, 0.25f, 0.5f};
+    s.colorEnd = {0.4f, 0.4f, 0.4f, 0.0f};
     s.softness = 1.0f;
     return withState("smoke", s, [](StateSet& st, Material& m) {
         st.blend.set(BlendMode::Premultiplied);
@@ -750,13 +750,13 @@ std::shared_ptr<ParticleSystemNode> ParticleSystemNode::waterJet(glm::vec3 direc
     s.capacity = count;
     s.emitter.size = {0.1f, 0.1f};
     s.emitter.velocity = glm::normalize(direction) * speed;
-    s.emitter.velocitySpread = 0.05f * speed;
+    s.emitter.velocitySpread = 0.08f * speed;
     s.emitter.acceleration = {0.0f, 0.0f, -9.81f};
     s.emitter.lifetime = 2.0f * speed / 9.81f;
     s.sizeStart = 0.06f;
     s.sizeEnd = 0.3f;
-    s.colorStart = {0.85f, 0.92f, 1.0f, 0.6f};
-    s.colorEnd = {0.85f, 0.92f, 1.0f, 0.15f};
+    s.colorStart = {0.6f, 0.7f, 0.8f, 0.35f};
+    s.colorEnd = {0.6f, 0.7f, 0.8f, 0.05f};
     s.softness = 0.3f;
     return withState("water jet", s, [](StateSet& st, Material& m) {
         st.blend.set(BlendMode::Premultiplied);
