@@ -138,13 +138,8 @@ std::shared_ptr<sgfx::ParticleSystemNode> preset(const std::string& name, std::u
 
 int main(int argc, char** argv) try {
     const Options o = parse(argc, argv);
-    std::unique_ptr<sgfx::Viewer> viewer;
-    if (o.egl) {
-        viewer = std::make_unique<sgfx::Viewer>(std::make_unique<sgfx::EglContext>());
-        viewer->camera()->setViewport(0, 0, o.width, o.height);
-    } else {
-        viewer = sgfx::Viewer::createHeadless(o.width, o.height);
-    }
+    auto viewer = sgfx::Viewer::createHeadless(o.width, o.height,
+                                               o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
     auto& cam = *viewer->camera();
     cam.clearColor = {0.42f, 0.60f, 0.85f, 1.0f};
     cam.setPerspective(50.0f, 0.5f, 500.0f);

@@ -406,13 +406,8 @@ sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& sc
 }
 
 std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
-    std::unique_ptr<sgfx::Viewer> viewer;
-    if (o.egl) {
-        viewer = std::make_unique<sgfx::Viewer>(std::make_unique<sgfx::EglContext>());
-        viewer->camera()->setViewport(0, 0, o.width, o.height);
-    } else {
-        viewer = sgfx::Viewer::createHeadless(o.width, o.height);
-    }
+    auto viewer = sgfx::Viewer::createHeadless(o.width, o.height,
+                                               o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
     viewer->renderer().options().lighting = o.lighting;
     viewer->renderer().options().countFragments = o.countFragments;
     viewer->camera()->setAntiAliasing(o.aa);

@@ -59,8 +59,9 @@ Viewer::Viewer(std::unique_ptr<GraphicsContext> context)
     camera_->setPerspective(45.0f, 0.1f, 10000.0f);
 }
 
-std::unique_ptr<Viewer> Viewer::createHeadless(int width, int height) {
-    auto v = std::make_unique<Viewer>(std::make_unique<OsmesaContext>());
+std::unique_ptr<Viewer> Viewer::createHeadless(int width, int height, Headless kind) {
+    auto v = kind == Headless::Egl ? std::make_unique<Viewer>(std::make_unique<EglContext>())
+                                   : std::make_unique<Viewer>(std::make_unique<OsmesaContext>());
     v->camera()->setViewport(0, 0, width, height);
     return v;
 }

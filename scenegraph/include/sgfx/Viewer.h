@@ -15,8 +15,9 @@ namespace sgfx {
 class Viewer {
 public:
     explicit Viewer(std::unique_ptr<GraphicsContext> context);
-    // Headless viewer on OSMesa with the given target size.
-    static std::unique_ptr<Viewer> createHeadless(int width, int height);
+    // Headless viewer with the given target size: on OSMesa (software), or through EGL on a GPU.
+    enum class Headless : std::uint8_t { Osmesa, Egl };
+    static std::unique_ptr<Viewer> createHeadless(int width, int height, Headless kind = Headless::Osmesa);
     ~Viewer();
 
     void setSceneData(NodePtr scene);
