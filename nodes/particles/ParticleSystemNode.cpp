@@ -1,7 +1,7 @@
 #include "particles/ParticleSystemNode.h"
 
 #include "ParameterChecks.h"
-#include "TargetCache.h"
+#include "SceneDepthCopy.h"
 
 #include <sgfx/Material.h>
 #include <sgfx/Renderer.h>
@@ -292,35 +292,6 @@ struct ParticleSystemNode::Pass : RenderPass {
     ParticleSystemNode& node;
 };
 
-// The opaque scene's depth, copied after the opaque items for soft particles.
-struct ParticleSystemNode::DepthCopy : RenderPass {
-    std::string_view name() const override { return "particles: depth copy"; }
-    PassStage stage() const override { return PassStage::AfterOpaque; }
-    void execute(Renderer& r) override {
-        gl::RenderTarget& t = r.currentTarget();
-        Target& own = targets.get(
-            r.frame().frameNumber, [&](const Target& e) { return e.width == t.width && e.height == t.height; },
-            [&](Target& e) {
-                e.width = t.width;
-                e.height = t.height;
-                e.depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, t.width, t.height);
-                e.fbo = gl::createFramebuffer();
-                glNamedFramebufferTexture(e.fbo.get(), GL_DEPTH_ATTACHMENT, e.depth.get(), 0);
-            });
-        glBlitNamedFramebuffer(t.fbo.get(), own.fbo.get(), 0, 0, t.width, t.height, 0, 0, t.width, t.height,
-                               GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-        current = own.depth.get();
-    }
-    struct Target {
-        int width = 0, height = 0;
-        gl::TextureObject depth;
-        gl::FramebufferObject fbo;
-        std::uint64_t lastUse = 0;
-    };
-    nodes::TargetCache<Target> targets;
-    GLuint current = 0; // the view being drawn's copy
-};
-
 // ---------------------------------------------------------------- node
 std::shared_ptr<ParticleSystemNode> ParticleSystemNode::create(const ParticleSettings& settings) {
     return std::make_shared<ParticleSystemNode>(settings);
@@ -328,7 +299,7 @@ std::shared_ptr<ParticleSystemNode> ParticleSystemNode::create(const ParticleSet
 
 ParticleSystemNode::ParticleSystemNode(const ParticleSettings& settings)
     : pass_(std::make_shared<Pass>(*this))
-    , depthCopy_(std::make_shared<DepthCopy>()) {
+    , depthCopy_(std::make_shared<nodes::SceneDepthCopy>("particles: depth copy")) {
     settings.validate();
     settings_ = settings;
     // Particles live in world space and move every frame: the node tests its own world bound,
@@ -485,7 +456,7 @@ std::size_t ParticleSystemNode::triangleCount() const {
 
 void ParticleSystemNode::releaseGLObjects() {
     gpu_.reset();
-    depthCopy_ = std::make_shared<DepthCopy>();
+    depthCopy_ = std::make_shared<nodes::SceneDepthCopy>("particles: depth copy");
     resetPending_ = true;
 }
 
@@ -633,9 +604,9 @@ void ParticleSystemNode::draw(Renderer& r, gl::Program& program, const RenderIte
     program.set("u_stretch", s.shape == ParticleShape::Tetrahedron ? s.stretch : 0.0f);
     if (s.softness > 0.0f) {
         // Opaque particles, or a view without the depth copy, are drawn hard.
-        const bool soft = (item.features & FeatureBlend) && depthCopy_->current;
+        const bool soft = (item.features & FeatureBlend) && depthCopy_->current();
         program.set("sgfx_particleSoftness", soft ? s.softness : 0.0f);
-        r.bindTexture(kDepthUnit, soft ? depthCopy_->current : 0);
+        r.bindTexture(kDepthUnit, soft ? depthCopy_->current() : 0);
     }
     const Gpu& g = *gpu_;
     const ParticlePath path = resolvedPath();

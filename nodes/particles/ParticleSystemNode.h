@@ -18,6 +18,9 @@
 namespace sgfx {
 
 class StateSet;
+namespace nodes {
+class SceneDepthCopy;
+}
 
 // The polygons each particle becomes.
 enum class ParticleShape : std::uint8_t {
@@ -129,7 +132,6 @@ protected:
 private:
     struct Gpu;
     struct Pass;
-    struct DepthCopy;
     ParticleSettings settings_;
     std::vector<float> pendingSteps_;
     bool resetPending_ = true;
@@ -138,7 +140,7 @@ private:
     mutable glm::mat4 lastModel_{1.0f}; // world matrix seen by the last cull
     std::unique_ptr<Gpu> gpu_;
     std::shared_ptr<Pass> pass_;
-    std::shared_ptr<DepthCopy> depthCopy_;
+    std::shared_ptr<nodes::SceneDepthCopy> depthCopy_;
     mutable std::unique_ptr<BaseShader> shader_; // draw program base for (path, shape, soft)
     mutable int shaderKey_ = -1;
     mutable int maxBufferTexels_ = -1;

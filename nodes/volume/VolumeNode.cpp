@@ -1,0 +1,392 @@
+#include "volume/VolumeNode.h"
+
+#include "ParameterChecks.h"
+#include "SceneDepthCopy.h"
+
+#include <sgfx/Image.h>
+#include <sgfx/Renderer.h>
+#include <sgfx/StateSet.h>
+#include <sgfx/gl/Objects.h>
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+
+namespace sgfx {
+
+namespace {
+
+constexpr unsigned kDepthUnit = kEffectTextureUnit + 2;   // 14: pass-local, bound at every draw
+constexpr unsigned kDensityUnit = 16;                     // 16..18: above the tracked units
+constexpr int kMaxBlock = 8;                              // voxels per empty-space cell
+
+void check(const char* name, float v, double lo, double hi, bool openLow = false) {
+    nodes::checkRange("VolumeParameters", name, v, lo, hi, openLow);
+}
+
+std::string expandIncludes(std::string_view file) {
+    std::string src = nodes::shaderText(file);
+    const std::string key = "#include \"";
+    for (auto at = src.find(key); at != std::string::npos; at = src.find(key)) {
+        const auto close = src.find('"', at + key.size());
+        const auto eol = src.find('\n', at);
+        src.replace(at, eol - at, nodes::shaderText(src.substr(at + key.size(), close - at - key.size())));
+    }
+    return src;
+}
+
+BaseShader makeShader(const std::string& function) {
+    std::string fragment = expandIncludes("volume_march.frag");
+    const auto eol = fragment.find('\n');
+    std::string defines = "#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) +
+                          "\n#define SGFX_VOLUME_DENSITY_UNIT " + std::to_string(kDensityUnit) + "\n";
+    std::string name = "volume";
+    if (!function.empty()) {
+        defines += "#define SGFX_VOLUME_FUNCTION\n";
+        name += "_fn" + std::to_string(std::hash<std::string>{}(function));
+        fragment += "\nfloat volumeDensity(vec3 uvw) {\n" + function + "\n}\n";
+    }
+    fragment.insert(eol + 1, defines);
+    return BaseShader{name, "volume_box.vert", nodes::shaderText("volume_box.vert"), "volume_march.frag",
+                      std::move(fragment)};
+}
+
+float hashNoise(std::uint32_t x, std::uint32_t y, std::uint32_t z, std::uint32_t seed) {
+    std::uint32_t h = x * 374761393u + y * 668265263u + z * 2147483647u + seed * 144665u;
+    h = (h ^ (h >> 13)) * 1274126177u;
+    return float((h ^ (h >> 16)) & 0xffffff) / 16777215.0f;
+}
+
+// Trilinear value noise on a lattice of `cells` per side, periodic.
+float valueNoise(glm::vec3 p, int cells, std::uint32_t seed) {
+    const glm::vec3 q = p * float(cells);
+    const glm::ivec3 i = glm::ivec3(glm::floor(q));
+    const glm::vec3 f = q - glm::floor(q);
+    const glm::vec3 s = f * f * (3.0f - 2.0f * f);
+    float v = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+        const glm::ivec3 o(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+        const glm::ivec3 k = (i + o) % cells;
+        const float w = (o.x ? s.x : 1 - s.x) * (o.y ? s.y : 1 - s.y) * (o.z ? s.z : 1 - s.z);
+        v += w * hashNoise(std::uint32_t(k.x), std::uint32_t(k.y), std::uint32_t(k.z), seed);
+    }
+    return v;
+}
+
+} // namespace
+
+// ---------------------------------------------------------------- grids
+VolumeGrid VolumeGrid::constant(float density) {
+    VolumeGrid g;
+    g.size = glm::ivec3(2);
+    g.values.assign(8, density);
+    return g;
+}
+
+VolumeGrid VolumeGrid::sphere(int n, float radius, float edge) {
+    VolumeGrid g;
+    g.size = glm::ivec3(n);
+    g.values.resize(std::size_t(n) * n * n);
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const glm::vec3 p = (glm::vec3(x, y, z) + 0.5f) / float(n) - 0.5f;
+                const float r = glm::length(p);
+                g.values[(std::size_t(z) * n + y) * n + x] =
+                    edge > 0.0f ? std::clamp((radius - r) / edge + 0.5f, 0.0f, 1.0f) : (r <= radius ? 1.0f : 0.0f);
+            }
+    return g;
+}
+
+VolumeGrid VolumeGrid::noise(int n, std::uint32_t seed, int octaves, float coverage) {
+    VolumeGrid g;
+    g.size = glm::ivec3(n);
+    g.values.resize(std::size_t(n) * n * n);
+    std::vector<float> raw(g.values.size());
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const glm::vec3 p = (glm::vec3(x, y, z) + 0.5f) / float(n);
+                float v = 0.0f, amp = 0.5f;
+                for (int o = 0; o < octaves; ++o, amp *= 0.5f)
+                    v += amp * valueNoise(p, 4 << o, seed + std::uint32_t(o));
+                // Fade towards the faces so the medium does not end in a flat wall.
+                const glm::vec3 e = glm::min(p, 1.0f - p) * 8.0f;
+                v *= std::clamp(std::min({e.x, e.y, e.z}), 0.0f, 1.0f);
+                raw[(std::size_t(z) * n + y) * n + x] = v;
+            }
+    // Threshold at the quantile that leaves `coverage` of the voxels non-empty.
+    std::vector<float> sorted = raw;
+    const std::size_t k = std::min(sorted.size() - 1, std::size_t(double(1.0f - coverage) * double(sorted.size())));
+    std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(k), sorted.end());
+    const float cut = sorted[k];
+    for (std::size_t i = 0; i < raw.size(); ++i)
+        g.values[i] = std::max(0.0f, raw[i] - cut) / std::max(1e-6f, 1.0f - cut) * 2.0f;
+    return g;
+}
+
+namespace {
+float halfToFloat(std::uint16_t h) {
+    const std::uint32_t sign = (h >> 15) & 1, exp = (h >> 10) & 0x1f, man = h & 0x3ff;
+    float v;
+    if (exp == 0)
+        v = std::ldexp(float(man), -24);
+    else if (exp == 31)
+        v = man ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
+    else
+        v = std::ldexp(float(man | 0x400), int(exp) - 25);
+    return sign ? -v : v;
+}
+} // namespace
+
+VolumeGrid VolumeGrid::loadRaw(const std::filesystem::path& file, glm::ivec3 size, Format format) {
+    const std::string what = "sgfx: VolumeGrid::loadRaw '" + file.string() + "'";
+    if (glm::any(glm::lessThan(size, glm::ivec3(1))) || glm::any(glm::greaterThan(size, glm::ivec3(2048))))
+        throw std::invalid_argument(what + ": size " + std::to_string(size.x) + "x" + std::to_string(size.y) + "x" +
+                                    std::to_string(size.z) + " is outside 1..2048 per axis");
+    const std::size_t bytesPer = format == Format::R8 ? 1 : format == Format::R16F ? 2 : 4;
+    const std::size_t count = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
+    std::ifstream in(file, std::ios::binary | std::ios::ate);
+    if (!in) throw std::runtime_error(what + ": cannot open the file");
+    const auto actual = std::size_t(in.tellg());
+    if (actual != count * bytesPer)
+        throw std::runtime_error(what + ": expected " + std::to_string(count * bytesPer) + " bytes for " +
+                                 std::to_string(size.x) + "x" + std::to_string(size.y) + "x" + std::to_string(size.z) +
+                                 " values of " + std::to_string(bytesPer) + " bytes, the file has " +
+                                 std::to_string(actual));
+    std::vector<unsigned char> bytes(actual);
+    in.seekg(0);
+    in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(actual));
+    VolumeGrid g;
+    g.size = size;
+    g.format = format;
+    g.values.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (format == Format::R8) {
+            g.values[i] = float(bytes[i]) / 255.0f;
+        } else if (format == Format::R16F) {
+            g.values[i] = halfToFloat(std::uint16_t(bytes[2 * i] | (bytes[2 * i + 1] << 8)));
+        } else {
+            std::memcpy(&g.values[i], &bytes[4 * i], 4);
+        }
+    }
+    g.validate();
+    return g;
+}
+
+void VolumeGrid::validate() const {
+    if (glm::any(glm::lessThan(size, glm::ivec3(1))) || glm::any(glm::greaterThan(size, glm::ivec3(2048))))
+        throw std::invalid_argument("sgfx: VolumeGrid: size " + std::to_string(size.x) + "x" + std::to_string(size.y) +
+                                    "x" + std::to_string(size.z) + " is outside 1..2048 per axis");
+    const std::size_t count = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
+    if (values.size() != count)
+        throw std::invalid_argument("sgfx: VolumeGrid: " + std::to_string(values.size()) + " values for " +
+                                    std::to_string(count) + " voxels");
+    if (std::uint8_t(format) > std::uint8_t(Format::R32F))
+        throw std::invalid_argument("sgfx: VolumeGrid: format has an invalid value " + std::to_string(int(format)));
+    for (std::size_t i = 0; i < count; ++i)
+        if (!std::isfinite(values[i]) || values[i] < 0.0f || (format == Format::R8 && values[i] > 1.0f))
+            throw std::invalid_argument("sgfx: VolumeGrid: value " + nodes::number(values[i]) + " at voxel " +
+                                        std::to_string(i) + " is not a finite density" +
+                                        (format == Format::R8 ? " in [0, 1] (R8)" : " >= 0"));
+}
+
+void VolumeParameters::validate() const {
+    for (int i = 0; i < 3; ++i) check("size", size[i], 0.0, 1e7, true);
+    check("absorption (k_a)", absorption, 0.0, 1e6);
+    check("scattering (k_s)", scattering, 0.0, 1e6);
+    for (int i = 0; i < 3; ++i) check("emission (k_e)", emission[i], 0.0, 1e6);
+    check("densityScale", densityScale, 0.0, 1e6);
+    for (int i = 0; i < 3; ++i) check("lightColor", lightColor[i], 0.0, 1e6);
+    for (int i = 0; i < 3; ++i) check("lightDirection", lightDirection[i], -1e6, 1e6);
+    if (!(glm::length(lightDirection) > 0.0f)) nodes::refuse("VolumeParameters", "lightDirection must not be zero");
+    check("g", g, -0.999, 0.999);
+    if (steps < 1 || steps > 4096) nodes::refuse("VolumeParameters", "steps = " + std::to_string(steps) + " is outside [1, 4096]");
+    check("stepLength", stepLength, 0.0, 1e6);
+    if (lightSteps < 1 || lightSteps > 256)
+        nodes::refuse("VolumeParameters", "lightSteps = " + std::to_string(lightSteps) + " is outside [1, 256]");
+    check("earlyTermination", earlyTermination, 0.0, 1.0, true);
+    if (std::uint8_t(phase) > std::uint8_t(VolumePhase::Rayleigh))
+        nodes::refuse("VolumeParameters", "phase has an invalid value " + std::to_string(int(phase)));
+    if (std::uint8_t(integration) > std::uint8_t(volume::Integration::Riemann))
+        nodes::refuse("VolumeParameters", "integration has an invalid value " + std::to_string(int(integration)));
+}
+
+// ---------------------------------------------------------------- GPU state
+struct VolumeNode::Gpu {
+    gl::TextureObject density, densityMax, transfer;
+    gl::VertexArrayObject vao;
+    glm::ivec3 maxSize{1};
+};
+
+// ---------------------------------------------------------------- node
+std::shared_ptr<VolumeNode> VolumeNode::create(const VolumeParameters& p, VolumeGrid grid) {
+    auto n = std::make_shared<VolumeNode>(p, std::move(grid), std::string());
+    n->setStateSet(defaultState());
+    return n;
+}
+
+std::shared_ptr<VolumeNode> VolumeNode::createFunction(const VolumeParameters& p, std::string body) {
+    if (body.find_first_not_of(" \t\r\n") == std::string::npos)
+        nodes::refuse("VolumeNode::createFunction", "the GLSL body is empty");
+    auto n = std::make_shared<VolumeNode>(p, VolumeGrid::constant(1.0f), std::move(body));
+    n->setStateSet(defaultState());
+    return n;
+}
+
+VolumeNode::VolumeNode(const VolumeParameters& p, VolumeGrid grid, std::string function)
+    : function_(std::move(function))
+    , depthCopy_(std::make_shared<nodes::SceneDepthCopy>("volume: depth copy")) {
+    p.validate();
+    grid.validate();
+    parameters_ = p;
+    parameters_.lightDirection = glm::normalize(p.lightDirection);
+    grid_ = std::move(grid);
+    shader_ = makeShader(function_);
+}
+
+VolumeNode::~VolumeNode() = default;
+
+std::shared_ptr<StateSet> VolumeNode::defaultState() {
+    auto s = std::make_shared<StateSet>();
+    s->blend.set(BlendMode::Premultiplied);
+    s->cullFace.set(CullFace::Front);
+    s->depth.set(DepthState{.test = false, .write = false, .func = CompareFunc::Always});
+    TransparencyDetails d;
+    d.twoPass = false;
+    s->transparency.set(d);
+    return s;
+}
+
+void VolumeNode::setParameters(const VolumeParameters& p) {
+    p.validate();
+    parameters_ = p;
+    parameters_.lightDirection = glm::normalize(p.lightDirection);
+    dirtyBound();
+}
+
+void VolumeNode::setGrid(VolumeGrid grid) {
+    grid.validate();
+    grid_ = std::move(grid);
+    gridDirty_ = true;
+}
+
+void VolumeNode::setTransferFunction(std::shared_ptr<Image> ramp) {
+    if (ramp && (ramp->width < 1 || ramp->height < 1 || ramp->pixels.size() !=
+                                                            std::size_t(ramp->width) * ramp->height * ramp->channels))
+        nodes::refuse("VolumeNode::setTransferFunction", "the ramp image is empty or its pixel data is short");
+    transfer_ = std::move(ramp);
+    gridDirty_ = true;
+}
+
+const BaseShader& VolumeNode::baseShader() const {
+    return shader_;
+}
+
+BoundingSphere VolumeNode::computeBound() const {
+    BoundingSphere s;
+    s.center = glm::vec3(0.0f);
+    s.radius = 0.5f * glm::length(parameters_.size);
+    return s;
+}
+
+void VolumeNode::planFrame(FramePlan& plan) const {
+    plan.add(depthCopy_);
+}
+
+void VolumeNode::releaseGLObjects() {
+    gpu_.reset();
+    gridDirty_ = true;
+    depthCopy_ = std::make_shared<nodes::SceneDepthCopy>("volume: depth copy");
+}
+
+void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {
+    if (!gpu_) {
+        gpu_ = std::make_unique<Gpu>();
+        gpu_->vao = gl::createVertexArray();
+    }
+    Gpu& g = *gpu_;
+    if (gridDirty_) {
+        // The density (linear filtering, clamped to its edges) and a coarse grid of its maxima,
+        // dilated by a voxel so trilinear filtering never reaches into a skipped cell.
+        const glm::ivec3 n = grid_.size;
+        static const GLenum formats[] = {GL_R8, GL_R16F, GL_R32F};
+        g.density = gl::createTexture(GL_TEXTURE_3D);
+        glTextureStorage3D(g.density.get(), 1, formats[int(grid_.format)], n.x, n.y, n.z);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTextureSubImage3D(g.density.get(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT, grid_.values.data());
+        for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+            glTextureParameteri(g.density.get(), p, GL_CLAMP_TO_EDGE);
+        glTextureParameteri(g.density.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTextureParameteri(g.density.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        g.maxSize = (n + kMaxBlock - 1) / kMaxBlock;
+        std::vector<float> maxima(std::size_t(g.maxSize.x) * g.maxSize.y * g.maxSize.z, 0.0f);
+        for (int z = 0; z < n.z; ++z)
+            for (int y = 0; y < n.y; ++y)
+                for (int x = 0; x < n.x; ++x) {
+                    const float v = grid_.values[(std::size_t(z) * n.y + y) * n.x + x];
+                    if (v <= 0.0f) continue;
+                    for (int dz = -1; dz <= 1; ++dz)
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dx = -1; dx <= 1; ++dx) {
+                                const glm::ivec3 c =
+                                    glm::clamp(glm::ivec3(x + dx, y + dy, z + dz), glm::ivec3(0), n - 1) / kMaxBlock;
+                                float& m = maxima[(std::size_t(c.z) * g.maxSize.y + c.y) * g.maxSize.x + c.x];
+                                m = std::max(m, v);
+                            }
+                }
+        g.densityMax = gl::createTexture(GL_TEXTURE_3D);
+        glTextureStorage3D(g.densityMax.get(), 1, GL_R32F, g.maxSize.x, g.maxSize.y, g.maxSize.z);
+        glTextureSubImage3D(g.densityMax.get(), 0, 0, 0, 0, g.maxSize.x, g.maxSize.y, g.maxSize.z, GL_RED, GL_FLOAT,
+                            maxima.data());
+        glTextureParameteri(g.densityMax.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(g.densityMax.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        g.transfer = {};
+        if (transfer_) {
+            const Image& img = *transfer_;
+            std::vector<unsigned char> rgba(std::size_t(img.width) * 4, 255);
+            for (int x = 0; x < img.width; ++x)
+                for (int c = 0; c < std::min(img.channels, 3); ++c)
+                    rgba[std::size_t(x) * 4 + std::size_t(c)] = img.pixel(x, 0)[img.channels == 1 ? 0 : c];
+            g.transfer = gl::createTexture2D(GL_SRGB8_ALPHA8, img.width, 1, GL_LINEAR);
+            glTextureSubImage2D(g.transfer.get(), 0, 0, 0, img.width, 1, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+        }
+        gridDirty_ = false;
+    }
+    const VolumeParameters& p = parameters_;
+    program.set("u_worldToBox", glm::inverse(item.model));
+    program.set("u_boxSize", p.size);
+    program.set("u_absorption", p.absorption);
+    program.set("u_scattering", p.scattering);
+    program.set("u_emission", p.emission);
+    program.set("u_densityScale", p.densityScale);
+    program.set("u_lightColor", p.lightColor);
+    program.set("u_lightDirection", p.lightDirection);
+    program.set("u_phase", int(p.phase));
+    program.set("u_g", p.g);
+    program.set("u_steps", p.steps);
+    program.set("u_stepLength", p.stepLength);
+    program.set("u_lightSteps", p.lightSteps);
+    program.set("u_threshold", p.earlyTermination);
+    program.set("u_integration", int(p.integration));
+    program.set("u_jitter", p.jitter ? 1 : 0);
+    program.set("u_skip", p.emptySpaceSkipping && function_.empty() ? 1 : 0);
+    glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y, g.maxSize.z);
+    program.set("u_useTransfer", g.transfer ? 1 : 0);
+    program.set("u_pixelScale", 1);
+    const unsigned depth = depthCopy_->current();
+    program.set("u_hasSceneDepth", depth ? 1 : 0);
+    r.bindTexture(kDepthUnit, depth);
+    glBindTextureUnit(kDensityUnit, g.density.get());
+    glBindTextureUnit(kDensityUnit + 1, g.densityMax.get());
+    glBindTextureUnit(kDensityUnit + 2, g.transfer.get());
+    glBindVertexArray(g.vao.get());
+    glDrawArrays(GL_TRIANGLES, 0, 36);
+}
+
+} // namespace sgfx

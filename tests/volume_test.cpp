@@ -1,0 +1,307 @@
+// VolumeNode against closed forms (lecture 12): Beer–Lambert transmittance, absorption +
+// emission, the k_a → 0 limit, the camera inside, an opaque wall inside the medium, single
+// scattering in a homogeneous box, early termination's bound, empty-space skipping and jitter
+// leaving the image as it was, phase functions' normalisation; bad input. Linear float targets,
+// 64×64.
+#include "TestUtil.h"
+
+#include <volume/VolumeNode.h>
+#include <sgfx/Group.h>
+#include <sgfx/Material.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/StateSet.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+using namespace sgfx;
+using namespace sgfx::test;
+
+namespace {
+
+constexpr int kSize = 64;
+
+// Looking along +Y from (0, −eyeDistance, 0) at the origin; linear float colour target.
+std::unique_ptr<Viewer> floatViewer(float eyeY = -5.0f) {
+    auto v = Viewer::createHeadless(kSize, kSize);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    auto& cam = *v->camera();
+    cam.setPerspective(40.0f, 0.1f, 100.0f);
+    cam.setLookAt({0, eyeY, 0}, {0, eyeY + 1.0f, 0}, {0, 0, 1});
+    cam.computeNearFar = false;
+    cam.clearColor = {0, 0, 0, 1};
+    return v;
+}
+
+// An emissive wall facing the camera at y = `y` (exact colour: no lights).
+std::shared_ptr<Node> wall(float y, glm::vec3 color) {
+    auto t = Transform::create(glm::rotate(glm::translate(glm::mat4(1.0f), {0, y, 0}), glm::radians(90.0f),
+                                           glm::vec3(1, 0, 0)));
+    auto q = shapes::quad(40, 40);
+    auto m = Material::create();
+    m->ambient = glm::vec3(0);
+    m->diffuse = glm::vec4(0, 0, 0, 1);
+    m->emissive = color;
+    q->getOrCreateStateSet().material.set(m);
+    q->getOrCreateStateSet().cullFace.set(CullFace::None);
+    t->addChild(q);
+    return t;
+}
+
+glm::vec3 centrePixel(Viewer& v) {
+    const FloatImage img = v.renderer().readPixelsLinear();
+    // The four pixels around the image centre: their rays leave the axis by half a pixel.
+    glm::vec3 sum(0.0f);
+    for (int y = kSize / 2 - 1; y <= kSize / 2; ++y)
+        for (int x = kSize / 2 - 1; x <= kSize / 2; ++x) {
+            const float* p = &img.rgba[(std::size_t(y) * kSize + x) * 4];
+            sum += glm::vec3(p[0], p[1], p[2]);
+        }
+    return sum / 4.0f;
+}
+
+VolumeParameters homogeneous(float ka, glm::vec3 ke = glm::vec3(0.0f)) {
+    VolumeParameters p;
+    p.size = glm::vec3(2.0f);
+    p.absorption = ka;
+    p.emission = ke;
+    p.earlyTermination = 1.0f;
+    return p;
+}
+
+} // namespace
+
+TEST(VolumeMath, PhaseFunctionsIntegrateToOneOverTheSphere) {
+    auto integrate = [](const std::function<double(double)>& f) {
+        // ∫ p(cos θ) dω = 2π ∫_{-1}^{1} p(μ) dμ (Simpson, 20000 intervals)
+        const int n = 20000;
+        double s = f(-1.0) + f(1.0);
+        for (int i = 1; i < n; ++i)
+            s += f(-1.0 + 2.0 * i / n) * (i % 2 ? 4.0 : 2.0);
+        return 2.0 * volume::kPi * s * (2.0 / n) / 3.0;
+    };
+    for (double g : {-0.7, 0.0, 0.3, 0.8})
+        EXPECT_NEAR(integrate([g](double mu) { return volume::henyeyGreensteinPhase(mu, g); }), 1.0, 1e-4) << g;
+    EXPECT_NEAR(integrate([](double mu) { return volume::rayleighPhase(mu); }), 1.0, 1e-9);
+    EXPECT_NEAR(integrate([](double mu) { return volume::isotropicPhase(mu); }), 1.0, 1e-12);
+    for (double mu : {-1.0, -0.2, 0.0, 0.6, 1.0})
+        EXPECT_DOUBLE_EQ(volume::henyeyGreensteinPhase(mu, 0.0), 1.0 / (4.0 * volume::kPi));
+}
+
+TEST(VolumeMath, MarchMatchesTheClosedFormAndTheLecturesSumDoesLess) {
+    const double ka = 1.3, ke = 0.7, L = 2.0;
+    auto sigma = [&](double) { return ka; };
+    auto src = [&](double) { return glm::dvec3(ke); };
+    const auto exact = volume::march(L, 64, sigma, src, volume::Integration::Exact);
+    const auto lecture = volume::march(L, 64, sigma, src, volume::Integration::Riemann);
+    EXPECT_NEAR(exact.radiance.x, volume::emitted(ka, ke, L), 1e-12);
+    EXPECT_NEAR(exact.transmittance, volume::transmittance(ka, L), 1e-12);
+    const double lectureError = std::abs(lecture.radiance.x - volume::emitted(ka, ke, L));
+    // The lecture's sum lets each sample dim its own emission: biased low by about ka·Δx/2, which
+    // for these values is already past the 1e-2 the exact steps meet with room to spare.
+    EXPECT_GT(lectureError, 5e-3);
+    EXPECT_GT(lectureError, 1e6 * std::abs(exact.radiance.x - volume::emitted(ka, ke, L)));
+    EXPECT_NEAR(volume::emitted(0.0, ke, L), ke * L, 1e-15); // the k_a → 0 limit
+}
+
+TEST(Volume, AbsorptionOnlyTransmitsBeerLambert) {
+    for (const float ka : {0.2f, 0.8f, 2.0f}) {
+        auto v = floatViewer();
+        auto root = Group::create();
+        root->addChild(wall(3.0f, glm::vec3(1.0f)));
+        root->addChild(VolumeNode::create(homogeneous(ka)));
+        v->setSceneData(root);
+        v->frame();
+        EXPECT_NEAR(centrePixel(*v).g, std::exp(-ka * 2.0), 1e-3) << "k_a " << ka;
+    }
+}
+
+TEST(Volume, AbsorptionAndEmissionMatchTheClosedFormAndTheZeroAbsorptionLimit) {
+    const glm::vec3 ke(0.1f, 0.3f, 0.5f);
+    for (const float ka : {0.0f, 1e-4f, 0.5f, 1.5f}) {
+        auto v = floatViewer();
+        auto root = Group::create();
+        root->addChild(VolumeNode::create(homogeneous(ka, ke)));
+        v->setSceneData(root);
+        v->frame();
+        const glm::vec3 px = centrePixel(*v);
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_TRUE(std::isfinite(px[c]));
+            EXPECT_NEAR(px[c], volume::emitted(ka, ke[c], 2.0), 1e-2 * std::max(1.0, volume::emitted(ka, ke[c], 2.0)))
+                << "k_a " << ka << " channel " << c;
+        }
+    }
+}
+
+TEST(Volume, CameraInsideMeasuresThePathFromTheCamera) {
+    const float ka = 0.9f;
+    const glm::vec3 ke(0.4f);
+    auto v = floatViewer(0.0f); // at the box's centre, looking along +Y: 1 m to the face
+    auto root = Group::create();
+    root->addChild(wall(3.0f, glm::vec3(1.0f)));
+    root->addChild(VolumeNode::create(homogeneous(ka, ke)));
+    v->setSceneData(root);
+    v->frame();
+    EXPECT_NEAR(centrePixel(*v).r, std::exp(-ka * 1.0) + volume::emitted(ka, ke.r, 1.0), 2e-3);
+}
+
+TEST(Volume, AnOpaqueWallInsideStopsTheMarch) {
+    const float ka = 0.7f;
+    const glm::vec3 ke(0.2f), wallColor(0.9f, 0.5f, 0.1f);
+    auto v = floatViewer();
+    auto root = Group::create();
+    root->addChild(wall(0.25f, wallColor)); // inside the box (y from −1 to 1): 1.25 m of medium
+    root->addChild(VolumeNode::create(homogeneous(ka, ke)));
+    v->setSceneData(root);
+    v->frame();
+    const glm::vec3 px = centrePixel(*v);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(px[c], wallColor[c] * std::exp(-ka * 1.25) + volume::emitted(ka, ke[c], 1.25), 2e-3) << c;
+}
+
+TEST(Volume, SingleScatteringOfAHomogeneousBox) {
+    // Light falls straight down; the centre ray runs 2 m through the box at mid height, where
+    // every point has 1 m of medium above it: L = E·p·e^(−ks·1)·(1 − e^(−ks·2)), isotropic p.
+    const float ks = 0.6f;
+    VolumeParameters p = homogeneous(0.0f);
+    p.scattering = ks;
+    p.phase = VolumePhase::Isotropic;
+    p.lightColor = glm::vec3(3.0f);
+    p.lightDirection = {0, 0, -1};
+    auto v = floatViewer();
+    v->setSceneData(VolumeNode::create(p));
+    v->frame();
+    const double expected = 3.0 / (4.0 * volume::kPi) * std::exp(-ks * 1.0) * (1.0 - std::exp(-ks * 2.0));
+    EXPECT_NEAR(centrePixel(*v).r, expected, 2e-3 * expected + 1e-4);
+}
+
+TEST(Volume, EarlyTerminationChangesThePixelByLessThanItsThreshold) {
+    for (const float threshold : {0.9f, 0.99f}) {
+        auto render = [&](float t) {
+            auto v = floatViewer();
+            auto root = Group::create();
+            root->addChild(wall(3.0f, glm::vec3(1.0f)));
+            VolumeParameters p = homogeneous(3.0f, glm::vec3(0.5f));
+            p.earlyTermination = t;
+            root->addChild(VolumeNode::create(p));
+            v->setSceneData(root);
+            v->frame();
+            return centrePixel(*v);
+        };
+        const glm::vec3 full = render(1.0f), early = render(threshold);
+        // What is left out is at most the remaining transmittance times what lies behind.
+        EXPECT_LE(std::abs(full.r - early.r), (1.0f - threshold) * std::max(1.0f, 0.5f / 3.0f) + 1e-4f);
+        EXPECT_GT(std::abs(full.r - early.r), 0.0f) << "it did stop early";
+    }
+}
+
+TEST(Volume, EmptySpaceSkippingAndJitterKeepTheImage) {
+    auto render = [](bool skip, bool jitter, bool noise) {
+        auto v = floatViewer();
+        VolumeParameters p = homogeneous(1.2f, glm::vec3(0.6f, 0.4f, 0.2f));
+        p.emptySpaceSkipping = skip;
+        p.jitter = jitter;
+        v->setSceneData(VolumeNode::create(p, noise ? VolumeGrid::noise(32, 3, 3, 0.3f) : VolumeGrid::constant(1.0f)));
+        v->frame();
+        return v->renderer().readPixelsLinear();
+    };
+    const FloatImage a = render(false, false, true), b = render(true, false, true);
+    double maxDiff = 0;
+    for (std::size_t i = 0; i < a.rgba.size(); ++i)
+        maxDiff = std::max(maxDiff, double(std::abs(a.rgba[i] - b.rgba[i])));
+    EXPECT_LT(maxDiff, 1e-5) << "skipping jumps only over exact zeros";
+    // A homogeneous medium integrated exactly per step does not depend on where samples sit.
+    const FloatImage c = render(false, false, false), d = render(false, true, false);
+    maxDiff = 0;
+    for (std::size_t i = 0; i < c.rgba.size(); ++i)
+        maxDiff = std::max(maxDiff, double(std::abs(c.rgba[i] - d.rgba[i])));
+    EXPECT_LT(maxDiff, 1e-4);
+}
+
+TEST(Volume, DensityFunctionEqualsTheSameGrid) {
+    VolumeParameters p = homogeneous(0.8f, glm::vec3(0.3f));
+    auto a = floatViewer();
+    a->setSceneData(VolumeNode::create(p, VolumeGrid::constant(0.5f)));
+    a->frame();
+    auto b = floatViewer();
+    b->setSceneData(VolumeNode::createFunction(p, "return 0.5;"));
+    b->frame();
+    EXPECT_NEAR(centrePixel(*a).r, centrePixel(*b).r, 1e-5);
+    EXPECT_NEAR(centrePixel(*a).r, volume::emitted(0.4, 0.15, 2.0), 1e-3);
+}
+
+TEST(Volume, BadInputIsRefusedWithItsReason) {
+    auto node = VolumeNode::create();
+    auto expectRefused = [&](const std::function<void()>& f, const std::string& needle) {
+        try {
+            f();
+            ADD_FAILURE() << "accepted: " << needle;
+        } catch (const std::exception& e) {
+            EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+        }
+    };
+    VolumeParameters p;
+    p.absorption = -1.0f;
+    expectRefused([&] { node->setParameters(p); }, "absorption");
+    p = {};
+    p.g = 1.0f;
+    expectRefused([&] { node->setParameters(p); }, "g");
+    p = {};
+    p.steps = 0;
+    expectRefused([&] { node->setParameters(p); }, "steps");
+    p = {};
+    p.size.y = std::numeric_limits<float>::quiet_NaN();
+    expectRefused([&] { node->setParameters(p); }, "size");
+    p = {};
+    p.lightDirection = glm::vec3(0.0f);
+    expectRefused([&] { node->setParameters(p); }, "lightDirection");
+    VolumeGrid g = VolumeGrid::constant(1.0f);
+    g.values[3] = -2.0f;
+    expectRefused([&] { node->setGrid(g); }, "voxel 3");
+    g = VolumeGrid::constant(1.0f);
+    g.values.pop_back();
+    expectRefused([&] { node->setGrid(g); }, "7 values for 8 voxels");
+    const auto raw = std::filesystem::temp_directory_path() / "sgfx_volume_short.raw";
+    {
+        std::ofstream f(raw, std::ios::binary);
+        f << "abc";
+    }
+    expectRefused([&] { (void)VolumeGrid::loadRaw(raw, {2, 2, 2}, VolumeGrid::Format::R8); }, "the file has 3");
+    expectRefused([&] { (void)VolumeGrid::loadRaw("/nonexistent.raw", {2, 2, 2}, VolumeGrid::Format::R8); },
+                  "cannot open");
+    std::filesystem::remove(raw);
+    expectRefused([&] { (void)VolumeNode::createFunction({}, "  "); }, "empty");
+    EXPECT_EQ(node->parameters().absorption, 1.0f); // kept
+}
+
+TEST(Volume, RawFileLoadsEachFormat) {
+    const auto raw = std::filesystem::temp_directory_path() / "sgfx_volume.raw";
+    {
+        std::ofstream f(raw, std::ios::binary);
+        const float v[8] = {0, 0.5f, 1, 2, 0, 0, 0, 3};
+        f.write(reinterpret_cast<const char*>(v), sizeof v);
+    }
+    const VolumeGrid g = VolumeGrid::loadRaw(raw, {2, 2, 2}, VolumeGrid::Format::R32F);
+    EXPECT_EQ(g.values[3], 2.0f);
+    EXPECT_EQ(g.values[7], 3.0f);
+    {
+        std::ofstream f(raw, std::ios::binary);
+        const unsigned char b[8] = {0, 51, 255, 0, 0, 0, 0, 102};
+        f.write(reinterpret_cast<const char*>(b), sizeof b);
+    }
+    EXPECT_FLOAT_EQ(VolumeGrid::loadRaw(raw, {2, 2, 2}, VolumeGrid::Format::R8).values[1], 0.2f);
+    {
+        std::ofstream f(raw, std::ios::binary);
+        const std::uint16_t h[8] = {0x3c00, 0x3800, 0, 0, 0, 0, 0, 0x4000}; // 1, 0.5, ..., 2
+        f.write(reinterpret_cast<const char*>(h), sizeof h);
+    }
+    const VolumeGrid half = VolumeGrid::loadRaw(raw, {2, 2, 2}, VolumeGrid::Format::R16F);
+    EXPECT_EQ(half.values[0], 1.0f);
+    EXPECT_EQ(half.values[1], 0.5f);
+    EXPECT_EQ(half.values[7], 2.0f);
+    std::filesystem::remove(raw);
+}
