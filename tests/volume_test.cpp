@@ -222,6 +222,45 @@ TEST(Volume, EmptySpaceSkippingAndJitterKeepTheImage) {
     EXPECT_LT(maxDiff, 1e-4);
 }
 
+TEST(Volume, HalfResolutionMatchesFullInsideAndRespectsAWallInFront) {
+    auto render = [](bool half) {
+        auto v = floatViewer();
+        auto root = Group::create();
+        root->addChild(wall(3.0f, glm::vec3(1.0f)));
+        // A narrow opaque post in front of the box's left half: its pixels must stay its colour.
+        auto post = Transform::create(glm::translate(glm::mat4(1.0f), {-0.6f, -2.0f, 0.0f}) *
+                                      glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1, 0, 0)));
+        auto q = shapes::quad(0.4f, 4.0f);
+        auto m = Material::create();
+        m->ambient = glm::vec3(0);
+        m->diffuse = glm::vec4(0, 0, 0, 1);
+        m->emissive = glm::vec3(0.0f, 1.0f, 0.0f);
+        q->getOrCreateStateSet().material.set(m);
+        q->getOrCreateStateSet().cullFace.set(CullFace::None);
+        post->addChild(q);
+        root->addChild(post);
+        VolumeParameters p = homogeneous(0.8f, glm::vec3(0.5f, 0.2f, 0.1f));
+        p.halfResolution = half;
+        root->addChild(VolumeNode::create(p));
+        v->setSceneData(root);
+        v->frame();
+        return v->renderer().readPixelsLinear();
+    };
+    const FloatImage full = render(false), half = render(true);
+    auto at = [](const FloatImage& img, int x, int y, int c) { return img.rgba[(std::size_t(y) * kSize + x) * 4 + c]; };
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(at(half, kSize / 2 + 4, kSize / 2, c), at(full, kSize / 2 + 4, kSize / 2, c), 2e-3) << c;
+    // Every pixel of the post (pure green in the full image) stays green: no smoke bleeds onto it.
+    int postPixels = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+            if (at(full, x, y, 1) > 0.99f && at(full, x, y, 0) < 0.01f) {
+                ++postPixels;
+                EXPECT_LT(at(half, x, y, 0), 0.02f) << x << "," << y;
+            }
+    EXPECT_GT(postPixels, 50);
+}
+
 TEST(Volume, DensityFunctionEqualsTheSameGrid) {
     VolumeParameters p = homogeneous(0.8f, glm::vec3(0.3f));
     auto a = floatViewer();

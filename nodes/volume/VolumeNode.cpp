@@ -2,6 +2,7 @@
 
 #include "ParameterChecks.h"
 #include "SceneDepthCopy.h"
+#include "TargetCache.h"
 
 #include <sgfx/Image.h>
 #include <sgfx/Renderer.h>
@@ -40,12 +41,13 @@ std::string expandIncludes(std::string_view file) {
     return src;
 }
 
-BaseShader makeShader(const std::string& function) {
+BaseShader makeShader(const std::string& function, bool half) {
     std::string fragment = expandIncludes("volume_march.frag");
     const auto eol = fragment.find('\n');
     std::string defines = "#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) +
                           "\n#define SGFX_VOLUME_DENSITY_UNIT " + std::to_string(kDensityUnit) + "\n";
-    std::string name = "volume";
+    std::string name = half ? "volume_half" : "volume";
+    if (half) defines += "#define SGFX_VOLUME_HALF\n";
     if (!function.empty()) {
         defines += "#define SGFX_VOLUME_FUNCTION\n";
         name += "_fn" + std::to_string(std::hash<std::string>{}(function));
@@ -222,6 +224,14 @@ struct VolumeNode::Gpu {
     gl::TextureObject density, densityMax, transfer;
     gl::VertexArrayObject vao;
     glm::ivec3 maxSize{1};
+    // Half resolution: premultiplied colour and the linear depth where each ray stopped.
+    struct Half {
+        int width = 0, height = 0;
+        gl::TextureObject color, depth;
+        gl::FramebufferObject fbo;
+        std::uint64_t lastUse = 0;
+    };
+    nodes::TargetCache<Half> half;
 };
 
 // ---------------------------------------------------------------- node
@@ -247,7 +257,8 @@ VolumeNode::VolumeNode(const VolumeParameters& p, VolumeGrid grid, std::string f
     parameters_ = p;
     parameters_.lightDirection = glm::normalize(p.lightDirection);
     grid_ = std::move(grid);
-    shader_ = makeShader(function_);
+    shader_ = makeShader(function_, false);
+    halfShader_ = makeShader(function_, true);
 }
 
 VolumeNode::~VolumeNode() = default;
@@ -285,7 +296,7 @@ void VolumeNode::setTransferFunction(std::shared_ptr<Image> ramp) {
 }
 
 const BaseShader& VolumeNode::baseShader() const {
-    return shader_;
+    return parameters_.halfResolution ? halfShader_ : shader_;
 }
 
 BoundingSphere VolumeNode::computeBound() const {
@@ -378,7 +389,6 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     program.set("u_skip", p.emptySpaceSkipping && function_.empty() ? 1 : 0);
     glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y, g.maxSize.z);
     program.set("u_useTransfer", g.transfer ? 1 : 0);
-    program.set("u_pixelScale", 1);
     const unsigned depth = depthCopy_->current();
     program.set("u_hasSceneDepth", depth ? 1 : 0);
     r.bindTexture(kDepthUnit, depth);
@@ -386,7 +396,52 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     glBindTextureUnit(kDensityUnit + 1, g.densityMax.get());
     glBindTextureUnit(kDensityUnit + 2, g.transfer.get());
     glBindVertexArray(g.vao.get());
+    if (!p.halfResolution || !depth) {
+        program.set("u_pixelScale", 1);
+        glDrawArrays(GL_TRIANGLES, 0, 36);
+        return;
+    }
+    // Half resolution: march into a half-size target, then upsample onto the view by depth.
+    const gl::RenderTarget& view = r.currentTarget();
+    const int w = std::max(1, view.width / 2), h = std::max(1, view.height / 2);
+    Gpu::Half& half = g.half.get(
+        r.frame().frameNumber, [&](const Gpu::Half& e) { return e.width == w && e.height == h; },
+        [&](Gpu::Half& e) {
+            e.width = w;
+            e.height = h;
+            e.color = gl::createTexture2D(GL_RGBA16F, w, h);
+            e.depth = gl::createTexture2D(GL_R32F, w, h);
+            e.fbo = gl::createFramebuffer();
+            glNamedFramebufferTexture(e.fbo.get(), GL_COLOR_ATTACHMENT0, e.color.get(), 0);
+            glNamedFramebufferTexture(e.fbo.get(), GL_COLOR_ATTACHMENT1, e.depth.get(), 0);
+            const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+            glNamedFramebufferDrawBuffers(e.fbo.get(), 2, buffers);
+        });
+    GLint previous = 0, viewport[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, half.fbo.get());
+    glViewport(0, 0, w, h);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, zero);
+    glClearBufferfv(GL_COLOR, 1, zero);
+    program.set("u_pixelScale", 2);
+    glDisable(GL_BLEND); // one back face per pixel: written, not blended
     glDrawArrays(GL_TRIANGLES, 0, 36);
+    glEnable(GL_BLEND);  // the renderer's premultiplied blending, for the composite
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous));
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    static const std::string units = "#define SGFX_VOLUME_HALF_UNIT " + std::to_string(kDensityUnit) +
+                                     "\n#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) + "\n";
+    static const BaseShader upsample{"volume_upsample", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
+                                     "volume_upsample.frag", [] {
+                                         std::string f = nodes::shaderText("volume_upsample.frag");
+                                         const auto eol = f.find('\n');
+                                         return f.substr(0, eol + 1) + units + f.substr(eol + 1);
+                                     }()};
+    glBindTextureUnit(kDensityUnit, half.color.get());
+    glBindTextureUnit(kDensityUnit + 1, half.depth.get());
+    r.drawFullscreen(r.composer().program(upsample, {}, 0));
 }
 
 } // namespace sgfx

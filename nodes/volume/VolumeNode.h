@@ -61,6 +61,7 @@ struct VolumeParameters {
     volume::Integration integration = volume::Integration::Exact;
     bool jitter = false;            // random start per pixel: banding becomes noise
     bool emptySpaceSkipping = true; // jump over coarse cells whose maximum density is 0
+    bool halfResolution = false;    // march at half size, then a depth-aware upsample
 
     // Throws std::invalid_argument naming the field and its range.
     void validate() const;
@@ -101,7 +102,7 @@ private:
     VolumeGrid grid_;
     std::string function_;
     std::shared_ptr<Image> transfer_;
-    BaseShader shader_;
+    BaseShader shader_, halfShader_;
     mutable std::unique_ptr<Gpu> gpu_;
     mutable bool gridDirty_ = true;
     std::shared_ptr<nodes::SceneDepthCopy> depthCopy_;

@@ -69,13 +69,15 @@ void main() {
         ivec2 px = ivec2(gl_FragCoord.xy) * u_pixelScale;
         float z = texelFetch(u_sceneDepth, px, 0).r;
         if (u_pixelScale > 1) {
-            // The nearest of the block's depths: the ray never passes a surface it covers.
-            z = min(z, texelFetch(u_sceneDepth, px + ivec2(1, 0), 0).r);
-            z = min(z, texelFetch(u_sceneDepth, px + ivec2(0, 1), 0).r);
-            z = min(z, texelFetch(u_sceneDepth, px + ivec2(1, 1), 0).r);
+            // The farthest of the block's depths: the upsampling keeps what lies beyond a nearer
+            // surface from bleeding onto it.
+            ivec2 last = textureSize(u_sceneDepth, 0) - 1;
+            z = max(z, texelFetch(u_sceneDepth, min(px + ivec2(1, 0), last), 0).r);
+            z = max(z, texelFetch(u_sceneDepth, min(px + ivec2(0, 1), last), 0).r);
+            z = max(z, texelFetch(u_sceneDepth, min(px + ivec2(1, 1), last), 0).r);
         }
         if (z < 1.0) {
-            vec2 ndcXY = (vec2(px) + 0.5 * float(u_pixelScale)) / (sgfx_viewport.zw * float(u_pixelScale)) * 2.0 - 1.0;
+            vec2 ndcXY = (vec2(px) + 0.5 * float(u_pixelScale)) / sgfx_viewport.zw * 2.0 - 1.0;
             vec4 w = sgfx_invViewProjection * vec4(ndcXY, z * 2.0 - 1.0, 1.0);
             tmax = min(tmax, distance(eye, w.xyz / w.w));
         }
