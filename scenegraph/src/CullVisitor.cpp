@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace sgfx {
 
@@ -182,6 +183,24 @@ void CullVisitor::apply(Geometry& g) {
 }
 
 void CullVisitor::apply(Drawable& d) {
+    if (d.background()) {
+        pushState(d);
+        RenderItem item;
+        item.drawable = &d;
+        item.features = d.features(*state_.back());
+        item.model = model_.back();
+        item.state = state_.back();
+        item.effectSet = effectSet_.back();
+        item.depth = std::numeric_limits<float>::max();
+        item.depthBucket = 127; // after every other opaque item
+        item.sequence = sequence_++;
+        item.programKey = (std::uint64_t(reinterpret_cast<std::uintptr_t>(&d.baseShader()) | 1u) << 8) ^
+                          (std::uint64_t(item.features) << 32);
+        if (plan_ && plannedDrawables_.insert(&d).second) d.planFrame(*plan_);
+        queue_.opaque.push_back(item);
+        popState(d);
+        return;
+    }
     // Its own world bound (content in world space may lie far from its parent's frame).
     const BoundingSphere world = d.worldBound(model_.back());
     if (!world.valid()) {

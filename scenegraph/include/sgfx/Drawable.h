@@ -39,6 +39,9 @@ public:
     // Issues its draw calls. `program` is bound with the effects' uniforms, the material's and
     // the state's set; `item.model` is its world matrix.
     virtual void draw(Renderer& renderer, gl::Program& program, const RenderItem& item) const = 0;
+    // A background (sky, star field): never frustum-culled, left out of the near/far computation,
+    // queued after every other opaque item (it draws only where nothing else did).
+    virtual bool background() const { return false; }
     // For FrameStats::triangles.
     virtual std::size_t triangleCount() const { return 0; }
     // Drops its GPU objects (the context is current): ReleaseVisitor, Viewer teardown.

@@ -1,0 +1,135 @@
+#include "sky/SkyNode.h"
+
+#include "ParameterChecks.h"
+#include "fog/FogNode.h"
+
+#include <sgfx/Renderer.h>
+#include <sgfx/StateSet.h>
+#include <sgfx/Visitors.h>
+#include <sgfx/gl/Objects.h>
+
+#include <glad/gl.h>
+
+#include <cmath>
+
+namespace sgfx {
+
+namespace {
+
+void check(const char* name, float v, double lo, double hi, bool openLow = false) {
+    nodes::checkRange("SkyParameters", name, v, lo, hi, openLow);
+}
+
+const BaseShader& skyShader() {
+    static const BaseShader base = [] {
+        std::string vertex(ShaderComposer::fullscreenVertex());
+        vertex.insert(vertex.find('\n') + 1, "#define SGFX_FULLSCREEN_FAR\n");
+        std::string fragment = nodes::shaderText("sky.frag");
+        const std::string include = "#include \"sky_scattering.glsl\"";
+        fragment.replace(fragment.find(include), include.size(), nodes::shaderText("sky_scattering.glsl"));
+        return BaseShader{"sky", "blit.vert", std::move(vertex), "sky.frag", std::move(fragment)};
+    }();
+    return base;
+}
+
+} // namespace
+
+SkyParameters SkyParameters::atTime(float hours, float latitudeDegrees, int dayOfYear) {
+    SkyParameters p;
+    p.sunDirection = sky::sunDirection(hours, latitudeDegrees, dayOfYear);
+    return p;
+}
+
+void SkyParameters::validate() const {
+    for (int i = 0; i < 3; ++i) check("sunDirection", sunDirection[i], -1e6, 1e6);
+    if (!(glm::length(sunDirection) > 0.0f)) nodes::refuse("SkyParameters", "sunDirection must not be zero");
+    check("sunIntensity", sunIntensity, 0.0, 1e6);
+    check("sunDiscRadiance", sunDiscRadiance, 0.0, 1e9);
+    check("sunAngularRadius", sunAngularRadius, 0.0, 0.5);
+    check("altitude", altitude, -1e4, 1e5);
+    const sky::Atmosphere& a = atmosphere;
+    check("atmosphere.planetRadius", a.planetRadius, 1.0, 1e9, true);
+    check("atmosphere.atmosphereRadius", a.atmosphereRadius, a.planetRadius, 1e9, true);
+    for (int i = 0; i < 3; ++i) check("atmosphere.rayleigh", a.rayleigh[i], 0.0, 1.0);
+    check("atmosphere.rayleighHeight", a.rayleighHeight, 0.0, 1e6, true);
+    check("atmosphere.mie", a.mie, 0.0, 1.0);
+    check("atmosphere.mieHeight", a.mieHeight, 0.0, 1e6, true);
+    check("atmosphere.mieG", a.mieG, -0.999, 0.999);
+    check("atmosphere.mieExtinction", a.mieExtinction, 1.0, 10.0);
+    if (steps < 1 || steps > 256) nodes::refuse("SkyParameters", "steps = " + std::to_string(steps) + " is outside [1, 256]");
+    if (lightSteps < 1 || lightSteps > 64)
+        nodes::refuse("SkyParameters", "lightSteps = " + std::to_string(lightSteps) + " is outside [1, 64]");
+}
+
+std::shared_ptr<SkyNode> SkyNode::create(const SkyParameters& p) {
+    auto n = std::make_shared<SkyNode>(p);
+    n->name = "sky";
+    auto state = std::make_shared<StateSet>();
+    // On the far plane: only where nothing was drawn (the depth buffer still holds 1).
+    state->depth.set(DepthState{.test = true, .write = false, .func = CompareFunc::LessEqual});
+    state->cullFace.set(CullFace::None);
+    n->setStateSet(state);
+    return n;
+}
+
+SkyNode::SkyNode(const SkyParameters& p) {
+    setParameters(p);
+}
+
+void SkyNode::setParameters(const SkyParameters& p) {
+    p.validate();
+    parameters_ = p;
+    parameters_.sunDirection = glm::normalize(p.sunDirection);
+}
+
+void SkyNode::attachFog(std::shared_ptr<FogNode> fog) {
+    fog_ = fog;
+}
+
+glm::vec3 SkyNode::horizonColor() const {
+    const SkyParameters& p = parameters_;
+    glm::vec3 sum(0.0f);
+    const float el = glm::radians(1.0f);
+    for (int i = 0; i < 8; ++i) {
+        const float az = float(i) * glm::radians(45.0f);
+        const glm::vec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+        sum += sky::skyRadiance(p.atmosphere, dir, p.sunDirection, p.sunIntensity, p.altitude, p.steps, p.lightSteps);
+    }
+    return sum / 8.0f;
+}
+
+void SkyNode::update(UpdateVisitor&) {
+    auto fog = fog_.lock();
+    if (!fog) return;
+    FogParameters fp = fog->parameters();
+    fp.color = glm::min(horizonColor(), glm::vec3(1e6f));
+    fp.sky = FogSky::Off;
+    fog->setParameters(fp);
+}
+
+const BaseShader& SkyNode::baseShader() const {
+    return skyShader();
+}
+
+void SkyNode::draw(Renderer& r, gl::Program& program, const RenderItem&) const {
+    const SkyParameters& p = parameters_;
+    const sky::Atmosphere& a = p.atmosphere;
+    program.set("u_sunDirection", p.sunDirection);
+    program.set("u_sunIntensity", p.sunIntensity);
+    program.set("u_altitude", p.altitude + r.frame().eye.z);
+    program.set("u_planetRadius", a.planetRadius);
+    program.set("u_atmosphereRadius", a.atmosphereRadius);
+    program.set("u_rayleigh", a.rayleigh);
+    program.set("u_rayleighHeight", a.rayleighHeight);
+    program.set("u_mie", a.mie);
+    program.set("u_mieHeight", a.mieHeight);
+    program.set("u_mieG", a.mieG);
+    program.set("u_mieExtinction", a.mieExtinction);
+    program.set("u_steps", p.steps);
+    program.set("u_lightSteps", p.lightSteps);
+    program.set("u_sunCosRadius", std::cos(p.sunAngularRadius));
+    program.set("u_sunDiscRadiance", p.sunDiscRadiance);
+    r.drawFullscreen(program, DepthState{.test = true, .write = false, .func = CompareFunc::LessEqual});
+}
+
+} // namespace sgfx

@@ -1,0 +1,134 @@
+// SkyNode against its CPU mirror (SkyMath.h): sky pixels along known directions, the sun's
+// disc, the blue noon and red sunset, geometry hiding the sky, the fog taking the horizon colour.
+#include "TestUtil.h"
+
+#include <fog/FogNode.h>
+#include <sky/SkyNode.h>
+#include <sgfx/Group.h>
+#include <sgfx/Material.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/StateSet.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+using namespace sgfx;
+using namespace sgfx::test;
+
+namespace {
+constexpr int kSize = 64;
+
+std::unique_ptr<Viewer> skyViewer(glm::vec3 look) {
+    auto v = Viewer::createHeadless(kSize, kSize);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    auto& cam = *v->camera();
+    cam.setPerspective(60.0f, 0.1f, 1000.0f);
+    cam.setLookAt({0, 0, 2}, glm::vec3(0, 0, 2) + look, std::abs(look.z) > 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1));
+    cam.clearColor = {0, 0, 0, 1};
+    return v;
+}
+
+// Pixel (x, y) (top row first) and its view ray.
+glm::vec3 pixel(Viewer& v, int x, int y) {
+    const FloatImage img = v.renderer().readPixelsLinear();
+    const float* p = &img.rgba[(std::size_t(y) * kSize + x) * 4];
+    return {p[0], p[1], p[2]};
+}
+glm::vec3 rayOf(Viewer& v, int x, int y) {
+    const Camera& c = *v.camera();
+    const glm::mat4 inv = glm::inverse(c.projectionMatrix * c.viewMatrix);
+    const glm::vec4 ndc((x + 0.5f) / kSize * 2 - 1, 1 - (y + 0.5f) / kSize * 2, 1, 1);
+    const glm::vec4 w = inv * ndc;
+    return glm::normalize(glm::vec3(w) / w.w - glm::vec3(0, 0, 2));
+}
+} // namespace
+
+TEST(Sky, PixelsMatchTheCpuIntegral) {
+    for (const float hours : {7.0f, 12.0f, 19.5f}) {
+        const SkyParameters p = SkyParameters::atTime(hours);
+        auto v = skyViewer(glm::normalize(glm::vec3(p.sunDirection.x, p.sunDirection.y, 0.3f)));
+        v->setSceneData(SkyNode::create(p));
+        v->frame();
+        for (const glm::ivec2 at : {glm::ivec2(5, 5), glm::ivec2(32, 20), glm::ivec2(50, 60)}) {
+            const glm::vec3 expected =
+                sky::skyRadiance(p.atmosphere, rayOf(*v, at.x, at.y), p.sunDirection, p.sunIntensity, 2.0f);
+            const glm::vec3 got = pixel(*v, at.x, at.y);
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(got[c], expected[c], 2e-3 * expected[c] + 1e-5) << hours << "h pixel " << at.x << ","
+                                                                           << at.y << " channel " << c;
+        }
+    }
+}
+
+TEST(Sky, NoonIsBlueOverheadAndTheSunsetHorizonIsRed) {
+    sky::Atmosphere a;
+    const glm::vec3 noonSun = glm::normalize(glm::vec3(0, 0.3f, 1));
+    const glm::vec3 zenith = sky::skyRadiance(a, {0, 0, 1}, noonSun, 20.0f, 0.0f);
+    EXPECT_GT(zenith.b, 1.5f * zenith.r);
+    const glm::vec3 lowSun = glm::normalize(glm::vec3(0, 1, 0.02f));
+    const glm::vec3 horizon = sky::skyRadiance(a, glm::normalize(glm::vec3(0, 1, 0.03f)), lowSun, 20.0f, 0.0f);
+    EXPECT_GT(horizon.r, horizon.b);
+    // Night: the sun below the horizon leaves the sky far darker.
+    const glm::vec3 night = sky::skyRadiance(a, {0, 0, 1}, glm::normalize(glm::vec3(0, 1, -0.3f)), 20.0f, 0.0f);
+    EXPECT_LT(night.b, 0.05f * zenith.b);
+}
+
+TEST(Sky, SunDiscAndGeometryInFront) {
+    SkyParameters p;
+    p.sunDirection = glm::normalize(glm::vec3(0, 1, 0.2f));
+    p.sunAngularRadius = 0.05f; // large enough to cover pixels at 60° over 64 px
+    auto v = skyViewer(p.sunDirection);
+    auto root = Group::create();
+    root->addChild(SkyNode::create(p));
+    // An opaque black quad over the left part of the view, 20 m away.
+    auto t = Transform::create(glm::translate(glm::mat4(1.0f), {-14.0f, 20.0f, 4.0f}) *
+                               glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1, 0, 0)));
+    auto q = shapes::quad(20, 40);
+    auto m = Material::create();
+    m->ambient = glm::vec3(0);
+    m->diffuse = glm::vec4(0, 0, 0, 1);
+    q->getOrCreateStateSet().material.set(m);
+    q->getOrCreateStateSet().cullFace.set(CullFace::None);
+    t->addChild(q);
+    root->addChild(t);
+    v->setSceneData(root);
+    v->frame();
+    EXPECT_GT(pixel(*v, 32, 32).r, 10.0f * pixel(*v, 50, 10).r) << "the disc is far brighter than the sky";
+    EXPECT_EQ(pixel(*v, 2, 32), glm::vec3(0.0f)) << "the quad hides the sky";
+    EXPECT_GT(pixel(*v, 62, 32).b, 0.0f);
+}
+
+TEST(Sky, DrivesTheFogColourAndFogLeavesTheSkyAlone) {
+    auto v = skyViewer({0, 1, 0.1f});
+    auto fog = FogNode::create(FogParameters::ground());
+    auto sky = SkyNode::create(SkyParameters::atTime(18.0f));
+    sky->attachFog(fog);
+    fog->addChild(sky);
+    v->setSceneData(fog);
+    v->frame();
+    const glm::vec3 h = sky->horizonColor();
+    EXPECT_NEAR(fog->parameters().color.r, h.r, 1e-6f);
+    EXPECT_NEAR(fog->parameters().color.b, h.b, 1e-6f);
+    EXPECT_EQ(fog->parameters().sky, FogSky::Off);
+    // The sky pixels are the sky's own (not fogged a second time).
+    const glm::vec3 expected = sky::skyRadiance(sky->parameters().atmosphere, rayOf(*v, 32, 10),
+                                                sky->parameters().sunDirection, 20.0f, 2.0f);
+    EXPECT_NEAR(pixel(*v, 32, 10).g, expected.g, 2e-3 * expected.g + 1e-5);
+}
+
+TEST(Sky, BadParametersAreRefused) {
+    auto sky = SkyNode::create();
+    SkyParameters p;
+    p.sunDirection = glm::vec3(0.0f);
+    EXPECT_THROW(sky->setParameters(p), std::invalid_argument);
+    p = {};
+    p.atmosphere.atmosphereRadius = p.atmosphere.planetRadius;
+    EXPECT_THROW(sky->setParameters(p), std::invalid_argument);
+    p = {};
+    p.steps = 0;
+    EXPECT_THROW(sky->setParameters(p), std::invalid_argument);
+    p = {};
+    p.atmosphere.mieG = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(sky->setParameters(p), std::invalid_argument);
+    EXPECT_EQ(sky->parameters().steps, 16);
+}
