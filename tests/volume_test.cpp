@@ -5,6 +5,7 @@
 // 64×64.
 #include "TestUtil.h"
 
+#include <fog/FogNode.h>
 #include <volume/VolumeNode.h>
 #include <sgfx/Group.h>
 #include <sgfx/Material.h>
@@ -259,6 +260,42 @@ TEST(Volume, HalfResolutionMatchesFullInsideAndRespectsAWallInFront) {
                 EXPECT_LT(at(half, x, y, 0), 0.02f) << x << "," << y;
             }
     EXPECT_GT(postPixels, 50);
+}
+
+TEST(Volume, SlicingApproachesTheClosedForms) {
+    const float ka = 0.8f;
+    const glm::vec3 ke(0.3f);
+    auto v = floatViewer();
+    auto root = Group::create();
+    root->addChild(wall(3.0f, glm::vec3(1.0f)));
+    VolumeParameters p = homogeneous(ka, ke);
+    p.method = VolumeMethod::Slicing;
+    p.slices = 256;
+    root->addChild(VolumeNode::create(p));
+    v->setSceneData(root);
+    v->frame();
+    // Slices cut at most one spacing off each end of the path: about σ·spacing of relative error.
+    const double expected = std::exp(-ka * 2.0) + volume::emitted(ka, ke.r, 2.0);
+    EXPECT_NEAR(centrePixel(*v).r, expected, 3e-2 * expected);
+}
+
+TEST(Volume, FogAppliesUpToWhereTheMediumStarts) {
+    const float ka = 0.5f, rho = 0.05f;
+    const glm::vec3 ke(0.4f), fogColor(0.2f, 0.4f, 0.8f);
+    auto v = floatViewer();
+    FogParameters fp;
+    fp.density = rho;
+    fp.falloff = 0.0f;
+    fp.color = fogColor;
+    fp.sky = FogSky::Off;
+    auto fog = FogNode::create(fp);
+    fog->addChild(VolumeNode::create(homogeneous(ka, ke)));
+    v->setSceneData(fog);
+    v->frame();
+    // Premultiplied: c·(1 − k) + fog·α·k with k = 1 − e^(−ρ·4) (the medium starts 4 m away).
+    const double k = 1.0 - std::exp(-rho * 4.0), alpha = 1.0 - std::exp(-ka * 2.0);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(centrePixel(*v)[c], volume::emitted(ka, ke[c], 2.0) * (1 - k) + fogColor[c] * alpha * k, 3e-3) << c;
 }
 
 TEST(Volume, DensityFunctionEqualsTheSameGrid) {

@@ -41,12 +41,12 @@ std::string expandIncludes(std::string_view file) {
     return src;
 }
 
-BaseShader makeShader(const std::string& function, bool half) {
-    std::string fragment = expandIncludes("volume_march.frag");
+BaseShader makeShader(const std::string& function, bool half, bool slices = false) {
+    std::string fragment = expandIncludes(slices ? "volume_slice.frag" : "volume_march.frag");
     const auto eol = fragment.find('\n');
     std::string defines = "#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) +
                           "\n#define SGFX_VOLUME_DENSITY_UNIT " + std::to_string(kDensityUnit) + "\n";
-    std::string name = half ? "volume_half" : "volume";
+    std::string name = slices ? "volume_slices" : half ? "volume_half" : "volume";
     if (half) defines += "#define SGFX_VOLUME_HALF\n";
     if (!function.empty()) {
         defines += "#define SGFX_VOLUME_FUNCTION\n";
@@ -54,6 +54,9 @@ BaseShader makeShader(const std::string& function, bool half) {
         fragment += "\nfloat volumeDensity(vec3 uvw) {\n" + function + "\n}\n";
     }
     fragment.insert(eol + 1, defines);
+    if (slices)
+        return BaseShader{name, "volume_slice.vert", nodes::shaderText("volume_slice.vert"), "volume_slice.frag",
+                          std::move(fragment)};
     return BaseShader{name, "volume_box.vert", nodes::shaderText("volume_box.vert"), "volume_march.frag",
                       std::move(fragment)};
 }
@@ -215,6 +218,10 @@ void VolumeParameters::validate() const {
     check("earlyTermination", earlyTermination, 0.0, 1.0, true);
     if (std::uint8_t(phase) > std::uint8_t(VolumePhase::Rayleigh))
         nodes::refuse("VolumeParameters", "phase has an invalid value " + std::to_string(int(phase)));
+    if (slices < 2 || slices > 4096)
+        nodes::refuse("VolumeParameters", "slices = " + std::to_string(slices) + " is outside [2, 4096]");
+    if (std::uint8_t(method) > std::uint8_t(VolumeMethod::Slicing))
+        nodes::refuse("VolumeParameters", "method has an invalid value " + std::to_string(int(method)));
     if (std::uint8_t(integration) > std::uint8_t(volume::Integration::Riemann))
         nodes::refuse("VolumeParameters", "integration has an invalid value " + std::to_string(int(integration)));
 }
@@ -232,7 +239,58 @@ struct VolumeNode::Gpu {
         std::uint64_t lastUse = 0;
     };
     nodes::TargetCache<Half> half;
+    gl::BufferObject sliceVertices;
+    gl::VertexArrayObject sliceVao;
+    std::size_t sliceCapacity = 0;
 };
+
+namespace {
+// Polygons where planes perpendicular to `normal` (world) cut the box, farthest first, as
+// triangles in the box frame; `spacing` returns the distance between planes (world metres).
+std::vector<glm::vec3> slicePolygons(const glm::mat4& model, glm::vec3 size, glm::vec3 normal, int count,
+                                     float& spacing) {
+    const glm::vec3 nb = glm::transpose(glm::mat3(model)) * normal; // plane normal in the box frame
+    const float offset = glm::dot(normal, glm::vec3(model[3]));
+    glm::vec3 corners[8];
+    float lo = 1e30f, hi = -1e30f;
+    for (int c = 0; c < 8; ++c) {
+        corners[c] = (glm::vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1) - 0.5f) * size;
+        const float s = glm::dot(nb, corners[c]) + offset;
+        lo = std::min(lo, s);
+        hi = std::max(hi, s);
+    }
+    spacing = (hi - lo) / float(count);
+    static const int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                     {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+    const glm::vec3 u = glm::normalize(glm::abs(nb.x) < 0.9f ? glm::cross(nb, glm::vec3(1, 0, 0))
+                                                             : glm::cross(nb, glm::vec3(0, 1, 0)));
+    const glm::vec3 v = glm::cross(nb, u);
+    std::vector<glm::vec3> out;
+    for (int k = 0; k < count; ++k) {
+        const float s = hi - (float(k) + 0.5f) * spacing;
+        glm::vec3 pts[6];
+        int n = 0;
+        for (const auto& e : edges) {
+            const float fa = glm::dot(nb, corners[e[0]]) + offset - s, fb = glm::dot(nb, corners[e[1]]) + offset - s;
+            if ((fa < 0) != (fb < 0) && n < 6) pts[n++] = corners[e[0]] + (corners[e[1]] - corners[e[0]]) * (fa / (fa - fb));
+        }
+        if (n < 3) continue;
+        glm::vec3 centre(0.0f);
+        for (int i = 0; i < n; ++i) centre += pts[i];
+        centre /= float(n);
+        std::sort(pts, pts + n, [&](const glm::vec3& a, const glm::vec3& b) {
+            return std::atan2(glm::dot(a - centre, v), glm::dot(a - centre, u)) <
+                   std::atan2(glm::dot(b - centre, v), glm::dot(b - centre, u));
+        });
+        for (int i = 1; i + 1 < n; ++i) {
+            out.push_back(pts[0]);
+            out.push_back(pts[i]);
+            out.push_back(pts[i + 1]);
+        }
+    }
+    return out;
+}
+} // namespace
 
 // ---------------------------------------------------------------- node
 std::shared_ptr<VolumeNode> VolumeNode::create(const VolumeParameters& p, VolumeGrid grid) {
@@ -259,6 +317,7 @@ VolumeNode::VolumeNode(const VolumeParameters& p, VolumeGrid grid, std::string f
     grid_ = std::move(grid);
     shader_ = makeShader(function_, false);
     halfShader_ = makeShader(function_, true);
+    sliceShader_ = makeShader(function_, false, true);
 }
 
 VolumeNode::~VolumeNode() = default;
@@ -296,6 +355,7 @@ void VolumeNode::setTransferFunction(std::shared_ptr<Image> ramp) {
 }
 
 const BaseShader& VolumeNode::baseShader() const {
+    if (parameters_.method == VolumeMethod::Slicing) return sliceShader_;
     return parameters_.halfResolution ? halfShader_ : shader_;
 }
 
@@ -395,6 +455,31 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     glBindTextureUnit(kDensityUnit, g.density.get());
     glBindTextureUnit(kDensityUnit + 1, g.densityMax.get());
     glBindTextureUnit(kDensityUnit + 2, g.transfer.get());
+    if (p.method == VolumeMethod::Slicing) {
+        const glm::mat4& view = r.frame().view;
+        const glm::vec3 forward = -glm::vec3(view[0][2], view[1][2], view[2][2]);
+        float spacing = 0.0f;
+        const std::vector<glm::vec3> tris = slicePolygons(item.model, p.size, forward, p.slices, spacing);
+        if (tris.empty()) return;
+        if (!g.sliceVao || g.sliceCapacity < tris.size()) {
+            g.sliceCapacity = tris.size();
+            g.sliceVertices = gl::createBuffer();
+            glNamedBufferData(g.sliceVertices.get(), GLsizeiptr(tris.size() * sizeof(glm::vec3)), nullptr, GL_STREAM_DRAW);
+            g.sliceVao = gl::createVertexArray();
+            glVertexArrayVertexBuffer(g.sliceVao.get(), 0, g.sliceVertices.get(), 0, sizeof(glm::vec3));
+            glVertexArrayAttribFormat(g.sliceVao.get(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+            glVertexArrayAttribBinding(g.sliceVao.get(), 0, 0);
+            glEnableVertexArrayAttrib(g.sliceVao.get(), 0);
+        }
+        glNamedBufferSubData(g.sliceVertices.get(), 0, GLsizeiptr(tris.size() * sizeof(glm::vec3)), tris.data());
+        program.set("u_sliceNormal", forward);
+        program.set("u_spacing", spacing);
+        glDisable(GL_CULL_FACE); // slices face either way; the renderer's cull state is restored below
+        glBindVertexArray(g.sliceVao.get());
+        glDrawArrays(GL_TRIANGLES, 0, GLsizei(tris.size()));
+        glEnable(GL_CULL_FACE);
+        return;
+    }
     glBindVertexArray(g.vao.get());
     if (!p.halfResolution || !depth) {
         program.set("u_pixelScale", 1);

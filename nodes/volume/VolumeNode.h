@@ -43,6 +43,8 @@ struct VolumeGrid {
 };
 
 enum class VolumePhase : std::uint8_t { Isotropic, HenyeyGreenstein, Rayleigh };
+// Raymarch per pixel (default), or the lecture's slicing: view-aligned slices blended back to front.
+enum class VolumeMethod : std::uint8_t { Raymarch, Slicing };
 
 struct VolumeParameters {
     glm::vec3 size{1.0f};           // box edges (m), centred on the node's origin
@@ -62,6 +64,8 @@ struct VolumeParameters {
     bool jitter = false;            // random start per pixel: banding becomes noise
     bool emptySpaceSkipping = true; // jump over coarse cells whose maximum density is 0
     bool halfResolution = false;    // march at half size, then a depth-aware upsample
+    VolumeMethod method = VolumeMethod::Raymarch;
+    int slices = 128;               // Slicing: planes across the box
 
     // Throws std::invalid_argument naming the field and its range.
     void validate() const;
@@ -102,7 +106,7 @@ private:
     VolumeGrid grid_;
     std::string function_;
     std::shared_ptr<Image> transfer_;
-    BaseShader shader_, halfShader_;
+    BaseShader shader_, halfShader_, sliceShader_;
     mutable std::unique_ptr<Gpu> gpu_;
     mutable bool gridDirty_ = true;
     std::shared_ptr<nodes::SceneDepthCopy> depthCopy_;
