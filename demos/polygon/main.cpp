@@ -370,9 +370,13 @@ sgfx::NodePtr withRain(const Options& o, sgfx::NodePtr world, std::shared_ptr<co
     if (!o.rain) return world;
     auto rain = sgfx::ParticleSystemNode::rain({80.0f, 80.0f}, o.rainCount);
     auto above = sgfx::Transform::create();
-    above->updateCallback = [camera, rain = rain.get()](sgfx::Node& n, sgfx::UpdateVisitor&) {
+    // Weak: the camera holds the scene, and the scene this callback (no cycle).
+    above->updateCallback = [weakCamera = std::weak_ptr<const sgfx::Camera>(camera),
+                             rain = rain.get()](sgfx::Node& n, sgfx::UpdateVisitor&) {
+        const auto cam = weakCamera.lock();
+        if (!cam) return;
         // 20 m above the eye, falling long enough to reach the lowest ground (z = -10).
-        const glm::vec3 eye(glm::inverse(camera->viewMatrix)[3]);
+        const glm::vec3 eye(glm::inverse(cam->viewMatrix)[3]);
         const float height = eye.z + 20.0f;
         static_cast<sgfx::Transform&>(n).setMatrix(glm::translate(glm::mat4(1.0f), glm::vec3(eye.x, eye.y, height)));
         sgfx::particles::Emitter e = rain->settings().emitter;

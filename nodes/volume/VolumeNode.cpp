@@ -278,10 +278,15 @@ std::vector<glm::vec3> slicePolygons(const glm::mat4& model, glm::vec3 size, glm
         glm::vec3 centre(0.0f);
         for (int i = 0; i < n; ++i) centre += pts[i];
         centre /= float(n);
-        std::sort(pts, pts + n, [&](const glm::vec3& a, const glm::vec3& b) {
-            return std::atan2(glm::dot(a - centre, v), glm::dot(a - centre, u)) <
-                   std::atan2(glm::dot(b - centre, v), glm::dot(b - centre, u));
-        });
+        // Around the centre by angle (insertion sort: at most six points).
+        float angle[6];
+        for (int i = 0; i < n; ++i)
+            angle[i] = std::atan2(glm::dot(pts[i] - centre, v), glm::dot(pts[i] - centre, u));
+        for (int i = 1; i < n; ++i)
+            for (int j = i; j > 0 && angle[j] < angle[j - 1]; --j) {
+                std::swap(angle[j], angle[j - 1]);
+                std::swap(pts[j], pts[j - 1]);
+            }
         for (int i = 1; i + 1 < n; ++i) {
             out.push_back(pts[0]);
             out.push_back(pts[i]);
