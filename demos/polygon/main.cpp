@@ -6,6 +6,8 @@
 #include <ao/AmbientOcclusionNode.h>
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
+#include <sky/SkyNode.h>
+#include <volume/VolumeNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/Viewer.h>
@@ -110,6 +112,17 @@ effects:
                       camera over an 80 x 80 m area that follows it, lit and fogged with the
                       scene
   --rain-count N      raindrops, 1..16777216 (default 200000)
+  --sky HOURS         a physically based sky (Rayleigh and Mie scattering) at local solar
+                      time HOURS (0..24, latitude 45°, midsummer); the scene's sun follows it
+                      and the fog takes the sky's horizon colour
+  --smoke             a raymarched smoke cloud (noise density, single scattering of the sun)
+                      over the road ahead of the camera
+  --volume-steps N    raymarch steps per ray, 1..4096 (default 64)
+  --volume-half       march the smoke at half resolution (depth-aware upsample)
+  --volume-skip on|off
+                      empty-space skipping (default on)
+  --volume-jitter     random start per pixel (noise instead of banding)
+  --volume-slices N   draw the smoke by slicing with N view-aligned slices instead
   -h, --help          show this help
 
 exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
@@ -144,6 +157,17 @@ struct Options {
     sgfx::AmbientOcclusionParameters aoParameters;
     bool rain = false;
     std::uint32_t rainCount = 200000;
+    std::optional<float> skyHours;
+    bool smoke = false;
+    sgfx::VolumeParameters volume = [] {
+        sgfx::VolumeParameters p;
+        p.size = {40.0f, 40.0f, 24.0f};
+        p.absorption = 0.02f;
+        p.scattering = 0.12f;
+        p.g = 0.5f;
+        p.lightColor = glm::vec3(4.0f, 3.8f, 3.4f);
+        return p;
+    }();
 };
 
 template <class T> T parseNumber(std::string_view option, std::string_view text) {
@@ -324,6 +348,25 @@ Options parseArgs(int argc, char** argv) {
             o.rainCount = parseNumber<std::uint32_t>(arg, value());
             if (o.rainCount < 1 || o.rainCount > sgfx::ParticleSystemNode::kMaxCapacity)
                 throw UsageError("--rain-count: N must be in 1..16777216");
+        } else if (arg == "--sky") {
+            const float h = parseNumber<float>(arg, value());
+            if (!(h >= 0.0f && h <= 24.0f)) throw UsageError("--sky: HOURS must be in 0..24");
+            o.skyHours = h;
+        } else if (arg == "--smoke") {
+            o.smoke = true;
+        } else if (arg == "--volume-steps") {
+            o.volume.steps = parseNumber<int>(arg, value());
+        } else if (arg == "--volume-half") {
+            o.volume.halfResolution = true;
+        } else if (arg == "--volume-skip") {
+            const std::string_view v = value();
+            if (v != "on" && v != "off") throw UsageError("--volume-skip: '" + std::string(v) + "' is not on or off");
+            o.volume.emptySpaceSkipping = v == "on";
+        } else if (arg == "--volume-jitter") {
+            o.volume.jitter = true;
+        } else if (arg == "--volume-slices") {
+            o.volume.slices = parseNumber<int>(arg, value());
+            o.volume.method = sgfx::VolumeMethod::Slicing;
         } else if (arg == "--transparency") {
             const std::string_view v = value();
             if (v == "sorted")
@@ -362,8 +405,15 @@ Options parseArgs(int argc, char** argv) {
     } catch (const std::invalid_argument& e) {
         throw UsageError(std::string("--ao-*: ") + e.what());
     }
+    try {
+        o.volume.validate();
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--volume-*: ") + e.what());
+    }
     return o;
 }
+
+polygon::CameraPose startPose(const Options& o, float t);
 
 // Rain over an area that follows `camera` (the drops already falling stay where they are).
 sgfx::NodePtr withRain(const Options& o, sgfx::NodePtr world, std::shared_ptr<const sgfx::Camera> camera) {
@@ -393,11 +443,41 @@ sgfx::NodePtr withRain(const Options& o, sgfx::NodePtr world, std::shared_ptr<co
     return group;
 }
 
+// The sky (its sun becomes the scene's) and a smoke cloud over the road ahead of the start pose.
+sgfx::NodePtr withSkyAndSmoke(const Options& o, sgfx::NodePtr world, const polygon::PolygonScene& scene,
+                              std::shared_ptr<sgfx::SkyNode>& sky) {
+    glm::vec3 toSun(0.0f);
+    for (const auto& child : scene.root->children())
+        if (auto* sun = dynamic_cast<sgfx::Light*>(child.get()); sun && sun->name == "sun") {
+            if (o.skyHours) sun->direction = -sgfx::sky::sunDirection(*o.skyHours);
+            toSun = -glm::normalize(sun->direction);
+        }
+    if (!o.skyHours && !o.smoke) return world;
+    auto group = sgfx::Group::create();
+    group->addChild(world);
+    if (o.skyHours) {
+        sky = sgfx::SkyNode::create(sgfx::SkyParameters::atTime(*o.skyHours));
+        group->addChild(sky);
+    }
+    if (o.smoke) {
+        sgfx::VolumeParameters vp = o.volume;
+        vp.lightDirection = -toSun;
+        const polygon::CameraPose pose = startPose(o, o.time);
+        glm::vec3 at = pose.eye + 0.6f * (pose.target - pose.eye);
+        at.z = std::max(at.z, 0.0f) + 0.5f * vp.size.z;
+        auto place = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), at));
+        place->addChild(sgfx::VolumeNode::create(vp, sgfx::VolumeGrid::noise(64, 7, 4, 0.35f)));
+        group->addChild(place);
+    }
+    return group;
+}
+
 // The scene with the chosen effects around it.
 sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& scene,
                                std::shared_ptr<const sgfx::Camera> camera) {
     scene.glassBin->setMode(o.transparency);
-    sgfx::NodePtr world = withRain(o, scene.root, std::move(camera));
+    std::shared_ptr<sgfx::SkyNode> sky;
+    sgfx::NodePtr world = withSkyAndSmoke(o, withRain(o, scene.root, std::move(camera)), scene, sky);
     if (o.ao) {
         auto ao = sgfx::AmbientOcclusionNode::create(o.aoParameters);
         ao->addChild(world);
@@ -406,6 +486,7 @@ sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& sc
     if (!o.fog) return world;
     auto fog = sgfx::FogNode::create(o.fogParameters, *o.fog);
     fog->addChild(world);
+    if (sky) sky->attachFog(fog); // aerial perspective: distant geometry fades into the sky
     return fog;
 }
 

@@ -36,6 +36,8 @@ inline glm::vec2 sphereHit(glm::vec3 o, glm::vec3 d, float r) {
 // steps. The sun's disc is left out (the shader adds it).
 inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, float sunIntensity, float altitude,
                              int steps = 16, int lightSteps = 8) {
+    // No ground model: below the horizon the sky shows the horizon's colour.
+    dir = glm::normalize(glm::vec3(dir.x, dir.y, std::max(dir.z, 0.0f)));
     const glm::vec3 o(0.0f, 0.0f, a.planetRadius + std::max(altitude, 1.0f));
     float tEnd = sphereHit(o, dir, a.atmosphereRadius).y;
     const glm::vec2 ground = sphereHit(o, dir, a.planetRadius);

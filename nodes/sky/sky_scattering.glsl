@@ -27,6 +27,8 @@ vec2 sphereHit(vec3 o, vec3 d, float r) {
 // Returns the in-scattered radiance; `sunTransmittance` is what reaches the eye straight from
 // the sun along `dir` (0 when the ground is in the way).
 vec3 skyRadiance(vec3 dir, out vec3 sunTransmittance) {
+    // No ground model: below the horizon the sky shows the horizon's colour.
+    dir = normalize(vec3(dir.xy, max(dir.z, 0.0)));
     vec3 o = vec3(0.0, 0.0, u_planetRadius + max(u_altitude, 1.0));
     float tEnd = sphereHit(o, dir, u_atmosphereRadius).y;
     vec2 ground = sphereHit(o, dir, u_planetRadius);
