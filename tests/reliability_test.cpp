@@ -9,6 +9,8 @@
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
+#include <sky/SkyNode.h>
+#include <volume/VolumeNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/ObjWriter.h>
@@ -147,6 +149,14 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
         auto rain = ParticleSystemNode::rain({20, 20}, 500);
         aoNode->addChild(smoke);
         aoNode->addChild(rain);
+        // A smoke volume (its depth copy, half-size targets, slices) and the sky behind it all.
+        auto cloud = VolumeNode::create({}, VolumeGrid::noise(16, 2, 2, 0.4f));
+        auto cloudAt = Transform::create(glm::scale(glm::translate(glm::mat4(1.0f), {0, 0, 5}), glm::vec3(10.0f)));
+        cloudAt->addChild(cloud);
+        aoNode->addChild(cloudAt);
+        auto skyNode = SkyNode::create();
+        skyNode->attachFog(fogNode);
+        root->addChild(skyNode);
         auto v = Viewer::createHeadless(96, 64);
         v->camera()->setLookAt({40, -60, 25}, {0, 0, 2});
         v->setSceneData(root);
@@ -167,6 +177,11 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
                                                      AntiAliasing::none()};
                 static int m = 0;
                 v->camera()->setAntiAliasing(modes[m++ % 5]);
+                VolumeParameters vp;
+                vp.scattering = 0.5f;
+                vp.halfResolution = m % 3 == 1;
+                vp.method = m % 3 == 2 ? VolumeMethod::Slicing : VolumeMethod::Raymarch;
+                cloud->setParameters(vp);
                 for (auto& p : {smoke, rain}) {
                     ParticleSettings ps = p->settings();
                     ps.path = ParticlePath(m % 5);
@@ -252,6 +267,20 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             root->addChild(p);
             v->frame();
             root->removeChild(p.get());
+        } else if (kind == 7) {
+            // A volume (raymarched, half size, sliced in turn) with a sky behind it.
+            static int n = 0;
+            VolumeParameters p;
+            p.scattering = 0.3f;
+            p.halfResolution = n % 3 == 1;
+            p.method = n % 3 == 2 ? VolumeMethod::Slicing : VolumeMethod::Raymarch;
+            ++n;
+            auto group = Group::create();
+            group->addChild(VolumeNode::create(p, VolumeGrid::sphere(8)));
+            group->addChild(SkyNode::create());
+            root->addChild(group);
+            v->frame();
+            root->removeChild(group.get());
         } else if (kind == 2) {
             // Fog in a mode that changes each cycle: pre-pass, sky and post-process targets.
             static int n = 0;
@@ -273,8 +302,8 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
             v->frame(); // the renderer drops the dead camera's target
         }
     };
-    const char* names[] = {"tint", "rtt", "fog", "transparency", "ao", "aa", "particles"};
-    for (int kind = 0; kind < 7; ++kind) {
+    const char* names[] = {"tint", "rtt", "fog", "transparency", "ao", "aa", "particles", "volume+sky"};
+    for (int kind = 0; kind < 8; ++kind) {
         // Warm-up: program variants, and llvmpipe pools that level off after ~1000 frames.
         for (int i = 0; i < 1000; ++i)
             cycle(kind);
@@ -328,6 +357,12 @@ TEST(ResizeStorm, TwoHundredSizesIncludingExtremesThenACorrectImage) {
     auto particles = ParticleSystemNode::create(invisible);
     particles->getOrCreateStateSet().blend.set(BlendMode::Premultiplied);
     root->addChild(particles);
+    // An empty half-resolution volume (density 0): its half-size targets resize, the image stays.
+    VolumeParameters emptyVolume;
+    emptyVolume.size = glm::vec3(3.0f);
+    emptyVolume.densityScale = 0.0f;
+    emptyVolume.halfResolution = true;
+    root->addChild(VolumeNode::create(emptyVolume));
     root->addChild(flatQuad(4.0f, {0.0f, 0.3f, 0.0f}, {0, 0, -0.5f}));
     v->setSceneData(root);
     GLint maxDims[2] = {0, 0}, maxTex = 0;
@@ -714,6 +749,97 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
     cases.push_back({"ParticleSystemNode", "queueStep -1", [=] { particles->queueStep(-1.0f); }, "dt", particlesSame});
     cases.push_back({"ParticleSystemNode", "waterJet direction 0",
                      [] { (void)ParticleSystemNode::waterJet(glm::vec3(0.0f)); }, "direction"});
+
+    // VolumeNode and SkyNode
+    auto volumeNode = VolumeNode::create();
+    auto volumeSame = [=] { return volumeNode->parameters().absorption == 1.0f && volumeNode->parameters().steps == 64; };
+    auto volumeCase = [&](std::string label, std::function<void(VolumeParameters&)> edit, std::string expect) {
+        cases.push_back({"VolumeNode", std::move(label),
+                         [=] {
+                             VolumeParameters p;
+                             edit(p);
+                             volumeNode->setParameters(p);
+                         },
+                         std::move(expect), volumeSame});
+    };
+    for (int i = 0; i < 6; ++i) {
+        const float bad = badFloats[i];
+        if (badNames[i] != "zero" && badNames[i] != "huge") {
+            volumeCase("absorption " + badNames[i], [=](auto& p) { p.absorption = bad; }, "absorption");
+            volumeCase("scattering " + badNames[i], [=](auto& p) { p.scattering = bad; }, "scattering");
+            volumeCase("emission " + badNames[i], [=](auto& p) { p.emission.g = bad; }, "emission");
+            volumeCase("densityScale " + badNames[i], [=](auto& p) { p.densityScale = bad; }, "densityScale");
+            volumeCase("stepLength " + badNames[i], [=](auto& p) { p.stepLength = bad; }, "stepLength");
+        }
+        if (badNames[i] != "huge") volumeCase("size " + badNames[i], [=](auto& p) { p.size.x = bad; }, "size");
+        if (badNames[i] != "zero" && badNames[i] != "negative")
+            volumeCase("g " + badNames[i], [=](auto& p) { p.g = bad; }, "g");
+        if (badNames[i] != "huge" && badNames[i] != "negative")
+            volumeCase("earlyTermination " + badNames[i], [=](auto& p) { p.earlyTermination = bad; }, "earlyTermination");
+    }
+    for (int n : {0, -3, 5000})
+        volumeCase("steps " + std::to_string(n), [=](auto& p) { p.steps = n; }, "steps");
+    for (int n : {0, 300})
+        volumeCase("lightSteps " + std::to_string(n), [=](auto& p) { p.lightSteps = n; }, "lightSteps");
+    for (int n : {1, 5000})
+        volumeCase("slices " + std::to_string(n), [=](auto& p) { p.slices = n; }, "slices");
+    volumeCase("lightDirection zero", [](auto& p) { p.lightDirection = glm::vec3(0.0f); }, "lightDirection");
+    volumeCase("phase 7", [](auto& p) { p.phase = VolumePhase(7); }, "phase");
+    volumeCase("method 4", [](auto& p) { p.method = VolumeMethod(4); }, "method");
+    volumeCase("integration 3", [](auto& p) { p.integration = volume::Integration(3); }, "integration");
+    cases.push_back({"VolumeNode", "grid with a NaN voxel",
+                     [=] {
+                         VolumeGrid grid = VolumeGrid::constant(1.0f);
+                         grid.values[5] = kNaN;
+                         volumeNode->setGrid(grid);
+                     },
+                     "voxel 5", volumeSame});
+    cases.push_back({"VolumeNode", "grid of size 0",
+                     [=] {
+                         VolumeGrid grid;
+                         volumeNode->setGrid(grid);
+                     },
+                     "size", volumeSame});
+    cases.push_back({"VolumeNode", "R8 grid above 1",
+                     [=] {
+                         VolumeGrid grid = VolumeGrid::constant(2.0f);
+                         grid.format = VolumeGrid::Format::R8;
+                         volumeNode->setGrid(grid);
+                     },
+                     "R8", volumeSame});
+    cases.push_back({"VolumeNode", "raw file missing",
+                     [] { (void)VolumeGrid::loadRaw("/nonexistent/cloud.raw", {4, 4, 4}, VolumeGrid::Format::R8); },
+                     "cannot open"});
+    cases.push_back({"VolumeNode", "raw size 0",
+                     [] { (void)VolumeGrid::loadRaw("/dev/null", {0, 4, 4}, VolumeGrid::Format::R8); }, "size"});
+    cases.push_back({"VolumeNode", "empty density function",
+                     [] { (void)VolumeNode::createFunction({}, ""); }, "empty"});
+    auto skyNode = SkyNode::create();
+    auto skySame = [=] { return skyNode->parameters().steps == 16 && skyNode->parameters().sunIntensity == 20.0f; };
+    auto skyCase = [&](std::string label, std::function<void(SkyParameters&)> edit, std::string expect) {
+        cases.push_back({"SkyNode", std::move(label),
+                         [=] {
+                             SkyParameters p;
+                             edit(p);
+                             skyNode->setParameters(p);
+                         },
+                         std::move(expect), skySame});
+    };
+    for (int i = 0; i < 6; ++i) {
+        const float bad = badFloats[i];
+        if (badNames[i] != "zero" && badNames[i] != "huge") {
+            skyCase("sunIntensity " + badNames[i], [=](auto& p) { p.sunIntensity = bad; }, "sunIntensity");
+            skyCase("rayleigh " + badNames[i], [=](auto& p) { p.atmosphere.rayleigh.b = bad; }, "rayleigh");
+            skyCase("mie " + badNames[i], [=](auto& p) { p.atmosphere.mie = bad; }, "mie");
+        }
+        skyCase("rayleighHeight " + badNames[i], [=](auto& p) { p.atmosphere.rayleighHeight = bad; },
+                    "rayleighHeight");
+    }
+    skyCase("sunDirection zero", [](auto& p) { p.sunDirection = glm::vec3(0.0f); }, "sunDirection");
+    skyCase("atmosphere inside the planet", [](auto& p) { p.atmosphere.atmosphereRadius = 1000.0f; }, "atmosphereRadius");
+    skyCase("steps 0", [](auto& p) { p.steps = 0; }, "steps");
+    skyCase("lightSteps 100", [](auto& p) { p.lightSteps = 100; }, "lightSteps");
+    skyCase("mieG 1", [](auto& p) { p.atmosphere.mieG = 1.0f; }, "mieG");
 
     // AmbientOcclusionNode
     auto aoNode = AmbientOcclusionNode::create();

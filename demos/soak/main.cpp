@@ -9,6 +9,8 @@
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
+#include <sky/SkyNode.h>
+#include <volume/VolumeNode.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/gl/Objects.h>
 #include <transparency/TransparencyBin.h>
@@ -98,6 +100,18 @@ int main(int argc, char** argv) {
         rainAt->addChild(rain);
         ao->addChild(smokeAt);
         fog->addChild(rainAt);
+        // A raymarched cloud (its method and resolution change) and the sky, driving the fog.
+        sgfx::VolumeParameters cloudParameters;
+        cloudParameters.size = {30.0f, 30.0f, 15.0f};
+        cloudParameters.absorption = 0.05f;
+        cloudParameters.scattering = 0.2f;
+        auto cloud = sgfx::VolumeNode::create(cloudParameters, sgfx::VolumeGrid::noise(24, 5, 3, 0.4f));
+        auto cloudAt = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(-20.0f, 30.0f, 10.0f)));
+        cloudAt->addChild(cloud);
+        fog->addChild(cloudAt);
+        auto sky = sgfx::SkyNode::create(sgfx::SkyParameters::atTime(16.0f));
+        sky->attachFog(fog);
+        root->addChild(sky);
         // The glass: sorted and order-independent in turn, the cabin's triangles sorted per view.
         sgfx::TransparencyDetails perTriangle;
         perTriangle.sortTriangles = true;
@@ -133,6 +147,14 @@ int main(int argc, char** argv) {
                     sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::fxaa(),
                     sgfx::AntiAliasing::taa(), sgfx::AntiAliasing::ssaa(2)};
                 cam.setAntiAliasing(modes[f / 400 % 5]);
+            }
+            if (f % 450 == 0) {
+                sgfx::VolumeParameters vp = cloudParameters;
+                vp.halfResolution = f / 450 % 3 == 1;
+                vp.method = f / 450 % 3 == 2 ? sgfx::VolumeMethod::Slicing : sgfx::VolumeMethod::Raymarch;
+                vp.slices = 48;
+                cloud->setParameters(vp);
+                sky->setParameters(sgfx::SkyParameters::atTime(float(6 + f / 450 % 14)));
             }
             if (f % 350 == 0) {
                 sgfx::ParticleSettings ps = rain->settings();
