@@ -208,6 +208,7 @@ void VolumeParameters::validate() const {
     for (int i = 0; i < 3; ++i) check("emission (k_e)", emission[i], 0.0, 1e6);
     check("densityScale", densityScale, 0.0, 1e6);
     for (int i = 0; i < 3; ++i) check("lightColor", lightColor[i], 0.0, 1e6);
+    check("ambient", ambient, 0.0, 1e6);
     for (int i = 0; i < 3; ++i) check("lightDirection", lightDirection[i], -1e6, 1e6);
     if (!(glm::length(lightDirection) > 0.0f)) nodes::refuse("VolumeParameters", "lightDirection must not be zero");
     check("g", g, -0.999, 0.999);
@@ -442,6 +443,7 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     program.set("u_emission", p.emission);
     program.set("u_densityScale", p.densityScale);
     program.set("u_lightColor", p.lightColor);
+    program.set("u_ambient", p.ambient);
     program.set("u_lightDirection", p.lightDirection);
     program.set("u_phase", int(p.phase));
     program.set("u_g", p.g);

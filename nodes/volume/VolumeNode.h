@@ -53,6 +53,7 @@ struct VolumeParameters {
     glm::vec3 emission{0.0f};       // k_e per metre at density 1 (linear radiance)
     float densityScale = 1.0f;      // multiplies the grid or function
     glm::vec3 lightColor{1.0f};     // the directional light that scatters (linear)
+    float ambient = 1.0f;           // share of the scene's ambient light the medium scatters
     glm::vec3 lightDirection{0.0f, 0.0f, -1.0f}; // the way it travels, world (normalised when set)
     VolumePhase phase = VolumePhase::HenyeyGreenstein;
     float g = 0.3f;                 // Henyey–Greenstein asymmetry, (−1, 1)

@@ -20,6 +20,7 @@ uniform float u_absorption; // k_a per metre at density 1
 uniform float u_scattering; // k_s per metre at density 1
 uniform vec3 u_emission;    // k_e per metre at density 1
 uniform vec3 u_lightColor;
+uniform float u_ambient; // scales the scene's ambient light scattered by the medium
 uniform vec3 u_lightDirection; // world, the direction the light travels (normalised)
 uniform int u_steps;           // N (fixed), or the most when u_stepLength > 0
 uniform float u_stepLength;    // > 0: N from the segment length
@@ -117,6 +118,8 @@ void main() {
         float sigma = extinctionPerRho * rho;
         vec3 source = u_emission * rho;
         if (u_useTransfer != 0) source *= texture(u_transfer, vec2(rho, 0.5)).rgb;
+        // Sky light from every direction, uniform: the phase integrates to 1.
+        source += u_ambient * sgfx_ambientLight.rgb * (u_scattering * rho);
         if (u_scattering > 0.0) {
             // Single scattering: the light that reaches p through the medium, M midpoint steps.
             float sMax = max(boxInterval(p, dl, -h, h).y, 0.0);

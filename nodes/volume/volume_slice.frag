@@ -15,6 +15,7 @@ uniform float u_absorption;
 uniform float u_scattering;
 uniform vec3 u_emission;
 uniform vec3 u_lightColor;
+uniform float u_ambient; // scales the scene's ambient light scattered by the medium
 uniform vec3 u_lightDirection;
 uniform int u_lightSteps;
 uniform vec3 u_sliceNormal; // world, the view direction the slices face
@@ -40,7 +41,7 @@ void main() {
     vec3 h = 0.5 * u_boxSize;
     float rho = densityAt(v_boxPos / u_boxSize + 0.5);
     float sigma = (u_absorption + u_scattering) * rho;
-    vec3 source = u_emission * rho;
+    vec3 source = u_emission * rho + u_ambient * sgfx_ambientLight.rgb * (u_scattering * rho);
     if (u_scattering > 0.0 && rho > 0.0) {
         vec3 dl = mat3(u_worldToBox) * -u_lightDirection;
         float sMax = max(boxInterval(v_boxPos, dl, -h, h).y, 0.0);
