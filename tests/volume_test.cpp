@@ -8,6 +8,7 @@
 #include <fog/FogNode.h>
 #include <volume/VolumeNode.h>
 #include <sgfx/Group.h>
+#include <sgfx/Image.h>
 #include <sgfx/Material.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
@@ -296,6 +297,24 @@ TEST(Volume, FogAppliesUpToWhereTheMediumStarts) {
     const double k = 1.0 - std::exp(-rho * 4.0), alpha = 1.0 - std::exp(-ka * 2.0);
     for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(centrePixel(*v)[c], volume::emitted(ka, ke[c], 2.0) * (1 - k) + fogColor[c] * alpha * k, 3e-3) << c;
+}
+
+TEST(Volume, TransferFunctionColoursTheEmissionByDensity) {
+    // A ramp that is pure red at density 0.5 (sRGB 255 → linear 1): only the red emission stays.
+    auto ramp = Image::create(3, 1, 3);
+    for (int x = 0; x < 3; ++x) {
+        ramp->pixel(x, 0)[0] = 255;
+        ramp->pixel(x, 0)[1] = ramp->pixel(x, 0)[2] = 0;
+    }
+    VolumeParameters p = homogeneous(0.6f, glm::vec3(0.5f));
+    auto node = VolumeNode::create(p, VolumeGrid::constant(0.5f));
+    node->setTransferFunction(ramp);
+    auto v = floatViewer();
+    v->setSceneData(node);
+    v->frame();
+    const glm::vec3 px = centrePixel(*v);
+    EXPECT_NEAR(px.r, volume::emitted(0.3, 0.25, 2.0), 1e-3);
+    EXPECT_NEAR(px.g, 0.0f, 1e-5f);
 }
 
 TEST(Volume, DensityFunctionEqualsTheSameGrid) {
