@@ -11,7 +11,7 @@ look=(--look 0,-90,30,0,0,20 --fog off)
 declare -A args=(
   [off]=""
   [smoke]="--smoke"
-  ["smoke, no skipping"]="--smoke --volume-skip off"
+  ["smoke, empty-space skipping"]="--smoke --volume-skip on"
   ["smoke, jitter"]="--smoke --volume-jitter"
   ["smoke, half resolution"]="--smoke --volume-half"
   ["smoke, 128 steps"]="--smoke --volume-steps 128"
@@ -19,7 +19,7 @@ declare -A args=(
   ["smoke, slicing 128"]="--smoke --volume-slices 128"
   ["sky (17 h)"]="--sky 17"
 )
-order=(off smoke "smoke, no skipping" "smoke, jitter" "smoke, half resolution" "smoke, 128 steps" "smoke, slicing 64" "smoke, slicing 128" "sky (17 h)")
+order=(off smoke "smoke, empty-space skipping" "smoke, jitter" "smoke, half resolution" "smoke, 128 steps" "smoke, slicing 64" "smoke, slicing 128" "sky (17 h)")
 declare -A ms=()
 for ((r = 0; r < rounds; ++r)); do
   for c in "${order[@]}"; do

@@ -120,7 +120,7 @@ effects:
   --volume-steps N    raymarch steps per ray, 1..4096 (default 64)
   --volume-half       march the smoke at half resolution (depth-aware upsample)
   --volume-skip on|off
-                      empty-space skipping (default on)
+                      empty-space skipping (default off)
   --volume-jitter     random start per pixel (noise instead of banding)
   --volume-slices N   draw the smoke by slicing with N view-aligned slices instead
   -h, --help          show this help

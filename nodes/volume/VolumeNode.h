@@ -63,7 +63,9 @@ struct VolumeParameters {
     float earlyTermination = 0.99f; // stop once the opacity exceeds it; 1 = never
     volume::Integration integration = volume::Integration::Exact;
     bool jitter = false;            // random start per pixel: banding becomes noise
-    bool emptySpaceSkipping = true; // jump over coarse cells whose maximum density is 0
+    // Jump over coarse cells whose maximum density is 0. Off by default: on llvmpipe the extra
+    // fetch and branch per step cost more than they save (bench/volume_table.sh).
+    bool emptySpaceSkipping = false;
     bool halfResolution = false;    // march at half size, then a depth-aware upsample
     VolumeMethod method = VolumeMethod::Raymarch;
     int slices = 128;               // Slicing: planes across the box
