@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
             continue;
         }
         if (i + 1 >= argc) break;
-        if (!std::strcmp(argv[i], "--size") && std::sscanf(argv[i + 1], "%dx%d", &width, &height) == 2) continue;
+        if (!std::strcmp(argv[i], "--size") && std::sscanf(argv[i + 1], "%dx%d", &width, &height) == 2)
+            continue;
         if (!std::strcmp(argv[i], "--frames")) {
             frames = std::atoi(argv[i + 1]);
             continue;
@@ -156,9 +157,10 @@ int main(int argc, char** argv) {
         std::sort(v.begin(), v.end());
         return v[v.size() / 2];
     };
-    std::printf("OSG_PARTICLES count=%ld live=%d size=%dx%d drawn=%d frame_ms=%.2f update_ms=%.2f draw_ms=%.2f\n", n,
-                ps->numParticles() - ps->numDeadParticles(), width, height, int(draw), med(total), med(update),
-                med(drawMs));
+    std::printf(
+        "OSG_PARTICLES count=%ld live=%d size=%dx%d drawn=%d frame_ms=%.2f update_ms=%.2f draw_ms=%.2f\n", n,
+        ps->numParticles() - ps->numDeadParticles(), width, height, int(draw), med(total), med(update),
+        med(drawMs));
     OSMesaDestroyContext(ctx);
     return 0;
 }

@@ -15,6 +15,18 @@ inline std::string shaderText(std::string_view file) {
     return std::string(shaders::embedded(file));
 }
 
+// The file with each `#include "other.glsl"` line replaced by that embedded file (one level).
+inline std::string shaderWithIncludes(std::string_view file) {
+    std::string src = shaderText(file);
+    const std::string key = "#include \"";
+    for (auto at = src.find(key); at != std::string::npos; at = src.find(key)) {
+        const auto close = src.find('"', at + key.size());
+        const auto eol = src.find('\n', at);
+        src.replace(at, eol - at, shaderText(src.substr(at + key.size(), close - at - key.size())));
+    }
+    return src;
+}
+
 inline std::string number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", v);

@@ -23,7 +23,8 @@ public:
     void execute(Renderer& r) override {
         gl::RenderTarget& t = r.currentTarget();
         Target& own = targets_.get(
-            r.frame().frameNumber, [&](const Target& e) { return e.width == t.width && e.height == t.height; },
+            r.frame().frameNumber,
+            [&](const Target& e) { return e.width == t.width && e.height == t.height; },
             [&](Target& e) {
                 e.width = t.width;
                 e.height = t.height;

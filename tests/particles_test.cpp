@@ -5,10 +5,10 @@
 
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
-#include <transparency/TransparencyBin.h>
 #include <sgfx/CullVisitor.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
+#include <transparency/TransparencyBin.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -86,17 +86,22 @@ Sim makeSim(const ParticleSettings& s, const glm::mat4& placement) {
 }
 
 void expectClose(const ParticleRecord& g, const ParticleRecord& c, std::uint32_t i, int step) {
-    auto near = [](float a, float b, float absTol) { return std::abs(a - b) <= std::max(1e-5f * std::abs(b), absTol); };
-    ASSERT_TRUE(near(g.age, c.age, 1e-5f)) << "particle " << i << " step " << step << ": age " << g.age << " vs "
-                                            << c.age;
+    auto near = [](float a, float b, float absTol) {
+        return std::abs(a - b) <= std::max(1e-5f * std::abs(b), absTol);
+    };
+    ASSERT_TRUE(near(g.age, c.age, 1e-5f))
+        << "particle " << i << " step " << step << ": age " << g.age << " vs " << c.age;
     for (int k = 0; k < 3; ++k) {
         ASSERT_TRUE(near(g.position[k], c.position[k], 1e-4f))
-            << "particle " << i << " step " << step << " P[" << k << "] " << g.position[k] << " vs " << c.position[k];
+            << "particle " << i << " step " << step << " P[" << k << "] " << g.position[k] << " vs "
+            << c.position[k];
         ASSERT_TRUE(near(g.velocity[k], c.velocity[k], 1e-5f))
-            << "particle " << i << " step " << step << " v[" << k << "] " << g.velocity[k] << " vs " << c.velocity[k];
+            << "particle " << i << " step " << step << " v[" << k << "] " << g.velocity[k] << " vs "
+            << c.velocity[k];
         ASSERT_TRUE(near(g.angles0[k], c.angles0[k], 1e-5f)) << "particle " << i << " r0[" << k << "]";
         ASSERT_TRUE(near(g.angles[k], c.angles[k], 1e-5f))
-            << "particle " << i << " step " << step << " r[" << k << "] " << g.angles[k] << " vs " << c.angles[k];
+            << "particle " << i << " step " << step << " r[" << k << "] " << g.angles[k] << " vs "
+            << c.angles[k];
     }
 }
 
@@ -189,7 +194,8 @@ TEST_P(GpuMatchesCpu, After200VariedStepsEveryRecordMatches) {
     s.emitter.rotationRange = 0.9f;
     s.emitter.rotationSpeed = 2.2f;
     s.emitter.lifetime = 1.5f;
-    const glm::mat4 place = glm::rotate(glm::translate(glm::mat4(1.0f), {3, 1, 2}), 0.4f, glm::vec3(0.3f, 0.2f, 1.0f));
+    const glm::mat4 place =
+        glm::rotate(glm::translate(glm::mat4(1.0f), {3, 1, 2}), 0.4f, glm::vec3(0.3f, 0.2f, 1.0f));
     Sim sim = makeSim(s, place);
     sim.v->frame(0.0); // step 0: the start mode's records
     ASSERT_EQ(sim.node->steps(), 0u);
@@ -211,7 +217,7 @@ TEST_P(GpuMatchesCpu, After200VariedStepsEveryRecordMatches) {
     }
     int respawns = 0;
     for (int step = 1; step <= 200; ++step) {
-        float dt = 0.004f * float(step % 11);           // includes ΔT = 0
+        float dt = 0.004f * float(step % 11);               // includes ΔT = 0
         if (step % 37 == 0) dt = 2.3f * s.emitter.lifetime; // longer than tmax
         sim.node->queueStep(dt);
         in.dt = dt;
@@ -236,12 +242,12 @@ INSTANTIATE_TEST_SUITE_P(
     Particles, GpuMatchesCpu,
     ::testing::Values(RefCase{ParticleLayout::Interleaved, particles::Respawn::CarryAge,
                               particles::RotationBounce::Reflect, particles::StartMode::Steady},
-                      RefCase{ParticleLayout::Split, particles::Respawn::CarryAge, particles::RotationBounce::Reflect,
-                              particles::StartMode::Ramp},
-                      RefCase{ParticleLayout::Interleaved, particles::Respawn::Paper, particles::RotationBounce::Clamp,
-                              particles::StartMode::Burst},
-                      RefCase{ParticleLayout::Split, particles::Respawn::Paper, particles::RotationBounce::Clamp,
-                              particles::StartMode::Steady}));
+                      RefCase{ParticleLayout::Split, particles::Respawn::CarryAge,
+                              particles::RotationBounce::Reflect, particles::StartMode::Ramp},
+                      RefCase{ParticleLayout::Interleaved, particles::Respawn::Paper,
+                              particles::RotationBounce::Clamp, particles::StartMode::Burst},
+                      RefCase{ParticleLayout::Split, particles::Respawn::Paper,
+                              particles::RotationBounce::Clamp, particles::StartMode::Steady}));
 
 TEST(Particles, KinematicsFollowTheClosedForm) {
     ParticleSettings s;
@@ -424,7 +430,8 @@ TEST_P(ParticlePaths, HexagonAndTetrahedronCoverTheirProjectedArea) {
             }
         }
         // Convex hull area (gift wrapping is plenty for ≤ 6 points).
-        std::sort(pts.begin(), pts.end(), [](auto a, auto b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+        std::sort(pts.begin(), pts.end(),
+                  [](auto a, auto b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
         std::vector<glm::dvec2> hull;
         for (int pass = 0; pass < 2; ++pass) {
             const std::size_t base = hull.size();
@@ -455,8 +462,8 @@ TEST_P(ParticlePaths, HexagonAndTetrahedronCoverTheirProjectedArea) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Particles, ParticlePaths,
-                         ::testing::Values(ParticlePath::GeometryShader, ParticlePath::Instanced, ParticlePath::Pulled,
-                                           ParticlePath::PointSprite));
+                         ::testing::Values(ParticlePath::GeometryShader, ParticlePath::Instanced,
+                                           ParticlePath::Pulled, ParticlePath::PointSprite));
 
 TEST(Particles, TrianglePathsDrawTheSameImage) {
     // Geometry shader, instancing and vertex pulling make the same triangles from the same
@@ -464,7 +471,8 @@ TEST(Particles, TrianglePathsDrawTheSameImage) {
     for (const ParticleShape shape :
          {ParticleShape::Sprite, ParticleShape::Hexagon, ParticleShape::Tetrahedron, ParticleShape::Quad}) {
         std::vector<Image> images;
-        for (const ParticlePath path : {ParticlePath::GeometryShader, ParticlePath::Instanced, ParticlePath::Pulled}) {
+        for (const ParticlePath path :
+             {ParticlePath::GeometryShader, ParticlePath::Instanced, ParticlePath::Pulled}) {
             for (const ParticleLayout layout : {ParticleLayout::Interleaved, ParticleLayout::Split}) {
                 auto v = viewer({0, -12, 4}, {0, 0, 2});
                 ParticleSettings s;
@@ -496,7 +504,8 @@ TEST(Particles, TrianglePathsDrawTheSameImage) {
         }
         ASSERT_GT(litPixels(images[0]), 100) << "shape " << int(shape);
         for (std::size_t i = 1; i < images.size(); ++i)
-            EXPECT_EQ(channelsDiffering(images[0], images[i], 1), 0) << "shape " << int(shape) << " image " << i;
+            EXPECT_EQ(channelsDiffering(images[0], images[i], 1), 0)
+                << "shape " << int(shape) << " image " << i;
     }
 }
 
@@ -544,8 +553,8 @@ TEST(Particles, SoftParticleFadesByTheGapToTheSurfaceBehind) {
     auto v = viewer({0, -d, 0}, {0, 0, 0});
     auto root = Group::create();
     // A black wall `gap` behind the sprite (facing the camera).
-    auto wall = Transform::create(glm::rotate(glm::translate(glm::mat4(1.0f), {0, gap, 0}), glm::radians(90.0f),
-                                              glm::vec3(1, 0, 0)));
+    auto wall = Transform::create(
+        glm::rotate(glm::translate(glm::mat4(1.0f), {0, gap, 0}), glm::radians(90.0f), glm::vec3(1, 0, 0)));
     auto quad = shapes::quad(20, 20);
     auto black = Material::create();
     black->ambient = glm::vec3(0);
@@ -602,12 +611,15 @@ TEST(Particles, PresetsRenderUnderFogAoAndOitWithoutErrorsOrNaN) {
     fog->addChild(bin);
     auto sun = Light::create();
     fog->addChild(sun);
-    const std::vector<std::shared_ptr<ParticleSystemNode>> all = {
-        ParticleSystemNode::rain({20, 20}, 2000), ParticleSystemNode::snow({20, 20}, 2000),
-        ParticleSystemNode::leaves({10, 10}, 500),  ParticleSystemNode::smoke(1.0f, 300),
-        ParticleSystemNode::waterJet(),             ParticleSystemNode::sparks(500)};
+    const std::vector<std::shared_ptr<ParticleSystemNode>> all = {ParticleSystemNode::rain({20, 20}, 2000),
+                                                                  ParticleSystemNode::snow({20, 20}, 2000),
+                                                                  ParticleSystemNode::leaves({10, 10}, 500),
+                                                                  ParticleSystemNode::smoke(1.0f, 300),
+                                                                  ParticleSystemNode::waterJet(),
+                                                                  ParticleSystemNode::sparks(500)};
     for (std::size_t i = 0; i < all.size(); ++i) {
-        auto t = Transform::create(glm::translate(glm::mat4(1.0f), {float(i) * 3.0f - 7.5f, 0.0f, i < 3 ? 10.0f : 0.0f}));
+        auto t = Transform::create(
+            glm::translate(glm::mat4(1.0f), {float(i) * 3.0f - 7.5f, 0.0f, i < 3 ? 10.0f : 0.0f}));
         t->addChild(all[i]);
         bin->addChild(t);
     }
@@ -634,7 +646,8 @@ TEST(Particles, BadSettingsAreRefusedAndTheSystemKeepsRunning) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const std::vector<std::pair<std::function<void(ParticleSettings&)>, std::string>> cases = {
         {[](ParticleSettings& s) { s.capacity = 0; }, "capacity = 0"},
-        {[](ParticleSettings& s) { s.capacity = ParticleSystemNode::kMaxCapacity + 1; }, "capacity = 16777217"},
+        {[](ParticleSettings& s) { s.capacity = ParticleSystemNode::kMaxCapacity + 1; },
+         "capacity = 16777217"},
         {[](ParticleSettings& s) { s.emitter.lifetime = 0.0f; }, "tmax"},
         {[](ParticleSettings& s) { s.emitter.lifetime = -1.0f; }, "tmax"},
         {[&](ParticleSettings& s) { s.emitter.velocity.y = nan; }, "v0"},

@@ -9,15 +9,15 @@
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
-#include <sky/SkyNode.h>
-#include <volume/VolumeNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/gl/Objects.h>
+#include <sky/SkyNode.h>
 #include <transparency/TransparencyBin.h>
+#include <volume/VolumeNode.h>
 
 #include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -151,7 +151,8 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
         aoNode->addChild(rain);
         // A smoke volume (its depth copy, half-size targets, slices) and the sky behind it all.
         auto cloud = VolumeNode::create({}, VolumeGrid::noise(16, 2, 2, 0.4f));
-        auto cloudAt = Transform::create(glm::scale(glm::translate(glm::mat4(1.0f), {0, 0, 5}), glm::vec3(10.0f)));
+        auto cloudAt =
+            Transform::create(glm::scale(glm::translate(glm::mat4(1.0f), {0, 0, 5}), glm::vec3(10.0f)));
         cloudAt->addChild(cloud);
         aoNode->addChild(cloudAt);
         auto skyNode = SkyNode::create();
@@ -708,7 +709,8 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
         return s.capacity == 10000 && s.emitter.lifetime == 1.0f && s.sizeStart == 0.1f &&
                particles->readRecords().size() == 10000;
     };
-    auto particleCase = [&](std::string label, std::function<void(ParticleSettings&)> edit, std::string expect) {
+    auto particleCase = [&](std::string label, std::function<void(ParticleSettings&)> edit,
+                            std::string expect) {
         cases.push_back({"ParticleSystemNode", std::move(label),
                          [=] {
                              ParticleSettings s;
@@ -721,39 +723,60 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
         const float bad = badFloats[i];
         const bool finiteOk = badNames[i] == "zero" || badNames[i] == "huge";
         if (badNames[i] != "huge")
-            particleCase("tmax " + badNames[i], [=](auto& s) { s.emitter.lifetime = bad; }, "tmax");
+            particleCase(
+                "tmax " + badNames[i], [=](auto& s) { s.emitter.lifetime = bad; }, "tmax");
         if (!finiteOk) {
-            particleCase("W " + badNames[i], [=](auto& s) { s.emitter.size.x = bad; }, "W");
-            particleCase("kv " + badNames[i], [=](auto& s) { s.emitter.velocitySpread = bad; }, "kv");
-            particleCase("kvel " + badNames[i], [=](auto& s) { s.emitter.rotationSpeed = bad; }, "kvel");
-            particleCase("sizeEnd " + badNames[i], [=](auto& s) { s.sizeEnd = bad; }, "sizeEnd");
-            particleCase("softness " + badNames[i], [=](auto& s) { s.softness = bad; }, "softness");
-            particleCase("stretch " + badNames[i], [=](auto& s) { s.stretch = bad; }, "stretch");
+            particleCase(
+                "W " + badNames[i], [=](auto& s) { s.emitter.size.x = bad; }, "W");
+            particleCase(
+                "kv " + badNames[i], [=](auto& s) { s.emitter.velocitySpread = bad; }, "kv");
+            particleCase(
+                "kvel " + badNames[i], [=](auto& s) { s.emitter.rotationSpeed = bad; }, "kvel");
+            particleCase(
+                "sizeEnd " + badNames[i], [=](auto& s) { s.sizeEnd = bad; }, "sizeEnd");
+            particleCase(
+                "softness " + badNames[i], [=](auto& s) { s.softness = bad; }, "softness");
+            particleCase(
+                "stretch " + badNames[i], [=](auto& s) { s.stretch = bad; }, "stretch");
         }
         if (badNames[i] != "negative" && !finiteOk) { // vectors may point anywhere, but be finite
-            particleCase("v0 " + badNames[i], [=](auto& s) { s.emitter.velocity.x = bad; }, "v0");
-            particleCase("acceleration " + badNames[i], [=](auto& s) { s.emitter.acceleration.z = bad; },
-                         "acceleration");
+            particleCase(
+                "v0 " + badNames[i], [=](auto& s) { s.emitter.velocity.x = bad; }, "v0");
+            particleCase(
+                "acceleration " + badNames[i], [=](auto& s) { s.emitter.acceleration.z = bad; },
+                "acceleration");
         }
         if (badNames[i] != "zero")
-            particleCase("krot " + badNames[i], [=](auto& s) { s.emitter.rotationRange = bad; }, "krot");
+            particleCase(
+                "krot " + badNames[i], [=](auto& s) { s.emitter.rotationRange = bad; }, "krot");
     }
     for (std::uint32_t n : {0u, ParticleSystemNode::kMaxCapacity + 1, 0xffffffffu})
-        particleCase("capacity " + std::to_string(n), [=](auto& s) { s.capacity = n; }, "capacity");
-    particleCase("shape 7", [](auto& s) { s.shape = ParticleShape(7); }, "shape");
-    particleCase("path 9", [](auto& s) { s.path = ParticlePath(9); }, "path");
-    particleCase("layout 3", [](auto& s) { s.layout = ParticleLayout(3); }, "layout");
-    particleCase("respawn 4", [](auto& s) { s.respawn = particles::Respawn(4); }, "respawn");
-    particleCase("colorStart alpha 2", [](auto& s) { s.colorStart.a = 2.0f; }, "colorStart");
-    cases.push_back({"ParticleSystemNode", "advance NaN", [=] { particles->advance(kNaN); }, "dt", particlesSame});
-    cases.push_back({"ParticleSystemNode", "queueStep -1", [=] { particles->queueStep(-1.0f); }, "dt", particlesSame});
+        particleCase(
+            "capacity " + std::to_string(n), [=](auto& s) { s.capacity = n; }, "capacity");
+    particleCase(
+        "shape 7", [](auto& s) { s.shape = ParticleShape(7); }, "shape");
+    particleCase(
+        "path 9", [](auto& s) { s.path = ParticlePath(9); }, "path");
+    particleCase(
+        "layout 3", [](auto& s) { s.layout = ParticleLayout(3); }, "layout");
+    particleCase(
+        "respawn 4", [](auto& s) { s.respawn = particles::Respawn(4); }, "respawn");
+    particleCase(
+        "colorStart alpha 2", [](auto& s) { s.colorStart.a = 2.0f; }, "colorStart");
+    cases.push_back(
+        {"ParticleSystemNode", "advance NaN", [=] { particles->advance(kNaN); }, "dt", particlesSame});
+    cases.push_back(
+        {"ParticleSystemNode", "queueStep -1", [=] { particles->queueStep(-1.0f); }, "dt", particlesSame});
     cases.push_back({"ParticleSystemNode", "waterJet direction 0",
                      [] { (void)ParticleSystemNode::waterJet(glm::vec3(0.0f)); }, "direction"});
 
     // VolumeNode and SkyNode
     auto volumeNode = VolumeNode::create();
-    auto volumeSame = [=] { return volumeNode->parameters().absorption == 1.0f && volumeNode->parameters().steps == 64; };
-    auto volumeCase = [&](std::string label, std::function<void(VolumeParameters&)> edit, std::string expect) {
+    auto volumeSame = [=] {
+        return volumeNode->parameters().absorption == 1.0f && volumeNode->parameters().steps == 64;
+    };
+    auto volumeCase = [&](std::string label, std::function<void(VolumeParameters&)> edit,
+                          std::string expect) {
         cases.push_back({"VolumeNode", std::move(label),
                          [=] {
                              VolumeParameters p;
@@ -765,28 +788,45 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
     for (int i = 0; i < 6; ++i) {
         const float bad = badFloats[i];
         if (badNames[i] != "zero" && badNames[i] != "huge") {
-            volumeCase("absorption " + badNames[i], [=](auto& p) { p.absorption = bad; }, "absorption");
-            volumeCase("scattering " + badNames[i], [=](auto& p) { p.scattering = bad; }, "scattering");
-            volumeCase("emission " + badNames[i], [=](auto& p) { p.emission.g = bad; }, "emission");
-            volumeCase("densityScale " + badNames[i], [=](auto& p) { p.densityScale = bad; }, "densityScale");
-            volumeCase("stepLength " + badNames[i], [=](auto& p) { p.stepLength = bad; }, "stepLength");
+            volumeCase(
+                "absorption " + badNames[i], [=](auto& p) { p.absorption = bad; }, "absorption");
+            volumeCase(
+                "scattering " + badNames[i], [=](auto& p) { p.scattering = bad; }, "scattering");
+            volumeCase(
+                "emission " + badNames[i], [=](auto& p) { p.emission.g = bad; }, "emission");
+            volumeCase(
+                "densityScale " + badNames[i], [=](auto& p) { p.densityScale = bad; }, "densityScale");
+            volumeCase(
+                "stepLength " + badNames[i], [=](auto& p) { p.stepLength = bad; }, "stepLength");
         }
-        if (badNames[i] != "huge") volumeCase("size " + badNames[i], [=](auto& p) { p.size.x = bad; }, "size");
+        if (badNames[i] != "huge")
+            volumeCase(
+                "size " + badNames[i], [=](auto& p) { p.size.x = bad; }, "size");
         if (badNames[i] != "zero" && badNames[i] != "negative")
-            volumeCase("g " + badNames[i], [=](auto& p) { p.g = bad; }, "g");
+            volumeCase(
+                "g " + badNames[i], [=](auto& p) { p.g = bad; }, "g");
         if (badNames[i] != "huge" && badNames[i] != "negative")
-            volumeCase("earlyTermination " + badNames[i], [=](auto& p) { p.earlyTermination = bad; }, "earlyTermination");
+            volumeCase(
+                "earlyTermination " + badNames[i], [=](auto& p) { p.earlyTermination = bad; },
+                "earlyTermination");
     }
     for (int n : {0, -3, 5000})
-        volumeCase("steps " + std::to_string(n), [=](auto& p) { p.steps = n; }, "steps");
+        volumeCase(
+            "steps " + std::to_string(n), [=](auto& p) { p.steps = n; }, "steps");
     for (int n : {0, 300})
-        volumeCase("lightSteps " + std::to_string(n), [=](auto& p) { p.lightSteps = n; }, "lightSteps");
+        volumeCase(
+            "lightSteps " + std::to_string(n), [=](auto& p) { p.lightSteps = n; }, "lightSteps");
     for (int n : {1, 5000})
-        volumeCase("slices " + std::to_string(n), [=](auto& p) { p.slices = n; }, "slices");
-    volumeCase("lightDirection zero", [](auto& p) { p.lightDirection = glm::vec3(0.0f); }, "lightDirection");
-    volumeCase("phase 7", [](auto& p) { p.phase = VolumePhase(7); }, "phase");
-    volumeCase("method 4", [](auto& p) { p.method = VolumeMethod(4); }, "method");
-    volumeCase("integration 3", [](auto& p) { p.integration = volume::Integration(3); }, "integration");
+        volumeCase(
+            "slices " + std::to_string(n), [=](auto& p) { p.slices = n; }, "slices");
+    volumeCase(
+        "lightDirection zero", [](auto& p) { p.lightDirection = glm::vec3(0.0f); }, "lightDirection");
+    volumeCase(
+        "phase 7", [](auto& p) { p.phase = VolumePhase(7); }, "phase");
+    volumeCase(
+        "method 4", [](auto& p) { p.method = VolumeMethod(4); }, "method");
+    volumeCase(
+        "integration 3", [](auto& p) { p.integration = volume::Integration(3); }, "integration");
     cases.push_back({"VolumeNode", "grid with a NaN voxel",
                      [=] {
                          VolumeGrid grid = VolumeGrid::constant(1.0f);
@@ -807,15 +847,23 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          volumeNode->setGrid(grid);
                      },
                      "R8", volumeSame});
-    cases.push_back({"VolumeNode", "raw file missing",
-                     [] { (void)VolumeGrid::loadRaw("/nonexistent/cloud.raw", {4, 4, 4}, VolumeGrid::Format::R8); },
-                     "cannot open"});
+    cases.push_back(
+        {"VolumeNode", "raw file missing",
+         [] {
+             (void)VolumeGrid::loadRaw("/nonexistent/cloud.raw", {4, 4, 4}, VolumeGrid::Format::R8);
+         },
+         "cannot open"});
     cases.push_back({"VolumeNode", "raw size 0",
-                     [] { (void)VolumeGrid::loadRaw("/dev/null", {0, 4, 4}, VolumeGrid::Format::R8); }, "size"});
-    cases.push_back({"VolumeNode", "empty density function",
-                     [] { (void)VolumeNode::createFunction({}, ""); }, "empty"});
+                     [] {
+                         (void)VolumeGrid::loadRaw("/dev/null", {0, 4, 4}, VolumeGrid::Format::R8);
+                     },
+                     "size"});
+    cases.push_back(
+        {"VolumeNode", "empty density function", [] { (void)VolumeNode::createFunction({}, ""); }, "empty"});
     auto skyNode = SkyNode::create();
-    auto skySame = [=] { return skyNode->parameters().steps == 16 && skyNode->parameters().sunIntensity == 20.0f; };
+    auto skySame = [=] {
+        return skyNode->parameters().steps == 16 && skyNode->parameters().sunIntensity == 20.0f;
+    };
     auto skyCase = [&](std::string label, std::function<void(SkyParameters&)> edit, std::string expect) {
         cases.push_back({"SkyNode", std::move(label),
                          [=] {
@@ -828,18 +876,28 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
     for (int i = 0; i < 6; ++i) {
         const float bad = badFloats[i];
         if (badNames[i] != "zero" && badNames[i] != "huge") {
-            skyCase("sunIntensity " + badNames[i], [=](auto& p) { p.sunIntensity = bad; }, "sunIntensity");
-            skyCase("rayleigh " + badNames[i], [=](auto& p) { p.atmosphere.rayleigh.b = bad; }, "rayleigh");
-            skyCase("mie " + badNames[i], [=](auto& p) { p.atmosphere.mie = bad; }, "mie");
+            skyCase(
+                "sunIntensity " + badNames[i], [=](auto& p) { p.sunIntensity = bad; }, "sunIntensity");
+            skyCase(
+                "rayleigh " + badNames[i], [=](auto& p) { p.atmosphere.rayleigh.b = bad; }, "rayleigh");
+            skyCase(
+                "mie " + badNames[i], [=](auto& p) { p.atmosphere.mie = bad; }, "mie");
         }
-        skyCase("rayleighHeight " + badNames[i], [=](auto& p) { p.atmosphere.rayleighHeight = bad; },
-                    "rayleighHeight");
+        skyCase(
+            "rayleighHeight " + badNames[i], [=](auto& p) { p.atmosphere.rayleighHeight = bad; },
+            "rayleighHeight");
     }
-    skyCase("sunDirection zero", [](auto& p) { p.sunDirection = glm::vec3(0.0f); }, "sunDirection");
-    skyCase("atmosphere inside the planet", [](auto& p) { p.atmosphere.atmosphereRadius = 1000.0f; }, "atmosphereRadius");
-    skyCase("steps 0", [](auto& p) { p.steps = 0; }, "steps");
-    skyCase("lightSteps 100", [](auto& p) { p.lightSteps = 100; }, "lightSteps");
-    skyCase("mieG 1", [](auto& p) { p.atmosphere.mieG = 1.0f; }, "mieG");
+    skyCase(
+        "sunDirection zero", [](auto& p) { p.sunDirection = glm::vec3(0.0f); }, "sunDirection");
+    skyCase(
+        "atmosphere inside the planet", [](auto& p) { p.atmosphere.atmosphereRadius = 1000.0f; },
+        "atmosphereRadius");
+    skyCase(
+        "steps 0", [](auto& p) { p.steps = 0; }, "steps");
+    skyCase(
+        "lightSteps 100", [](auto& p) { p.lightSteps = 100; }, "lightSteps");
+    skyCase(
+        "mieG 1", [](auto& p) { p.atmosphere.mieG = 1.0f; }, "mieG");
 
     // AmbientOcclusionNode
     auto aoNode = AmbientOcclusionNode::create();

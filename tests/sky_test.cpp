@@ -3,11 +3,11 @@
 #include "TestUtil.h"
 
 #include <fog/FogNode.h>
-#include <sky/SkyNode.h>
 #include <sgfx/Group.h>
 #include <sgfx/Material.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
+#include <sky/SkyNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -23,7 +23,8 @@ std::unique_ptr<Viewer> skyViewer(glm::vec3 look) {
     v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
     auto& cam = *v->camera();
     cam.setPerspective(60.0f, 0.1f, 1000.0f);
-    cam.setLookAt({0, 0, 2}, glm::vec3(0, 0, 2) + look, std::abs(look.z) > 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1));
+    cam.setLookAt({0, 0, 2}, glm::vec3(0, 0, 2) + look,
+                  std::abs(look.z) > 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1));
     cam.clearColor = {0, 0, 0, 1};
     return v;
 }
@@ -54,8 +55,8 @@ TEST(Sky, PixelsMatchTheCpuIntegral) {
                 sky::skyRadiance(p.atmosphere, rayOf(*v, at.x, at.y), p.sunDirection, p.sunIntensity, 2.0f);
             const glm::vec3 got = pixel(*v, at.x, at.y);
             for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(got[c], expected[c], 2e-3 * expected[c] + 1e-5) << hours << "h pixel " << at.x << ","
-                                                                           << at.y << " channel " << c;
+                EXPECT_NEAR(got[c], expected[c], 2e-3 * expected[c] + 1e-5)
+                    << hours << "h pixel " << at.x << "," << at.y << " channel " << c;
         }
     }
 }
@@ -66,10 +67,12 @@ TEST(Sky, NoonIsBlueOverheadAndTheSunsetHorizonIsRed) {
     const glm::vec3 zenith = sky::skyRadiance(a, {0, 0, 1}, noonSun, 20.0f, 0.0f);
     EXPECT_GT(zenith.b, 1.5f * zenith.r);
     const glm::vec3 lowSun = glm::normalize(glm::vec3(0, 1, 0.02f));
-    const glm::vec3 horizon = sky::skyRadiance(a, glm::normalize(glm::vec3(0, 1, 0.03f)), lowSun, 20.0f, 0.0f);
+    const glm::vec3 horizon =
+        sky::skyRadiance(a, glm::normalize(glm::vec3(0, 1, 0.03f)), lowSun, 20.0f, 0.0f);
     EXPECT_GT(horizon.r, horizon.b);
     // Night: the sun below the horizon leaves the sky far darker.
-    const glm::vec3 night = sky::skyRadiance(a, {0, 0, 1}, glm::normalize(glm::vec3(0, 1, -0.3f)), 20.0f, 0.0f);
+    const glm::vec3 night =
+        sky::skyRadiance(a, {0, 0, 1}, glm::normalize(glm::vec3(0, 1, -0.3f)), 20.0f, 0.0f);
     EXPECT_LT(night.b, 0.05f * zenith.b);
 }
 

@@ -6,12 +6,12 @@
 #include "TestUtil.h"
 
 #include <fog/FogNode.h>
-#include <volume/VolumeNode.h>
 #include <sgfx/Group.h>
 #include <sgfx/Image.h>
 #include <sgfx/Material.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
+#include <volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -41,8 +41,8 @@ std::unique_ptr<Viewer> floatViewer(float eyeY = -5.0f) {
 
 // An emissive wall facing the camera at y = `y` (exact colour: no lights).
 std::shared_ptr<Node> wall(float y, glm::vec3 color) {
-    auto t = Transform::create(glm::rotate(glm::translate(glm::mat4(1.0f), {0, y, 0}), glm::radians(90.0f),
-                                           glm::vec3(1, 0, 0)));
+    auto t = Transform::create(
+        glm::rotate(glm::translate(glm::mat4(1.0f), {0, y, 0}), glm::radians(90.0f), glm::vec3(1, 0, 0)));
     auto q = shapes::quad(40, 40);
     auto m = Material::create();
     m->ambient = glm::vec3(0);
@@ -87,7 +87,8 @@ TEST(VolumeMath, PhaseFunctionsIntegrateToOneOverTheSphere) {
         return 2.0 * volume::kPi * s * (2.0 / n) / 3.0;
     };
     for (double g : {-0.7, 0.0, 0.3, 0.8})
-        EXPECT_NEAR(integrate([g](double mu) { return volume::henyeyGreensteinPhase(mu, g); }), 1.0, 1e-4) << g;
+        EXPECT_NEAR(integrate([g](double mu) { return volume::henyeyGreensteinPhase(mu, g); }), 1.0, 1e-4)
+            << g;
     EXPECT_NEAR(integrate([](double mu) { return volume::rayleighPhase(mu); }), 1.0, 1e-9);
     EXPECT_NEAR(integrate([](double mu) { return volume::isotropicPhase(mu); }), 1.0, 1e-12);
     for (double mu : {-1.0, -0.2, 0.0, 0.6, 1.0})
@@ -133,7 +134,8 @@ TEST(Volume, AbsorptionAndEmissionMatchTheClosedFormAndTheZeroAbsorptionLimit) {
         const glm::vec3 px = centrePixel(*v);
         for (int c = 0; c < 3; ++c) {
             ASSERT_TRUE(std::isfinite(px[c]));
-            EXPECT_NEAR(px[c], volume::emitted(ka, ke[c], 2.0), 1e-2 * std::max(1.0, volume::emitted(ka, ke[c], 2.0)))
+            EXPECT_NEAR(px[c], volume::emitted(ka, ke[c], 2.0),
+                        1e-2 * std::max(1.0, volume::emitted(ka, ke[c], 2.0)))
                 << "k_a " << ka << " channel " << c;
         }
     }
@@ -207,7 +209,8 @@ TEST(Volume, EmptySpaceSkippingAndJitterKeepTheImage) {
         VolumeParameters p = homogeneous(1.2f, glm::vec3(0.6f, 0.4f, 0.2f));
         p.emptySpaceSkipping = skip;
         p.jitter = jitter;
-        v->setSceneData(VolumeNode::create(p, noise ? VolumeGrid::noise(32, 3, 3, 0.3f) : VolumeGrid::constant(1.0f)));
+        v->setSceneData(
+            VolumeNode::create(p, noise ? VolumeGrid::noise(32, 3, 3, 0.3f) : VolumeGrid::constant(1.0f)));
         v->frame();
         return v->renderer().readPixelsLinear();
     };
@@ -249,7 +252,9 @@ TEST(Volume, HalfResolutionMatchesFullInsideAndRespectsAWallInFront) {
         return v->renderer().readPixelsLinear();
     };
     const FloatImage full = render(false), half = render(true);
-    auto at = [](const FloatImage& img, int x, int y, int c) { return img.rgba[(std::size_t(y) * kSize + x) * 4 + c]; };
+    auto at = [](const FloatImage& img, int x, int y, int c) {
+        return img.rgba[(std::size_t(y) * kSize + x) * 4 + c];
+    };
     for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(at(half, kSize / 2 + 4, kSize / 2, c), at(full, kSize / 2 + 4, kSize / 2, c), 2e-3) << c;
     // Every pixel of the post (pure green in the full image) stays green: no smoke bleeds onto it.
@@ -296,7 +301,9 @@ TEST(Volume, FogAppliesUpToWhereTheMediumStarts) {
     // Premultiplied: c·(1 − k) + fog·α·k with k = 1 − e^(−ρ·4) (the medium starts 4 m away).
     const double k = 1.0 - std::exp(-rho * 4.0), alpha = 1.0 - std::exp(-ka * 2.0);
     for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(centrePixel(*v)[c], volume::emitted(ka, ke[c], 2.0) * (1 - k) + fogColor[c] * alpha * k, 3e-3) << c;
+        EXPECT_NEAR(centrePixel(*v)[c], volume::emitted(ka, ke[c], 2.0) * (1 - k) + fogColor[c] * alpha * k,
+                    3e-3)
+            << c;
 }
 
 TEST(Volume, TransferFunctionColoursTheEmissionByDensity) {
@@ -365,9 +372,16 @@ TEST(Volume, BadInputIsRefusedWithItsReason) {
         std::ofstream f(raw, std::ios::binary);
         f << "abc";
     }
-    expectRefused([&] { (void)VolumeGrid::loadRaw(raw, {2, 2, 2}, VolumeGrid::Format::R8); }, "the file has 3");
-    expectRefused([&] { (void)VolumeGrid::loadRaw("/nonexistent.raw", {2, 2, 2}, VolumeGrid::Format::R8); },
-                  "cannot open");
+    expectRefused(
+        [&] {
+            (void)VolumeGrid::loadRaw(raw, {2, 2, 2}, VolumeGrid::Format::R8);
+        },
+        "the file has 3");
+    expectRefused(
+        [&] {
+            (void)VolumeGrid::loadRaw("/nonexistent.raw", {2, 2, 2}, VolumeGrid::Format::R8);
+        },
+        "cannot open");
     std::filesystem::remove(raw);
     expectRefused([&] { (void)VolumeNode::createFunction({}, "  "); }, "empty");
     EXPECT_EQ(node->parameters().absorption, 1.0f); // kept

@@ -50,7 +50,8 @@ struct Options {
 template <class T> T number(const std::string& opt, std::string_view s) {
     T v{};
     auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || ec != std::errc() || p != s.data() + s.size()) usage(opt + ": '" + std::string(s) + "' is not a number");
+    if (s.empty() || ec != std::errc() || p != s.data() + s.size())
+        usage(opt + ": '" + std::string(s) + "' is not a number");
     return v;
 }
 
@@ -76,7 +77,8 @@ Options parse(int argc, char** argv) {
                                         : sgfx::ParticlePath::PointSprite;
         } else if (a == "--layout") {
             const std::string v = value();
-            if (v != "interleaved" && v != "split") usage("--layout: '" + v + "' is not interleaved or split");
+            if (v != "interleaved" && v != "split")
+                usage("--layout: '" + v + "' is not interleaved or split");
             o.layout = v == "split" ? sgfx::ParticleLayout::Split : sgfx::ParticleLayout::Interleaved;
         } else if (a == "--size") {
             const std::string v = value();
@@ -84,7 +86,8 @@ Options parse(int argc, char** argv) {
             if (x == std::string::npos) usage("--size: expected WxH");
             o.width = number<int>(a, std::string_view(v).substr(0, x));
             o.height = number<int>(a, std::string_view(v).substr(x + 1));
-            if (o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192) usage("--size: out of range");
+            if (o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192)
+                usage("--size: out of range");
         } else if (a == "--out") {
             o.out = value();
         } else if (a == "--bench") {
@@ -138,8 +141,8 @@ std::shared_ptr<sgfx::ParticleSystemNode> preset(const std::string& name, std::u
 
 int main(int argc, char** argv) try {
     const Options o = parse(argc, argv);
-    auto viewer = sgfx::Viewer::createHeadless(o.width, o.height,
-                                               o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
+    auto viewer = sgfx::Viewer::createHeadless(
+        o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
     auto& cam = *viewer->camera();
     cam.clearColor = {0.42f, 0.60f, 0.85f, 1.0f};
     cam.setPerspective(50.0f, 0.5f, 500.0f);
@@ -176,10 +179,12 @@ int main(int argc, char** argv) try {
             const auto t0 = std::chrono::steady_clock::now();
             viewer->frame(1.0 / 30.0);
             glFinish();
-            frame.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            frame.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
             double u = 0, d = 0;
             for (const auto& pt : viewer->stats().passTimes)
-                (pt.name.starts_with("particles") ? u : d) += pt.name.starts_with("main") || pt.name.starts_with("particles") ? pt.gpuMs : 0.0;
+                (pt.name.starts_with("particles") ? u : d) +=
+                    pt.name.starts_with("main") || pt.name.starts_with("particles") ? pt.gpuMs : 0.0;
             update.push_back(u);
             draw.push_back(d);
         }
@@ -196,18 +201,20 @@ int main(int argc, char** argv) try {
             const auto t0 = std::chrono::steady_clock::now();
             systems[0]->simulate(viewer->renderer());
             glFinish();
-            sim.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            sim.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         }
         std::printf("GL_RENDERER: %s\n", viewer->context().renderer().c_str());
-        std::printf("PARTICLES count=%u path=%s layout=%s size=%dx%d frame_ms=%.2f sim_ms=%.2f update_ms=%.2f "
-                    "draw_ms=%.2f\n",
-                    systems[0]->settings().capacity,
-                    systems[0]->resolvedPath() == sgfx::ParticlePath::GeometryShader ? "gs"
-                    : systems[0]->resolvedPath() == sgfx::ParticlePath::Instanced    ? "instanced"
-                    : systems[0]->resolvedPath() == sgfx::ParticlePath::Pulled       ? "pulled"
-                                                                                      : "points",
-                    o.layout == sgfx::ParticleLayout::Split ? "split" : "interleaved", o.width, o.height,
-                    med(frame), med(sim), med(update), med(draw));
+        std::printf(
+            "PARTICLES count=%u path=%s layout=%s size=%dx%d frame_ms=%.2f sim_ms=%.2f update_ms=%.2f "
+            "draw_ms=%.2f\n",
+            systems[0]->settings().capacity,
+            systems[0]->resolvedPath() == sgfx::ParticlePath::GeometryShader ? "gs"
+            : systems[0]->resolvedPath() == sgfx::ParticlePath::Instanced    ? "instanced"
+            : systems[0]->resolvedPath() == sgfx::ParticlePath::Pulled       ? "pulled"
+                                                                             : "points",
+            o.layout == sgfx::ParticleLayout::Split ? "split" : "interleaved", o.width, o.height, med(frame),
+            med(sim), med(update), med(draw));
         return 0;
     }
 
@@ -226,8 +233,8 @@ int main(int argc, char** argv) try {
         place(preset("jet", o.count), {3, -2, 0});
         place(preset("sparks", o.count), {8, -6, 0.5f});
     } else {
-        place(preset(o.preset, o.count), o.preset == "rain" ? glm::vec3(0, 8, 36)
-                                         : o.preset == "snow" ? glm::vec3(0, 8, 30)
+        place(preset(o.preset, o.count), o.preset == "rain"     ? glm::vec3(0, 8, 36)
+                                         : o.preset == "snow"   ? glm::vec3(0, 8, 30)
                                          : o.preset == "leaves" ? glm::vec3(0, 0, 14)
                                                                 : glm::vec3(0, 0, 0));
     }

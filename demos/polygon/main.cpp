@@ -6,13 +6,13 @@
 #include <ao/AmbientOcclusionNode.h>
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
-#include <sky/SkyNode.h>
-#include <volume/VolumeNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
+#include <sky/SkyNode.h>
 #include <transparency/TransparencyBin.h>
+#include <volume/VolumeNode.h>
 
 #include <glad/gl.h>
 // After glad: GLFW must not pull in the system GL header.
@@ -360,7 +360,8 @@ Options parseArgs(int argc, char** argv) {
             o.volume.halfResolution = true;
         } else if (arg == "--volume-skip") {
             const std::string_view v = value();
-            if (v != "on" && v != "off") throw UsageError("--volume-skip: '" + std::string(v) + "' is not on or off");
+            if (v != "on" && v != "off")
+                throw UsageError("--volume-skip: '" + std::string(v) + "' is not on or off");
             o.volume.emptySpaceSkipping = v == "on";
         } else if (arg == "--volume-jitter") {
             o.volume.jitter = true;
@@ -428,7 +429,8 @@ sgfx::NodePtr withRain(const Options& o, sgfx::NodePtr world, std::shared_ptr<co
         // 20 m above the eye, falling long enough to reach the lowest ground (z = -10).
         const glm::vec3 eye(glm::inverse(cam->viewMatrix)[3]);
         const float height = eye.z + 20.0f;
-        static_cast<sgfx::Transform&>(n).setMatrix(glm::translate(glm::mat4(1.0f), glm::vec3(eye.x, eye.y, height)));
+        static_cast<sgfx::Transform&>(n).setMatrix(
+            glm::translate(glm::mat4(1.0f), glm::vec3(eye.x, eye.y, height)));
         sgfx::particles::Emitter e = rain->settings().emitter;
         const float lifetime = std::max(1.0f, (height + 10.0f) / -e.velocity.z);
         if (std::abs(lifetime - e.lifetime) > 0.05f * e.lifetime) {
@@ -491,8 +493,8 @@ sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& sc
 }
 
 std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
-    auto viewer = sgfx::Viewer::createHeadless(o.width, o.height,
-                                               o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
+    auto viewer = sgfx::Viewer::createHeadless(
+        o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
     viewer->renderer().options().lighting = o.lighting;
     viewer->renderer().options().countFragments = o.countFragments;
     viewer->camera()->setAntiAliasing(o.aa);

@@ -9,11 +9,11 @@
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
-#include <sky/SkyNode.h>
-#include <volume/VolumeNode.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/gl/Objects.h>
+#include <sky/SkyNode.h>
 #include <transparency/TransparencyBin.h>
+#include <volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -93,7 +93,8 @@ int main(int argc, char** argv) {
         // Particles in the fog: smoke (soft) beside the road and rain over the scene, whose
         // capacity and draw path change as the run goes on.
         auto smoke = sgfx::ParticleSystemNode::smoke(2.0f, 300);
-        auto smokeAt = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(20.0f, 10.0f, 0.0f)));
+        auto smokeAt =
+            sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(20.0f, 10.0f, 0.0f)));
         smokeAt->addChild(smoke);
         auto rain = sgfx::ParticleSystemNode::rain({200.0f, 200.0f}, 2000);
         auto rainAt = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 60.0f)));
@@ -106,7 +107,8 @@ int main(int argc, char** argv) {
         cloudParameters.absorption = 0.05f;
         cloudParameters.scattering = 0.2f;
         auto cloud = sgfx::VolumeNode::create(cloudParameters, sgfx::VolumeGrid::noise(24, 5, 3, 0.4f));
-        auto cloudAt = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(-20.0f, 30.0f, 10.0f)));
+        auto cloudAt =
+            sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(-20.0f, 30.0f, 10.0f)));
         cloudAt->addChild(cloud);
         fog->addChild(cloudAt);
         auto sky = sgfx::SkyNode::create(sgfx::SkyParameters::atTime(16.0f));

@@ -23,13 +23,13 @@ static_assert(sizeof(ParticleRecord) == 52);
 // The seed's emitter E: a W×H rectangle in the z = 0 plane of its own frame, placed by the
 // node's world matrix. Vectors are world space, as in the seed.
 struct Emitter {
-    glm::vec2 size{1.0f, 1.0f};                    // W, H (m)
-    glm::vec3 velocity{0.0f, 0.0f, 0.0f};          // v0 (m/s)
-    float velocitySpread = 0.0f;                   // kv ≥ 0 (m/s): v = v0 + 2·kv·Vrand
-    glm::vec3 acceleration{0.0f, 0.0f, -9.81f};    // a (m/s²)
-    float rotationRange = 0.0f;                    // krot ∈ [0, π] (rad)
-    float rotationSpeed = 0.0f;                    // kvel ≥ 0 (rad/s)
-    float lifetime = 1.0f;                         // tmax > 0 (s)
+    glm::vec2 size{1.0f, 1.0f};                 // W, H (m)
+    glm::vec3 velocity{0.0f, 0.0f, 0.0f};       // v0 (m/s)
+    float velocitySpread = 0.0f;                // kv ≥ 0 (m/s): v = v0 + 2·kv·Vrand
+    glm::vec3 acceleration{0.0f, 0.0f, -9.81f}; // a (m/s²)
+    float rotationRange = 0.0f;                 // krot ∈ [0, π] (rad)
+    float rotationSpeed = 0.0f;                 // kvel ≥ 0 (rad/s)
+    float lifetime = 1.0f;                      // tmax > 0 (s)
 };
 
 // What happens to the time left over when a particle dies within a step.

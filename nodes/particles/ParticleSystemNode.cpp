@@ -46,23 +46,10 @@ void checkVector(const char* name, glm::vec3 v, double limit) {
                                                   ") must be finite and within ±" + nodes::number(limit));
 }
 
-// Replaces `#include "file"` lines with the embedded file (one level is all the shaders use).
-std::string expandIncludes(std::string_view file) {
-    std::string src = nodes::shaderText(file);
-    const std::string key = "#include \"";
-    for (auto at = src.find(key); at != std::string::npos; at = src.find(key)) {
-        const auto close = src.find('"', at + key.size());
-        const auto eol = src.find('\n', at);
-        const std::string name = src.substr(at + key.size(), close - at - key.size());
-        src.replace(at, eol - at, nodes::shaderText(name));
-    }
-    return src;
-}
-
 const BaseShader& updateShader(ParticleLayout layout) {
     static const auto make = [](bool interleaved) {
-        BaseShader b{interleaved ? "particle_update_interleaved" : "particle_update_split", "particle_update.vert",
-                     expandIncludes("particle_update.vert"), "", ""};
+        BaseShader b{interleaved ? "particle_update_interleaved" : "particle_update_split",
+                     "particle_update.vert", nodes::shaderWithIncludes("particle_update.vert"), "", ""};
         b.feedbackVaryings = {"o_state", "o_velocity", "o_angles0", "o_angles"};
         b.feedbackInterleaved = interleaved;
         return b;
@@ -83,37 +70,41 @@ BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft, Particl
     std::string fragment = ShaderComposer::blinnPhong().fragmentSource;
     if (soft) {
         const auto eol = fragment.find('\n');
-        fragment = fragment.substr(0, eol + 1) + "#define SGFX_PARTICLE_DEPTH_UNIT " + std::to_string(kDepthUnit) +
-                   "\n" + nodes::shaderText("particle_soft.glsl") + fragment.substr(eol + 1);
+        fragment = fragment.substr(0, eol + 1) + "#define SGFX_PARTICLE_DEPTH_UNIT " +
+                   std::to_string(kDepthUnit) + "\n" + nodes::shaderText("particle_soft.glsl") +
+                   fragment.substr(eol + 1);
     }
     static const char* const paths[] = {"", "particles_gs_", "particles_instanced_", "particles_pulled_",
                                         "particles_points_"};
-    const std::string name = std::string(paths[int(path)]) +
-                             shapes[int(shape)] + (soft ? "_soft" : "");
+    const std::string name = std::string(paths[int(path)]) + shapes[int(shape)] + (soft ? "_soft" : "");
     if (path == ParticlePath::GeometryShader) {
         BaseShader b{name, "particle_points.vert", nodes::shaderText("particle_points.vert"),
-                     soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
+                     soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag",
+                     std::move(fragment)};
         b.geometryName = "particle_corners.geom";
-        b.geometrySource = withDefines(expandIncludes("particle_corners.geom"));
+        b.geometrySource = withDefines(nodes::shaderWithIncludes("particle_corners.geom"));
         return b;
     }
     if (path == ParticlePath::PointSprite) {
         const auto eol = fragment.find('\n');
         fragment.insert(eol + 1, "#define SGFX_POINT_SPRITE\n");
-        return BaseShader{name, "particle_point.vert", withDefines(expandIncludes("particle_point.vert")),
-                          soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
+        return BaseShader{
+            name, "particle_point.vert", withDefines(nodes::shaderWithIncludes("particle_point.vert")),
+            soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
     }
     if (path == ParticlePath::Pulled) {
-        std::string vertex = withDefines(expandIncludes("particle_pulled.vert"));
+        std::string vertex = withDefines(nodes::shaderWithIncludes("particle_pulled.vert"));
         const auto eol = vertex.find('\n');
         vertex.insert(eol + 1, "#define SGFX_PARTICLE_BUFFER_UNIT " + std::to_string(kBufferUnit) + "\n" +
                                    (layout == ParticleLayout::Split ? "#define SGFX_PARTICLE_SPLIT\n" : ""));
         return BaseShader{name + (layout == ParticleLayout::Split ? "_split" : ""), "particle_pulled.vert",
-                          std::move(vertex), soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag",
+                          std::move(vertex),
+                          soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag",
                           std::move(fragment)};
     }
-    return BaseShader{name, "particle_instanced.vert", withDefines(expandIncludes("particle_instanced.vert")),
-                      soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
+    return BaseShader{
+        name, "particle_instanced.vert", withDefines(nodes::shaderWithIncludes("particle_instanced.vert")),
+        soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
 }
 
 int trianglesPerParticle(ParticleShape s) {
@@ -224,7 +215,9 @@ struct ParticleSystemNode::Gpu {
     std::array<std::array<gl::TextureObject, 4>, 2> bufferTextures; // vertex pulling's views
 
     int streams() const { return layout == ParticleLayout::Split ? 4 : 1; }
-    int stride(int s) const { return layout == ParticleLayout::Split ? kSplitStrides[std::size_t(s)] : kRecordBytes; }
+    int stride(int s) const {
+        return layout == ParticleLayout::Split ? kSplitStrides[std::size_t(s)] : kRecordBytes;
+    }
 
     // Allocates both copies; false (and nothing kept) when the driver runs out of memory.
     bool allocate(ParticleLayout l, std::uint32_t n) {
@@ -235,7 +228,8 @@ struct ParticleSystemNode::Gpu {
         for (auto& copy : buffers)
             for (int s = 0; s < streams(); ++s) {
                 copy[std::size_t(s)] = gl::createBuffer();
-                glNamedBufferData(copy[std::size_t(s)].get(), GLsizeiptr(n) * stride(s), nullptr, GL_DYNAMIC_COPY);
+                glNamedBufferData(copy[std::size_t(s)].get(), GLsizeiptr(n) * stride(s), nullptr,
+                                  GL_DYNAMIC_COPY);
             }
         if (glGetError() == GL_OUT_OF_MEMORY) return false;
         emptyVao = gl::createVertexArray();
@@ -261,9 +255,10 @@ struct ParticleSystemNode::Gpu {
                     glEnableVertexArrayAttrib(vao, GLuint(a));
                 }
                 for (int s = 0; s < streams(); ++s) {
-                    glVertexArrayVertexBuffer(vao, GLuint(s), buffers[std::size_t(c)][std::size_t(s)].get(), 0,
-                                              stride(s));
-                    if (vao == instanceVao[std::size_t(c)].get()) glVertexArrayBindingDivisor(vao, GLuint(s), 1);
+                    glVertexArrayVertexBuffer(vao, GLuint(s), buffers[std::size_t(c)][std::size_t(s)].get(),
+                                              0, stride(s));
+                    if (vao == instanceVao[std::size_t(c)].get())
+                        glVertexArrayBindingDivisor(vao, GLuint(s), 1);
                 }
             }
         }
@@ -273,8 +268,9 @@ struct ParticleSystemNode::Gpu {
     // Binds copy `c` from particle `first` on as the transform feedback targets.
     void bindFeedback(int c, std::uint32_t first, std::uint32_t count) const {
         for (int s = 0; s < streams(); ++s)
-            glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s), buffers[std::size_t(c)][std::size_t(s)].get(),
-                              GLintptr(first) * stride(s), GLsizeiptr(count) * stride(s));
+            glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s),
+                              buffers[std::size_t(c)][std::size_t(s)].get(), GLintptr(first) * stride(s),
+                              GLsizeiptr(count) * stride(s));
     }
     void unbindFeedback() const {
         for (int s = 0; s < streams(); ++s)
@@ -349,7 +345,8 @@ void ParticleSystemNode::advance(double dt) {
 
 void ParticleSystemNode::queueStep(float dt) {
     if (!std::isfinite(dt) || dt < 0.0f)
-        nodes::refuse("ParticleSystemNode::queueStep", "dt = " + nodes::number(dt) + " must be finite and ≥ 0");
+        nodes::refuse("ParticleSystemNode::queueStep",
+                      "dt = " + nodes::number(dt) + " must be finite and ≥ 0");
     pendingSteps_.push_back(dt);
 }
 
@@ -375,7 +372,8 @@ ParticlePath ParticleSystemNode::resolvedPath() const {
     if (p == ParticlePath::Pulled) {
         // Buffer textures hold GL_MAX_TEXTURE_BUFFER_SIZE texels (13 per particle interleaved).
         if (maxBufferTexels_ < 0) glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxBufferTexels_);
-        const std::uint64_t texels = std::uint64_t(settings_.capacity) * (settings_.layout == ParticleLayout::Split ? 1 : 13);
+        const std::uint64_t texels =
+            std::uint64_t(settings_.capacity) * (settings_.layout == ParticleLayout::Split ? 1 : 13);
         if (texels > std::uint64_t(maxBufferTexels_)) p = ParticlePath::Instanced;
     }
     return p;
@@ -383,9 +381,11 @@ ParticlePath ParticleSystemNode::resolvedPath() const {
 
 const BaseShader& ParticleSystemNode::baseShader() const {
     const bool soft = settings_.softness > 0.0f;
-    const int key = int(resolvedPath()) | int(settings_.shape) << 2 | (soft ? 1 << 4 : 0) | int(settings_.layout) << 5;
+    const int key =
+        int(resolvedPath()) | int(settings_.shape) << 2 | (soft ? 1 << 4 : 0) | int(settings_.layout) << 5;
     if (!shader_ || shaderKey_ != key) {
-        shader_ = std::make_unique<BaseShader>(drawShader(resolvedPath(), settings_.shape, soft, settings_.layout));
+        shader_ =
+            std::make_unique<BaseShader>(drawShader(resolvedPath(), settings_.shape, soft, settings_.layout));
         shaderKey_ = key;
     }
     return *shader_;
@@ -407,8 +407,8 @@ BoundingSphere ParticleSystemNode::worldBound(const glm::mat4& model) const {
     const particles::Emitter& e = settings_.emitter;
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (int i = 0; i < 4; ++i) {
-        const glm::vec3 c(model * glm::vec4((i & 1 ? 0.5f : -0.5f) * e.size.x, (i & 2 ? 0.5f : -0.5f) * e.size.y,
-                                            0.0f, 1.0f));
+        const glm::vec3 c(model * glm::vec4((i & 1 ? 0.5f : -0.5f) * e.size.x,
+                                            (i & 2 ? 0.5f : -0.5f) * e.size.y, 0.0f, 1.0f));
         lo = glm::min(lo, c);
         hi = glm::max(hi, c);
     }
@@ -517,9 +517,10 @@ void ParticleSystemNode::simulate(Renderer& r) {
                 kept = std::min(gpu_->capacity, s.capacity);
                 if (gpu_->layout == next->layout) {
                     for (int st = 0; st < next->streams(); ++st)
-                        glCopyNamedBufferSubData(gpu_->buffers[std::size_t(gpu_->current)][std::size_t(st)].get(),
-                                                 next->buffers[0][std::size_t(st)].get(), 0, 0,
-                                                 GLsizeiptr(kept) * next->stride(st));
+                        glCopyNamedBufferSubData(
+                            gpu_->buffers[std::size_t(gpu_->current)][std::size_t(st)].get(),
+                            next->buffers[0][std::size_t(st)].get(), 0, 0,
+                            GLsizeiptr(kept) * next->stride(st));
                 } else {
                     std::vector<ParticleRecord> records = readRecords();
                     records.resize(kept);
@@ -528,12 +529,13 @@ void ParticleSystemNode::simulate(Renderer& r) {
                         bytes.assign(std::size_t(kept) * std::size_t(next->stride(st)), 0);
                         for (std::uint32_t i = 0; i < kept; ++i) {
                             const auto* src = reinterpret_cast<const std::uint8_t*>(&records[i]);
-                            const int from = next->layout == ParticleLayout::Split ? (st == 0 ? 0 : 4 + 12 * st) : 0;
-                            std::memcpy(bytes.data() + std::size_t(i) * std::size_t(next->stride(st)), src + from,
-                                        std::size_t(next->stride(st)));
+                            const int from =
+                                next->layout == ParticleLayout::Split ? (st == 0 ? 0 : 4 + 12 * st) : 0;
+                            std::memcpy(bytes.data() + std::size_t(i) * std::size_t(next->stride(st)),
+                                        src + from, std::size_t(next->stride(st)));
                         }
-                        glNamedBufferSubData(next->buffers[0][std::size_t(st)].get(), 0, GLsizeiptr(bytes.size()),
-                                             bytes.data());
+                        glNamedBufferSubData(next->buffers[0][std::size_t(st)].get(), 0,
+                                             GLsizeiptr(bytes.size()), bytes.data());
                     }
                 }
             }
@@ -574,8 +576,8 @@ std::vector<ParticleRecord> ParticleSystemNode::readRecords() const {
     const Gpu& g = *gpu_;
     out.resize(g.capacity);
     if (g.layout == ParticleLayout::Interleaved) {
-        glGetNamedBufferSubData(g.buffers[std::size_t(g.current)][0].get(), 0, GLsizeiptr(g.capacity) * kRecordBytes,
-                                out.data());
+        glGetNamedBufferSubData(g.buffers[std::size_t(g.current)][0].get(), 0,
+                                GLsizeiptr(g.capacity) * kRecordBytes, out.data());
         return out;
     }
     std::vector<std::uint8_t> bytes;
@@ -586,8 +588,8 @@ std::vector<ParticleRecord> ParticleSystemNode::readRecords() const {
                                 GLsizeiptr(bytes.size()), bytes.data());
         const int to = st == 0 ? 0 : 4 + 12 * st;
         for (std::uint32_t i = 0; i < g.capacity; ++i)
-            std::memcpy(reinterpret_cast<std::uint8_t*>(&out[i]) + to, bytes.data() + std::size_t(i) * std::size_t(stride),
-                        std::size_t(stride));
+            std::memcpy(reinterpret_cast<std::uint8_t*>(&out[i]) + to,
+                        bytes.data() + std::size_t(i) * std::size_t(stride), std::size_t(stride));
     }
     return out;
 }
@@ -622,16 +624,19 @@ void ParticleSystemNode::draw(Renderer& r, gl::Program& program, const RenderIte
         glDrawArrays(GL_POINTS, 0, GLsizei(g.capacity));
     } else if (path == ParticlePath::Pulled) {
         for (int st = 0; st < g.streams(); ++st)
-            glBindTextureUnit(kBufferUnit + unsigned(st), g.bufferTextures[std::size_t(g.current)][std::size_t(st)].get());
+            glBindTextureUnit(kBufferUnit + unsigned(st),
+                              g.bufferTextures[std::size_t(g.current)][std::size_t(st)].get());
         glBindVertexArray(g.emptyVao.get());
-        glDrawArrays(GL_TRIANGLES, 0, GLsizei(std::size_t(g.capacity) * 3 * std::size_t(trianglesPerParticle(s.shape))));
+        glDrawArrays(GL_TRIANGLES, 0,
+                     GLsizei(std::size_t(g.capacity) * 3 * std::size_t(trianglesPerParticle(s.shape))));
     } else {
         glBindVertexArray(g.instanceVao[std::size_t(g.current)].get());
         // One strip per particle (4 or 6 vertices); the tetrahedron's four faces as triangles.
         if (s.shape == ParticleShape::Tetrahedron)
             glDrawArraysInstanced(GL_TRIANGLES, 0, 12, GLsizei(g.capacity));
         else
-            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, s.shape == ParticleShape::Hexagon ? 6 : 4, GLsizei(g.capacity));
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, s.shape == ParticleShape::Hexagon ? 6 : 4,
+                                  GLsizei(g.capacity));
     }
 }
 

@@ -53,10 +53,10 @@ struct ParticleSettings {
     particles::RotationBounce bounce = particles::RotationBounce::Reflect;
     particles::StartMode start = particles::StartMode::Steady;
     ParticleShape shape = ParticleShape::Sprite;
-    float sizeStart = 0.1f, sizeEnd = 0.1f; // k (m), interpolated over the life
+    float sizeStart = 0.1f, sizeEnd = 0.1f;     // k (m), interpolated over the life
     glm::vec4 colorStart{1.0f}, colorEnd{1.0f}; // multiplies the material (linear RGB, opacity)
-    float stretch = 0.0f;   // tetrahedra: length × (1 + stretch·|v|), for rain streaks (s)
-    float softness = 0.0f;  // soft particles: fade within this distance of opaque surfaces (m)
+    float stretch = 0.0f;  // tetrahedra: length × (1 + stretch·|v|), for rain streaks (s)
+    float softness = 0.0f; // soft particles: fade within this distance of opaque surfaces (m)
     ParticlePath path = ParticlePath::Auto;
     ParticleLayout layout = ParticleLayout::Interleaved;
 
@@ -75,9 +75,12 @@ public:
 
     // Ready-made systems, each with its state set (material, blending, texture). Place the
     // emitter with a Transform above the node: it lies in the node's z = 0 plane.
-    static std::shared_ptr<ParticleSystemNode> rain(glm::vec2 area = {60.0f, 60.0f}, std::uint32_t count = 100000);
-    static std::shared_ptr<ParticleSystemNode> snow(glm::vec2 area = {60.0f, 60.0f}, std::uint32_t count = 50000);
-    static std::shared_ptr<ParticleSystemNode> leaves(glm::vec2 area = {20.0f, 20.0f}, std::uint32_t count = 2000);
+    static std::shared_ptr<ParticleSystemNode> rain(glm::vec2 area = {60.0f, 60.0f},
+                                                    std::uint32_t count = 100000);
+    static std::shared_ptr<ParticleSystemNode> snow(glm::vec2 area = {60.0f, 60.0f},
+                                                    std::uint32_t count = 50000);
+    static std::shared_ptr<ParticleSystemNode> leaves(glm::vec2 area = {20.0f, 20.0f},
+                                                      std::uint32_t count = 2000);
     static std::shared_ptr<ParticleSystemNode> smoke(float sourceWidth = 1.0f, std::uint32_t count = 2000);
     static std::shared_ptr<ParticleSystemNode> waterJet(glm::vec3 direction = {0.0f, 0.5f, 1.0f},
                                                         float speed = 12.0f, std::uint32_t count = 20000);

@@ -11,14 +11,14 @@
 namespace sgfx::sky {
 
 struct Atmosphere {
-    float planetRadius = 6360e3f;                            // m
-    float atmosphereRadius = 6420e3f;                        // m
-    glm::vec3 rayleigh{5.8e-6f, 13.5e-6f, 33.1e-6f};        // β_R at sea level, per metre (R, G, B)
-    float rayleighHeight = 7994.0f;                          // scale height H_R, m
-    float mie = 21e-6f;                                      // β_M at sea level, per metre
-    float mieHeight = 1200.0f;                               // H_M, m
-    float mieG = 0.76f;                                      // Henyey–Greenstein g of the haze
-    float mieExtinction = 1.1f;                              // extinction / scattering of the haze
+    float planetRadius = 6360e3f;                    // m
+    float atmosphereRadius = 6420e3f;                // m
+    glm::vec3 rayleigh{5.8e-6f, 13.5e-6f, 33.1e-6f}; // β_R at sea level, per metre (R, G, B)
+    float rayleighHeight = 7994.0f;                  // scale height H_R, m
+    float mie = 21e-6f;                              // β_M at sea level, per metre
+    float mieHeight = 1200.0f;                       // H_M, m
+    float mieG = 0.76f;                              // Henyey–Greenstein g of the haze
+    float mieExtinction = 1.1f;                      // extinction / scattering of the haze
 };
 
 // Distances along o + t·d (|d| = 1) to a sphere of radius r at the origin: (t0, t1), or (−1, −1).
@@ -34,8 +34,8 @@ inline glm::vec2 sphereHit(glm::vec3 o, glm::vec3 d, float r) {
 // Radiance of the sky seen from `altitude` metres along `dir` (world, z up, normalised), with the
 // sun towards `sun` (normalised) of irradiance `sunIntensity`; `steps` and `lightSteps` midpoint
 // steps. The sun's disc is left out (the shader adds it).
-inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, float sunIntensity, float altitude,
-                             int steps = 16, int lightSteps = 8) {
+inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, float sunIntensity,
+                             float altitude, int steps = 16, int lightSteps = 8) {
     // No ground model: below the horizon the sky shows the horizon's colour.
     dir = glm::normalize(glm::vec3(dir.x, dir.y, std::max(dir.z, 0.0f)));
     const glm::vec3 o(0.0f, 0.0f, a.planetRadius + std::max(altitude, 1.0f));
@@ -82,8 +82,9 @@ inline glm::vec3 sunDirection(float hours, float latitudeDegrees = 45.0f, int da
     const float sinEl = std::sin(lat) * std::sin(decl) + std::cos(lat) * std::cos(decl) * std::cos(hourAngle);
     const float el = std::asin(std::clamp(sinEl, -1.0f, 1.0f));
     // Azimuth from north, clockwise (east positive).
-    const float az = std::atan2(-std::sin(hourAngle) * std::cos(decl),
-                                std::cos(lat) * std::sin(decl) - std::sin(lat) * std::cos(decl) * std::cos(hourAngle));
+    const float az =
+        std::atan2(-std::sin(hourAngle) * std::cos(decl),
+                   std::cos(lat) * std::sin(decl) - std::sin(lat) * std::cos(decl) * std::cos(hourAngle));
     return {std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el)};
 }
 

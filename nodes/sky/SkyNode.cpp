@@ -24,9 +24,7 @@ const BaseShader& skyShader() {
     static const BaseShader base = [] {
         std::string vertex(ShaderComposer::fullscreenVertex());
         vertex.insert(vertex.find('\n') + 1, "#define SGFX_FULLSCREEN_FAR\n");
-        std::string fragment = nodes::shaderText("sky.frag");
-        const std::string include = "#include \"sky_scattering.glsl\"";
-        fragment.replace(fragment.find(include), include.size(), nodes::shaderText("sky_scattering.glsl"));
+        std::string fragment = nodes::shaderWithIncludes("sky.frag");
         return BaseShader{"sky", "blit.vert", std::move(vertex), "sky.frag", std::move(fragment)};
     }();
     return base;
@@ -41,7 +39,8 @@ SkyParameters SkyParameters::atTime(float hours, float latitudeDegrees, int dayO
 }
 
 void SkyParameters::validate() const {
-    for (int i = 0; i < 3; ++i) check("sunDirection", sunDirection[i], -1e6, 1e6);
+    for (int i = 0; i < 3; ++i)
+        check("sunDirection", sunDirection[i], -1e6, 1e6);
     if (!(glm::length(sunDirection) > 0.0f)) nodes::refuse("SkyParameters", "sunDirection must not be zero");
     check("sunIntensity", sunIntensity, 0.0, 1e6);
     check("sunDiscRadiance", sunDiscRadiance, 0.0, 1e9);
@@ -50,13 +49,15 @@ void SkyParameters::validate() const {
     const sky::Atmosphere& a = atmosphere;
     check("atmosphere.planetRadius", a.planetRadius, 1.0, 1e9, true);
     check("atmosphere.atmosphereRadius", a.atmosphereRadius, a.planetRadius, 1e9, true);
-    for (int i = 0; i < 3; ++i) check("atmosphere.rayleigh", a.rayleigh[i], 0.0, 1.0);
+    for (int i = 0; i < 3; ++i)
+        check("atmosphere.rayleigh", a.rayleigh[i], 0.0, 1.0);
     check("atmosphere.rayleighHeight", a.rayleighHeight, 0.0, 1e6, true);
     check("atmosphere.mie", a.mie, 0.0, 1.0);
     check("atmosphere.mieHeight", a.mieHeight, 0.0, 1e6, true);
     check("atmosphere.mieG", a.mieG, -0.999, 0.999);
     check("atmosphere.mieExtinction", a.mieExtinction, 1.0, 10.0);
-    if (steps < 1 || steps > 256) nodes::refuse("SkyParameters", "steps = " + std::to_string(steps) + " is outside [1, 256]");
+    if (steps < 1 || steps > 256)
+        nodes::refuse("SkyParameters", "steps = " + std::to_string(steps) + " is outside [1, 256]");
     if (lightSteps < 1 || lightSteps > 64)
         nodes::refuse("SkyParameters", "lightSteps = " + std::to_string(lightSteps) + " is outside [1, 64]");
 }
@@ -93,7 +94,8 @@ glm::vec3 SkyNode::horizonColor() const {
     for (int i = 0; i < 8; ++i) {
         const float az = float(i) * glm::radians(45.0f);
         const glm::vec3 dir(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
-        sum += sky::skyRadiance(p.atmosphere, dir, p.sunDirection, p.sunIntensity, p.altitude, p.steps, p.lightSteps);
+        sum += sky::skyRadiance(p.atmosphere, dir, p.sunDirection, p.sunIntensity, p.altitude, p.steps,
+                                p.lightSteps);
     }
     return sum / 8.0f;
 }

@@ -16,13 +16,13 @@ class FogNode;
 
 struct SkyParameters {
     glm::vec3 sunDirection{0.0f, 0.5f, 0.866f}; // towards the sun, world (normalised when set)
-    float sunIntensity = 20.0f;                  // irradiance scale of the scattered light
-    float sunDiscRadiance = 2000.0f;             // radiance of the disc itself
-    float sunAngularRadius = 0.00465f;           // rad (the real sun: 0.267°)
-    float altitude = 0.0f;                       // m above sea level of world z = 0
-    sky::Atmosphere atmosphere;                  // Earth by default
-    int steps = 16;                              // view-ray steps
-    int lightSteps = 8;                          // sun-ray steps
+    float sunIntensity = 20.0f;                 // irradiance scale of the scattered light
+    float sunDiscRadiance = 2000.0f;            // radiance of the disc itself
+    float sunAngularRadius = 0.00465f;          // rad (the real sun: 0.267°)
+    float altitude = 0.0f;                      // m above sea level of world z = 0
+    sky::Atmosphere atmosphere;                 // Earth by default
+    int steps = 16;                             // view-ray steps
+    int lightSteps = 8;                         // sun-ray steps
 
     // Sun at local solar time `hours`, latitude (degrees) and day of the year.
     static SkyParameters atTime(float hours, float latitudeDegrees = 45.0f, int dayOfYear = 172);

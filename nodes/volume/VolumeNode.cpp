@@ -22,27 +22,16 @@ namespace sgfx {
 
 namespace {
 
-constexpr unsigned kDepthUnit = kEffectTextureUnit + 2;   // 14: pass-local, bound at every draw
-constexpr unsigned kDensityUnit = 16;                     // 16..18: above the tracked units
-constexpr int kMaxBlock = 8;                              // voxels per empty-space cell
+constexpr unsigned kDepthUnit = kEffectTextureUnit + 2; // 14: pass-local, bound at every draw
+constexpr unsigned kDensityUnit = 16;                   // 16..18: above the tracked units
+constexpr int kMaxBlock = 8;                            // voxels per empty-space cell
 
 void check(const char* name, float v, double lo, double hi, bool openLow = false) {
     nodes::checkRange("VolumeParameters", name, v, lo, hi, openLow);
 }
 
-std::string expandIncludes(std::string_view file) {
-    std::string src = nodes::shaderText(file);
-    const std::string key = "#include \"";
-    for (auto at = src.find(key); at != std::string::npos; at = src.find(key)) {
-        const auto close = src.find('"', at + key.size());
-        const auto eol = src.find('\n', at);
-        src.replace(at, eol - at, nodes::shaderText(src.substr(at + key.size(), close - at - key.size())));
-    }
-    return src;
-}
-
 BaseShader makeShader(const std::string& function, bool half, bool slices = false) {
-    std::string fragment = expandIncludes(slices ? "volume_slice.frag" : "volume_march.frag");
+    std::string fragment = nodes::shaderWithIncludes(slices ? "volume_slice.frag" : "volume_march.frag");
     const auto eol = fragment.find('\n');
     std::string defines = "#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) +
                           "\n#define SGFX_VOLUME_DENSITY_UNIT " + std::to_string(kDensityUnit) + "\n";
@@ -55,8 +44,8 @@ BaseShader makeShader(const std::string& function, bool half, bool slices = fals
     }
     fragment.insert(eol + 1, defines);
     if (slices)
-        return BaseShader{name, "volume_slice.vert", nodes::shaderText("volume_slice.vert"), "volume_slice.frag",
-                          std::move(fragment)};
+        return BaseShader{name, "volume_slice.vert", nodes::shaderText("volume_slice.vert"),
+                          "volume_slice.frag", std::move(fragment)};
     return BaseShader{name, "volume_box.vert", nodes::shaderText("volume_box.vert"), "volume_march.frag",
                       std::move(fragment)};
 }
@@ -103,7 +92,8 @@ VolumeGrid VolumeGrid::sphere(int n, float radius, float edge) {
                 const glm::vec3 p = (glm::vec3(x, y, z) + 0.5f) / float(n) - 0.5f;
                 const float r = glm::length(p);
                 g.values[(std::size_t(z) * n + y) * n + x] =
-                    edge > 0.0f ? std::clamp((radius - r) / edge + 0.5f, 0.0f, 1.0f) : (r <= radius ? 1.0f : 0.0f);
+                    edge > 0.0f ? std::clamp((radius - r) / edge + 0.5f, 0.0f, 1.0f)
+                                : (r <= radius ? 1.0f : 0.0f);
             }
     return g;
 }
@@ -127,7 +117,8 @@ VolumeGrid VolumeGrid::noise(int n, std::uint32_t seed, int octaves, float cover
             }
     // Threshold at the quantile that leaves `coverage` of the voxels non-empty.
     std::vector<float> sorted = raw;
-    const std::size_t k = std::min(sorted.size() - 1, std::size_t(double(1.0f - coverage) * double(sorted.size())));
+    const std::size_t k =
+        std::min(sorted.size() - 1, std::size_t(double(1.0f - coverage) * double(sorted.size())));
     std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(k), sorted.end());
     const float cut = sorted[k];
     for (std::size_t i = 0; i < raw.size(); ++i)
@@ -152,8 +143,8 @@ float halfToFloat(std::uint16_t h) {
 VolumeGrid VolumeGrid::loadRaw(const std::filesystem::path& file, glm::ivec3 size, Format format) {
     const std::string what = "sgfx: VolumeGrid::loadRaw '" + file.string() + "'";
     if (glm::any(glm::lessThan(size, glm::ivec3(1))) || glm::any(glm::greaterThan(size, glm::ivec3(2048))))
-        throw std::invalid_argument(what + ": size " + std::to_string(size.x) + "x" + std::to_string(size.y) + "x" +
-                                    std::to_string(size.z) + " is outside 1..2048 per axis");
+        throw std::invalid_argument(what + ": size " + std::to_string(size.x) + "x" + std::to_string(size.y) +
+                                    "x" + std::to_string(size.z) + " is outside 1..2048 per axis");
     const std::size_t bytesPer = format == Format::R8 ? 1 : format == Format::R16F ? 2 : 4;
     const std::size_t count = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
     std::ifstream in(file, std::ios::binary | std::ios::ate);
@@ -161,9 +152,9 @@ VolumeGrid VolumeGrid::loadRaw(const std::filesystem::path& file, glm::ivec3 siz
     const auto actual = std::size_t(in.tellg());
     if (actual != count * bytesPer)
         throw std::runtime_error(what + ": expected " + std::to_string(count * bytesPer) + " bytes for " +
-                                 std::to_string(size.x) + "x" + std::to_string(size.y) + "x" + std::to_string(size.z) +
-                                 " values of " + std::to_string(bytesPer) + " bytes, the file has " +
-                                 std::to_string(actual));
+                                 std::to_string(size.x) + "x" + std::to_string(size.y) + "x" +
+                                 std::to_string(size.z) + " values of " + std::to_string(bytesPer) +
+                                 " bytes, the file has " + std::to_string(actual));
     std::vector<unsigned char> bytes(actual);
     in.seekg(0);
     in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(actual));
@@ -186,14 +177,16 @@ VolumeGrid VolumeGrid::loadRaw(const std::filesystem::path& file, glm::ivec3 siz
 
 void VolumeGrid::validate() const {
     if (glm::any(glm::lessThan(size, glm::ivec3(1))) || glm::any(glm::greaterThan(size, glm::ivec3(2048))))
-        throw std::invalid_argument("sgfx: VolumeGrid: size " + std::to_string(size.x) + "x" + std::to_string(size.y) +
-                                    "x" + std::to_string(size.z) + " is outside 1..2048 per axis");
+        throw std::invalid_argument("sgfx: VolumeGrid: size " + std::to_string(size.x) + "x" +
+                                    std::to_string(size.y) + "x" + std::to_string(size.z) +
+                                    " is outside 1..2048 per axis");
     const std::size_t count = std::size_t(size.x) * std::size_t(size.y) * std::size_t(size.z);
     if (values.size() != count)
         throw std::invalid_argument("sgfx: VolumeGrid: " + std::to_string(values.size()) + " values for " +
                                     std::to_string(count) + " voxels");
     if (std::uint8_t(format) > std::uint8_t(Format::R32F))
-        throw std::invalid_argument("sgfx: VolumeGrid: format has an invalid value " + std::to_string(int(format)));
+        throw std::invalid_argument("sgfx: VolumeGrid: format has an invalid value " +
+                                    std::to_string(int(format)));
     for (std::size_t i = 0; i < count; ++i)
         if (!std::isfinite(values[i]) || values[i] < 0.0f || (format == Format::R8 && values[i] > 1.0f))
             throw std::invalid_argument("sgfx: VolumeGrid: value " + nodes::number(values[i]) + " at voxel " +
@@ -202,20 +195,27 @@ void VolumeGrid::validate() const {
 }
 
 void VolumeParameters::validate() const {
-    for (int i = 0; i < 3; ++i) check("size", size[i], 0.0, 1e7, true);
+    for (int i = 0; i < 3; ++i)
+        check("size", size[i], 0.0, 1e7, true);
     check("absorption (k_a)", absorption, 0.0, 1e6);
     check("scattering (k_s)", scattering, 0.0, 1e6);
-    for (int i = 0; i < 3; ++i) check("emission (k_e)", emission[i], 0.0, 1e6);
+    for (int i = 0; i < 3; ++i)
+        check("emission (k_e)", emission[i], 0.0, 1e6);
     check("densityScale", densityScale, 0.0, 1e6);
-    for (int i = 0; i < 3; ++i) check("lightColor", lightColor[i], 0.0, 1e6);
+    for (int i = 0; i < 3; ++i)
+        check("lightColor", lightColor[i], 0.0, 1e6);
     check("ambient", ambient, 0.0, 1e6);
-    for (int i = 0; i < 3; ++i) check("lightDirection", lightDirection[i], -1e6, 1e6);
-    if (!(glm::length(lightDirection) > 0.0f)) nodes::refuse("VolumeParameters", "lightDirection must not be zero");
+    for (int i = 0; i < 3; ++i)
+        check("lightDirection", lightDirection[i], -1e6, 1e6);
+    if (!(glm::length(lightDirection) > 0.0f))
+        nodes::refuse("VolumeParameters", "lightDirection must not be zero");
     check("g", g, -0.999, 0.999);
-    if (steps < 1 || steps > 4096) nodes::refuse("VolumeParameters", "steps = " + std::to_string(steps) + " is outside [1, 4096]");
+    if (steps < 1 || steps > 4096)
+        nodes::refuse("VolumeParameters", "steps = " + std::to_string(steps) + " is outside [1, 4096]");
     check("stepLength", stepLength, 0.0, 1e6);
     if (lightSteps < 1 || lightSteps > 256)
-        nodes::refuse("VolumeParameters", "lightSteps = " + std::to_string(lightSteps) + " is outside [1, 256]");
+        nodes::refuse("VolumeParameters",
+                      "lightSteps = " + std::to_string(lightSteps) + " is outside [1, 256]");
     check("earlyTermination", earlyTermination, 0.0, 1.0, true);
     if (std::uint8_t(phase) > std::uint8_t(VolumePhase::Rayleigh))
         nodes::refuse("VolumeParameters", "phase has an invalid value " + std::to_string(int(phase)));
@@ -224,7 +224,8 @@ void VolumeParameters::validate() const {
     if (std::uint8_t(method) > std::uint8_t(VolumeMethod::Slicing))
         nodes::refuse("VolumeParameters", "method has an invalid value " + std::to_string(int(method)));
     if (std::uint8_t(integration) > std::uint8_t(volume::Integration::Riemann))
-        nodes::refuse("VolumeParameters", "integration has an invalid value " + std::to_string(int(integration)));
+        nodes::refuse("VolumeParameters",
+                      "integration has an invalid value " + std::to_string(int(integration)));
 }
 
 // ---------------------------------------------------------------- GPU state
@@ -272,12 +273,15 @@ std::vector<glm::vec3> slicePolygons(const glm::mat4& model, glm::vec3 size, glm
         glm::vec3 pts[6];
         int n = 0;
         for (const auto& e : edges) {
-            const float fa = glm::dot(nb, corners[e[0]]) + offset - s, fb = glm::dot(nb, corners[e[1]]) + offset - s;
-            if ((fa < 0) != (fb < 0) && n < 6) pts[n++] = corners[e[0]] + (corners[e[1]] - corners[e[0]]) * (fa / (fa - fb));
+            const float fa = glm::dot(nb, corners[e[0]]) + offset - s,
+                        fb = glm::dot(nb, corners[e[1]]) + offset - s;
+            if ((fa < 0) != (fb < 0) && n < 6)
+                pts[n++] = corners[e[0]] + (corners[e[1]] - corners[e[0]]) * (fa / (fa - fb));
         }
         if (n < 3) continue;
         glm::vec3 centre(0.0f);
-        for (int i = 0; i < n; ++i) centre += pts[i];
+        for (int i = 0; i < n; ++i)
+            centre += pts[i];
         centre /= float(n);
         // Around the centre by angle (insertion sort: at most six points).
         float angle[6];
@@ -353,9 +357,10 @@ void VolumeNode::setGrid(VolumeGrid grid) {
 }
 
 void VolumeNode::setTransferFunction(std::shared_ptr<Image> ramp) {
-    if (ramp && (ramp->width < 1 || ramp->height < 1 || ramp->pixels.size() !=
-                                                            std::size_t(ramp->width) * ramp->height * ramp->channels))
-        nodes::refuse("VolumeNode::setTransferFunction", "the ramp image is empty or its pixel data is short");
+    if (ramp && (ramp->width < 1 || ramp->height < 1 ||
+                 ramp->pixels.size() != std::size_t(ramp->width) * ramp->height * ramp->channels))
+        nodes::refuse("VolumeNode::setTransferFunction",
+                      "the ramp image is empty or its pixel data is short");
     transfer_ = std::move(ramp);
     gridDirty_ = true;
 }
@@ -396,7 +401,8 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
         g.density = gl::createTexture(GL_TEXTURE_3D);
         glTextureStorage3D(g.density.get(), 1, formats[int(grid_.format)], n.x, n.y, n.z);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glTextureSubImage3D(g.density.get(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT, grid_.values.data());
+        glTextureSubImage3D(g.density.get(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT,
+                            grid_.values.data());
         for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
             glTextureParameteri(g.density.get(), p, GL_CLAMP_TO_EDGE);
         glTextureParameteri(g.density.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -412,15 +418,16 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
                         for (int dy = -1; dy <= 1; ++dy)
                             for (int dx = -1; dx <= 1; ++dx) {
                                 const glm::ivec3 c =
-                                    glm::clamp(glm::ivec3(x + dx, y + dy, z + dz), glm::ivec3(0), n - 1) / kMaxBlock;
+                                    glm::clamp(glm::ivec3(x + dx, y + dy, z + dz), glm::ivec3(0), n - 1) /
+                                    kMaxBlock;
                                 float& m = maxima[(std::size_t(c.z) * g.maxSize.y + c.y) * g.maxSize.x + c.x];
                                 m = std::max(m, v);
                             }
                 }
         g.densityMax = gl::createTexture(GL_TEXTURE_3D);
         glTextureStorage3D(g.densityMax.get(), 1, GL_R32F, g.maxSize.x, g.maxSize.y, g.maxSize.z);
-        glTextureSubImage3D(g.densityMax.get(), 0, 0, 0, 0, g.maxSize.x, g.maxSize.y, g.maxSize.z, GL_RED, GL_FLOAT,
-                            maxima.data());
+        glTextureSubImage3D(g.densityMax.get(), 0, 0, 0, 0, g.maxSize.x, g.maxSize.y, g.maxSize.z, GL_RED,
+                            GL_FLOAT, maxima.data());
         glTextureParameteri(g.densityMax.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(g.densityMax.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         g.transfer = {};
@@ -431,7 +438,8 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
                 for (int c = 0; c < std::min(img.channels, 3); ++c)
                     rgba[std::size_t(x) * 4 + std::size_t(c)] = img.pixel(x, 0)[img.channels == 1 ? 0 : c];
             g.transfer = gl::createTexture2D(GL_SRGB8_ALPHA8, img.width, 1, GL_LINEAR);
-            glTextureSubImage2D(g.transfer.get(), 0, 0, 0, img.width, 1, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+            glTextureSubImage2D(g.transfer.get(), 0, 0, 0, img.width, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                                rgba.data());
         }
         gridDirty_ = false;
     }
@@ -454,7 +462,8 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     program.set("u_integration", int(p.integration));
     program.set("u_jitter", p.jitter ? 1 : 0);
     program.set("u_skip", p.emptySpaceSkipping && function_.empty() ? 1 : 0);
-    glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y, g.maxSize.z);
+    glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y,
+                       g.maxSize.z);
     program.set("u_useTransfer", g.transfer ? 1 : 0);
     const unsigned depth = depthCopy_->current();
     program.set("u_hasSceneDepth", depth ? 1 : 0);
@@ -471,14 +480,16 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
         if (!g.sliceVao || g.sliceCapacity < tris.size()) {
             g.sliceCapacity = tris.size();
             g.sliceVertices = gl::createBuffer();
-            glNamedBufferData(g.sliceVertices.get(), GLsizeiptr(tris.size() * sizeof(glm::vec3)), nullptr, GL_STREAM_DRAW);
+            glNamedBufferData(g.sliceVertices.get(), GLsizeiptr(tris.size() * sizeof(glm::vec3)), nullptr,
+                              GL_STREAM_DRAW);
             g.sliceVao = gl::createVertexArray();
             glVertexArrayVertexBuffer(g.sliceVao.get(), 0, g.sliceVertices.get(), 0, sizeof(glm::vec3));
             glVertexArrayAttribFormat(g.sliceVao.get(), 0, 3, GL_FLOAT, GL_FALSE, 0);
             glVertexArrayAttribBinding(g.sliceVao.get(), 0, 0);
             glEnableVertexArrayAttrib(g.sliceVao.get(), 0);
         }
-        glNamedBufferSubData(g.sliceVertices.get(), 0, GLsizeiptr(tris.size() * sizeof(glm::vec3)), tris.data());
+        glNamedBufferSubData(g.sliceVertices.get(), 0, GLsizeiptr(tris.size() * sizeof(glm::vec3)),
+                             tris.data());
         program.set("u_sliceNormal", forward);
         program.set("u_spacing", spacing);
         glDisable(GL_CULL_FACE); // slices face either way; the renderer's cull state is restored below
@@ -520,13 +531,14 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     program.set("u_pixelScale", 2);
     glDisable(GL_BLEND); // one back face per pixel: written, not blended
     glDrawArrays(GL_TRIANGLES, 0, 36);
-    glEnable(GL_BLEND);  // the renderer's premultiplied blending, for the composite
+    glEnable(GL_BLEND); // the renderer's premultiplied blending, for the composite
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous));
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
     static const std::string units = "#define SGFX_VOLUME_HALF_UNIT " + std::to_string(kDensityUnit) +
                                      "\n#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) + "\n";
-    static const BaseShader upsample{"volume_upsample", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
-                                     "volume_upsample.frag", [] {
+    static const BaseShader upsample{"volume_upsample", "blit.vert",
+                                     std::string(ShaderComposer::fullscreenVertex()), "volume_upsample.frag",
+                                     [] {
                                          std::string f = nodes::shaderText("volume_upsample.frag");
                                          const auto eol = f.find('\n');
                                          return f.substr(0, eol + 1) + units + f.substr(eol + 1);

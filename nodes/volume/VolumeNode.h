@@ -34,7 +34,8 @@ struct VolumeGrid {
     static VolumeGrid sphere(int resolution = 64, float radius = 0.45f, float edge = 0.05f);
     // Fractal value noise for smoke and clouds: `coverage` of the box is non-empty, the rest is
     // exactly 0 (what empty-space skipping jumps over).
-    static VolumeGrid noise(int resolution = 64, std::uint32_t seed = 1, int octaves = 4, float coverage = 0.5f);
+    static VolumeGrid noise(int resolution = 64, std::uint32_t seed = 1, int octaves = 4,
+                            float coverage = 0.5f);
     // A raw file of size.x·size.y·size.z values (R8: bytes; R16F: IEEE half; R32F: float),
     // little-endian; throws std::runtime_error naming the file and the expected and actual sizes.
     static VolumeGrid loadRaw(const std::filesystem::path& file, glm::ivec3 size, Format format);
@@ -47,13 +48,13 @@ enum class VolumePhase : std::uint8_t { Isotropic, HenyeyGreenstein, Rayleigh };
 enum class VolumeMethod : std::uint8_t { Raymarch, Slicing };
 
 struct VolumeParameters {
-    glm::vec3 size{1.0f};           // box edges (m), centred on the node's origin
-    float absorption = 1.0f;        // k_a per metre at density 1
-    float scattering = 0.0f;        // k_s per metre at density 1
-    glm::vec3 emission{0.0f};       // k_e per metre at density 1 (linear radiance)
-    float densityScale = 1.0f;      // multiplies the grid or function
-    glm::vec3 lightColor{1.0f};     // the directional light that scatters (linear)
-    float ambient = 1.0f;           // share of the scene's ambient light the medium scatters
+    glm::vec3 size{1.0f};                        // box edges (m), centred on the node's origin
+    float absorption = 1.0f;                     // k_a per metre at density 1
+    float scattering = 0.0f;                     // k_s per metre at density 1
+    glm::vec3 emission{0.0f};                    // k_e per metre at density 1 (linear radiance)
+    float densityScale = 1.0f;                   // multiplies the grid or function
+    glm::vec3 lightColor{1.0f};                  // the directional light that scatters (linear)
+    float ambient = 1.0f;                        // share of the scene's ambient light the medium scatters
     glm::vec3 lightDirection{0.0f, 0.0f, -1.0f}; // the way it travels, world (normalised when set)
     VolumePhase phase = VolumePhase::HenyeyGreenstein;
     float g = 0.3f;                 // Henyey–Greenstein asymmetry, (−1, 1)
@@ -62,13 +63,13 @@ struct VolumeParameters {
     int lightSteps = 8;             // M per light ray
     float earlyTermination = 0.99f; // stop once the opacity exceeds it; 1 = never
     volume::Integration integration = volume::Integration::Exact;
-    bool jitter = false;            // random start per pixel: banding becomes noise
+    bool jitter = false; // random start per pixel: banding becomes noise
     // Jump over coarse cells whose maximum density is 0. Off by default: on llvmpipe the extra
     // fetch and branch per step cost more than they save (bench/volume_table.sh).
     bool emptySpaceSkipping = false;
-    bool halfResolution = false;    // march at half size, then a depth-aware upsample
+    bool halfResolution = false; // march at half size, then a depth-aware upsample
     VolumeMethod method = VolumeMethod::Raymarch;
-    int slices = 128;               // Slicing: planes across the box
+    int slices = 128; // Slicing: planes across the box
 
     // Throws std::invalid_argument naming the field and its range.
     void validate() const;
@@ -79,7 +80,8 @@ public:
     static std::shared_ptr<VolumeNode> create(const VolumeParameters& parameters = {},
                                               VolumeGrid grid = VolumeGrid::constant(1.0f));
     // The density as GLSL: the body of `float volumeDensity(vec3 uvw)`, uvw ∈ [0, 1]³.
-    static std::shared_ptr<VolumeNode> createFunction(const VolumeParameters& parameters, std::string glslBody);
+    static std::shared_ptr<VolumeNode> createFunction(const VolumeParameters& parameters,
+                                                      std::string glslBody);
     VolumeNode(const VolumeParameters& parameters, VolumeGrid grid, std::string function);
     ~VolumeNode() override;
 

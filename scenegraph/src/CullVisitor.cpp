@@ -177,8 +177,8 @@ void CullVisitor::apply(Geometry& g) {
                                                           state->blendMode());
     const bool triangles = g.mode == PrimitiveMode::Triangles || g.mode == PrimitiveMode::TriangleStrip ||
                            g.mode == PrimitiveMode::TriangleFan;
-    queueItem(item, *state, g.bound().transformed(modelView_.back()), reinterpret_cast<std::uintptr_t>(foreign),
-              triangles);
+    queueItem(item, *state, g.bound().transformed(modelView_.back()),
+              reinterpret_cast<std::uintptr_t>(foreign), triangles);
     popState(g);
 }
 
@@ -209,7 +209,8 @@ void CullVisitor::apply(Drawable& d) {
     }
     const BoundingSphere vs = world.transformed(view_);
     for (int i = 0; i < 6; ++i)
-        if ((planeMask_.back() & (1u << i)) && viewFrustum_.planes[std::size_t(i)].distance(vs.center) < -vs.radius) {
+        if ((planeMask_.back() & (1u << i)) &&
+            viewFrustum_.planes[std::size_t(i)].distance(vs.center) < -vs.radius) {
             ++culledNodes;
             return;
         }
@@ -246,7 +247,8 @@ void CullVisitor::queueItem(RenderItem item, const ResolvedState& state, const B
     }
     const BlendMode blend = state.blendMode();
     const auto& effects = queue_.effectSets[item.effectSet].effects;
-    if (std::any_of(effects.begin(), effects.end(), [&](const EffectNode* e) { return e->drawsBlended(blend); })) {
+    if (std::any_of(effects.begin(), effects.end(),
+                    [&](const EffectNode* e) { return e->drawsBlended(blend); })) {
         queue_.claimed.push_back(item);
         return;
     }

@@ -3,8 +3,8 @@
 #include "AntiAliasing.h"
 #include "EmbeddedShaders.h"
 #include "sgfx/Camera.h"
-#include "sgfx/Drawable.h"
 #include "sgfx/CullVisitor.h"
+#include "sgfx/Drawable.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/GraphicsContext.h"
 #include "sgfx/TriangleSort.h"
@@ -688,18 +688,20 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (item.drawable) {
             // Its own base shader: composed with the effects in the main pass; in depth and
             // G-buffer passes its plain or G-buffer variant.
-            const std::uint64_t key = depthOnly ? item.programKey ^ (std::uint64_t(mode) << 60) : item.programKey;
+            const std::uint64_t key =
+                depthOnly ? item.programKey ^ (std::uint64_t(mode) << 60) : item.programKey;
             if (key != programKey) {
                 snippets.clear();
                 if (!depthOnly)
                     for (const EffectNode* e : current_->effectSets[item.effectSet].effects)
                         snippets.push_back(&e->snippet());
                 const std::uint32_t lighting = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
-                                               FeatureVertexLighting | FeatureLightCountMask | FeaturePointLights;
-                const std::uint32_t features =
-                    mode == DrawMode::GBuffer     ? (item.features & ~lighting) | FeatureGBuffer
-                    : mode == DrawMode::DepthOnly ? item.features & ~FeatureBlend
-                                                  : item.features | viewFeatures_;
+                                               FeatureVertexLighting | FeatureLightCountMask |
+                                               FeaturePointLights;
+                const std::uint32_t features = mode == DrawMode::GBuffer
+                                                   ? (item.features & ~lighting) | FeatureGBuffer
+                                               : mode == DrawMode::DepthOnly ? item.features & ~FeatureBlend
+                                                                             : item.features | viewFeatures_;
                 program = &composer_.program(item.drawable->baseShader(), snippets,
                                              features | FeatureWorldPosition);
                 programKey = key;

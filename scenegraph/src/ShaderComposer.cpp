@@ -127,8 +127,8 @@ ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base,
     ComposedProgram p;
     const bool geometry = !base.geometrySource.empty();
     p.vertex = composeStage(base.vertexName, base.vertexSource,
-                            geometry ? std::span<const Hook>{} : std::span<const Hook>(kVertexHooks), snippets,
-                            features, p.vertexSources);
+                            geometry ? std::span<const Hook>{} : std::span<const Hook>(kVertexHooks),
+                            snippets, features, p.vertexSources);
     if (geometry)
         p.geometry = composeStage(base.geometryName, base.geometrySource, kVertexHooks, snippets, features,
                                   p.geometrySources);

@@ -125,9 +125,8 @@ ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::
         const char* stageName = stage == GL_VERTEX_SHADER     ? "vertex"
                                 : stage == GL_GEOMETRY_SHADER ? "geometry"
                                                               : "fragment";
-        throw ShaderError("sgfx: " + std::string(stageName) +
-                          " shader of " + std::string(description) + " failed to compile:\n" +
-                          ShaderComposer::translateLog(log.c_str(), names));
+        throw ShaderError("sgfx: " + std::string(stageName) + " shader of " + std::string(description) +
+                          " failed to compile:\n" + ShaderComposer::translateLog(log.c_str(), names));
     }
     return s;
 }
