@@ -18,8 +18,9 @@ declare -A args=(
   ["smoke, slicing 64"]="--smoke --volume-slices 64"
   ["smoke, slicing 128"]="--smoke --volume-slices 128"
   ["sky (17 h)"]="--sky 17"
+  ["sky (17 h), per pixel"]="--sky 17 --sky-direct"
 )
-order=(off smoke "smoke, empty-space skipping" "smoke, jitter" "smoke, half resolution" "smoke, 128 steps" "smoke, slicing 64" "smoke, slicing 128" "sky (17 h)")
+order=(off smoke "smoke, empty-space skipping" "smoke, jitter" "smoke, half resolution" "smoke, 128 steps" "smoke, slicing 64" "smoke, slicing 128" "sky (17 h)" "sky (17 h), per pixel")
 declare -A ms=()
 for ((r = 0; r < rounds; ++r)); do
   for c in "${order[@]}"; do

@@ -115,6 +115,7 @@ effects:
   --sky HOURS         a physically based sky (Rayleigh and Mie scattering) at local solar
                       time HOURS (0..24, latitude 45°, midsummer); the scene's sun follows it
                       and the fog takes the sky's horizon colour
+  --sky-direct        integrate the sky per pixel instead of through its view table
   --smoke             a raymarched smoke cloud (noise density, single scattering of the sun)
                       over the road ahead of the camera
   --volume-steps N    raymarch steps per ray, 1..4096 (default 64)
@@ -158,6 +159,7 @@ struct Options {
     bool rain = false;
     std::uint32_t rainCount = 200000;
     std::optional<float> skyHours;
+    bool skyDirect = false;
     bool smoke = false;
     sgfx::VolumeParameters volume = [] {
         sgfx::VolumeParameters p;
@@ -352,6 +354,8 @@ Options parseArgs(int argc, char** argv) {
             const float h = parseNumber<float>(arg, value());
             if (!(h >= 0.0f && h <= 24.0f)) throw UsageError("--sky: HOURS must be in 0..24");
             o.skyHours = h;
+        } else if (arg == "--sky-direct") {
+            o.skyDirect = true;
         } else if (arg == "--smoke") {
             o.smoke = true;
         } else if (arg == "--volume-steps") {
@@ -458,7 +462,9 @@ sgfx::NodePtr withSkyAndSmoke(const Options& o, sgfx::NodePtr world, const polyg
     auto group = sgfx::Group::create();
     group->addChild(world);
     if (o.skyHours) {
-        sky = sgfx::SkyNode::create(sgfx::SkyParameters::atTime(*o.skyHours));
+        sgfx::SkyParameters sp = sgfx::SkyParameters::atTime(*o.skyHours);
+        sp.lookupTable = !o.skyDirect;
+        sky = sgfx::SkyNode::create(sp);
         group->addChild(sky);
     }
     if (o.smoke) {

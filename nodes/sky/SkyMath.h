@@ -73,6 +73,29 @@ inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, 
                            sumM * a.mie * volume::henyeyGreensteinPhase(mu, a.mieG));
 }
 
+// What reaches the eye straight from the sun (the disc's colour): e^(−optical depth) along `sun`.
+inline glm::vec3 sunTransmittance(const Atmosphere& a, glm::vec3 sun, float altitude, int steps = 16) {
+    const glm::vec3 o(0.0f, 0.0f, a.planetRadius + std::max(altitude, 1.0f));
+    if (sphereHit(o, sun, a.planetRadius).x > 0.0f) return glm::vec3(0.0f);
+    const float ds = sphereHit(o, sun, a.atmosphereRadius).y / float(steps);
+    float odR = 0.0f, odM = 0.0f;
+    for (int i = 0; i < steps; ++i) {
+        const float h = glm::length(o + sun * ((float(i) + 0.5f) * ds)) - a.planetRadius;
+        odR += std::exp(-h / a.rayleighHeight) * ds;
+        odM += std::exp(-h / a.mieHeight) * ds;
+    }
+    const glm::vec3 tau = a.rayleigh * odR + glm::vec3(a.mie * a.mieExtinction * odM);
+    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
+}
+
+// The sky-view table's coordinates (after Hillaire 2020, which lecture 12 cites): azimuth across,
+// the square root of the elevation up, so texels crowd towards the horizon where colour changes.
+inline glm::vec2 lutCoordinates(glm::vec3 dir) {
+    const float az = std::atan2(dir.y, dir.x);
+    const float el = std::asin(std::clamp(dir.z, 0.0f, 1.0f));
+    return {az / (2.0f * float(volume::kPi)) + 0.5f, std::sqrt(el / (0.5f * float(volume::kPi)))};
+}
+
 // Direction towards the sun at local solar time `hours` (0..24), latitude and day of the year
 // (world: x east, y north, z up).
 inline glm::vec3 sunDirection(float hours, float latitudeDegrees = 45.0f, int dayOfYear = 172) {

@@ -20,14 +20,40 @@ void check(const char* name, float v, double lo, double hi, bool openLow = false
     nodes::checkRange("SkyParameters", name, v, lo, hi, openLow);
 }
 
-const BaseShader& skyShader() {
-    static const BaseShader base = [] {
-        std::string vertex(ShaderComposer::fullscreenVertex());
-        vertex.insert(vertex.find('\n') + 1, "#define SGFX_FULLSCREEN_FAR\n");
-        std::string fragment = nodes::shaderWithIncludes("sky.frag");
-        return BaseShader{"sky", "blit.vert", std::move(vertex), "sky.frag", std::move(fragment)};
-    }();
-    return base;
+constexpr unsigned kLutUnit = kEffectTextureUnit + 2; // 14: pass-local, bound at every draw
+constexpr int kLutWidth = 256, kLutHeight = 128;
+
+BaseShader makeSkyShader(bool lut) {
+    std::string vertex(ShaderComposer::fullscreenVertex());
+    vertex.insert(vertex.find('\n') + 1, "#define SGFX_FULLSCREEN_FAR\n");
+    std::string fragment = nodes::shaderWithIncludes("sky.frag");
+    if (lut)
+        fragment.insert(fragment.find('\n') + 1,
+                        "#define SGFX_SKY_LUT\n#define SGFX_SKY_LUT_UNIT " + std::to_string(kLutUnit) + "\n");
+    return BaseShader{lut ? "sky_lut_view" : "sky", "blit.vert", std::move(vertex), "sky.frag",
+                      std::move(fragment)};
+}
+
+const BaseShader& skyShader(bool lut) {
+    static const BaseShader direct = makeSkyShader(false), table = makeSkyShader(true);
+    return lut ? table : direct;
+}
+
+void setSkyUniforms(gl::Program& program, const SkyParameters& p, float eyeHeight) {
+    const sky::Atmosphere& a = p.atmosphere;
+    program.set("u_sunDirection", p.sunDirection);
+    program.set("u_sunIntensity", p.sunIntensity);
+    program.set("u_altitude", p.altitude + eyeHeight);
+    program.set("u_planetRadius", a.planetRadius);
+    program.set("u_atmosphereRadius", a.atmosphereRadius);
+    program.set("u_rayleigh", a.rayleigh);
+    program.set("u_rayleighHeight", a.rayleighHeight);
+    program.set("u_mie", a.mie);
+    program.set("u_mieHeight", a.mieHeight);
+    program.set("u_mieG", a.mieG);
+    program.set("u_mieExtinction", a.mieExtinction);
+    program.set("u_steps", p.steps);
+    program.set("u_lightSteps", p.lightSteps);
 }
 
 } // namespace
@@ -109,26 +135,53 @@ void SkyNode::update(UpdateVisitor&) {
     fog->setParameters(fp);
 }
 
+// Fills the sky-view table for the view being drawn (before the main pass).
+struct SkyNode::LutPass : RenderPass {
+    explicit LutPass(const SkyNode& n)
+        : node(n) {}
+    std::string_view name() const override { return "sky: view table"; }
+    PassStage stage() const override { return PassStage::PrePass; }
+    void execute(Renderer& r) override {
+        if (!texture) {
+            texture = gl::createTexture2D(GL_RGBA16F, kLutWidth, kLutHeight, GL_LINEAR);
+            glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT); // azimuth wraps round
+            fbo = gl::createFramebuffer();
+            glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, texture.get(), 0);
+        }
+        static const BaseShader lutShader{"sky_lut", "blit.vert",
+                                          std::string(ShaderComposer::fullscreenVertex()), "sky_lut.frag",
+                                          nodes::shaderWithIncludes("sky_lut.frag")};
+        gl::Program& program = r.composer().program(lutShader, {}, 0);
+        setSkyUniforms(program, node.parameters_, r.frame().eye.z);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+        glViewport(0, 0, kLutWidth, kLutHeight);
+        glDisable(GL_FRAMEBUFFER_SRGB);
+        r.setBlend(BlendMode::Off);
+        r.drawFullscreen(program);
+    }
+    const SkyNode& node;
+    gl::TextureObject texture;
+    gl::FramebufferObject fbo;
+};
+
 const BaseShader& SkyNode::baseShader() const {
-    return skyShader();
+    return skyShader(parameters_.lookupTable);
+}
+
+void SkyNode::planFrame(FramePlan& plan) const {
+    if (!parameters_.lookupTable) return;
+    if (!lut_) lut_ = std::make_shared<LutPass>(*this);
+    plan.add(lut_);
 }
 
 void SkyNode::draw(Renderer& r, gl::Program& program, const RenderItem&) const {
     const SkyParameters& p = parameters_;
-    const sky::Atmosphere& a = p.atmosphere;
-    program.set("u_sunDirection", p.sunDirection);
-    program.set("u_sunIntensity", p.sunIntensity);
-    program.set("u_altitude", p.altitude + r.frame().eye.z);
-    program.set("u_planetRadius", a.planetRadius);
-    program.set("u_atmosphereRadius", a.atmosphereRadius);
-    program.set("u_rayleigh", a.rayleigh);
-    program.set("u_rayleighHeight", a.rayleighHeight);
-    program.set("u_mie", a.mie);
-    program.set("u_mieHeight", a.mieHeight);
-    program.set("u_mieG", a.mieG);
-    program.set("u_mieExtinction", a.mieExtinction);
-    program.set("u_steps", p.steps);
-    program.set("u_lightSteps", p.lightSteps);
+    setSkyUniforms(program, p, r.frame().eye.z);
+    if (p.lookupTable && lut_ && lut_->texture) {
+        r.bindTexture(kLutUnit, lut_->texture.get());
+        program.set("u_sunTransmittance", sky::sunTransmittance(p.atmosphere, p.sunDirection,
+                                                                p.altitude + r.frame().eye.z, p.steps));
+    }
     program.set("u_sunCosRadius", std::cos(p.sunAngularRadius));
     program.set("u_sunDiscRadiance", p.sunDiscRadiance);
     r.drawFullscreen(program, DepthState{.test = true, .write = false, .func = CompareFunc::LessEqual});

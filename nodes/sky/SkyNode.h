@@ -23,6 +23,9 @@ struct SkyParameters {
     sky::Atmosphere atmosphere;                 // Earth by default
     int steps = 16;                             // view-ray steps
     int lightSteps = 8;                         // sun-ray steps
+    // Sample a sky-view table made once per frame (256 × 128 texels) instead of integrating per
+    // pixel; `false` integrates every pixel (exact, several times the cost on a software GPU).
+    bool lookupTable = true;
 
     // Sun at local solar time `hours`, latitude (degrees) and day of the year.
     static SkyParameters atTime(float hours, float latitudeDegrees = 45.0f, int dayOfYear = 172);
@@ -47,6 +50,8 @@ public:
     glm::vec3 horizonColor() const;
 
     const BaseShader& baseShader() const override;
+    void planFrame(FramePlan& plan) const override;
+    void releaseGLObjects() override { lut_.reset(); }
     std::uint32_t features(const ResolvedState&) const override { return 0; }
     bool background() const override { return true; }
     void update(UpdateVisitor& uv) override;
@@ -56,7 +61,9 @@ protected:
     BoundingSphere computeBound() const override { return {}; }
 
 private:
+    struct LutPass;
     SkyParameters parameters_;
+    mutable std::shared_ptr<LutPass> lut_; // made at the first frame that plans it
     std::weak_ptr<FogNode> fog_;
 };
 
