@@ -10,6 +10,7 @@
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
 #include <sgfx/Geometry.h>
+#include <sgfx/GltfLoader.h>
 #include <sgfx/Group.h>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/ShaderComposer.h>
@@ -983,6 +984,15 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                          writePng(tmp / "sgfx_x.png", img);
                      },
                      "empty or inconsistent"});
+
+    // glTF loader: files that are not glTF
+    for (const auto& [label, path] :
+         std::vector<std::pair<std::string, std::filesystem::path>>{{"empty path", ""},
+                                                                    {"missing file", "/nonexistent/x.gltf"},
+                                                                    {"a PNG-named text file", garbage},
+                                                                    {"a truncated PNG", truncated},
+                                                                    {"a directory", tmp}})
+        cases.push_back({"glTF loader", "loadGltf " + label, [=] { (void)loadGltf(path); }, "sgfx: glTF"});
 
     // Procedural shapes (the loaders' procedural part)
     for (int i = 0; i < 6; ++i) {

@@ -1,0 +1,42 @@
+#pragma once
+// glTF 2.0 into the scene graph (tinygltf from Debian): .gltf with external or base64 buffers,
+// and .glb. Every index, offset, count and type is checked before the data is touched (tinygltf
+// 2.7 accepts many files that break those rules); a bad file raises LoadError naming the file,
+// the element (`meshes[2].primitives[0].indices`) and the reason, and nothing is built.
+#include <sgfx/Group.h>
+
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace sgfx {
+
+class LoadError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct GltfOptions {
+    int scene = -1;           // the file's default scene (or its first), or this index
+    bool zUp = true;          // rotate glTF's Y-up into sgfx's Z-up at the root
+    float creaseAngle = 0.0f; // normals made for primitives without them: 0 = flat (per face)
+};
+
+// What a load made, for tools and tests.
+struct GltfStats {
+    std::size_t nodes = 0;      // glTF nodes instanced in the scene (each use counts)
+    std::size_t meshes = 0;     // distinct meshes loaded
+    std::size_t primitives = 0; // distinct primitives loaded
+    std::size_t triangles = 0;  // of the distinct meshes, counted once each
+    std::size_t materials = 0;
+    std::size_t textures = 0;
+    std::size_t opaque = 0, masked = 0, blended = 0; // materials by alphaMode
+};
+
+// Loads the file's scene. Shared meshes stay shared (one Geometry per primitive, used by each
+// node that names the mesh). Throws LoadError.
+std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options = {},
+                                GltfStats* stats = nullptr);
+
+} // namespace sgfx

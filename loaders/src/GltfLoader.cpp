@@ -1,0 +1,534 @@
+#include "sgfx/GltfLoader.h"
+
+#include <sgfx/Geometry.h>
+#include <sgfx/Image.h>
+#include <sgfx/Material.h>
+#include <sgfx/StateSet.h>
+#include <sgfx/Texture.h>
+
+#include <tiny_gltf.h>
+
+#include <stb_image.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <set>
+
+namespace sgfx {
+
+namespace {
+
+struct Context {
+    std::string file;
+    const tinygltf::Model& model;
+    [[noreturn]] void fail(const std::string& element, const std::string& why) const {
+        throw LoadError("sgfx: glTF '" + file + "': " + element + ": " + why);
+    }
+};
+
+std::string at(const char* array, std::size_t i) {
+    return std::string(array) + "[" + std::to_string(i) + "]";
+}
+
+int componentBytes(int type) {
+    switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return 4;
+    default:
+        return 0;
+    }
+}
+
+int componentsOf(int type) {
+    switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+        return 1;
+    case TINYGLTF_TYPE_VEC2:
+        return 2;
+    case TINYGLTF_TYPE_VEC3:
+        return 3;
+    case TINYGLTF_TYPE_VEC4:
+    case TINYGLTF_TYPE_MAT2:
+        return 4;
+    case TINYGLTF_TYPE_MAT3:
+        return 9;
+    case TINYGLTF_TYPE_MAT4:
+        return 16;
+    default:
+        return 0;
+    }
+}
+
+// One component at `p` as float, normalised integers mapped as the spec says.
+float component(const unsigned char* p, int type, bool normalized) {
+    switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, p, 4);
+        return f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return normalized ? float(*p) / 255.0f : float(*p);
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        const auto v = float(static_cast<std::int8_t>(*p));
+        return normalized ? std::max(v / 127.0f, -1.0f) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
+        return normalized ? float(v) / 65535.0f : float(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        std::int16_t v;
+        std::memcpy(&v, p, 2);
+        return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
+    }
+    default: {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return float(v);
+    }
+    }
+}
+
+// The bytes of `count` elements of `elementBytes` from a buffer view, checked against its buffer.
+struct View {
+    const unsigned char* data = nullptr;
+    std::size_t stride = 0;
+};
+View checkedView(const Context& c, int viewIndex, std::size_t offset, std::size_t count,
+                 std::size_t elementBytes, const std::string& element) {
+    const auto& views = c.model.bufferViews;
+    if (viewIndex < 0 || std::size_t(viewIndex) >= views.size())
+        c.fail(element, "bufferView " + std::to_string(viewIndex) + " does not exist (" +
+                            std::to_string(views.size()) + " buffer views)");
+    const tinygltf::BufferView& v = views[std::size_t(viewIndex)];
+    const std::string viewName = at("bufferViews", std::size_t(viewIndex));
+    if (v.buffer < 0 || std::size_t(v.buffer) >= c.model.buffers.size())
+        c.fail(viewName, "buffer " + std::to_string(v.buffer) + " does not exist");
+    const std::size_t bufferSize = c.model.buffers[std::size_t(v.buffer)].data.size();
+    if (v.byteOffset > bufferSize || v.byteLength > bufferSize - v.byteOffset)
+        c.fail(viewName, "bytes " + std::to_string(v.byteOffset) + ".." +
+                             std::to_string(v.byteOffset + v.byteLength) + " lie outside its buffer of " +
+                             std::to_string(bufferSize) + " bytes");
+    const std::size_t stride = v.byteStride ? v.byteStride : elementBytes;
+    if (v.byteStride && (v.byteStride < elementBytes || v.byteStride > 252))
+        c.fail(viewName, "byteStride " + std::to_string(v.byteStride) + " is not in " +
+                             std::to_string(elementBytes) + "..252 for elements of " +
+                             std::to_string(elementBytes) + " bytes");
+    if (count > 0 && (offset > v.byteLength || (count - 1) > (v.byteLength - offset) / stride ||
+                      offset + (count - 1) * stride + elementBytes > v.byteLength))
+        c.fail(element, std::to_string(count) + " elements of " + std::to_string(elementBytes) +
+                            " bytes from offset " + std::to_string(offset) + " (stride " +
+                            std::to_string(stride) + ") run past the " + std::to_string(v.byteLength) +
+                            " bytes of " + viewName);
+    return {c.model.buffers[std::size_t(v.buffer)].data.data() + v.byteOffset + offset, stride};
+}
+
+// An accessor as floats (count × components), sparse values applied.
+std::vector<float> readAccessor(const Context& c, int index, const std::string& element,
+                                std::initializer_list<int> types, std::size_t* countOut = nullptr) {
+    const auto& accessors = c.model.accessors;
+    if (index < 0 || std::size_t(index) >= accessors.size())
+        c.fail(element, "accessor " + std::to_string(index) + " does not exist (" +
+                            std::to_string(accessors.size()) + " accessors)");
+    const tinygltf::Accessor& a = accessors[std::size_t(index)];
+    const std::string name = at("accessors", std::size_t(index));
+    const int bytes = componentBytes(a.componentType), n = componentsOf(a.type);
+    if (!bytes)
+        c.fail(name, "componentType " + std::to_string(a.componentType) + " is not a glTF component type");
+    if (!n || std::find(types.begin(), types.end(), a.type) == types.end())
+        c.fail(element, "accessor " + std::to_string(index) + " has type " + std::to_string(a.type) +
+                            ", which this attribute cannot take");
+    if (a.count == 0 || a.count > (std::size_t(1) << 28))
+        c.fail(name, "count " + std::to_string(a.count) + " is out of range");
+    std::vector<float> out(a.count * std::size_t(n), 0.0f);
+    if (a.bufferView >= 0) {
+        const View v = checkedView(c, a.bufferView, a.byteOffset, a.count, std::size_t(bytes * n), name);
+        for (std::size_t i = 0; i < a.count; ++i)
+            for (int k = 0; k < n; ++k)
+                out[i * std::size_t(n) + std::size_t(k)] =
+                    component(v.data + i * v.stride + std::size_t(k * bytes), a.componentType, a.normalized);
+    }
+    if (a.sparse.isSparse) {
+        const auto sc = std::size_t(std::max(a.sparse.count, 0));
+        if (sc == 0 || sc > a.count)
+            c.fail(name + ".sparse", "count " + std::to_string(a.sparse.count) + " is out of range");
+        const int ib = componentBytes(a.sparse.indices.componentType);
+        if (ib == 0 || a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+            a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+            a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)
+            c.fail(name + ".sparse.indices", "componentType must be an unsigned integer type");
+        const View iv = checkedView(c, a.sparse.indices.bufferView, std::size_t(a.sparse.indices.byteOffset),
+                                    sc, std::size_t(ib), name + ".sparse.indices");
+        const View vv = checkedView(c, a.sparse.values.bufferView, std::size_t(a.sparse.values.byteOffset),
+                                    sc, std::size_t(bytes * n), name + ".sparse.values");
+        for (std::size_t s = 0; s < sc; ++s) {
+            const auto target =
+                std::size_t(component(iv.data + s * std::size_t(ib), a.sparse.indices.componentType, false));
+            if (target >= a.count)
+                c.fail(name + ".sparse.indices",
+                       "index " + std::to_string(target) + " is not below count " + std::to_string(a.count));
+            for (int k = 0; k < n; ++k)
+                out[target * std::size_t(n) + std::size_t(k)] =
+                    component(vv.data + s * std::size_t(bytes * n) + std::size_t(k * bytes), a.componentType,
+                              a.normalized);
+        }
+    }
+    if (countOut) *countOut = a.count;
+    return out;
+}
+
+std::shared_ptr<Texture> loadTexture(const Context& c, int index, bool srgb, const std::string& element,
+                                     std::map<std::pair<int, bool>, std::shared_ptr<Texture>>& cache) {
+    if (index < 0) return nullptr;
+    if (std::size_t(index) >= c.model.textures.size())
+        c.fail(element, "texture " + std::to_string(index) + " does not exist");
+    if (auto it = cache.find({index, srgb}); it != cache.end()) return it->second;
+    const tinygltf::Texture& t = c.model.textures[std::size_t(index)];
+    if (t.source < 0 || std::size_t(t.source) >= c.model.images.size())
+        c.fail(at("textures", std::size_t(index)),
+               "source image " + std::to_string(t.source) + " does not exist");
+    const tinygltf::Image& src = c.model.images[std::size_t(t.source)];
+    if (src.width <= 0 || src.height <= 0 ||
+        src.image.size() != std::size_t(src.width) * std::size_t(src.height) * 4)
+        c.fail(at("images", std::size_t(t.source)), "the image did not decode");
+    auto img = Image::create(src.width, src.height, 4);
+    img->pixels = src.image;
+    auto tex = Texture::create(img, srgb);
+    if (t.sampler >= 0 && std::size_t(t.sampler) < c.model.samplers.size()) {
+        const tinygltf::Sampler& s = c.model.samplers[std::size_t(t.sampler)];
+        auto wrap = [](int w) {
+            return w == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE     ? Wrap::ClampToEdge
+                   : w == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? Wrap::MirroredRepeat
+                                                                : Wrap::Repeat;
+        };
+        tex->wrapS = wrap(s.wrapS);
+        tex->wrapT = wrap(s.wrapT);
+        if (s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) tex->magFilter = Filter::Nearest;
+        if (s.minFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) tex->minFilter = Filter::Nearest;
+        if (s.minFilter == TINYGLTF_TEXTURE_FILTER_LINEAR) tex->minFilter = Filter::Linear;
+    }
+    cache[{index, srgb}] = tex;
+    return tex;
+}
+
+// Decodes images with stb (PNG, JPEG) into RGBA8; a failure names the image.
+bool decodeImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+                 const unsigned char* bytes, int size, void*) {
+    int w = 0, h = 0, comp = 0;
+    stbi_uc* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
+    if (!data) {
+        if (err)
+            *err += "images[" + std::to_string(index) + "]: cannot decode: " + stbi_failure_reason() + "\n";
+        return false;
+    }
+    image->width = w;
+    image->height = h;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image.assign(data, data + std::size_t(w) * std::size_t(h) * 4);
+    stbi_image_free(data);
+    return true;
+}
+
+glm::vec3 flatNormal(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    const float l = glm::length(n);
+    return l > 0.0f ? n / l : glm::vec3(0, 0, 1);
+}
+
+} // namespace
+
+std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options,
+                                GltfStats* stats) {
+    const std::string path = file.string();
+    if (!std::filesystem::is_regular_file(file)) throw LoadError("sgfx: glTF '" + path + "': no such file");
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(decodeImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char ch) { return char(std::tolower(ch)); });
+    const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                  : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    if (!ok)
+        throw LoadError("sgfx: glTF '" + path + "': " + (err.empty() ? std::string("not a glTF file") : err));
+    const Context c{path, model};
+    for (const std::string& required : model.extensionsRequired)
+        if (required != "KHR_materials_emissive_strength")
+            c.fail("extensionsRequired", "extension '" + required + "' is required but not supported");
+
+    GltfStats st;
+    // Materials.
+    std::map<std::pair<int, bool>, std::shared_ptr<Texture>> textures;
+    std::vector<std::shared_ptr<StateSet>> materials;
+    for (std::size_t i = 0; i < model.materials.size(); ++i) {
+        const tinygltf::Material& m = model.materials[i];
+        const std::string name = at("materials", i);
+        auto mat = Material::create();
+        const auto& f = m.pbrMetallicRoughness.baseColorFactor;
+        if (f.size() != 4) c.fail(name + ".pbrMetallicRoughness.baseColorFactor", "must have 4 numbers");
+        mat->diffuse = glm::vec4(float(f[0]), float(f[1]), float(f[2]), float(f[3]));
+        mat->ambient = glm::vec3(mat->diffuse);
+        if (m.emissiveFactor.size() == 3)
+            mat->emissive =
+                glm::vec3(float(m.emissiveFactor[0]), float(m.emissiveFactor[1]), float(m.emissiveFactor[2]));
+        // Metallic-roughness seen through Blinn-Phong until the PBR material model lands.
+        const float rough = std::clamp(float(m.pbrMetallicRoughness.roughnessFactor), 0.05f, 1.0f);
+        const float metal = std::clamp(float(m.pbrMetallicRoughness.metallicFactor), 0.0f, 1.0f);
+        mat->specular = glm::mix(glm::vec3(0.04f), glm::vec3(mat->diffuse), metal) * (1.0f - 0.7f * rough);
+        mat->shininess = std::clamp(2.0f / (rough * rough * rough * rough) - 2.0f, 1.0f, 256.0f);
+        mat->baseColorTexture = loadTexture(c, m.pbrMetallicRoughness.baseColorTexture.index, true,
+                                            name + ".baseColorTexture", textures);
+        mat->normalTexture = loadTexture(c, m.normalTexture.index, false, name + ".normalTexture", textures);
+        auto state = std::make_shared<StateSet>();
+        state->material.set(mat);
+        if (m.doubleSided) state->cullFace.set(CullFace::None);
+        if (m.alphaMode == "MASK") {
+            mat->alphaCutoff = float(m.alphaCutoff);
+            ++st.masked;
+        } else if (m.alphaMode == "BLEND") {
+            state->blend.set(BlendMode::Alpha);
+            ++st.blended;
+        } else if (m.alphaMode == "OPAQUE" || m.alphaMode.empty()) {
+            ++st.opaque;
+        } else {
+            c.fail(name + ".alphaMode", "'" + m.alphaMode + "' is not OPAQUE, MASK or BLEND");
+        }
+        mat->validate();
+        materials.push_back(state);
+    }
+    st.materials = model.materials.size();
+
+    // Meshes: one Geometry per primitive, shared by every node that uses the mesh.
+    std::vector<std::vector<std::shared_ptr<Geometry>>> meshes(model.meshes.size());
+    std::vector<bool> meshUsed(model.meshes.size(), false);
+    auto buildMesh = [&](std::size_t mi) {
+        const tinygltf::Mesh& mesh = model.meshes[mi];
+        for (std::size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+            const tinygltf::Primitive& p = mesh.primitives[pi];
+            const std::string name = at("meshes", mi) + "." + at("primitives", pi);
+            const auto pos = p.attributes.find("POSITION");
+            if (pos == p.attributes.end()) c.fail(name + ".attributes", "has no POSITION");
+            std::size_t n = 0;
+            const std::vector<float> positions =
+                readAccessor(c, pos->second, name + ".attributes.POSITION", {TINYGLTF_TYPE_VEC3}, &n);
+            for (float v : positions)
+                if (!std::isfinite(v))
+                    c.fail(name + ".attributes.POSITION", "has a NaN or infinite coordinate");
+            auto attribute = [&](const char* key, std::initializer_list<int> types) {
+                const auto it = p.attributes.find(key);
+                if (it == p.attributes.end()) return std::vector<float>{};
+                std::size_t count = 0;
+                auto values = readAccessor(c, it->second, name + ".attributes." + key, types, &count);
+                if (count != n)
+                    c.fail(name + ".attributes." + key,
+                           std::to_string(count) + " values for " + std::to_string(n) + " positions");
+                return values;
+            };
+            const auto normals = attribute("NORMAL", {TINYGLTF_TYPE_VEC3});
+            const auto uvs = attribute("TEXCOORD_0", {TINYGLTF_TYPE_VEC2});
+            const auto colors = attribute("COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4});
+            const auto tangents = attribute("TANGENT", {TINYGLTF_TYPE_VEC4});
+            std::vector<std::uint32_t> indices;
+            if (p.indices >= 0) {
+                const auto& a = model.accessors.at(
+                    std::size_t(std::max(0, std::min<int>(p.indices, int(model.accessors.size()) - 1))));
+                if (std::size_t(p.indices) >= model.accessors.size() ||
+                    a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                    a.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+                    a.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)
+                    c.fail(name + ".indices", "must be an accessor of unsigned integers");
+                for (float v : readAccessor(c, p.indices, name + ".indices", {TINYGLTF_TYPE_SCALAR})) {
+                    if (v >= float(n))
+                        c.fail(name + ".indices", "index " + std::to_string(std::uint64_t(v)) +
+                                                      " is not below the " + std::to_string(n) + " vertices");
+                    indices.push_back(std::uint32_t(v));
+                }
+            }
+            auto g = Geometry::create();
+            g->name = mesh.name.empty() ? name : mesh.name + "." + std::to_string(pi);
+            for (std::size_t i = 0; i < n; ++i) {
+                g->positions.emplace_back(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]);
+                if (!normals.empty())
+                    g->normals.emplace_back(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
+                if (!uvs.empty()) g->texcoords.emplace_back(uvs[2 * i], uvs[2 * i + 1]);
+                if (!tangents.empty())
+                    g->tangents.emplace_back(tangents[4 * i], tangents[4 * i + 1], tangents[4 * i + 2],
+                                             tangents[4 * i + 3]);
+                if (!colors.empty()) {
+                    const std::size_t k = colors.size() / n;
+                    g->colors.emplace_back(colors[k * i], colors[k * i + 1], colors[k * i + 2],
+                                           k == 4 ? colors[k * i + 3] : 1.0f);
+                }
+            }
+            g->indices = std::move(indices);
+            switch (p.mode) {
+            case TINYGLTF_MODE_POINTS:
+                g->mode = PrimitiveMode::Points;
+                break;
+            case TINYGLTF_MODE_LINE:
+                g->mode = PrimitiveMode::Lines;
+                break;
+            case TINYGLTF_MODE_LINE_LOOP: {
+                g->mode = PrimitiveMode::LineStrip; // closed by repeating the first vertex
+                if (g->indices.empty())
+                    for (std::uint32_t i = 0; i < n; ++i)
+                        g->indices.push_back(i);
+                g->indices.push_back(g->indices.front());
+                break;
+            }
+            case TINYGLTF_MODE_LINE_STRIP:
+                g->mode = PrimitiveMode::LineStrip;
+                break;
+            case TINYGLTF_MODE_TRIANGLE_STRIP:
+                g->mode = PrimitiveMode::TriangleStrip;
+                break;
+            case TINYGLTF_MODE_TRIANGLE_FAN:
+                g->mode = PrimitiveMode::TriangleFan;
+                break;
+            case TINYGLTF_MODE_TRIANGLES:
+            case -1:
+                g->mode = PrimitiveMode::Triangles;
+                break;
+            default:
+                c.fail(name + ".mode", std::to_string(p.mode) + " is not a glTF primitive mode");
+            }
+            // Flat normals where the file has none: triangles are unshared so each face has its own.
+            if (g->normals.empty() && g->mode == PrimitiveMode::Triangles) {
+                const std::size_t count = g->elementCount() / 3 * 3;
+                auto flat = Geometry::create();
+                flat->name = g->name;
+                for (std::size_t k = 0; k < count; k += 3) {
+                    glm::vec3 v[3];
+                    for (int j = 0; j < 3; ++j) {
+                        const std::uint32_t idx = g->indices.empty() ? std::uint32_t(k + std::size_t(j))
+                                                                     : g->indices[k + std::size_t(j)];
+                        v[j] = g->positions[idx];
+                        flat->positions.push_back(v[j]);
+                        if (!g->texcoords.empty()) flat->texcoords.push_back(g->texcoords[idx]);
+                        if (!g->colors.empty()) flat->colors.push_back(g->colors[idx]);
+                    }
+                    const glm::vec3 nrm = flatNormal(v[0], v[1], v[2]);
+                    for (int j = 0; j < 3; ++j)
+                        flat->normals.push_back(nrm);
+                }
+                g = flat;
+            }
+            if (p.material >= 0) {
+                if (std::size_t(p.material) >= materials.size())
+                    c.fail(name + ".material", "material " + std::to_string(p.material) + " does not exist");
+                g->setStateSet(materials[std::size_t(p.material)]);
+            }
+            g->validate();
+            st.triangles += g->triangleCount();
+            ++st.primitives;
+            meshes[mi].push_back(g);
+        }
+        ++st.meshes;
+    };
+
+    // Nodes, depth first; a node met again on its own path is a cycle.
+    std::vector<int> ancestors;
+    std::function<std::shared_ptr<Node>(int, const std::string&)> buildNode = [&](int index,
+                                                                                  const std::string& from) {
+        if (index < 0 || std::size_t(index) >= model.nodes.size())
+            c.fail(from, "node " + std::to_string(index) + " does not exist (" +
+                             std::to_string(model.nodes.size()) + " nodes)");
+        const std::string name = at("nodes", std::size_t(index));
+        if (std::find(ancestors.begin(), ancestors.end(), index) != ancestors.end())
+            c.fail(name, "is its own ancestor (a cycle)");
+        if (ancestors.size() > 1000) c.fail(name, "is nested more than 1000 deep");
+        ancestors.push_back(index);
+        const tinygltf::Node& n = model.nodes[std::size_t(index)];
+        glm::mat4 m(1.0f);
+        if (n.matrix.size() == 16) {
+            m = glm::make_mat4(std::vector<float>(n.matrix.begin(), n.matrix.end()).data());
+        } else if (!n.matrix.empty()) {
+            c.fail(name + ".matrix", "must have 16 numbers");
+        } else {
+            if (!n.translation.empty() && n.translation.size() != 3)
+                c.fail(name + ".translation", "must have 3 numbers");
+            if (!n.rotation.empty() && n.rotation.size() != 4)
+                c.fail(name + ".rotation", "must have 4 numbers");
+            if (!n.scale.empty() && n.scale.size() != 3) c.fail(name + ".scale", "must have 3 numbers");
+            if (n.translation.size() == 3)
+                m = glm::translate(
+                    m, glm::vec3(float(n.translation[0]), float(n.translation[1]), float(n.translation[2])));
+            if (n.rotation.size() == 4)
+                m *= glm::mat4_cast(glm::quat(float(n.rotation[3]), float(n.rotation[0]),
+                                              float(n.rotation[1]), float(n.rotation[2])));
+            if (n.scale.size() == 3)
+                m = glm::scale(m, glm::vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
+        }
+        for (int k = 0; k < 16; ++k)
+            if (!std::isfinite(glm::value_ptr(m)[k])) c.fail(name, "has a NaN or infinite transform");
+        auto t = Transform::create(m);
+        t->name = n.name.empty() ? name : n.name;
+        ++st.nodes;
+        if (n.mesh >= 0) {
+            if (std::size_t(n.mesh) >= model.meshes.size())
+                c.fail(name + ".mesh", "mesh " + std::to_string(n.mesh) + " does not exist");
+            if (!meshUsed[std::size_t(n.mesh)]) {
+                meshUsed[std::size_t(n.mesh)] = true;
+                buildMesh(std::size_t(n.mesh));
+            }
+            for (const auto& g : meshes[std::size_t(n.mesh)])
+                t->addChild(g);
+        }
+        for (std::size_t k = 0; k < n.children.size(); ++k)
+            t->addChild(buildNode(n.children[k], name + ".children"));
+        ancestors.pop_back();
+        return t;
+    };
+
+    auto root = Group::create();
+    root->name = file.filename().string();
+    std::vector<int> roots;
+    const int sceneIndex = options.scene >= 0 ? options.scene : std::max(model.defaultScene, 0);
+    if (!model.scenes.empty()) {
+        if (std::size_t(sceneIndex) >= model.scenes.size())
+            c.fail("scene", "scene " + std::to_string(sceneIndex) + " does not exist");
+        roots = model.scenes[std::size_t(sceneIndex)].nodes;
+    } else {
+        std::set<int> children;
+        for (const auto& n : model.nodes)
+            children.insert(n.children.begin(), n.children.end());
+        for (std::size_t i = 0; i < model.nodes.size(); ++i)
+            if (!children.count(int(i))) roots.push_back(int(i));
+    }
+    std::shared_ptr<Group> parent = root;
+    if (options.zUp) {
+        auto up = Transform::create(glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(1, 0, 0)));
+        up->name = "glTF Y up to Z up";
+        root->addChild(up);
+        parent = up;
+    }
+    for (int r : roots)
+        parent->addChild(buildNode(r, at("scenes", std::size_t(sceneIndex)) + ".nodes"));
+    std::set<int> texturesUsed;
+    for (const auto& [key, tex] : textures)
+        texturesUsed.insert(key.first);
+    st.textures = texturesUsed.size();
+    if (stats) *stats = st;
+    return root;
+}
+
+} // namespace sgfx
