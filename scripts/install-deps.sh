@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config   # toolchain
   libglm-dev libglfw3-dev libstb-dev             # math, windows, PNG
   libtinygltf-dev nlohmann-json3-dev             # glTF 2.0 loading
+  libopenmesh-dev                                # OBJ/OFF/PLY/STL meshes
   libosmesa6-dev                                 # software OpenGL 4.5 core (llvmpipe), headless
   libegl-dev libegl1 libegl-mesa0                # headless GPU contexts (libEGL is opened at run time)
   libgtest-dev libbenchmark-dev                  # tests and benchmarks
