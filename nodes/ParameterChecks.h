@@ -15,6 +15,12 @@ inline std::string shaderText(std::string_view file) {
     return std::string(shaders::embedded(file));
 }
 
+// `src` with `text` inserted after its first line (the #version line): defines, declarations.
+inline std::string afterVersion(std::string src, std::string_view text) {
+    src.insert(src.find('\n') + 1, text);
+    return src;
+}
+
 // The file with each `#include "other.glsl"` line replaced by that embedded file (one level).
 inline std::string shaderWithIncludes(std::string_view file) {
     std::string src = shaderText(file);

@@ -49,10 +49,7 @@ ShaderSnippet snippetOf(std::string name, std::string defines, std::string fragm
 
 // The full-screen vertex stage with a define after its #version line.
 std::string fullscreenVertexWith(std::string_view define) {
-    std::string v(ShaderComposer::fullscreenVertex());
-    const auto eol = v.find('\n');
-    v.insert(eol + 1, std::string(define) + "\n");
-    return v;
+    return nodes::afterVersion(std::string(ShaderComposer::fullscreenVertex()), std::string(define) + "\n");
 }
 
 } // namespace

@@ -63,17 +63,12 @@ const BaseShader& updateShader(ParticleLayout layout) {
 BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft, ParticleLayout layout) {
     static const char* const shapes[] = {"sprite", "hexagon", "tetrahedron", "quad"};
     const std::string defines = "#define SGFX_PARTICLE_SHAPE " + std::to_string(int(shape)) + "\n";
-    auto withDefines = [&](std::string src) {
-        const auto eol = src.find('\n');
-        return src.substr(0, eol + 1) + defines + src.substr(eol + 1);
-    };
+    auto withDefines = [&](std::string src) { return nodes::afterVersion(std::move(src), defines); };
     std::string fragment = ShaderComposer::blinnPhong().fragmentSource;
-    if (soft) {
-        const auto eol = fragment.find('\n');
-        fragment = fragment.substr(0, eol + 1) + "#define SGFX_PARTICLE_DEPTH_UNIT " +
-                   std::to_string(kDepthUnit) + "\n" + nodes::shaderText("particle_soft.glsl") +
-                   fragment.substr(eol + 1);
-    }
+    if (soft)
+        fragment = nodes::afterVersion(std::move(fragment), "#define SGFX_PARTICLE_DEPTH_UNIT " +
+                                                                std::to_string(kDepthUnit) + "\n" +
+                                                                nodes::shaderText("particle_soft.glsl"));
     static const char* const paths[] = {"", "particles_gs_", "particles_instanced_", "particles_pulled_",
                                         "particles_points_"};
     const std::string name = std::string(paths[int(path)]) + shapes[int(shape)] + (soft ? "_soft" : "");
@@ -86,17 +81,16 @@ BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft, Particl
         return b;
     }
     if (path == ParticlePath::PointSprite) {
-        const auto eol = fragment.find('\n');
-        fragment.insert(eol + 1, "#define SGFX_POINT_SPRITE\n");
+        fragment = nodes::afterVersion(std::move(fragment), "#define SGFX_POINT_SPRITE\n");
         return BaseShader{
             name, "particle_point.vert", withDefines(nodes::shaderWithIncludes("particle_point.vert")),
             soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag", std::move(fragment)};
     }
     if (path == ParticlePath::Pulled) {
-        std::string vertex = withDefines(nodes::shaderWithIncludes("particle_pulled.vert"));
-        const auto eol = vertex.find('\n');
-        vertex.insert(eol + 1, "#define SGFX_PARTICLE_BUFFER_UNIT " + std::to_string(kBufferUnit) + "\n" +
-                                   (layout == ParticleLayout::Split ? "#define SGFX_PARTICLE_SPLIT\n" : ""));
+        std::string vertex =
+            nodes::afterVersion(withDefines(nodes::shaderWithIncludes("particle_pulled.vert")),
+                                "#define SGFX_PARTICLE_BUFFER_UNIT " + std::to_string(kBufferUnit) + "\n" +
+                                    (layout == ParticleLayout::Split ? "#define SGFX_PARTICLE_SPLIT\n" : ""));
         return BaseShader{name + (layout == ParticleLayout::Split ? "_split" : ""), "particle_pulled.vert",
                           std::move(vertex),
                           soft ? "particle_soft.glsl + blinn_phong.frag" : "blinn_phong.frag",

@@ -24,12 +24,13 @@ constexpr unsigned kLutUnit = kEffectTextureUnit + 2; // 14: pass-local, bound a
 constexpr int kLutWidth = 256, kLutHeight = 128;
 
 BaseShader makeSkyShader(bool lut) {
-    std::string vertex(ShaderComposer::fullscreenVertex());
-    vertex.insert(vertex.find('\n') + 1, "#define SGFX_FULLSCREEN_FAR\n");
+    std::string vertex =
+        nodes::afterVersion(std::string(ShaderComposer::fullscreenVertex()), "#define SGFX_FULLSCREEN_FAR\n");
     std::string fragment = nodes::shaderWithIncludes("sky.frag");
     if (lut)
-        fragment.insert(fragment.find('\n') + 1,
-                        "#define SGFX_SKY_LUT\n#define SGFX_SKY_LUT_UNIT " + std::to_string(kLutUnit) + "\n");
+        fragment =
+            nodes::afterVersion(std::move(fragment), "#define SGFX_SKY_LUT\n#define SGFX_SKY_LUT_UNIT " +
+                                                         std::to_string(kLutUnit) + "\n");
     return BaseShader{lut ? "sky_lut_view" : "sky", "blit.vert", std::move(vertex), "sky.frag",
                       std::move(fragment)};
 }

@@ -32,7 +32,6 @@ void check(const char* name, float v, double lo, double hi, bool openLow = false
 
 BaseShader makeShader(const std::string& function, bool half, bool slices = false) {
     std::string fragment = nodes::shaderWithIncludes(slices ? "volume_slice.frag" : "volume_march.frag");
-    const auto eol = fragment.find('\n');
     std::string defines = "#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) +
                           "\n#define SGFX_VOLUME_DENSITY_UNIT " + std::to_string(kDensityUnit) + "\n";
     std::string name = slices ? "volume_slices" : half ? "volume_half" : "volume";
@@ -42,7 +41,7 @@ BaseShader makeShader(const std::string& function, bool half, bool slices = fals
         name += "_fn" + std::to_string(std::hash<std::string>{}(function));
         fragment += "\nfloat volumeDensity(vec3 uvw) {\n" + function + "\n}\n";
     }
-    fragment.insert(eol + 1, defines);
+    fragment = nodes::afterVersion(std::move(fragment), defines);
     if (slices)
         return BaseShader{name, "volume_slice.vert", nodes::shaderText("volume_slice.vert"),
                           "volume_slice.frag", std::move(fragment)};
@@ -538,11 +537,7 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
                                      "\n#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) + "\n";
     static const BaseShader upsample{"volume_upsample", "blit.vert",
                                      std::string(ShaderComposer::fullscreenVertex()), "volume_upsample.frag",
-                                     [] {
-                                         std::string f = nodes::shaderText("volume_upsample.frag");
-                                         const auto eol = f.find('\n');
-                                         return f.substr(0, eol + 1) + units + f.substr(eol + 1);
-                                     }()};
+                                     nodes::afterVersion(nodes::shaderText("volume_upsample.frag"), units)};
     glBindTextureUnit(kDensityUnit, half.color.get());
     glBindTextureUnit(kDensityUnit + 1, half.depth.get());
     r.drawFullscreen(r.composer().program(upsample, {}, 0));
