@@ -1,8 +1,9 @@
 #version 450 core
-// Built-in Blinn-Phong material, fragment stage, in linear colour.
+// Built-in material, fragment stage, in linear colour: Blinn-Phong, or glTF's metallic-roughness
+// model with SGFX_METALLIC_ROUGHNESS (brdf_metallic_roughness.glsl).
 // Hooks: @sgfx:ambient may change sgfx_ambient; @sgfx:color may change sgfx_color.
 // Feature defines (SGFX_BASE_MAP, SGFX_ALPHA_MAP, SGFX_NORMAL_MAP, SGFX_VERTEX_COLOR,
-// SGFX_NORMALS, SGFX_TANGENTS, SGFX_ALPHA_MASK, SGFX_BLEND) are set per variant: a material
+// SGFX_NORMALS, SGFX_TANGENTS, SGFX_ALPHA_MASK, SGFX_BLEND, ...) are set per variant: a material
 // without an alpha mask has no `discard`, so the rasterizer keeps early depth rejection.
 #ifdef SGFX_WORLD_POSITION
 in vec3 v_worldPos; // only when something reads it: every varying costs per fragment
@@ -19,6 +20,9 @@ in vec4 v_worldTangent;
 #else
 in vec2 v_texcoord;
 #endif
+#endif
+#ifdef SGFX_TEXCOORDS1
+in vec2 v_texcoord1;
 #endif
 #ifdef SGFX_VERTEX_COLOR
 in vec4 v_color;
@@ -39,10 +43,33 @@ uniform vec3 sgfx_matSpecular;
 uniform float sgfx_matShininess;
 uniform vec3 sgfx_matEmissive;
 uniform float sgfx_alphaCutoff;
+uniform vec2 sgfx_matMetallicRoughness;
+uniform float sgfx_normalScale;
+uniform float sgfx_occlusionStrength;
 
 layout(binding = 0) uniform sampler2D sgfx_baseColorMap;
 layout(binding = 1) uniform sampler2D sgfx_alphaMap;
 layout(binding = 2) uniform sampler2D sgfx_normalMap;
+layout(binding = 3) uniform sampler2D sgfx_metalRoughMap;
+layout(binding = 4) uniform sampler2D sgfx_occlusionMap;
+layout(binding = 5) uniform sampler2D sgfx_emissiveMap;
+
+// Texture coordinates of a map (Material::mappings: 0 base, 1 alpha, 2 normal, 3 metallic-
+// roughness, 4 occlusion, 5 emissive): its set, transformed (KHR_texture_transform).
+#ifdef SGFX_UV_TRANSFORM
+uniform mat3 sgfx_uvTransform[6];
+uniform int sgfx_uvSet[6];
+vec2 sgfx_uv(int map) {
+#ifdef SGFX_TEXCOORDS1
+    vec2 uv = sgfx_uvSet[map] == 1 ? v_texcoord1 : v_texcoord;
+#else
+    vec2 uv = v_texcoord;
+#endif
+    return (sgfx_uvTransform[map] * vec3(uv, 1.0)).xy;
+}
+#else
+#define sgfx_uv(map) v_texcoord
+#endif
 
 layout(location = 0) out vec4 sgfx_fragColor;
 #ifdef SGFX_GBUFFER
@@ -52,6 +79,8 @@ layout(location = 2) out vec4 sgfx_gPosition; // view-space position
 #endif
 
 // @sgfx:fragment_decl
+
+#include "brdf_metallic_roughness.glsl"
 
 #ifndef SGFX_VERTEX_LIGHTING
 vec3 surfaceNormal() {
@@ -69,12 +98,13 @@ vec3 surfaceNormal() {
 #else
     // Tangent frame from screen-space derivatives of position and texcoord.
     vec3 dpdx = dFdx(v_worldPos), dpdy = dFdy(v_worldPos);
-    vec2 dtx = dFdx(v_texcoord), dty = dFdy(v_texcoord);
+    vec2 dtx = dFdx(sgfx_uv(2)), dty = dFdy(sgfx_uv(2));
     vec3 t = dpdx * dty.y - dpdy * dtx.y;
     T = normalize(t - N * dot(N, t));
     B = cross(N, T) * (dtx.x * dty.y - dty.x * dtx.y < 0.0 ? -1.0 : 1.0);
 #endif
-    vec3 m = texture(sgfx_normalMap, v_texcoord).xyz * 2.0 - 1.0;
+    vec3 m = texture(sgfx_normalMap, sgfx_uv(2)).xyz * 2.0 - 1.0;
+    m.xy *= sgfx_normalScale;
     N = normalize(mat3(T, B, N) * m);
 #endif
     return gl_FrontFacing ? N : -N;
@@ -89,12 +119,12 @@ void main() {
     ambientColor *= v_color.rgb;
 #endif
 #if defined(SGFX_BASE_MAP) && defined(SGFX_TEXCOORDS)
-    vec4 t = texture(sgfx_baseColorMap, v_texcoord);
+    vec4 t = texture(sgfx_baseColorMap, sgfx_uv(0));
     base *= t;
     ambientColor *= t.rgb;
 #endif
 #if defined(SGFX_ALPHA_MAP) && defined(SGFX_TEXCOORDS)
-    base.a *= texture(sgfx_alphaMap, v_texcoord).r;
+    base.a *= texture(sgfx_alphaMap, sgfx_uv(1)).r;
 #endif
     float sgfx_coverage = 1.0; // scales all the surface adds, emission and highlights included
 #if defined(SGFX_BASE_MODIFIER) && !defined(SGFX_GBUFFER)
@@ -113,7 +143,7 @@ void main() {
 #ifdef SGFX_GBUFFER
 #if defined(SGFX_ALPHA_MAP) && defined(SGFX_TEXCOORDS) && !defined(SGFX_ALPHA_MASK)
     // SSAO seed §1: texels of an alpha map below ε cut holes in the G-buffer.
-    if (texture(sgfx_alphaMap, v_texcoord).r < 1.0 / 255.0) discard;
+    if (texture(sgfx_alphaMap, sgfx_uv(1)).r < 1.0 / 255.0) discard;
 #endif
     vec4 gView = sgfx_view * vec4(v_worldPos, 1.0);
     sgfx_fragColor = vec4(normalize(mat3(sgfx_view) * surfaceNormal()), 0.0); // seed §1: N_vcs
@@ -130,14 +160,40 @@ void main() {
 #endif
     vec3 sgfx_eyePos = sgfx_eye.xyz;
     // @sgfx:ambient
+#ifdef SGFX_METALLIC_ROUGHNESS
+    float metallic = sgfx_matMetallicRoughness.x;
+    float roughness = sgfx_matMetallicRoughness.y;
+#ifdef SGFX_METAL_ROUGH_MAP
+    vec4 metalRough = texture(sgfx_metalRoughMap, sgfx_uv(3));
+    roughness *= metalRough.g;
+    metallic *= metalRough.b;
+#endif
+    vec3 diffuseColor = mix(base.rgb, vec3(0.0), metallic);
+    vec3 f0 = mix(vec3(0.04), base.rgb, metallic);
+    // Ambient light has no direction: it lights the diffuse colour plus F0 as a mirror would.
+    ambientColor = diffuseColor + f0;
+#endif
+#ifdef SGFX_OCCLUSION_MAP
+    // glTF occlusion: darkens indirect (ambient) light only.
+    ambientColor *= 1.0 + sgfx_occlusionStrength * (texture(sgfx_occlusionMap, sgfx_uv(4)).r - 1.0);
+#endif
     // Light the surface scatters (scaled by its coverage when the output is premultiplied) and
     // light it adds on top (emission, specular reflection: glass keeps its highlights).
     vec3 color = sgfx_ambient * ambientColor;
     vec3 added = sgfx_matEmissive;
+#ifdef SGFX_EMISSIVE_MAP
+    added *= texture(sgfx_emissiveMap, sgfx_uv(5)).rgb;
+#endif
 #ifdef SGFX_VERTEX_LIGHTING
+#ifdef SGFX_METALLIC_ROUGHNESS
+    // Gouraud: Lambert on the diffuse colour, F0 times a Blinn-Phong lobe of the same width.
+    color += diffuseColor * (gl_FrontFacing ? v_diffuseFront : v_diffuseBack);
+    added += f0 * (gl_FrontFacing ? v_specularFront : v_specularBack);
+#else
     color += base.rgb * (gl_FrontFacing ? v_diffuseFront : v_diffuseBack);
 #ifdef SGFX_SPECULAR
     added += sgfx_matSpecular * (gl_FrontFacing ? v_specularFront : v_specularBack);
+#endif
 #endif
 #else
     vec3 N = surfaceNormal();
@@ -153,11 +209,20 @@ void main() {
         vec3 L = lv.xyz; // directions come normalised
 #endif
         float NdotL = max(dot(N, L), 0.0);
+#ifdef SGFX_METALLIC_ROUGHNESS
+        // Light colours are irradiance over π (a white Lambert surface facing a light shows its
+        // colour, as with Blinn-Phong), so both lobes are multiplied by π.
+        vec3 F;
+        vec3 specular = brdfSpecular(N, V, L, f0, roughness, F);
+        color += sgfx_lightColor[i].rgb * NdotL * (vec3(1.0) - F) * diffuseColor;
+        added += sgfx_lightColor[i].rgb * NdotL * specular;
+#else
         color += sgfx_lightColor[i].rgb * base.rgb * NdotL;
 #ifdef SGFX_SPECULAR
         vec3 H = normalize(L + V);
         added += NdotL > 0.0 ? sgfx_lightColor[i].rgb * sgfx_matSpecular * pow(max(dot(N, H), 0.0), sgfx_matShininess)
                              : vec3(0.0);
+#endif
 #endif
     }
 #endif

@@ -7,6 +7,10 @@ layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec4 a_tangent;
 layout(location = 3) in vec2 a_texcoord;
 layout(location = 4) in vec4 a_color;
+layout(location = 5) in vec2 a_texcoord1;
+#ifdef SGFX_INSTANCED
+layout(location = 6) in mat4 a_instance; // Geometry::instances, applied before sgfx_model
+#endif
 
 uniform mat4 sgfx_model;
 uniform mat3 sgfx_normalMatrix;
@@ -22,6 +26,9 @@ out vec4 v_worldTangent;
 #endif
 #ifdef SGFX_TEXCOORDS
 out vec2 v_texcoord;
+#endif
+#ifdef SGFX_TEXCOORDS1
+out vec2 v_texcoord1;
 #endif
 #ifdef SGFX_VERTEX_COLOR
 out vec4 v_color;
@@ -62,8 +69,19 @@ void vertexLighting(vec3 P, vec3 N) {
 // @sgfx:vertex_decl
 
 void main() {
-    vec3 sgfx_worldPos = (sgfx_model * vec4(a_position, 1.0)).xyz;
-    vec3 sgfx_worldNormal = sgfx_normalMatrix * a_normal;
+#ifdef SGFX_INSTANCED
+    mat4 model = sgfx_model * a_instance;
+    // Normals by the cofactor matrix (the inverse transpose up to a positive scale): instances
+    // may scale unevenly or mirror, and a per-vertex inverse would cost far more.
+    mat3 m = mat3(model);
+    mat3 normalMatrix = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) *
+                        (determinant(m) < 0.0 ? -1.0 : 1.0);
+#else
+    mat4 model = sgfx_model;
+    mat3 normalMatrix = sgfx_normalMatrix;
+#endif
+    vec3 sgfx_worldPos = (model * vec4(a_position, 1.0)).xyz;
+    vec3 sgfx_worldNormal = normalMatrix * a_normal;
     vec4 sgfx_viewPos = sgfx_view * vec4(sgfx_worldPos, 1.0);
     // @sgfx:vertex
 #ifdef SGFX_WORLD_POSITION
@@ -76,10 +94,13 @@ void main() {
     v_worldNormal = sgfx_worldNormal;
 #endif
 #ifdef SGFX_TANGENTS
-    v_worldTangent = vec4(mat3(sgfx_model) * a_tangent.xyz, a_tangent.w);
+    v_worldTangent = vec4(mat3(model) * a_tangent.xyz, a_tangent.w);
 #endif
 #ifdef SGFX_TEXCOORDS
     v_texcoord = a_texcoord;
+#endif
+#ifdef SGFX_TEXCOORDS1
+    v_texcoord1 = a_texcoord1;
 #endif
 #ifdef SGFX_VERTEX_COLOR
     v_color = a_color;

@@ -3,6 +3,7 @@
 #include <sgfx/Geometry.h>
 #include <sgfx/Image.h>
 #include <sgfx/Material.h>
+#include <sgfx/MeshTools.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Texture.h>
 
@@ -16,10 +17,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <map>
 #include <set>
+#include <sstream>
 
 namespace sgfx {
 
@@ -247,10 +250,97 @@ bool decodeImage(tinygltf::Image* image, const int index, std::string* err, std:
     return true;
 }
 
-glm::vec3 flatNormal(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-    const glm::vec3 n = glm::cross(b - a, c - a);
-    const float l = glm::length(n);
-    return l > 0.0f ? n / l : glm::vec3(0, 0, 1);
+glm::vec4 vec4Of(const Context& c, const std::vector<double>& v, const std::string& element) {
+    if (v.size() != 4) c.fail(element, "must have 4 numbers");
+    return {float(v[0]), float(v[1]), float(v[2]), float(v[3])};
+}
+
+glm::vec3 vec3Of(const Context& c, const std::vector<double>& v, const std::string& element) {
+    if (v.size() != 3) c.fail(element, "must have 3 numbers");
+    return {float(v[0]), float(v[1]), float(v[2])};
+}
+
+// A number member of an extension object, `fallback` when absent.
+float numberOf(const Context& c, const tinygltf::Value& object, const char* key, double fallback,
+               const std::string& element) {
+    if (!object.IsObject()) c.fail(element, "must be an object");
+    if (!object.Has(key)) return float(fallback);
+    const tinygltf::Value& v = object.Get(key);
+    if (!v.IsNumber()) c.fail(element + "." + key, "must be a number");
+    const double d = v.GetNumberAsDouble();
+    if (!std::isfinite(d)) c.fail(element + "." + key, "must be finite");
+    return float(d);
+}
+
+glm::vec2 pairOf(const Context& c, const tinygltf::Value& object, const char* key, glm::vec2 fallback,
+                 const std::string& element) {
+    if (!object.Has(key)) return fallback;
+    const tinygltf::Value& v = object.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber())
+        c.fail(element + "." + key, "must be an array of 2 numbers");
+    return {float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble())};
+}
+
+// EXT_mesh_gpu_instancing: TRANSLATION, ROTATION (quaternion, float or normalised) and SCALE
+// accessors of one count, as T * R * S per instance.
+std::vector<glm::mat4> instanceMatrices(const Context& c, const tinygltf::Value& ext,
+                                        const std::string& element) {
+    if (!ext.IsObject() || !ext.Has("attributes") || !ext.Get("attributes").IsObject())
+        c.fail(element, "needs an `attributes` object");
+    const tinygltf::Value& attrs = ext.Get("attributes");
+    std::size_t count = 0;
+    auto read = [&](const char* key, int type) {
+        if (!attrs.Has(key)) return std::vector<float>{};
+        const tinygltf::Value& v = attrs.Get(key);
+        if (!v.IsInt()) c.fail(element + ".attributes." + key, "must be an accessor index");
+        std::size_t n = 0;
+        auto values = readAccessor(c, v.GetNumberAsInt(), element + ".attributes." + key, {type}, &n);
+        if (count && n != count)
+            c.fail(element + ".attributes." + key,
+                   std::to_string(n) + " values where the other attributes have " + std::to_string(count));
+        count = n;
+        for (float f : values)
+            if (!std::isfinite(f)) c.fail(element + ".attributes." + key, "has a NaN or infinite value");
+        return values;
+    };
+    const auto tr = read("TRANSLATION", TINYGLTF_TYPE_VEC3);
+    const auto rot = read("ROTATION", TINYGLTF_TYPE_VEC4);
+    const auto sc = read("SCALE", TINYGLTF_TYPE_VEC3);
+    if (!count) c.fail(element + ".attributes", "has none of TRANSLATION, ROTATION, SCALE");
+    std::vector<glm::mat4> out(count, glm::mat4(1.0f));
+    for (std::size_t i = 0; i < count; ++i) {
+        glm::mat4& m = out[i];
+        if (!tr.empty()) m = glm::translate(m, glm::vec3(tr[3 * i], tr[3 * i + 1], tr[3 * i + 2]));
+        if (!rot.empty()) {
+            const glm::quat q(rot[4 * i + 3], rot[4 * i], rot[4 * i + 1], rot[4 * i + 2]);
+            if (glm::length(q) < 1e-6f) c.fail(element + ".attributes.ROTATION", "has a zero quaternion");
+            m *= glm::mat4_cast(glm::normalize(q));
+        }
+        if (!sc.empty()) m = glm::scale(m, glm::vec3(sc[3 * i], sc[3 * i + 1], sc[3 * i + 2]));
+    }
+    return out;
+}
+
+// A textureInfo's coordinate set and KHR_texture_transform.
+TextureMapping mappingOf(const Context& c, int texCoord, const tinygltf::ExtensionMap& extensions,
+                         const std::string& element) {
+    TextureMapping t;
+    t.texCoord = texCoord;
+    if (const auto e = extensions.find("KHR_texture_transform"); e != extensions.end()) {
+        const std::string name = element + ".extensions.KHR_texture_transform";
+        t.offset = pairOf(c, e->second, "offset", glm::vec2(0.0f), name);
+        t.rotation = numberOf(c, e->second, "rotation", 0.0, name);
+        t.scale = pairOf(c, e->second, "scale", glm::vec2(1.0f), name);
+        if (e->second.Has("texCoord")) {
+            const tinygltf::Value& v = e->second.Get("texCoord");
+            if (!v.IsInt()) c.fail(name + ".texCoord", "must be an integer");
+            t.texCoord = v.GetNumberAsInt();
+        }
+    }
+    if (t.texCoord != 0 && t.texCoord != 1)
+        c.fail(element + ".texCoord",
+               "TEXCOORD_" + std::to_string(t.texCoord) + " is not supported (0 or 1)");
+    return t;
 }
 
 } // namespace
@@ -271,11 +361,22 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
     if (!ok)
         throw LoadError("sgfx: glTF '" + path + "': " + (err.empty() ? std::string("not a glTF file") : err));
     const Context c{path, model};
-    for (const std::string& required : model.extensionsRequired)
-        if (required != "KHR_materials_emissive_strength")
-            c.fail("extensionsRequired", "extension '" + required + "' is required but not supported");
-
     GltfStats st;
+    static const std::set<std::string> supported = {"KHR_texture_transform",
+                                                    "KHR_materials_emissive_strength",
+                                                    "EXT_mesh_gpu_instancing", "KHR_mesh_quantization"};
+    for (const std::string& required : model.extensionsRequired)
+        if (!supported.count(required))
+            c.fail("extensionsRequired", "extension '" + required +
+                                             "' is required but not supported (supported: " +
+                                             "KHR_texture_transform, KHR_materials_emissive_strength, " +
+                                             "EXT_mesh_gpu_instancing, KHR_mesh_quantization)");
+    for (const std::string& used : model.extensionsUsed)
+        if (!supported.count(used))
+            st.warnings.push_back("extension '" + used + "' is not supported; the model is shown without it");
+    std::istringstream tinyWarnings(warn);
+    for (std::string line; std::getline(tinyWarnings, line);)
+        if (!line.empty()) st.warnings.push_back(line);
     // Materials.
     std::map<std::pair<int, bool>, std::shared_ptr<Texture>> textures;
     std::vector<std::shared_ptr<StateSet>> materials;
@@ -283,21 +384,33 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
         const tinygltf::Material& m = model.materials[i];
         const std::string name = at("materials", i);
         auto mat = Material::create();
-        const auto& f = m.pbrMetallicRoughness.baseColorFactor;
-        if (f.size() != 4) c.fail(name + ".pbrMetallicRoughness.baseColorFactor", "must have 4 numbers");
-        mat->diffuse = glm::vec4(float(f[0]), float(f[1]), float(f[2]), float(f[3]));
-        mat->ambient = glm::vec3(mat->diffuse);
-        if (m.emissiveFactor.size() == 3)
-            mat->emissive =
-                glm::vec3(float(m.emissiveFactor[0]), float(m.emissiveFactor[1]), float(m.emissiveFactor[2]));
-        // Metallic-roughness seen through Blinn-Phong until the PBR material model lands.
-        const float rough = std::clamp(float(m.pbrMetallicRoughness.roughnessFactor), 0.05f, 1.0f);
-        const float metal = std::clamp(float(m.pbrMetallicRoughness.metallicFactor), 0.0f, 1.0f);
-        mat->specular = glm::mix(glm::vec3(0.04f), glm::vec3(mat->diffuse), metal) * (1.0f - 0.7f * rough);
-        mat->shininess = std::clamp(2.0f / (rough * rough * rough * rough) - 2.0f, 1.0f, 256.0f);
-        mat->baseColorTexture = loadTexture(c, m.pbrMetallicRoughness.baseColorTexture.index, true,
-                                            name + ".baseColorTexture", textures);
-        mat->normalTexture = loadTexture(c, m.normalTexture.index, false, name + ".normalTexture", textures);
+        mat->model = ShadingModel::MetallicRoughness;
+        const tinygltf::PbrMetallicRoughness& pbr = m.pbrMetallicRoughness;
+        const std::string pbrName = name + ".pbrMetallicRoughness";
+        mat->diffuse = vec4Of(c, pbr.baseColorFactor, pbrName + ".baseColorFactor");
+        if (!m.emissiveFactor.empty()) mat->emissive = vec3Of(c, m.emissiveFactor, name + ".emissiveFactor");
+        if (const auto e = m.extensions.find("KHR_materials_emissive_strength"); e != m.extensions.end())
+            mat->emissive *= numberOf(c, e->second, "emissiveStrength", 1.0,
+                                      name + ".extensions.KHR_materials_emissive_strength");
+        mat->metallic = float(pbr.metallicFactor);
+        mat->roughness = float(pbr.roughnessFactor);
+        auto texture = [&](const auto& info, bool srgb, MaterialMap map, const std::string& element) {
+            if (info.index < 0) return std::shared_ptr<Texture>();
+            mat->mapping(map) = mappingOf(c, info.texCoord, info.extensions, element);
+            return loadTexture(c, info.index, srgb, element, textures);
+        };
+        mat->baseColorTexture =
+            texture(pbr.baseColorTexture, true, MaterialMap::BaseColor, pbrName + ".baseColorTexture");
+        mat->metallicRoughnessTexture =
+            texture(pbr.metallicRoughnessTexture, false, MaterialMap::MetallicRoughness,
+                    pbrName + ".metallicRoughnessTexture");
+        mat->normalTexture = texture(m.normalTexture, false, MaterialMap::Normal, name + ".normalTexture");
+        mat->normalScale = float(m.normalTexture.scale);
+        mat->occlusionTexture =
+            texture(m.occlusionTexture, false, MaterialMap::Occlusion, name + ".occlusionTexture");
+        mat->occlusionStrength = float(m.occlusionTexture.strength);
+        mat->emissiveTexture =
+            texture(m.emissiveTexture, true, MaterialMap::Emissive, name + ".emissiveTexture");
         auto state = std::make_shared<StateSet>();
         state->material.set(mat);
         if (m.doubleSided) state->cullFace.set(CullFace::None);
@@ -312,7 +425,11 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
         } else {
             c.fail(name + ".alphaMode", "'" + m.alphaMode + "' is not OPAQUE, MASK or BLEND");
         }
-        mat->validate();
+        try {
+            mat->validate();
+        } catch (const std::invalid_argument& e) {
+            c.fail(name, e.what());
+        }
         materials.push_back(state);
     }
     st.materials = model.materials.size();
@@ -345,6 +462,7 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
             };
             const auto normals = attribute("NORMAL", {TINYGLTF_TYPE_VEC3});
             const auto uvs = attribute("TEXCOORD_0", {TINYGLTF_TYPE_VEC2});
+            const auto uvs1 = attribute("TEXCOORD_1", {TINYGLTF_TYPE_VEC2});
             const auto colors = attribute("COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4});
             const auto tangents = attribute("TANGENT", {TINYGLTF_TYPE_VEC4});
             std::vector<std::uint32_t> indices;
@@ -370,6 +488,7 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
                 if (!normals.empty())
                     g->normals.emplace_back(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
                 if (!uvs.empty()) g->texcoords.emplace_back(uvs[2 * i], uvs[2 * i + 1]);
+                if (!uvs1.empty()) g->texcoords1.emplace_back(uvs1[2 * i], uvs1[2 * i + 1]);
                 if (!tangents.empty())
                     g->tangents.emplace_back(tangents[4 * i], tangents[4 * i + 1], tangents[4 * i + 2],
                                              tangents[4 * i + 3]);
@@ -411,26 +530,18 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
             default:
                 c.fail(name + ".mode", std::to_string(p.mode) + " is not a glTF primitive mode");
             }
-            // Flat normals where the file has none: triangles are unshared so each face has its own.
-            if (g->normals.empty() && g->mode == PrimitiveMode::Triangles) {
-                const std::size_t count = g->elementCount() / 3 * 3;
-                auto flat = Geometry::create();
-                flat->name = g->name;
-                for (std::size_t k = 0; k < count; k += 3) {
-                    glm::vec3 v[3];
-                    for (int j = 0; j < 3; ++j) {
-                        const std::uint32_t idx = g->indices.empty() ? std::uint32_t(k + std::size_t(j))
-                                                                     : g->indices[k + std::size_t(j)];
-                        v[j] = g->positions[idx];
-                        flat->positions.push_back(v[j]);
-                        if (!g->texcoords.empty()) flat->texcoords.push_back(g->texcoords[idx]);
-                        if (!g->colors.empty()) flat->colors.push_back(g->colors[idx]);
-                    }
-                    const glm::vec3 nrm = flatNormal(v[0], v[1], v[2]);
-                    for (int j = 0; j < 3; ++j)
-                        flat->normals.push_back(nrm);
-                }
-                g = flat;
+            // Normals where the file has none (flat by default, as the spec asks), and tangents
+            // where a normal map needs them.
+            const bool triangles = g->mode == PrimitiveMode::Triangles ||
+                                   g->mode == PrimitiveMode::TriangleStrip ||
+                                   g->mode == PrimitiveMode::TriangleFan;
+            if (g->normals.empty() && triangles && g->elementCount() >= 3)
+                computeNormals(*g, options.creaseAngle);
+            if (p.material >= 0 && std::size_t(p.material) < model.materials.size() && g->tangents.empty() &&
+                !g->texcoords.empty() && !g->normals.empty() && triangles && g->elementCount() >= 3 &&
+                model.materials[std::size_t(p.material)].normalTexture.index >= 0) {
+                computeTangents(*g);
+                ++st.tangentsMade;
             }
             if (p.material >= 0) {
                 if (std::size_t(p.material) >= materials.size())
@@ -490,8 +601,32 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
                 meshUsed[std::size_t(n.mesh)] = true;
                 buildMesh(std::size_t(n.mesh));
             }
-            for (const auto& g : meshes[std::size_t(n.mesh)])
-                t->addChild(g);
+            const auto inst = n.extensions.find("EXT_mesh_gpu_instancing");
+            const std::vector<glm::mat4> instances =
+                inst == n.extensions.end()
+                    ? std::vector<glm::mat4>{}
+                    : instanceMatrices(c, inst->second, name + ".extensions.EXT_mesh_gpu_instancing");
+            for (const auto& g : meshes[std::size_t(n.mesh)]) {
+                if (instances.empty()) {
+                    t->addChild(g);
+                    continue;
+                }
+                // The instances belong to this node: an instanced copy of the shared primitive.
+                auto copy = std::make_shared<Geometry>();
+                copy->name = g->name;
+                copy->positions = g->positions;
+                copy->normals = g->normals;
+                copy->tangents = g->tangents;
+                copy->texcoords = g->texcoords;
+                copy->texcoords1 = g->texcoords1;
+                copy->colors = g->colors;
+                copy->indices = g->indices;
+                copy->mode = g->mode;
+                copy->instances = instances;
+                copy->setStateSet(g->stateSet());
+                t->addChild(copy);
+                st.instances += instances.size();
+            }
         }
         for (std::size_t k = 0; k < n.children.size(); ++k)
             t->addChild(buildNode(n.children[k], name + ".children"));
@@ -527,7 +662,11 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
     for (const auto& [key, tex] : textures)
         texturesUsed.insert(key.first);
     st.textures = texturesUsed.size();
-    if (stats) *stats = st;
+    if (stats)
+        *stats = st;
+    else
+        for (const std::string& w : st.warnings)
+            std::fprintf(stderr, "sgfx: glTF '%s': warning: %s\n", path.c_str(), w.c_str());
     return root;
 }
 

@@ -201,10 +201,10 @@ std::size_t Geometry::triangleCount() const {
     const std::size_t n = elementCount();
     switch (mode) {
     case PrimitiveMode::Triangles:
-        return n / 3;
+        return n / 3 * instanceCount();
     case PrimitiveMode::TriangleStrip:
     case PrimitiveMode::TriangleFan:
-        return n >= 3 ? n - 2 : 0;
+        return (n >= 3 ? n - 2 : 0) * instanceCount();
     default:
         return 0;
     }
@@ -220,7 +220,13 @@ void Geometry::validate() const {
     check(normals.size(), "normals");
     check(tangents.size(), "tangents");
     check(texcoords.size(), "texcoords");
+    check(texcoords1.size(), "texcoords1");
     check(colors.size(), "colors");
+    for (std::size_t i = 0; i < instances.size(); ++i)
+        for (int k = 0; k < 16; ++k)
+            if (!std::isfinite(instances[i][k / 4][k % 4]))
+                throw std::invalid_argument("sgfx: geometry " + label(*this) + " instances[" +
+                                            std::to_string(i) + "] has a NaN or infinite element");
     for (std::size_t i = 0; i < indices.size(); ++i) {
         if (indices[i] >= n)
             throw std::invalid_argument("sgfx: geometry " + label(*this) + " index[" + std::to_string(i) +
@@ -235,6 +241,18 @@ BoundingSphere Geometry::computeBound() const {
         box.expandBy(p);
     BoundingSphere s;
     if (!box.valid()) return s;
+    if (!instances.empty()) {
+        // The box of every instance's transformed box: cheap, and tight enough for culling.
+        BoundingBox all;
+        for (const glm::mat4& m : instances)
+            for (int c = 0; c < 8; ++c)
+                all.expandBy(
+                    glm::vec3(m * glm::vec4(c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
+                                            c & 4 ? box.max.z : box.min.z, 1.0f)));
+        s.center = all.center();
+        s.radius = glm::length(all.max - all.min) * 0.5f;
+        return s;
+    }
     s.center = box.center();
     float r2 = 0.0f;
     for (const auto& p : positions) {
@@ -375,6 +393,34 @@ void Material::validate() const {
         throw std::invalid_argument("sgfx: Material shininess must be finite and >= 0");
     if (alphaCutoff && !(*alphaCutoff >= 0.0f && *alphaCutoff <= 1.0f))
         throw std::invalid_argument("sgfx: Material alphaCutoff must be in [0, 1]");
+    auto unit = [](float v, const char* what) {
+        if (!(v >= 0.0f && v <= 1.0f))
+            throw std::invalid_argument(std::string("sgfx: Material ") + what + " must be in [0, 1], not " +
+                                        std::to_string(v));
+    };
+    unit(metallic, "metallic");
+    unit(roughness, "roughness");
+    unit(occlusionStrength, "occlusionStrength");
+    if (!std::isfinite(normalScale)) throw std::invalid_argument("sgfx: Material normalScale must be finite");
+    if (model != ShadingModel::BlinnPhong && model != ShadingModel::MetallicRoughness)
+        throw std::invalid_argument("sgfx: Material model " + std::to_string(int(model)) +
+                                    " is not a ShadingModel");
+    for (std::size_t i = 0; i < mappings.size(); ++i) {
+        const TextureMapping& t = mappings[i];
+        if ((t.texCoord != 0 && t.texCoord != 1) || !std::isfinite(t.rotation) ||
+            !std::isfinite(t.offset.x + t.offset.y + t.scale.x + t.scale.y))
+            throw std::invalid_argument("sgfx: Material mappings[" + std::to_string(i) +
+                                        "] needs texCoord 0 or 1 and a finite offset, rotation and scale");
+    }
+}
+
+glm::mat3 TextureMapping::matrix() const {
+    // KHR_texture_transform: T * R * S, where R turns uv by -rotation in the spec's (v down) terms.
+    const float c = std::cos(rotation), s = std::sin(rotation);
+    const glm::mat3 t(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
+    const glm::mat3 r(c, -s, 0, s, c, 0, 0, 0, 1);
+    const glm::mat3 sc(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+    return t * r * sc;
 }
 
 } // namespace sgfx

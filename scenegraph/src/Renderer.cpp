@@ -45,7 +45,15 @@ struct FrameBlock {
 };
 constexpr int kMaxLights = 8;
 
-enum Unit : unsigned { BaseUnit = 0, AlphaUnit = 1, NormalUnit = 2, FirstUserUnit = 4 };
+enum Unit : unsigned {
+    BaseUnit = 0,
+    AlphaUnit = 1,
+    NormalUnit = 2,
+    MetalRoughUnit = 3,
+    OcclusionUnit = 4,
+    EmissiveUnit = 5,
+    FirstUserUnit = 6
+};
 
 GLenum glMode(PrimitiveMode m) {
     switch (m) {
@@ -124,6 +132,27 @@ gl::GeometryBuffers& buffersFor(const Geometry& g) {
     uploadAttribute(b, 2, g.tangents, 4);
     uploadAttribute(b, 3, g.texcoords, 2);
     uploadAttribute(b, 4, g.colors, 4);
+    uploadAttribute(b, 5, g.texcoords1, 2);
+    // Instance matrices: one mat4 per instance as four vec4 attributes that advance per instance.
+    b.instances = std::uint32_t(g.instances.size());
+    for (GLuint column = 0; column < 4; ++column) {
+        const GLuint location = 6 + column;
+        if (g.instances.empty()) {
+            glDisableVertexArrayAttrib(b.vao.get(), location);
+            continue;
+        }
+        glVertexArrayAttribFormat(b.vao.get(), location, 4, GL_FLOAT, GL_FALSE, column * sizeof(glm::vec4));
+        glVertexArrayAttribBinding(b.vao.get(), location, 6);
+        glEnableVertexArrayAttrib(b.vao.get(), location);
+    }
+    if (!g.instances.empty()) {
+        auto& buf = b.attributes[6];
+        if (!buf) buf = gl::createBuffer();
+        glNamedBufferData(buf.get(), GLsizeiptr(g.instances.size() * sizeof(glm::mat4)), g.instances.data(),
+                          GL_STATIC_DRAW);
+        glVertexArrayVertexBuffer(b.vao.get(), 6, buf.get(), 0, sizeof(glm::mat4));
+        glVertexArrayBindingDivisor(b.vao.get(), 6, 1);
+    }
     b.indexed = !g.indices.empty();
     if (b.indexed) {
         if (!b.indices) b.indices = gl::createBuffer();
@@ -725,11 +754,13 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             programKey = item.programKey;
             programChanged = true;
         } else if (depthOnly && override) {
-            // Alpha-masked built-in materials keep their cut-outs in depth passes: their own
+            // Alpha-masked and instanced built-in materials keep their cut-outs and instances in
+            // depth passes: their own
             // variant (no effects) with colour writes off; everything else the depth-only program.
             // G-buffer passes: every built-in material's G-buffer variant (normal maps, cut-outs).
             const bool builtin = !item.program();
-            const bool own = builtin && (mode == DrawMode::GBuffer || (item.features & FeatureAlphaMask));
+            const bool own = builtin && (mode == DrawMode::GBuffer ||
+                                         (item.features & (FeatureAlphaMask | FeatureInstanced)));
             const std::uint32_t lighting = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
                                            FeatureVertexLighting | FeatureLightCountMask | FeaturePointLights;
             const std::uint32_t features =
@@ -794,9 +825,27 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
                 program->set("sgfx_matShininess", m->shininess);
                 program->set("sgfx_matEmissive", m->emissive);
                 program->set("sgfx_alphaCutoff", m->alphaCutoff.value_or(0.0f));
+                if (m->model == ShadingModel::MetallicRoughness) {
+                    program->set("sgfx_matMetallicRoughness", glm::vec2(m->metallic, m->roughness));
+                    // The Gouraud option's specular lobe: the Blinn-Phong exponent of the same width.
+                    const float a = std::max(m->roughness * m->roughness, 0.03f);
+                    program->set("sgfx_matShininess", std::min(2.0f / (a * a) - 2.0f, 4096.0f));
+                }
+                program->set("sgfx_normalScale", m->normalScale);
+                program->set("sgfx_occlusionStrength", m->occlusionStrength);
+                if (item.features & FeatureUvTransform)
+                    for (std::size_t k = 0; k < kMaterialMapCount; ++k) {
+                        const std::string index = "[" + std::to_string(k) + "]";
+                        program->set("sgfx_uvTransform" + index, m->mappings[k].matrix());
+                        program->set("sgfx_uvSet" + index, m->mappings[k].texCoord);
+                    }
                 if (m->baseColorTexture) s.bindTexture(BaseUnit, textureFor(*m->baseColorTexture));
                 if (m->alphaTexture) s.bindTexture(AlphaUnit, textureFor(*m->alphaTexture));
                 if (m->normalTexture) s.bindTexture(NormalUnit, textureFor(*m->normalTexture));
+                if (m->metallicRoughnessTexture)
+                    s.bindTexture(MetalRoughUnit, textureFor(*m->metallicRoughnessTexture));
+                if (m->occlusionTexture) s.bindTexture(OcclusionUnit, textureFor(*m->occlusionTexture));
+                if (m->emissiveTexture) s.bindTexture(EmissiveUnit, textureFor(*m->emissiveTexture));
             }
             ++stats_.stateChanges;
         }
@@ -826,7 +875,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         const TransparencyDetails* details =
             state->transparency.value ? &*state->transparency.value : nullptr;
         if (details && details->sortTriangles && (item.features & FeatureBlend) && !depthOnly &&
-            g.triangleCount() > 0) {
+            g.triangleCount() > 0 && g.instances.empty()) {
             // Self-overlapping mesh: its triangles back to front, from an index buffer of this view.
             Impl::SortedMesh& mesh = s.sortedMeshes[{&g, s.camera}];
             if (!mesh.sort || mesh.revision != g.revision() || mesh.owner.expired()) {
@@ -846,6 +895,12 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             glVertexArrayElementBuffer(b.vao.get(), mesh.indices.get());
             glDrawElements(GL_TRIANGLES, GLsizei(mesh.sort->indices().size()), GL_UNSIGNED_INT, nullptr);
             glVertexArrayElementBuffer(b.vao.get(), b.indexed ? b.indices.get() : 0);
+        } else if (b.instances) {
+            if (b.indexed)
+                glDrawElementsInstanced(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr,
+                                        GLsizei(b.instances));
+            else
+                glDrawArraysInstanced(b.mode, 0, GLsizei(b.count), GLsizei(b.instances));
         } else if (b.indexed) {
             glDrawElements(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr);
         } else {

@@ -72,6 +72,17 @@ std::string composeStage(std::string_view name, std::string_view src, std::span<
     int line = 2;
     std::istringstream in{std::string(src)};
     for (std::string text; std::getline(in, text); ++line) {
+        if (text.starts_with("#include \"")) {
+            // A built-in GLSL file, as its own source string so messages name it and its line.
+            const std::string file = text.substr(10, text.find('"', 10) - 10);
+            const std::string_view body = shaders::embedded(file);
+            if (body.empty())
+                throw ShaderError("sgfx: shader '" + std::string(name) + "' line " + std::to_string(line) +
+                                  ": no built-in file '" + file + "' to include");
+            appendChunk(out, names, file, body);
+            out += lineDirective(line + 1, baseSource);
+            continue;
+        }
         const auto pos = text.find(kMarker);
         if (pos == std::string::npos) {
             out += text;
@@ -166,7 +177,14 @@ std::string ShaderComposer::featureDefines(std::uint32_t f) {
         {FeatureBlendPremultiplied, "SGFX_BLEND_PREMULTIPLIED"},
         {FeatureBlendAdditive, "SGFX_BLEND_ADDITIVE"},
         {FeatureBlendMultiply, "SGFX_BLEND_MULTIPLY"},
-        {FeatureGBuffer, "SGFX_GBUFFER"}};
+        {FeatureGBuffer, "SGFX_GBUFFER"},
+        {FeatureMetallicRoughness, "SGFX_METALLIC_ROUGHNESS"},
+        {FeatureMetalRoughMap, "SGFX_METAL_ROUGH_MAP"},
+        {FeatureOcclusionMap, "SGFX_OCCLUSION_MAP"},
+        {FeatureEmissiveMap, "SGFX_EMISSIVE_MAP"},
+        {FeatureTexCoords1, "SGFX_TEXCOORDS1"},
+        {FeatureUvTransform, "SGFX_UV_TRANSFORM"},
+        {FeatureInstanced, "SGFX_INSTANCED"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";
@@ -202,17 +220,34 @@ std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, 
     std::uint32_t f = blendFeatures(blended, blend);
     if (!g.normals.empty()) f |= FeatureNormals;
     if (!g.colors.empty()) f |= FeatureVertexColor;
+    if (!g.instances.empty()) f |= FeatureInstanced;
     if (blended) f |= FeatureBlend;
     if (m) {
-        const bool uv = !g.texcoords.empty();
-        if (m->baseColorTexture && uv) f |= FeatureBaseMap | FeatureTexCoords;
-        if (m->alphaTexture && uv) f |= FeatureAlphaMap | FeatureTexCoords;
-        if (m->normalTexture && uv) {
-            f |= FeatureNormalMap | FeatureTexCoords;
+        // A map is used when its texture is set and the coordinates it reads exist.
+        auto uses = [&](const std::shared_ptr<Texture>& t, MaterialMap map) {
+            if (!t) return false;
+            const TextureMapping& mapping = m->mapping(map);
+            if ((mapping.texCoord == 1 ? g.texcoords1 : g.texcoords).empty()) return false;
+            f |= FeatureTexCoords;
+            if (mapping.texCoord == 1) f |= FeatureTexCoords1;
+            if (!mapping.isIdentity()) f |= FeatureUvTransform;
+            return true;
+        };
+        if (uses(m->baseColorTexture, MaterialMap::BaseColor)) f |= FeatureBaseMap;
+        if (uses(m->alphaTexture, MaterialMap::Alpha)) f |= FeatureAlphaMap;
+        if (uses(m->normalTexture, MaterialMap::Normal)) {
+            f |= FeatureNormalMap;
             if (!g.tangents.empty()) f |= FeatureTangents;
         }
         if (m->alphaCutoff) f |= FeatureAlphaMask;
-        if (m->specular != glm::vec3(0.0f)) f |= FeatureSpecular;
+        if (m->model == ShadingModel::MetallicRoughness) {
+            f |= FeatureMetallicRoughness | FeatureSpecular; // always a specular lobe
+            if (uses(m->metallicRoughnessTexture, MaterialMap::MetallicRoughness)) f |= FeatureMetalRoughMap;
+        } else if (m->specular != glm::vec3(0.0f)) {
+            f |= FeatureSpecular;
+        }
+        if (uses(m->emissiveTexture, MaterialMap::Emissive)) f |= FeatureEmissiveMap;
+        if (uses(m->occlusionTexture, MaterialMap::Occlusion)) f |= FeatureOcclusionMap;
     }
     return f;
 }

@@ -74,10 +74,13 @@ void ComputeBoundsVisitor::apply(Drawable& d) {
 }
 
 void ComputeBoundsVisitor::apply(Geometry& g) {
-    for (const auto& p : g.positions) {
-        const glm::vec3 w = glm::vec3(matrix_ * glm::vec4(p, 1.0f));
-        min = glm::min(min, w);
-        max = glm::max(max, w);
+    for (std::size_t i = 0; i < g.instanceCount(); ++i) {
+        const glm::mat4 m = g.instances.empty() ? matrix_ : matrix_ * g.instances[i];
+        for (const auto& p : g.positions) {
+            const glm::vec3 w = glm::vec3(m * glm::vec4(p, 1.0f));
+            min = glm::min(min, w);
+            max = glm::max(max, w);
+        }
     }
 }
 

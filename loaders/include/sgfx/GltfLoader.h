@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sgfx {
 
@@ -18,9 +19,11 @@ public:
 };
 
 struct GltfOptions {
-    int scene = -1;           // the file's default scene (or its first), or this index
-    bool zUp = true;          // rotate glTF's Y-up into sgfx's Z-up at the root
-    float creaseAngle = 0.0f; // normals made for primitives without them: 0 = flat (per face)
+    int scene = -1;  // the file's default scene (or its first), or this index
+    bool zUp = true; // rotate glTF's Y-up into sgfx's Z-up at the root
+    // Normals made for primitives without them: 0 = flat (per face, as glTF asks); an angle in
+    // radians smooths faces meeting at less than it (see computeNormals).
+    float creaseAngle = 0.0f;
 };
 
 // What a load made, for tools and tests.
@@ -32,10 +35,18 @@ struct GltfStats {
     std::size_t materials = 0;
     std::size_t textures = 0;
     std::size_t opaque = 0, masked = 0, blended = 0; // materials by alphaMode
+    std::size_t tangentsMade = 0;                    // primitives given tangents for their normal maps
+    std::size_t instances = 0;                       // EXT_mesh_gpu_instancing instances drawn
+    // Optional extensions the loader ignored, and tinygltf's own warnings.
+    std::vector<std::string> warnings;
 };
 
 // Loads the file's scene. Shared meshes stay shared (one Geometry per primitive, used by each
-// node that names the mesh). Throws LoadError.
+// node that names the mesh; a node with EXT_mesh_gpu_instancing gets its own instanced copy).
+// Materials use the metallic-roughness model. Supported extensions: KHR_texture_transform,
+// KHR_materials_emissive_strength, EXT_mesh_gpu_instancing, KHR_mesh_quantization. A required
+// extension outside that list is a LoadError; an optional one is skipped with a warning (in
+// GltfStats::warnings and on stderr unless `stats` is given). Throws LoadError.
 std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options = {},
                                 GltfStats* stats = nullptr);
 

@@ -30,15 +30,21 @@ public:
     std::vector<glm::vec3> normals;
     std::vector<glm::vec4> tangents; // xyz tangent, w handedness
     std::vector<glm::vec2> texcoords;
+    std::vector<glm::vec2> texcoords1; // a second set (glTF TEXCOORD_1), chosen per material map
     std::vector<glm::vec4> colors;
     std::vector<std::uint32_t> indices;
+    // Instanced drawing: when not empty, the geometry is drawn once per matrix (each applied
+    // before the node's world transform) in one draw call. Foreign shaders read it as
+    // `layout(location = 6) in mat4` (locations 6..9).
+    std::vector<glm::mat4> instances;
     PrimitiveMode mode = PrimitiveMode::Triangles;
 
     void dirty();
     std::uint64_t revision() const { return revision_; }
 
     std::size_t elementCount() const { return indices.empty() ? positions.size() : indices.size(); }
-    std::size_t triangleCount() const;
+    std::size_t triangleCount() const; // of all instances
+    std::size_t instanceCount() const { return instances.empty() ? 1 : instances.size(); }
 
     // Throws std::invalid_argument naming the attribute and geometry when arrays disagree or
     // an index is out of range.

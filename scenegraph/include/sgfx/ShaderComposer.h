@@ -84,9 +84,10 @@ enum MaterialFeature : std::uint32_t {
     FeatureAlphaMask = 1u << 7,
     FeatureBlend = 1u << 8,
     FeatureSpecular = 1u << 9,
-    FeatureVertexLighting = 1u << 11, // Gouraud: lights summed per vertex (Renderer::Options::lighting)
-    FeatureWorldPosition = 1u << 16,  // interpolate the world position (snippets, point lights, ...)
-    FeaturePointLights = 1u << 17,    // some light of the view has a position
+    FeatureMetallicRoughness = 1u << 10, // ShadingModel::MetallicRoughness
+    FeatureVertexLighting = 1u << 11,    // Gouraud: lights summed per vertex (Renderer::Options::lighting)
+    FeatureWorldPosition = 1u << 16,     // interpolate the world position (snippets, point lights, ...)
+    FeaturePointLights = 1u << 17,       // some light of the view has a position
     // How the output is blended (with FeatureBlend; none of them = straight alpha), so colour
     // effects can treat premultiplied, additive and multiplicative output correctly.
     FeatureBlendPremultiplied = 1u << 18,
@@ -96,6 +97,12 @@ enum MaterialFeature : std::uint32_t {
     // G-buffer variant: writes the view-space normal (location 0), linear view depth (1) and
     // view-space position (2) instead of a colour, keeping cut-outs and normal maps.
     FeatureGBuffer = 1u << 21,
+    FeatureMetalRoughMap = 1u << 22, // metallic-roughness texture
+    FeatureOcclusionMap = 1u << 23,
+    FeatureEmissiveMap = 1u << 24,
+    FeatureTexCoords1 = 1u << 25,  // a second texture coordinate set is interpolated
+    FeatureUvTransform = 1u << 26, // some map reads set 1 or a transformed set (per-map uniforms)
+    FeatureInstanced = 1u << 27,   // Geometry::instances: per-instance matrices at locations 6..9
     // Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,

@@ -115,7 +115,9 @@ public:
 // A Geometry's GPU copy: one interleaved-free VBO per attribute, an index buffer and a VAO.
 struct GeometryBuffers {
     VertexArrayObject vao;
-    std::array<BufferObject, 5> attributes; // position, normal, tangent, texcoord, colour
+    // position, normal, tangent, texcoord, colour, texcoord1, instance matrices (locations 6..9)
+    std::array<BufferObject, 7> attributes;
+    std::uint32_t instances = 0; // 0: not instanced
     BufferObject indices;
     std::uint64_t revision = 0;
     std::uint32_t count = 0;
