@@ -99,9 +99,12 @@ vec3 surfaceNormal() {
     // Tangent frame from screen-space derivatives of position and texcoord.
     vec3 dpdx = dFdx(v_worldPos), dpdy = dFdy(v_worldPos);
     vec2 dtx = dFdx(sgfx_uv(2)), dty = dFdy(sgfx_uv(2));
-    vec3 t = dpdx * dty.y - dpdy * dtx.y;
+    // T = dP/du. glTF's bitangent points up the image, where v falls (v = 0 is the top row), so
+    // B = -dP/dv: the same frame as supplied TANGENTs with MikkTSpace's rules.
+    float det = dtx.x * dty.y - dty.x * dtx.y;
+    vec3 t = (dpdx * dty.y - dpdy * dtx.y) * (det < 0.0 ? -1.0 : 1.0);
     T = normalize(t - N * dot(N, t));
-    B = cross(N, T) * (dtx.x * dty.y - dty.x * dtx.y < 0.0 ? -1.0 : 1.0);
+    B = cross(N, T) * (det < 0.0 ? 1.0 : -1.0);
 #endif
     vec3 m = texture(sgfx_normalMap, sgfx_uv(2)).xyz * 2.0 - 1.0;
     m.xy *= sgfx_normalScale;

@@ -612,18 +612,8 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
                     continue;
                 }
                 // The instances belong to this node: an instanced copy of the shared primitive.
-                auto copy = std::make_shared<Geometry>();
-                copy->name = g->name;
-                copy->positions = g->positions;
-                copy->normals = g->normals;
-                copy->tangents = g->tangents;
-                copy->texcoords = g->texcoords;
-                copy->texcoords1 = g->texcoords1;
-                copy->colors = g->colors;
-                copy->indices = g->indices;
-                copy->mode = g->mode;
+                auto copy = g->clone();
                 copy->instances = instances;
-                copy->setStateSet(g->stateSet());
                 t->addChild(copy);
                 st.instances += instances.size();
             }

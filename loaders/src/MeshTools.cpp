@@ -61,8 +61,11 @@ void rebuild(Geometry& g, const std::vector<std::uint32_t>& tris, const std::vec
     Geometry out;
     std::map<std::pair<std::uint32_t, std::array<std::uint32_t, sizeof(Extra) / 4>>, std::uint32_t> seen;
     for (std::size_t k = 0; k < tris.size(); ++k) {
+        // Keys quantised to 2^-16, so rounding differences between faces do not split vertices.
         std::array<std::uint32_t, sizeof(Extra) / 4> bits;
-        std::memcpy(bits.data(), &extra[k], sizeof(Extra));
+        const float* values = reinterpret_cast<const float*>(&extra[k]);
+        for (std::size_t c = 0; c < bits.size(); ++c)
+            bits[c] = std::uint32_t(std::int32_t(std::lround(values[c] * 65536.0f)));
         const auto [it, fresh] = seen.try_emplace({tris[k], bits}, std::uint32_t(out.positions.size()));
         if (fresh) {
             const std::uint32_t v = tris[k];
@@ -98,10 +101,12 @@ void computeNormals(Geometry& g, float creaseAngle) {
     const std::size_t faces = tris.size() / 3;
     std::vector<glm::vec3> faceNormal(faces);
     for (std::size_t f = 0; f < faces; ++f) {
-        const glm::vec3 n = glm::cross(g.positions[tris[3 * f + 1]] - g.positions[tris[3 * f]],
-                                       g.positions[tris[3 * f + 2]] - g.positions[tris[3 * f]]);
+        const glm::vec3 e1 = g.positions[tris[3 * f + 1]] - g.positions[tris[3 * f]],
+                        e2 = g.positions[tris[3 * f + 2]] - g.positions[tris[3 * f]];
+        const glm::vec3 n = glm::cross(e1, e2);
         const float l = glm::length(n);
-        faceNormal[f] = l > 0.0f ? n / l : glm::vec3(0.0f);
+        // Slivers (a sphere's pole, rounding in the file) have a noise direction: none at all.
+        faceNormal[f] = l > 1e-5f * glm::length(e1) * glm::length(e2) ? n / l : glm::vec3(0.0f);
     }
     std::vector<glm::vec3> cornerNormal(tris.size());
     if (creaseAngle == 0.0f) {
@@ -122,13 +127,22 @@ void computeNormals(Geometry& g, float creaseAngle) {
         for (const auto& [position, corners] : byPosition)
             for (std::size_t k : corners) {
                 glm::vec3 sum(0.0f);
+                // A degenerate face (no normal of its own) takes its neighbours' average.
+                const bool degenerate = faceNormal[k / 3] == glm::vec3(0.0f);
                 for (std::size_t o : corners)
-                    if (glm::dot(faceNormal[k / 3], faceNormal[o / 3]) >= cosCrease - 1e-6f)
+                    if (degenerate || glm::dot(faceNormal[k / 3], faceNormal[o / 3]) >= cosCrease - 1e-6f)
                         sum += weight[o] * faceNormal[o / 3];
                 const float l = glm::length(sum);
                 cornerNormal[k] = l > 0.0f ? sum / l : faceNormal[k / 3];
             }
     }
+    // Corners only slivers touch: their face's other corners' normals, else any unit vector.
+    for (std::size_t k = 0; k < tris.size(); ++k)
+        if (cornerNormal[k] == glm::vec3(0.0f)) {
+            const std::size_t f = k / 3;
+            const glm::vec3 sum = cornerNormal[3 * f] + cornerNormal[3 * f + 1] + cornerNormal[3 * f + 2];
+            cornerNormal[k] = glm::length(sum) > 0.0f ? glm::normalize(sum) : glm::vec3(0, 0, 1);
+        }
     g.normals.clear();
     rebuild(g, tris, cornerNormal, [](Geometry& out, const glm::vec3& n) { out.normals.push_back(n); });
 }
@@ -140,8 +154,8 @@ void computeTangents(Geometry& g) {
                                     "' needs normals and texcoords");
     const std::vector<std::uint32_t> tris = triangleList(g);
     const std::size_t faces = tris.size() / 3;
-    // Per face: tangent and bitangent from dP = T·du + B·dv.
-    std::vector<glm::vec3> faceT(faces), faceB(faces);
+    // Per face: tangent from dP = T·du + B·dv.
+    std::vector<glm::vec3> faceT(faces);
     std::vector<float> faceSign(faces);
     for (std::size_t f = 0; f < faces; ++f) {
         const glm::vec3 p0 = g.positions[tris[3 * f]], p1 = g.positions[tris[3 * f + 1]],
@@ -152,13 +166,14 @@ void computeTangents(Geometry& g) {
         const glm::vec2 d1 = t1 - t0, d2 = t2 - t0;
         const float det = d1.x * d2.y - d2.x * d1.y;
         if (std::abs(det) < 1e-20f) {
-            faceT[f] = faceB[f] = glm::vec3(0.0f);
+            faceT[f] = glm::vec3(0.0f);
             faceSign[f] = 1.0f;
             continue;
         }
         faceT[f] = (e1 * d2.y - e2 * d1.y) / det;
-        faceB[f] = (e2 * d1.x - e1 * d2.x) / det;
-        faceSign[f] = det < 0.0f ? -1.0f : 1.0f;
+        // glTF's v runs down the image and its bitangent up it (B = -dP/dv), as MikkTSpace
+        // gives for the v-flipped coordinates exporters feed it: det < 0 is the unmirrored case.
+        faceSign[f] = det < 0.0f ? 1.0f : -1.0f;
     }
     // Corners at one vertex with one handedness share a tangent (angle-weighted sum).
     std::map<std::pair<std::uint32_t, bool>, glm::vec3> sums;

@@ -86,14 +86,17 @@ std::shared_ptr<Geometry> cylinder(float r, float height, int seg, bool caps) {
             const glm::vec3 n(0, 0, z > 0 ? 1 : -1);
             const auto c = std::uint32_t(g->positions.size());
             g->positions.push_back({0, 0, z});
+            // u runs along +X and v along +Y on both caps; glTF's bitangent (-dP/dv) is -Y, which
+            // is cross(N, T) on the bottom cap and its opposite on the top one.
+            const float w = z > 0 ? -1.0f : 1.0f;
             g->normals.push_back(n);
-            g->tangents.push_back({1, 0, 0, 1});
+            g->tangents.push_back({1, 0, 0, w});
             g->texcoords.push_back({0.5f, 0.5f});
             for (int i = 0; i <= seg; ++i) {
                 const float a = glm::two_pi<float>() * float(i) / float(seg);
                 g->positions.push_back({r * std::cos(a), r * std::sin(a), z});
                 g->normals.push_back(n);
-                g->tangents.push_back({1, 0, 0, 1});
+                g->tangents.push_back({1, 0, 0, w});
                 g->texcoords.push_back({0.5f + 0.5f * std::cos(a), 0.5f + 0.5f * std::sin(a)});
             }
             for (int i = 0; i < seg; ++i) {

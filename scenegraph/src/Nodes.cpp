@@ -210,6 +210,22 @@ std::size_t Geometry::triangleCount() const {
     }
 }
 
+std::shared_ptr<Geometry> Geometry::clone() const {
+    auto g = Geometry::create();
+    g->name = name;
+    g->positions = positions;
+    g->normals = normals;
+    g->tangents = tangents;
+    g->texcoords = texcoords;
+    g->texcoords1 = texcoords1;
+    g->colors = colors;
+    g->indices = indices;
+    g->instances = instances;
+    g->mode = mode;
+    g->setStateSet(stateSet());
+    return g;
+}
+
 void Geometry::validate() const {
     const std::size_t n = positions.size();
     auto check = [&](std::size_t size, const char* what) {

@@ -43,6 +43,9 @@ private:
             release(m.baseColorTexture.get());
             release(m.alphaTexture.get());
             release(m.normalTexture.get());
+            release(m.metallicRoughnessTexture.get());
+            release(m.occlusionTexture.get());
+            release(m.emissiveTexture.get());
         }
         for (const auto& [name, t] : s->textures)
             if (t.value) release(t.value->get());

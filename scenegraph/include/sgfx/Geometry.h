@@ -26,6 +26,10 @@ public:
 
     void accept(NodeVisitor& v) override;
 
+    // A new Geometry with copies of the arrays, the mode, the name and this one's StateSet
+    // (shared); no parents, no GPU copy.
+    std::shared_ptr<Geometry> clone() const;
+
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;
     std::vector<glm::vec4> tangents; // xyz tangent, w handedness
