@@ -171,7 +171,8 @@ private:
             prim.attributes["COLOR_0"] = accessor(g.colors, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
 
         std::vector<std::uint32_t> indices = g.indices;
-        // A mirroring transform turns the winding around: turn it back so front faces stay front.
+        // A mirroring transform turns the winding around: turn it back so front faces stay front
+        // (triangle lists only; mirrored strips and fans keep the turned winding).
         if (mirrored && g.mode == PrimitiveMode::Triangles) {
             if (indices.empty())
                 for (std::uint32_t i = 0; i < g.positions.size(); ++i)
