@@ -5,6 +5,7 @@
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
+#include "sgfx/LOD.h"
 #include "sgfx/Renderer.h"
 #include "sgfx/ShaderComposer.h"
 
@@ -23,6 +24,8 @@ CullVisitor::CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* pl
     , queue_(queue)
     , plan_(plan)
     , view_(camera.viewMatrix)
+    , projection_(camera.projectionMatrix)
+    , viewportHeight_(camera.viewport.height)
     , viewFrustum_(Frustum::fromMatrix(camera.projectionMatrix))
     , culling_(camera.cullingEnabled) {
     modelView_.push_back(view_);
@@ -98,6 +101,27 @@ void CullVisitor::apply(Transform& t) {
     traverseWithState(t);
     modelView_.pop_back();
     model_.pop_back();
+    planeMask_.pop_back();
+}
+
+void CullVisitor::apply(LOD& lod) {
+    if (!cullTest(lod)) return;
+    const BoundingSphere local = lod.selectionSphere();
+    float pixels = 0.0f;
+    if (local.valid()) {
+        const BoundingSphere s = local.transformed(modelView_.back());
+        pixels = pixelSize(s.center, s.radius, projection_, viewportHeight_);
+    }
+    if (mode != Mode::None) {
+        pushState(lod);
+        nodePath.push_back(&lod);
+        for (std::size_t i = 0; i < lod.numChildren(); ++i) {
+            Node& child = *lod.child(i);
+            if (lod.range(i).contains(pixels) && accepts(child)) child.accept(*this);
+        }
+        nodePath.pop_back();
+        popState(lod);
+    }
     planeMask_.pop_back();
 }
 

@@ -3,6 +3,7 @@
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
+#include "sgfx/LOD.h"
 #include "sgfx/NodeVisitor.h"
 #include "sgfx/StateSet.h"
 #include "sgfx/gl/Objects.h"
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -104,6 +106,7 @@ void Group::insertChild(std::size_t index, NodePtr child) {
     index = std::min(index, children_.size());
     child->parents_.push_back(this);
     children_.insert(children_.begin() + std::ptrdiff_t(index), std::move(child));
+    childInserted(index);
     dirtyBound();
 }
 
@@ -113,7 +116,9 @@ bool Group::removeChild(const Node* child) {
     if (it == children_.end()) return false;
     auto& ps = (*it)->parents_;
     ps.erase(std::find(ps.begin(), ps.end(), this));
+    const auto index = std::size_t(it - children_.begin());
     children_.erase(it);
+    childRemoved(index);
     dirtyBound();
     return true;
 }
@@ -178,6 +183,60 @@ void Transform::setMatrix(const glm::mat4& m) {
 
 BoundingSphere Transform::computeBound() const {
     return Group::computeBound().transformed(matrix_);
+}
+
+// ---------------------------------------------------------------- LOD
+float pixelSize(const glm::vec3& viewCenter, float radius, const glm::mat4& projection, int viewportHeight) {
+    const float w = std::abs(projection[2][3]) * glm::length(viewCenter) + projection[3][3];
+    const float pixels = radius * std::abs(projection[1][1]) * float(viewportHeight) / w;
+    // An eye at the centre (w = 0) sees the sphere as large as can be: the finest level.
+    return std::isfinite(pixels) ? pixels : std::numeric_limits<float>::max();
+}
+
+void LOD::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
+
+void LOD::checkRange(std::size_t index, float minPixels, float maxPixels) const {
+    auto refuse = [&](const std::string& why) {
+        throw std::invalid_argument("sgfx: LOD " + label(*this) + " child " + std::to_string(index) +
+                                    ": range [" + std::to_string(minPixels) + ", " +
+                                    std::to_string(maxPixels) + ") " + why);
+    };
+    if (std::isnan(minPixels) || std::isnan(maxPixels)) refuse("has a NaN bound");
+    if (minPixels < 0.0f) refuse("has a negative minimum (sizes are in pixels, >= 0)");
+    if (minPixels > maxPixels) refuse("has minPixels > maxPixels");
+}
+
+void LOD::addChild(NodePtr child, float minPixels, float maxPixels) {
+    const std::size_t index = numChildren();
+    checkRange(index, minPixels, maxPixels);
+    Group::addChild(std::move(child)); // childInserted makes the slot
+    ranges_[index] = {minPixels, maxPixels};
+}
+
+void LOD::setRange(std::size_t index, float minPixels, float maxPixels) {
+    if (index >= ranges_.size())
+        throw std::out_of_range("sgfx: LOD " + label(*this) + " has no child " + std::to_string(index));
+    checkRange(index, minPixels, maxPixels);
+    ranges_[index] = {minPixels, maxPixels};
+}
+
+void LOD::setUserSphere(const glm::vec3& center, float radius) {
+    if (!std::isfinite(center.x) || !std::isfinite(center.y) || !std::isfinite(center.z) ||
+        !(radius > 0.0f) || !std::isfinite(radius))
+        throw std::invalid_argument("sgfx: LOD " + label(*this) +
+                                    ": user sphere needs a finite centre and a finite radius > 0 (got " +
+                                    std::to_string(radius) + ")");
+    userSphere_ = BoundingSphere{center, radius};
+}
+
+void LOD::childInserted(std::size_t index) {
+    ranges_.insert(ranges_.begin() + std::ptrdiff_t(index), Range{});
+}
+
+void LOD::childRemoved(std::size_t index) {
+    ranges_.erase(ranges_.begin() + std::ptrdiff_t(index));
 }
 
 // ---------------------------------------------------------------- Geometry

@@ -5,6 +5,7 @@
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
+#include "sgfx/LOD.h"
 
 namespace sgfx {
 
@@ -17,6 +18,9 @@ void NodeVisitor::apply(Group& g) {
 }
 void NodeVisitor::apply(Transform& t) {
     apply(static_cast<Group&>(t));
+}
+void NodeVisitor::apply(LOD& lod) {
+    apply(static_cast<Group&>(lod));
 }
 void NodeVisitor::apply(Geometry& g) {
     apply(static_cast<Node&>(g));

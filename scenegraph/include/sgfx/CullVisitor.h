@@ -18,6 +18,8 @@ public:
 
     void apply(Node& node) override;
     void apply(Transform& t) override;
+    // Visits the children whose pixel range holds the LOD's size on screen.
+    void apply(LOD& lod) override;
     void apply(Geometry& g) override;
     void apply(Drawable& d) override;
     void apply(Camera& c) override;
@@ -46,6 +48,8 @@ private:
     RenderQueue& queue_;
     FramePlan* plan_;
     glm::mat4 view_;
+    glm::mat4 projection_;
+    int viewportHeight_;
     Frustum viewFrustum_; // in view space
     bool culling_;
     std::vector<glm::mat4> modelView_;

@@ -25,6 +25,10 @@ public:
 protected:
     BoundingSphere computeBound() const override;
     bool computeCullingDisabledBelow() const override;
+    // Called after a child enters at `index` / leaves from `index`, so subclasses that keep
+    // per-child data (LOD ranges) stay aligned with the children.
+    virtual void childInserted(std::size_t /*index*/) {}
+    virtual void childRemoved(std::size_t /*index*/) {}
 
 private:
     void checkAcyclic(const Node& child) const;

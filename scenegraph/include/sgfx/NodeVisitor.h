@@ -7,6 +7,7 @@ namespace sgfx {
 class Node;
 class Group;
 class Transform;
+class LOD;
 class Geometry;
 class Drawable;
 class Camera;
@@ -28,6 +29,7 @@ public:
     virtual void apply(Node& node);
     virtual void apply(Group& group);
     virtual void apply(Transform& transform);
+    virtual void apply(LOD& lod); // default: all children, like a Group
     virtual void apply(Geometry& geometry);
     virtual void apply(Drawable& drawable);
     virtual void apply(Camera& camera);
