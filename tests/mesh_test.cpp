@@ -114,7 +114,7 @@ TEST(Mesh, BadFilesSayWhy) {
 namespace {
 
 // Two materials, one textured: a quad and a triangle in "red" (normals from the file and made),
-// one triangle in "textured" with texcoords; a 2×1 PNG whose right texel is blue.
+// one triangle in "m l" with texcoords; a 2×1 PNG whose right texel is blue.
 std::filesystem::path writeObjScene(const std::filesystem::path& dir, const std::string& mtl) {
     Image img;
     img.width = 2;
@@ -127,13 +127,13 @@ std::filesystem::path writeObjScene(const std::filesystem::path& dir, const std:
                                         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\n"
                                         "vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n"
                                         "usemtl red\nf 1//1 2//1 3//1 4//1\n"
-                                        "usemtl textured\nf 1/1 2/2 5/3\n"
+                                        "usemtl m l\nf 1/1 2/2 5/3\n"
                                         "usemtl red\nf -1 -2 -3\n";
     return dir / "scene.obj";
 }
 
 const char* kSceneMtl = "newmtl red\nKd 1 0 0\nKa 0.1 0.2 0.3\nKs 0.5 0.5 0.5\nNs 64\nKe 0 0.25 0\nd 0.5\n"
-                        "illum 2\n\nnewmtl textured\nKd 0.8 0.8 0.8\nmap_Kd -s 1 1 1 tex.png\n";
+                        "illum 2\n\nnewmtl m l\nKd 0.8 0.8 0.8\nmap_Kd -s 1 1 1 tex.png\n";
 
 } // namespace
 
@@ -156,7 +156,7 @@ TEST(Mesh, ObjWithMtlHasOneGeometryPerMaterial) {
     for (const glm::vec3& n : red.normals)
         EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
 
-    EXPECT_EQ(textured.name, "textured");
+    EXPECT_EQ(textured.name, "m l"); // a name with a space, letters of the keywords
     EXPECT_EQ(textured.triangleCount(), 1u);
     ASSERT_EQ(textured.texcoords.size(), 3u);
     EXPECT_EQ(textured.texcoords[0], glm::vec2(0, 1)); // OBJ (0, 0) is the bottom-left corner
@@ -200,7 +200,7 @@ TEST(Mesh, BadObjAndMtlFilesNameTheLine) {
     writeObjScene(dir, kSceneMtl);
     std::ofstream(dir / "tex.png") << "not a PNG";
     why = loadError([&] { (void)loadMeshModel(obj); });
-    EXPECT_NE(why.find("material 'textured'"), std::string::npos) << why;
+    EXPECT_NE(why.find("material 'm l'"), std::string::npos) << why;
     EXPECT_NE(why.find("cannot be decoded"), std::string::npos) << why;
 
     std::ofstream(dir / "bad.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";

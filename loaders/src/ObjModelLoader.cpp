@@ -29,6 +29,16 @@ std::string lower(std::string s) {
     return s;
 }
 
+// The line after its keyword, trimmed: names may contain spaces.
+std::string rest(const std::string& line, const std::vector<std::string>& t) {
+    std::string r = line.substr(line.find(t[0]) + t[0].size());
+    const auto first = r.find_first_not_of(" \t");
+    r = first == std::string::npos ? std::string() : r.substr(first);
+    while (!r.empty() && std::isspace(static_cast<unsigned char>(r.back())))
+        r.pop_back();
+    return r;
+}
+
 std::vector<std::string> split(const std::string& line) {
     std::vector<std::string> out;
     std::istringstream in(line);
@@ -150,9 +160,7 @@ std::map<std::string, MtlMaterial> readMtl(const std::filesystem::path& file) {
         const std::string key = lower(t[0]);
         if (key == "newmtl") {
             if (t.size() < 2) l.fail("'newmtl' names no material");
-            name = line.substr(line.find(t[1]));
-            while (!name.empty() && std::isspace(static_cast<unsigned char>(name.back())))
-                name.pop_back();
+            name = rest(line, t);
             m = &out[name];
             *m = MtlMaterial{};
             m->line = l.number;
@@ -289,18 +297,22 @@ std::shared_ptr<Group> loadObj(const std::filesystem::path& file) {
                 for (const Corner& c : {face[0], face[k], face[k + 1]})
                     groups[current].corners.push_back(c);
         } else if (key == "usemtl") {
-            use(t.size() > 1 ? line.substr(line.find(t[1])) : std::string());
-            while (!groups[current].material.empty() &&
-                   std::isspace(static_cast<unsigned char>(groups[current].material.back())))
-                groups[current].material.pop_back();
+            use(rest(line, t));
         } else if (key == "mtllib") {
             if (t.size() < 2) l.fail("'mtllib' names no file");
-            const auto mtl = file.parent_path() / line.substr(line.find(t[1]));
+            // One name with spaces, or several names. A missing library is common in exported
+            // files: its materials fall back to the default.
+            std::vector<std::filesystem::path> libraries{file.parent_path() / rest(line, t)};
             std::error_code ec;
-            // A missing library is common in exported files: its materials fall back to the default.
-            if (std::filesystem::is_regular_file(mtl, ec))
-                for (auto& [name, m] : readMtl(mtl))
-                    materials[name] = m;
+            if (!std::filesystem::is_regular_file(libraries[0], ec)) {
+                libraries.clear();
+                for (std::size_t i = 1; i < t.size(); ++i)
+                    libraries.push_back(file.parent_path() / t[i]);
+            }
+            for (const auto& mtl : libraries)
+                if (std::filesystem::is_regular_file(mtl, ec))
+                    for (auto& [name, m] : readMtl(mtl))
+                        materials[name] = m;
         } else if (key == "o" || key == "g" || key == "s" || key == "l" || key == "p" || key == "vp" ||
                    key == "cstype" || key == "deg" || key == "curv" || key == "surf" || key == "parm" ||
                    key == "end" || key == "mg" || key == "usemap" || key == "maplib") {
