@@ -11,6 +11,7 @@ packages=(
   libosmesa6-dev                                 # software OpenGL 4.5 core (llvmpipe), headless
   libegl-dev libegl1 libegl-mesa0                # headless GPU contexts (libEGL is opened at run time)
   libgtest-dev libbenchmark-dev                  # tests and benchmarks
+  clang libclang-rt-14-dev                       # the glTF loader's libFuzzer target (scripts/fuzz.sh)
   libopenscenegraph-dev                          # the OpenSceneGraph peer benchmark
   xvfb xauth libgl1-mesa-dri libglx-mesa0        # the windowed path tested on a virtual display
 )

@@ -2,7 +2,9 @@
 # Installs what is missing, builds everything and runs the whole test suite through CTest:
 # first the normal (Release) build, then the same suite built with AddressSanitizer,
 # UndefinedBehaviorSanitizer and LeakSanitizer (suppressions: tests/sanitizers/lsan.supp).
-# SGFX_SKIP_SANITIZERS=1 runs the first stage only (for quick local runs).
+# SGFX_SKIP_SANITIZERS=1 runs the first stage only (for quick local runs). A third stage builds the
+# glTF loader's libFuzzer target with clang and runs it for 60 s (scripts/fuzz.sh); SGFX_SKIP_FUZZ=1
+# skips it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -22,4 +24,8 @@ if [ "${SGFX_SKIP_SANITIZERS:-0}" != 1 ]; then
   export LSAN_OPTIONS=suppressions=$root/tests/sanitizers/lsan.supp:print_suppressions=0
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   (cd build-asan && ctest --output-on-failure -j "$jobs" -E 'package_consumer')
+fi
+
+if [ "${SGFX_SKIP_FUZZ:-0}" != 1 ]; then
+  SGFX_JOBS=$jobs bash scripts/fuzz.sh
 fi

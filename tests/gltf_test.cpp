@@ -12,6 +12,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <span>
 
 using namespace sgfx;
 using namespace sgfx::test;
@@ -208,4 +210,109 @@ TEST(Gltf, BadFilesNameTheElementAndTheReason) {
                                  j.insert(1, "\"extensionsRequired\":[\"KHR_draco_mesh_compression\"],");
                              }),
                     "KHR_draco_mesh_compression");
+}
+
+namespace {
+std::vector<std::byte> readBytes(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::vector<char> chars((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<std::byte> bytes(chars.size());
+    std::memcpy(bytes.data(), chars.data(), chars.size());
+    return bytes;
+}
+
+// A .glb of a JSON chunk and, unless `bin` is 0, a BIN chunk of `bin` zero bytes.
+std::vector<std::byte> glb(std::string json, std::size_t bin) {
+    while (json.size() % 4)
+        json += ' ';
+    std::vector<unsigned char> b;
+    put(b, std::uint32_t(0x46546C67)); // "glTF"
+    put(b, std::uint32_t(2));
+    put(b, std::uint32_t(12 + 8 + json.size() + (bin ? 8 + bin : 0)));
+    put(b, std::uint32_t(json.size()));
+    put(b, std::uint32_t(0x4E4F534A)); // "JSON"
+    b.insert(b.end(), json.begin(), json.end());
+    if (bin) {
+        put(b, std::uint32_t(bin));
+        put(b, std::uint32_t(0x004E4942)); // "BIN\0"
+        b.resize(b.size() + bin, 0);
+    }
+    std::vector<std::byte> out(b.size());
+    std::memcpy(out.data(), b.data(), b.size());
+    return out;
+}
+
+std::string memoryLoadError(std::span<const std::byte> bytes, const GltfOptions& options = {}) {
+    try {
+        (void)loadGltfFromMemory(bytes, "in-memory.glb", options);
+    } catch (const LoadError& e) {
+        return e.what();
+    }
+    return "loaded";
+}
+} // namespace
+
+TEST(Gltf, LoadsFromMemoryAsFromTheFile) {
+    const auto file = tinyFile("sgfx_tiny_memory.gltf", {0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2});
+    GltfStats fromFile, fromMemory;
+    (void)loadGltf(file, {}, &fromFile);
+    const auto bytes = readBytes(file);
+    const auto root = loadGltfFromMemory(bytes, "tiny", {}, &fromMemory);
+    EXPECT_EQ(root->name, "tiny");
+    EXPECT_EQ(fromMemory.triangles, 1u);
+    EXPECT_EQ(fromMemory.nodes, fromFile.nodes);
+    std::filesystem::remove(file);
+    if (!std::filesystem::exists(kAssets)) GTEST_SKIP();
+    GltfStats duck;
+    (void)loadGltfFromMemory(readBytes(kAssets / "Duck/glTF-Binary/Duck.glb"), "duck", {}, &duck);
+    EXPECT_EQ(duck.triangles, 4212u);
+    EXPECT_EQ(duck.textures, 1u);
+    // Bytes in memory have no directory: an external buffer cannot be found.
+    const std::string why = memoryLoadError(readBytes(kAssets / "Box/glTF/Box.gltf"));
+    EXPECT_NE(why.find("in-memory.glb"), std::string::npos) << why;
+    EXPECT_NE(why.find("Box0.bin"), std::string::npos) << why;
+    EXPECT_NE(why.find("external files cannot be read"), std::string::npos) << why;
+}
+
+TEST(Gltf, HostileFilesAreRefusedBeforeTheyCostMemory) {
+    // Past the memory limit (the node takes 256 bytes of it): the accessor, not an allocation, fails.
+    const auto file = tinyFile("sgfx_tiny_limit.gltf", {0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2});
+    const std::string limited = memoryLoadError(readBytes(file), {.memoryLimit = 276});
+    EXPECT_NE(limited.find("accessors[0]: needs more memory than the load's limit of 276 bytes"),
+              std::string::npos)
+        << limited;
+    std::filesystem::remove(file);
+    // A sparse accessor without a bufferView declares 2^28 zero vectors from a few bytes.
+    const std::string sparse =
+        memoryLoadError(glb(R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"buffers":[{"byteLength":8}],
+"bufferViews":[{"buffer":0,"byteLength":8}],
+"accessors":[{"componentType":5126,"count":268435456,"type":"VEC3","sparse":{"count":1,
+"indices":{"bufferView":0,"componentType":5125},"values":{"bufferView":0}}}]})",
+                            8),
+                        {.memoryLimit = std::size_t(64) << 20});
+    EXPECT_NE(sparse.find("needs more memory"), std::string::npos) << sparse;
+    // A node used twice by each of 60 nested nodes: 2^60 instances.
+    std::string nodes;
+    for (int i = 0; i < 60; ++i)
+        nodes += "{\"children\":[" + std::to_string(i + 1) + "," + std::to_string(i + 1) + "]},";
+    nodes += "{}";
+    const std::string doubling = memoryLoadError(
+        glb(R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[)" + nodes + "]}", 0),
+        {.memoryLimit = std::size_t(16) << 20});
+    EXPECT_NE(doubling.find("needs more memory"), std::string::npos) << doubling;
+    // Nesting deep enough to overflow tinygltf's recursive copy of `extras`.
+    const std::string deep = memoryLoadError(glb(
+        R"({"asset":{"version":"2.0"},"extras":)" + std::string(100000, '[') + std::string(100000, ']') + "}",
+        0));
+    EXPECT_NE(deep.find("nested more than 256 deep"), std::string::npos) << deep;
+    // tinygltf 2.7 throws std::out_of_range for a GLB buffer of byteLength 0: a LoadError here.
+    const std::string empty =
+        memoryLoadError(glb(R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":0}]})", 4));
+    EXPECT_NE(empty.find("in-memory.glb"), std::string::npos) << empty;
+    // A material factor that is negative is refused with its element, not std::invalid_argument.
+    const std::string negative = memoryLoadError(glb(
+        R"({"asset":{"version":"2.0"},"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[-1,0,0,1]}}]})",
+        0));
+    EXPECT_NE(negative.find("materials[0]"), std::string::npos) << negative;
 }

@@ -19,7 +19,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -28,11 +30,32 @@ namespace sgfx {
 
 namespace {
 
+// What a load may still allocate (GltfOptions::memoryLimit), charged before each allocation that
+// the file's declared sizes drive.
+struct Budget {
+    std::size_t left = 0;
+    bool take(std::size_t bytes) {
+        if (bytes > left) return false;
+        left -= bytes;
+        return true;
+    }
+};
+
+// Bytes a vertex may take in a Geometry: position, normal, tangent, two texcoords, colour.
+constexpr std::size_t vertexBytes = (3 + 3 + 4 + 2 + 2 + 4) * sizeof(float);
+
 struct Context {
     std::string file;
     const tinygltf::Model& model;
+    Budget* budget;
+    std::size_t limit;
     [[noreturn]] void fail(const std::string& element, const std::string& why) const {
         throw LoadError("sgfx: glTF '" + file + "': " + element + ": " + why);
+    }
+    void charge(std::size_t count, std::size_t bytesEach, const std::string& element) const {
+        if ((bytesEach && count > SIZE_MAX / bytesEach) || !budget->take(count * bytesEach))
+            fail(element, "needs more memory than the load's limit of " + std::to_string(limit) +
+                              " bytes (GltfOptions::memoryLimit)");
     }
 };
 
@@ -159,9 +182,13 @@ std::vector<float> readAccessor(const Context& c, int index, const std::string& 
                             ", which this attribute cannot take");
     if (a.count == 0 || a.count > (std::size_t(1) << 28))
         c.fail(name, "count " + std::to_string(a.count) + " is out of range");
+    // The view is checked before anything is allocated: the count must fit in the file's bytes.
+    View v;
+    if (a.bufferView >= 0)
+        v = checkedView(c, a.bufferView, a.byteOffset, a.count, std::size_t(bytes * n), name);
+    c.charge(a.count, std::size_t(n) * sizeof(float), name);
     std::vector<float> out(a.count * std::size_t(n), 0.0f);
     if (a.bufferView >= 0) {
-        const View v = checkedView(c, a.bufferView, a.byteOffset, a.count, std::size_t(bytes * n), name);
         for (std::size_t i = 0; i < a.count; ++i)
             for (int k = 0; k < n; ++k)
                 out[i * std::size_t(n) + std::size_t(k)] =
@@ -210,6 +237,7 @@ std::shared_ptr<Texture> loadTexture(const Context& c, int index, bool srgb, con
     if (src.width <= 0 || src.height <= 0 ||
         src.image.size() != std::size_t(src.width) * std::size_t(src.height) * 4)
         c.fail(at("images", std::size_t(t.source)), "the image did not decode");
+    c.charge(src.image.size(), 1, at("images", std::size_t(t.source)));
     auto img = Image::create(src.width, src.height, 4);
     img->pixels = src.image;
     auto tex = Texture::create(img, srgb);
@@ -230,10 +258,21 @@ std::shared_ptr<Texture> loadTexture(const Context& c, int index, bool srgb, con
     return tex;
 }
 
-// Decodes images with stb (PNG, JPEG) into RGBA8; a failure names the image.
+// Decodes images with stb (PNG, JPEG) into RGBA8; a failure names the image. The header's size is
+// charged to the budget first: stb allocates what the header declares before it reads the pixels.
 bool decodeImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
-                 const unsigned char* bytes, int size, void*) {
+                 const unsigned char* bytes, int size, void* budget) {
     int w = 0, h = 0, comp = 0;
+    if (size <= 0 || !stbi_info_from_memory(bytes, size, &w, &h, &comp) || w <= 0 || h <= 0 ||
+        !static_cast<Budget*>(budget)->take(std::size_t(w) * std::size_t(h) * 8)) {
+        if (err)
+            *err += "images[" + std::to_string(index) + "]: cannot decode: " +
+                    (w > 0 && h > 0 ? std::to_string(w) + "x" + std::to_string(h) +
+                                          " pixels are more than the load's memory limit"
+                                    : std::string("not a PNG or JPEG image")) +
+                    "\n";
+        return false;
+    }
     stbi_uc* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
     if (!data) {
         if (err)
@@ -343,24 +382,112 @@ TextureMapping mappingOf(const Context& c, int texCoord, const tinygltf::Extensi
     return t;
 }
 
-} // namespace
+bool isGlb(std::span<const std::byte> bytes) {
+    return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+}
 
-std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options,
-                                GltfStats* stats) {
-    const std::string path = file.string();
-    if (!std::filesystem::is_regular_file(file)) throw LoadError("sgfx: glTF '" + path + "': no such file");
+// The deepest nesting of arrays and objects in JSON text (strings skipped). tinygltf 2.7 copies
+// `extras` and `extensions` into tinygltf::Value recursively, so a file nested a few hundred
+// thousand deep overflows the stack inside tinygltf: such a file is refused before it gets there.
+std::size_t jsonDepth(const unsigned char* p, std::size_t n) {
+    std::size_t depth = 0, deepest = 0;
+    bool inString = false;
+    for (std::size_t i = 0; i < n; ++i) {
+        const unsigned char ch = p[i];
+        if (inString) {
+            if (ch == '\\')
+                ++i;
+            else if (ch == '"')
+                inString = false;
+        } else if (ch == '"') {
+            inString = true;
+        } else if (ch == '[' || ch == '{') {
+            deepest = std::max(deepest, ++depth);
+        } else if ((ch == ']' || ch == '}') && depth > 0) {
+            --depth;
+        }
+    }
+    return deepest;
+}
+
+// Where tinygltf may look for external buffers and images. Loads from memory have no directory:
+// every external URI fails. Loads from a file read regular files only, up to the memory limit.
+struct FsData {
+    bool allowed = false;
+    std::size_t maxBytes = 0;
+};
+
+tinygltf::FsCallbacks fsCallbacks(FsData* data) {
+    tinygltf::FsCallbacks fs{};
+    fs.FileExists = [](const std::string& path, void* user) {
+        std::error_code ec;
+        // From memory every name "exists", so that ReadWholeFile's refusal is what the error says.
+        return !static_cast<FsData*>(user)->allowed || std::filesystem::is_regular_file(path, ec);
+    };
+    fs.ExpandFilePath = [](const std::string& path, void*) { return path; };
+    fs.ReadWholeFile = [](std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                          void* user) {
+        const auto* d = static_cast<const FsData*>(user);
+        auto refuse = [&](const std::string& why) {
+            if (err) *err += why;
+            return false;
+        };
+        if (!d->allowed) return refuse("external files cannot be read when loading from memory");
+        std::error_code ec;
+        const auto size = std::filesystem::file_size(path, ec);
+        if (ec || !std::filesystem::is_regular_file(path, ec)) return refuse("not a readable file");
+        if (size > d->maxBytes) return refuse("larger than the load's memory limit");
+        std::ifstream in(path, std::ios::binary);
+        out->resize(std::size_t(size));
+        if (!in.read(reinterpret_cast<char*>(out->data()), std::streamsize(size)))
+            return refuse("cannot read it");
+        return true;
+    };
+    fs.WriteWholeFile = [](std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+        if (err) *err += "the loader writes no files";
+        return false;
+    };
+    fs.user_data = data;
+    return fs;
+}
+
+// Both entry points: `baseDir` is null for bytes from memory.
+std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string& path,
+                            const std::string& rootName, const std::filesystem::path* baseDir,
+                            const GltfOptions& options, GltfStats* stats) {
+    auto refuse = [&](const std::string& why) { return LoadError("sgfx: glTF '" + path + "': " + why); };
+    if (bytes.size() > std::numeric_limits<unsigned int>::max() / 2) throw refuse("larger than 2 GiB");
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    const bool binary = isGlb(bytes);
+    // The JSON of a .glb is its first chunk (length at byte 12); a bad header is tinygltf's to report.
+    std::size_t jsonBegin = 0, jsonLength = bytes.size();
+    if (binary && bytes.size() >= 20) {
+        std::uint32_t chunk = 0;
+        std::memcpy(&chunk, data + 12, 4);
+        jsonBegin = 20;
+        jsonLength = std::min<std::size_t>(chunk, bytes.size() - 20);
+    }
+    if (jsonDepth(data + jsonBegin, jsonLength) > 256) throw refuse("JSON is nested more than 256 deep");
+
+    Budget budget{options.memoryLimit};
+    FsData fsData{baseDir != nullptr, options.memoryLimit};
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(decodeImage, nullptr);
+    loader.SetImageLoader(decodeImage, &budget);
+    loader.SetFsCallbacks(fsCallbacks(&fsData));
     tinygltf::Model model;
     std::string err, warn;
-    std::string ext = file.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char ch) { return char(std::tolower(ch)); });
-    const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                  : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    if (!ok)
-        throw LoadError("sgfx: glTF '" + path + "': " + (err.empty() ? std::string("not a glTF file") : err));
-    const Context c{path, model};
+    const std::string dir = baseDir ? baseDir->string() : std::string();
+    bool ok = false;
+    try {
+        ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(bytes.size()), dir)
+                    : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data),
+                                                 unsigned(bytes.size()), dir);
+    } catch (const std::exception& e) {
+        // tinygltf 2.7 throws on some bad files (std::out_of_range for a GLB buffer of byteLength 0).
+        err = e.what();
+    }
+    if (!ok) throw refuse(err.empty() ? std::string("not a glTF file") : err);
+    const Context c{path, model, &budget, options.memoryLimit};
     GltfStats st;
     static const std::set<std::string> supported = {"KHR_texture_transform",
                                                     "KHR_materials_emissive_strength",
@@ -428,7 +555,7 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
         try {
             mat->validate();
         } catch (const std::invalid_argument& e) {
-            c.fail(name, e.what());
+            c.fail(name, e.what()); // negative or overflowing factors
         }
         materials.push_back(state);
     }
@@ -467,10 +594,10 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
             const auto tangents = attribute("TANGENT", {TINYGLTF_TYPE_VEC4});
             std::vector<std::uint32_t> indices;
             if (p.indices >= 0) {
-                const auto& a = model.accessors.at(
-                    std::size_t(std::max(0, std::min<int>(p.indices, int(model.accessors.size()) - 1))));
-                if (std::size_t(p.indices) >= model.accessors.size() ||
-                    a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+                if (std::size_t(p.indices) >= model.accessors.size())
+                    c.fail(name + ".indices", "accessor " + std::to_string(p.indices) + " does not exist");
+                const auto& a = model.accessors[std::size_t(p.indices)];
+                if (a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
                     a.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
                     a.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)
                     c.fail(name + ".indices", "must be an accessor of unsigned integers");
@@ -481,6 +608,8 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
                     indices.push_back(std::uint32_t(v));
                 }
             }
+            // Positions, normals, texcoords, tangents, colours as the Geometry stores them.
+            c.charge(n, vertexBytes, name);
             auto g = Geometry::create();
             g->name = mesh.name.empty() ? name : mesh.name + "." + std::to_string(pi);
             for (std::size_t i = 0; i < n; ++i) {
@@ -535,11 +664,14 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
             const bool triangles = g->mode == PrimitiveMode::Triangles ||
                                    g->mode == PrimitiveMode::TriangleStrip ||
                                    g->mode == PrimitiveMode::TriangleFan;
-            if (g->normals.empty() && triangles && g->elementCount() >= 3)
+            if (g->normals.empty() && triangles && g->elementCount() >= 3) {
+                c.charge(g->elementCount(), vertexBytes, name); // at most one vertex per corner
                 computeNormals(*g, options.creaseAngle);
+            }
             if (p.material >= 0 && std::size_t(p.material) < model.materials.size() && g->tangents.empty() &&
                 !g->texcoords.empty() && !g->normals.empty() && triangles && g->elementCount() >= 3 &&
                 model.materials[std::size_t(p.material)].normalTexture.index >= 0) {
+                c.charge(g->elementCount(), vertexBytes, name);
                 computeTangents(*g);
                 ++st.tangentsMade;
             }
@@ -548,7 +680,11 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
                     c.fail(name + ".material", "material " + std::to_string(p.material) + " does not exist");
                 g->setStateSet(materials[std::size_t(p.material)]);
             }
-            g->validate();
+            try {
+                g->validate();
+            } catch (const std::invalid_argument& e) {
+                c.fail(name, e.what());
+            }
             st.triangles += g->triangleCount();
             ++st.primitives;
             meshes[mi].push_back(g);
@@ -593,6 +729,9 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
             if (!std::isfinite(glm::value_ptr(m)[k])) c.fail(name, "has a NaN or infinite transform");
         auto t = Transform::create(m);
         t->name = n.name.empty() ? name : n.name;
+        // A node may be listed as a child many times over: each use is an instance, so a small
+        // file can describe exponentially many. Every instance and child link is charged.
+        c.charge(1, 256, name);
         ++st.nodes;
         if (n.mesh >= 0) {
             if (std::size_t(n.mesh) >= model.meshes.size())
@@ -606,12 +745,14 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
                 inst == n.extensions.end()
                     ? std::vector<glm::mat4>{}
                     : instanceMatrices(c, inst->second, name + ".extensions.EXT_mesh_gpu_instancing");
+            c.charge(meshes[std::size_t(n.mesh)].size(), 32, name + ".mesh");
             for (const auto& g : meshes[std::size_t(n.mesh)]) {
                 if (instances.empty()) {
                     t->addChild(g);
                     continue;
                 }
                 // The instances belong to this node: an instanced copy of the shared primitive.
+                c.charge(g->positions.size() + instances.size() * 2, vertexBytes, name + ".mesh");
                 auto copy = g->clone();
                 copy->instances = instances;
                 t->addChild(copy);
@@ -625,7 +766,7 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
     };
 
     auto root = Group::create();
-    root->name = file.filename().string();
+    root->name = rootName;
     std::vector<int> roots;
     const int sceneIndex = options.scene >= 0 ? options.scene : std::max(model.defaultScene, 0);
     if (!model.scenes.empty()) {
@@ -658,6 +799,31 @@ std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOpt
         for (const std::string& w : st.warnings)
             std::fprintf(stderr, "sgfx: glTF '%s': warning: %s\n", path.c_str(), w.c_str());
     return root;
+}
+
+} // namespace
+
+std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options,
+                                GltfStats* stats) {
+    const std::string path = file.string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+        throw LoadError("sgfx: glTF '" + path + "': no such file");
+    const auto size = std::filesystem::file_size(file, ec);
+    if (ec || size > options.memoryLimit)
+        throw LoadError("sgfx: glTF '" + path + "': " + (ec ? ec.message() : "larger than the memory limit"));
+    std::vector<std::byte> bytes(static_cast<std::size_t>(size));
+    std::ifstream in(file, std::ios::binary);
+    if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size())))
+        throw LoadError("sgfx: glTF '" + path + "': cannot read it");
+    const std::filesystem::path dir = file.parent_path();
+    return load(bytes, path, file.filename().string(), &dir, options, stats);
+}
+
+std::shared_ptr<Group> loadGltfFromMemory(std::span<const std::byte> bytes, std::string_view nameForErrors,
+                                          const GltfOptions& options, GltfStats* stats) {
+    const std::string name(nameForErrors);
+    return load(bytes, name, name, nullptr, options, stats);
 }
 
 } // namespace sgfx

@@ -5,10 +5,13 @@
 // the element (`meshes[2].primitives[0].indices`) and the reason, and nothing is built.
 #include <sgfx/Group.h>
 
+#include <cstddef>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace sgfx {
@@ -24,6 +27,10 @@ struct GltfOptions {
     // Normals made for primitives without them: 0 = flat (per face, as glTF asks); an angle in
     // radians smooths faces meeting at less than it (see computeNormals).
     float creaseAngle = 0.0f;
+    // Bytes of decoded vertex, index and image data one load may make. A small file can declare
+    // millions of elements (accessors shared by many primitives, sparse accessors without data,
+    // image headers): past this the load fails with LoadError instead of exhausting memory.
+    std::size_t memoryLimit = std::size_t(2) << 30;
 };
 
 // What a load made, for tools and tests.
@@ -49,5 +56,11 @@ struct GltfStats {
 // GltfStats::warnings and on stderr unless `stats` is given). Throws LoadError.
 std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options = {},
                                 GltfStats* stats = nullptr);
+
+// The same from bytes in memory: .glb when they start with "glTF", else .gltf JSON. There is no
+// base directory, so a file that names external buffers or images fails with LoadError (data: URIs
+// and the GLB chunk work). `nameForErrors` stands in for the file name in messages.
+std::shared_ptr<Group> loadGltfFromMemory(std::span<const std::byte> bytes, std::string_view nameForErrors,
+                                          const GltfOptions& options = {}, GltfStats* stats = nullptr);
 
 } // namespace sgfx

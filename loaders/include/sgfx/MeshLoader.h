@@ -15,6 +15,15 @@ namespace sgfx {
 // By the file's extension: .obj, .off, .ply, .stl (ASCII or binary). Throws LoadError.
 std::shared_ptr<Geometry> loadMesh(const std::filesystem::path& file);
 
+// A model with its materials: for .obj, the `mtllib` materials (Kd, Ka, Ks, Ns, Ke, d/Tr, map_Kd,
+// map_d, map_Bump/bump/norm) and texture coordinates, one Geometry per material in order of first
+// use (vertices split where a corner's texcoord or normal differs, texcoords flipped to glTF's
+// top-left origin); a missing MTL file or unknown material gives geometry with no StateSet (the
+// scene's default material). Other formats: loadMesh's Geometry in a Group. Throws LoadError
+// naming file:line for bad OBJ/MTL lines, and the .mtl file and material for a texture that is
+// missing or does not decode.
+std::shared_ptr<Group> loadMeshModel(const std::filesystem::path& file);
+
 // Writes a triangle geometry (positions, normals) by the extension: .obj, .off, .ply, .stl.
 // Throws LoadError naming the file when the geometry is not triangles or the file cannot be written.
 void writeMesh(const Geometry& geometry, const std::filesystem::path& file);
