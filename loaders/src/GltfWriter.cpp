@@ -17,6 +17,7 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <type_traits>
 
 namespace sgfx {
@@ -32,15 +33,21 @@ struct MetallicRoughness {
 };
 MetallicRoughness metallicRoughnessOf(const Material& m) {
     MetallicRoughness mr;
+    if (m.model == ShadingModel::MetallicRoughness) {
+        mr.metallic = m.metallic;
+        mr.roughness = m.roughness;
+        return mr;
+    }
+    // Blinn-Phong: a dielectric whose GGX lobe has the exponent's width (s = 2/α² − 2, α = r²).
     mr.roughness = std::clamp(std::pow(2.0 / (double(m.shininess) + 2.0), 0.25), 0.05, 1.0);
     return mr;
 }
 
-// One material per distinct (Material, blended) pair: blending lives in the state, not in the
-// material, but glTF puts it in the material's alphaMode.
-using MaterialKey = std::pair<const Material*, bool>;
+// One material per distinct (Material, blended, double-sided): blending and face culling live in
+// the state, not in the material, but glTF puts them in the material.
+using MaterialKey = std::tuple<const Material*, bool, bool>;
 
-tinygltf::Material toGltf(const Material& m, bool blended, std::size_t index) {
+tinygltf::Material toGltf(const Material& m, bool blended, bool doubleSided, std::size_t index) {
     tinygltf::Material out;
     out.name = "material" + std::to_string(index);
     out.pbrMetallicRoughness.baseColorFactor = {m.diffuse.r, m.diffuse.g, m.diffuse.b, m.diffuse.a};
@@ -62,7 +69,7 @@ tinygltf::Material toGltf(const Material& m, bool blended, std::size_t index) {
     } else {
         out.alphaMode = "OPAQUE";
     }
-    out.doubleSided = false;
+    out.doubleSided = doubleSided;
     return out;
 }
 
@@ -127,9 +134,11 @@ private:
     int material(const ResolvedState& state) {
         const Material* m = state.materialOrNull().get();
         if (!m) return -1; // glTF's default material, as sgfx's default
-        const MaterialKey key{m, state.blendMode() != BlendMode::Off};
-        auto [it, added] = materials_.emplace(key, int(model_.materials.size()));
-        if (added) model_.materials.push_back(toGltf(*m, key.second, model_.materials.size()));
+        const bool blended = state.blendMode() != BlendMode::Off;
+        const bool doubleSided = state.cullFace.value && *state.cullFace.value == CullFace::None;
+        auto [it, added] =
+            materials_.emplace(MaterialKey{m, blended, doubleSided}, int(model_.materials.size()));
+        if (added) model_.materials.push_back(toGltf(*m, blended, doubleSided, model_.materials.size()));
         return it->second;
     }
 
