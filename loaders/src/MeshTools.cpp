@@ -59,6 +59,27 @@ template <class Extra, class Apply>
 void rebuild(Geometry& g, const std::vector<std::uint32_t>& tris, const std::vector<Extra>& extra,
              Apply apply) {
     Geometry out;
+    // Source vertices with identical attributes are one vertex (unindexed files repeat them).
+    std::vector<std::uint32_t> canonical(g.positions.size());
+    {
+        std::map<std::vector<float>, std::uint32_t> ids;
+        std::vector<float> key;
+        auto push = [&key](const auto& v, std::size_t i) {
+            if (v.empty()) return;
+            const float* f = reinterpret_cast<const float*>(&v[i]);
+            key.insert(key.end(), f, f + sizeof(v[i]) / sizeof(float));
+        };
+        for (std::size_t i = 0; i < g.positions.size(); ++i) {
+            key.clear();
+            push(g.positions, i);
+            push(g.normals, i);
+            push(g.tangents, i);
+            push(g.texcoords, i);
+            push(g.texcoords1, i);
+            push(g.colors, i);
+            canonical[i] = ids.try_emplace(key, std::uint32_t(i)).first->second;
+        }
+    }
     std::map<std::pair<std::uint32_t, std::array<std::uint32_t, sizeof(Extra) / 4>>, std::uint32_t> seen;
     for (std::size_t k = 0; k < tris.size(); ++k) {
         // Keys quantised to 2^-16, so rounding differences between faces do not split vertices.
@@ -66,7 +87,8 @@ void rebuild(Geometry& g, const std::vector<std::uint32_t>& tris, const std::vec
         const float* values = reinterpret_cast<const float*>(&extra[k]);
         for (std::size_t c = 0; c < bits.size(); ++c)
             bits[c] = std::uint32_t(std::int32_t(std::lround(values[c] * 65536.0f)));
-        const auto [it, fresh] = seen.try_emplace({tris[k], bits}, std::uint32_t(out.positions.size()));
+        const auto [it, fresh] =
+            seen.try_emplace({canonical[tris[k]], bits}, std::uint32_t(out.positions.size()));
         if (fresh) {
             const std::uint32_t v = tris[k];
             out.positions.push_back(g.positions[v]);
