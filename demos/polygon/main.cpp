@@ -6,7 +6,10 @@
 #include <ao/AmbientOcclusionNode.h>
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
+#include <sgfx/GltfWriter.h>
 #include <sgfx/GraphicsContext.h>
+
+#include <filesystem>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
@@ -60,6 +63,7 @@ modes (at most one):
   --bench N           render N frames along the camera path (t = i/N) after 3 warm-up
                       frames, glFinish after each, and print timings and render statistics
   --export-obj FILE   write the scene as Wavefront OBJ (+ .mtl) and exit
+  --export-gltf FILE  write the scene as glTF 2.0 (.glb binary, or .gltf with the data embedded)
 
 options:
   --out FILE          PNG to write (default polygon.png)
@@ -133,12 +137,13 @@ struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-enum class Mode { Still, Window, Bench, ExportObj };
+enum class Mode { Still, Window, Bench, ExportObj, ExportGltf };
 
 struct Options {
     Mode mode = Mode::Still;
     std::string out = "polygon.png";
     std::string objPath;
+    std::string gltfPath;
     int width = 1280, height = 720;
     float time = kStillTime;
     std::optional<polygon::CameraPose> look;
@@ -186,7 +191,8 @@ Options parseArgs(int argc, char** argv) {
     int modes = 0;
     auto setMode = [&](Mode m) {
         o.mode = m;
-        if (++modes > 1) throw UsageError("--window, --bench and --export-obj are mutually exclusive");
+        if (++modes > 1)
+            throw UsageError("--window, --bench, --export-obj and --export-gltf are mutually exclusive");
     };
     for (int i = 1; i < argc; ++i) {
         const std::string_view arg = argv[i];
@@ -207,6 +213,12 @@ Options parseArgs(int argc, char** argv) {
             setMode(Mode::ExportObj);
             o.objPath = value();
             if (o.objPath.empty()) throw UsageError("--export-obj: empty file name");
+        } else if (arg == "--export-gltf") {
+            setMode(Mode::ExportGltf);
+            o.gltfPath = value();
+            const std::filesystem::path ext = std::filesystem::path(o.gltfPath).extension();
+            if (ext != ".glb" && ext != ".gltf")
+                throw UsageError("--export-gltf: '" + o.gltfPath + "' must end in .glb or .gltf");
         } else if (arg == "--out") {
             o.out = value();
             if (o.out.empty()) throw UsageError("--out: empty file name");
@@ -802,6 +814,12 @@ int run(const Options& o) {
         const sgfx::ObjWriteResult r = sgfx::writeObj(*scene.root, o.objPath);
         std::printf("wrote %s: %zu objects, %zu vertices, %zu triangles\n", o.objPath.c_str(), r.objects,
                     r.vertices, r.triangles);
+        return 0;
+    }
+    case Mode::ExportGltf: {
+        const sgfx::GltfWriteResult r = sgfx::writeGltf(*scene.root, o.gltfPath);
+        std::printf("wrote %s: %zu meshes, %zu materials, %zu vertices, %zu triangles\n", o.gltfPath.c_str(),
+                    r.meshes, r.materials, r.vertices, r.triangles);
         return 0;
     }
     case Mode::Bench:

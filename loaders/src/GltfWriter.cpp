@@ -97,6 +97,15 @@ public:
     void apply(Geometry& g) override {
         if (g.positions.empty()) return;
         g.validate();
+        // Instanced geometry: written once per instance, each with its own matrix.
+        const glm::mat4 saved = matrix_;
+        for (std::size_t i = 0; i < g.instanceCount(); ++i) {
+            matrix_ = g.instances.empty() ? saved : saved * g.instances[i];
+            writeOne(g);
+        }
+        matrix_ = saved;
+    }
+    void writeOne(Geometry& g) {
         if (g.stateSet()) state_.push_back(state_.back().merged(*g.stateSet()));
         write(g, state_.back());
         if (g.stateSet()) state_.pop_back();
@@ -225,7 +234,7 @@ private:
 
         ++result.meshes;
         result.vertices += g.positions.size();
-        result.triangles += g.triangleCount();
+        result.triangles += g.triangleCount() / g.instanceCount(); // this instance
     }
 
     tinygltf::Model& model_;

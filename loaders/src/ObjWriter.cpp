@@ -40,6 +40,15 @@ public:
     void apply(Geometry& g) override {
         if (g.mode != PrimitiveMode::Triangles || g.positions.empty()) return;
         g.validate();
+        // Instanced geometry: written once per instance, each with its own matrix.
+        const glm::mat4 saved = matrix_;
+        for (std::size_t i = 0; i < g.instanceCount(); ++i) {
+            matrix_ = g.instances.empty() ? saved : saved * g.instances[i];
+            writeOne(g);
+        }
+        matrix_ = saved;
+    }
+    void writeOne(Geometry& g) {
         const Material* mat = material_;
         if (g.stateSet() && g.stateSet()->material.value) mat = g.stateSet()->material.value->get();
         auto [it, added] = materials.emplace(mat, "m" + std::to_string(materials.size()));
