@@ -200,7 +200,7 @@ void main() {
 #endif
 #else
     vec3 N = surfaceNormal();
-#ifdef SGFX_SPECULAR
+#if defined(SGFX_SPECULAR) || defined(SGFX_METALLIC_ROUGHNESS)
     vec3 V = normalize(sgfx_eye.xyz - v_worldPos);
 #endif
     // SGFX_LIGHT_COUNT is the number of lights in the view, compiled in so the loop unrolls.
