@@ -3,6 +3,8 @@
 // geometry, and the normals and tangents MeshTools makes. Linear float targets, 64×64.
 #include "TestUtil.h"
 
+#include <ao/AmbientOcclusionNode.h>
+#include <fog/FogNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/MeshTools.h>
@@ -377,9 +379,11 @@ TEST(MeshTools, TangentsFollowTheTextureAndSplitMirroredFaces) {
         g->tangents.clear();
         computeTangents(*g);
         ASSERT_EQ(g->positions.size(), shape->positions.size());
-        const float tolerance = shape->positions.size() > 30 ? 2.0f * std::sin(glm::radians(15.0f)) + 1e-4f : 1e-4f;
+        const float tolerance =
+            shape->positions.size() > 30 ? 2.0f * std::sin(glm::radians(15.0f)) + 1e-4f : 1e-4f;
         for (std::size_t i = 0; i < g->positions.size(); ++i) {
-            EXPECT_LE(glm::distance(glm::vec3(g->tangents[i]), glm::vec3(shape->tangents[i])), tolerance) << i;
+            EXPECT_LE(glm::distance(glm::vec3(g->tangents[i]), glm::vec3(shape->tangents[i])), tolerance)
+                << i;
             EXPECT_EQ(g->tangents[i].w, shape->tangents[i].w) << i;
         }
     }
@@ -403,6 +407,49 @@ TEST(MeshTools, TangentsFollowTheTextureAndSplitMirroredFaces) {
         }
     }
     EXPECT_EQ(mirrored, 4);
+}
+
+TEST(Material, EveryMetallicRoughnessVariantCompilesUnderTheEffects) {
+    // Maps × blend/mask × per-pixel/per-vertex lighting × instancing, under AO and fog: each
+    // variant (main, depth and G-buffer passes) compiles, and no pixel is NaN.
+    auto tex = texture1x1({0.5, 0.5, 0.5, 0.5}, false);
+    for (int variant = 0; variant < 16; ++variant) {
+        SCOPED_TRACE(variant);
+        auto v = floatOrthoViewer();
+        if (variant & 1) v->renderer().options().lighting = RendererOptions::Lighting::PerVertex;
+        Lit scene({-0.3f, 0.2f, -1.0f}, glm::vec3(1.0f), 0.2f);
+        auto point = Light::create(LightType::Point);
+        point->position = {0, 0, 2};
+        scene.root->addChild(point);
+        auto m = Material::create();
+        m->model = ShadingModel::MetallicRoughness;
+        if (variant & 2) {
+            m->baseColorTexture = m->metallicRoughnessTexture = m->occlusionTexture = m->emissiveTexture =
+                m->normalTexture = tex;
+            m->mapping(MaterialMap::Occlusion).texCoord = 1;
+            m->mapping(MaterialMap::BaseColor).rotation = 0.3f;
+        }
+        auto q = shapes::quad(3.0f, 3.0f);
+        q->texcoords1 = q->texcoords;
+        if (variant & 4) m->alphaCutoff = 0.4f;
+        if (variant & 8) {
+            q->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+            q->instances = {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), {0.5f, 0.5f, 0.1f})};
+        }
+        q->getOrCreateStateSet().material.set(m);
+        auto ao = AmbientOcclusionNode::create();
+        ao->addChild(q);
+        auto fog = FogNode::create(FogParameters::ground());
+        fog->addChild(ao);
+        scene.root->addChild(fog);
+        v->setSceneData(scene.root);
+        ASSERT_NO_THROW(v->frame());
+        const FloatImage img = v->renderer().readPixelsLinear();
+        for (float f : img.rgba)
+            ASSERT_TRUE(std::isfinite(f));
+        EXPECT_GT(pixel(img, 32, 32).r + pixel(img, 32, 32).g, 0.01);
+        EXPECT_TRUE(v->renderer().takeGlErrors().empty());
+    }
 }
 
 TEST(Material, BadValuesNameTheField) {

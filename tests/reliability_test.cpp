@@ -11,10 +11,15 @@
 #include <particles/ParticleSystemNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/GltfLoader.h>
+#include <sgfx/GltfWriter.h>
 #include <sgfx/Group.h>
+#include <sgfx/LOD.h>
+#include <sgfx/MeshTools.h>
+#include <sgfx/ModelLoader.h>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
+#include <sgfx/Simplify.h>
 #include <sgfx/gl/Objects.h>
 #include <sky/SkyNode.h>
 #include <transparency/TransparencyBin.h>
@@ -993,6 +998,97 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                                                                     {"a truncated PNG", truncated},
                                                                     {"a directory", tmp}})
         cases.push_back({"glTF loader", "loadGltf " + label, [=] { (void)loadGltf(path); }, "sgfx: glTF"});
+    cases.push_back({"model loader", "loadModel unknown extension", [=] { (void)loadModel(tmp / "x.fbx"); },
+                     ".gltf, .glb, .obj, .off, .ply, .stl"});
+    cases.push_back({"glTF writer", "writeGltf unwritable path",
+                     [=] { (void)writeGltf(*scene, "/nonexistent/dir/x.glb"); }, "/nonexistent/dir/x.glb"});
+
+    // Metallic-roughness material fields and texture mappings
+    for (int i = 0; i < 6; ++i) {
+        if (badNames[i] == "zero") continue; // 0 is a valid value for all of them
+        const float b = badFloats[i];
+        cases.push_back({"Material", "metallic " + badNames[i],
+                         [=] {
+                             auto m = Material::create();
+                             m->metallic = b;
+                             m->validate();
+                         },
+                         "metallic"});
+        cases.push_back({"Material", "roughness " + badNames[i],
+                         [=] {
+                             auto m = Material::create();
+                             m->roughness = b;
+                             m->validate();
+                         },
+                         "roughness"});
+        cases.push_back({"Material", "occlusionStrength " + badNames[i],
+                         [=] {
+                             auto m = Material::create();
+                             m->occlusionStrength = b;
+                             m->validate();
+                         },
+                         "occlusionStrength"});
+        if (!std::isfinite(b))
+            cases.push_back({"Material", "mapping rotation " + badNames[i],
+                             [=] {
+                                 auto m = Material::create();
+                                 m->mapping(MaterialMap::Normal).rotation = b;
+                                 m->validate();
+                             },
+                             "mappings[2]"});
+    }
+    for (int set : {-1, 2, 7})
+        cases.push_back({"Material", "mapping texCoord " + std::to_string(set),
+                         [=] {
+                             auto m = Material::create();
+                             m->mapping(MaterialMap::Occlusion).texCoord = set;
+                             m->validate();
+                         },
+                         "mappings[4]"});
+    cases.push_back({"Material", "shading model 9",
+                     [] {
+                         auto m = Material::create();
+                         m->model = ShadingModel(9);
+                         m->validate();
+                     },
+                     "ShadingModel"});
+    cases.push_back({"Geometry", "NaN instance matrix",
+                     [] {
+                         auto geo = shapes::quad(1, 1);
+                         geo->instances = {glm::mat4(1.0f), glm::mat4(kNaN)};
+                         geo->validate();
+                     },
+                     "instances[1]"});
+    // Mesh processing
+    cases.push_back({"MeshTools", "computeNormals NaN crease",
+                     [] { computeNormals(*shapes::quad(1, 1), kNaN); }, "crease angle"});
+    cases.push_back({"MeshTools", "computeNormals on lines",
+                     [] {
+                         auto geo = Geometry::create();
+                         geo->positions = {{0, 0, 0}, {1, 0, 0}};
+                         geo->mode = PrimitiveMode::Lines;
+                         computeNormals(*geo, 0.0f);
+                     },
+                     "not made of triangles"});
+    cases.push_back({"MeshTools", "computeTangents without texcoords",
+                     [] {
+                         auto geo = shapes::quad(1, 1);
+                         geo->texcoords.clear();
+                         computeTangents(*geo);
+                     },
+                     "needs normals and texcoords"});
+    for (int i = 0; i < 6; ++i) {
+        if (badNames[i] == "huge") continue;
+        const float b = badFloats[i];
+        cases.push_back(
+            {"Simplify", "ratio " + badNames[i], [=] { (void)simplify(*shapes::sphere(1), b); }, "ratio"});
+        cases.push_back({"LOD", "range min " + badNames[i],
+                         [=] {
+                             auto lod = LOD::create();
+                             lod->addChild(shapes::quad(1, 1), b, b < 0 ? 10.0f : b - 1.0f);
+                         },
+                         "LOD"});
+    }
 
     // Procedural shapes (the loaders' procedural part)
     for (int i = 0; i < 6; ++i) {

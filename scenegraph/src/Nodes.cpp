@@ -205,6 +205,7 @@ void LOD::checkRange(std::size_t index, float minPixels, float maxPixels) const 
     };
     if (std::isnan(minPixels) || std::isnan(maxPixels)) refuse("has a NaN bound");
     if (minPixels < 0.0f) refuse("has a negative minimum (sizes are in pixels, >= 0)");
+    if (std::isinf(minPixels)) refuse("has an infinite minimum (the child would never show)");
     if (minPixels > maxPixels) refuse("has minPixels > maxPixels");
 }
 
