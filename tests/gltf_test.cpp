@@ -210,6 +210,14 @@ TEST(Gltf, BadFilesNameTheElementAndTheReason) {
                                  j.insert(1, "\"extensionsRequired\":[\"KHR_draco_mesh_compression\"],");
                              }),
                     "KHR_draco_mesh_compression");
+    // A texture whose image will not decode (a PNG signature followed by garbage).
+    expectLoadError(tinyFile("sgfx_bad_image.gltf", tri, {0, 1, 2},
+                             [](std::string& j) {
+                                 j.replace(j.find("\"indices\":1}"), 12, "\"indices\":1,\"material\":0}");
+                                 j.insert(j.size() - 1, R"(,"images":[{"uri":"data:image/png;base64,iVBORw0KGgoAAAAAAAAAAAAAAAAAAAA="}],
+"textures":[{"source":0}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])");
+                             }),
+                    "images[0]");
 }
 
 namespace {
