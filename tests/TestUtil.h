@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -65,6 +67,22 @@ inline int channelsDiffering(const Image& a, const Image& b, int tolerance = 1) 
             for (int c = 0; c < 3; ++c)
                 n += std::abs(pixelAt(a, x, y)[c] - pixelAt(b, x, y)[c]) > tolerance;
     return n;
+}
+
+// RFC 4648 base64, for data: URIs in hand-made glTF files.
+inline std::string base64(const std::vector<unsigned char>& bytes) {
+    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (std::size_t i = 0; i < bytes.size(); i += 3) {
+        const unsigned v = unsigned(bytes[i]) << 16 |
+                           (i + 1 < bytes.size() ? unsigned(bytes[i + 1]) << 8 : 0u) |
+                           (i + 2 < bytes.size() ? unsigned(bytes[i + 2]) : 0u);
+        out += t[v >> 18 & 63];
+        out += t[v >> 12 & 63];
+        out += i + 1 < bytes.size() ? t[v >> 6 & 63] : '=';
+        out += i + 2 < bytes.size() ? t[v & 63] : '=';
+    }
+    return out;
 }
 
 } // namespace sgfx::test

@@ -31,21 +31,6 @@ namespace {
 const std::filesystem::path kAssets =
     std::filesystem::path(SGFX_SOURCE_DIR) / ".." / "shared" / "assets" / "gltf";
 
-std::string base64(const std::vector<unsigned char>& bytes) {
-    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-        const unsigned v = unsigned(bytes[i]) << 16 |
-                           (i + 1 < bytes.size() ? unsigned(bytes[i + 1]) << 8 : 0u) |
-                           (i + 2 < bytes.size() ? unsigned(bytes[i + 2]) : 0u);
-        out += t[v >> 18 & 63];
-        out += t[v >> 12 & 63];
-        out += i + 1 < bytes.size() ? t[v >> 6 & 63] : '=';
-        out += i + 2 < bytes.size() ? t[v & 63] : '=';
-    }
-    return out;
-}
-
 // Builds a one-buffer glTF: float accessors appended with add(), the rest of the JSON given.
 struct Builder {
     std::vector<unsigned char> bytes;

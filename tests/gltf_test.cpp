@@ -28,21 +28,6 @@ struct Expected {
     std::size_t triangles, nodes, materials, opaque, masked, blended, textures;
 };
 
-std::string base64(const std::vector<unsigned char>& bytes) {
-    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-        const unsigned v = unsigned(bytes[i]) << 16 |
-                           (i + 1 < bytes.size() ? unsigned(bytes[i + 1]) << 8 : 0u) |
-                           (i + 2 < bytes.size() ? unsigned(bytes[i + 2]) : 0u);
-        out += t[v >> 18 & 63];
-        out += t[v >> 12 & 63];
-        out += i + 1 < bytes.size() ? t[v >> 6 & 63] : '=';
-        out += i + 2 < bytes.size() ? t[v & 63] : '=';
-    }
-    return out;
-}
-
 template <class T> void put(std::vector<unsigned char>& b, T v) {
     const auto* p = reinterpret_cast<const unsigned char*>(&v);
     b.insert(b.end(), p, p + sizeof v);
@@ -211,13 +196,15 @@ TEST(Gltf, BadFilesNameTheElementAndTheReason) {
                              }),
                     "KHR_draco_mesh_compression");
     // A texture whose image will not decode (a PNG signature followed by garbage).
-    expectLoadError(tinyFile("sgfx_bad_image.gltf", tri, {0, 1, 2},
-                             [](std::string& j) {
-                                 j.replace(j.find("\"indices\":1}"), 12, "\"indices\":1,\"material\":0}");
-                                 j.insert(j.size() - 1, R"(,"images":[{"uri":"data:image/png;base64,iVBORw0KGgoAAAAAAAAAAAAAAAAAAAA="}],
+    expectLoadError(
+        tinyFile("sgfx_bad_image.gltf", tri, {0, 1, 2},
+                 [](std::string& j) {
+                     j.replace(j.find("\"indices\":1}"), 12, "\"indices\":1,\"material\":0}");
+                     j.insert(j.size() - 1,
+                              R"(,"images":[{"uri":"data:image/png;base64,iVBORw0KGgoAAAAAAAAAAAAAAAAAAAA="}],
 "textures":[{"source":0}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])");
-                             }),
-                    "images[0]");
+                 }),
+        "images[0]");
 }
 
 namespace {

@@ -1,5 +1,7 @@
 #include "sgfx/GltfWriter.h"
 
+#include "WorldGeometryVisitor.h"
+
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/Material.h>
@@ -73,42 +75,12 @@ tinygltf::Material toGltf(const Material& m, bool blended, bool doubleSided, std
     return out;
 }
 
-class GltfVisitor : public NodeVisitor {
+class GltfVisitor : public WorldGeometryVisitor {
 public:
     GltfVisitor(tinygltf::Model& model, const glm::mat4& root)
-        : NodeVisitor(Mode::ActiveChildren)
-        , model_(model)
-        , matrix_(root) {
-        state_.push_back(ResolvedState{});
+        : WorldGeometryVisitor(root)
+        , model_(model) {
         model_.buffers.emplace_back();
-    }
-
-    void apply(Node& n) override {
-        if (n.stateSet()) state_.push_back(state_.back().merged(*n.stateSet()));
-        traverse(n);
-        if (n.stateSet()) state_.pop_back();
-    }
-    void apply(Transform& t) override {
-        const glm::mat4 saved = matrix_;
-        matrix_ = matrix_ * t.matrix();
-        apply(static_cast<Node&>(t));
-        matrix_ = saved;
-    }
-    void apply(Geometry& g) override {
-        if (g.positions.empty()) return;
-        g.validate();
-        // Instanced geometry: written once per instance, each with its own matrix.
-        const glm::mat4 saved = matrix_;
-        for (std::size_t i = 0; i < g.instanceCount(); ++i) {
-            matrix_ = g.instances.empty() ? saved : saved * g.instances[i];
-            writeOne(g);
-        }
-        matrix_ = saved;
-    }
-    void writeOne(Geometry& g) {
-        if (g.stateSet()) state_.push_back(state_.back().merged(*g.stateSet()));
-        write(g, state_.back());
-        if (g.stateSet()) state_.pop_back();
     }
 
     GltfWriteResult result;
@@ -151,8 +123,9 @@ private:
         return it->second;
     }
 
-    void write(const Geometry& g, const ResolvedState& state) {
-        const glm::mat3 linear(matrix_);
+protected:
+    void visit(const Geometry& g, const glm::mat4& world, const ResolvedState& state) override {
+        const glm::mat3 linear(world);
         const glm::mat3 normalMatrix = glm::transpose(glm::inverse(linear));
         const bool mirrored = glm::determinant(linear) < 0.0f;
         std::vector<glm::vec3> positions, normals;
@@ -160,7 +133,7 @@ private:
         positions.reserve(g.positions.size());
         glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
         for (const auto& p : g.positions) {
-            positions.push_back(glm::vec3(matrix_ * glm::vec4(p, 1.0f)));
+            positions.push_back(glm::vec3(world * glm::vec4(p, 1.0f)));
             lo = glm::min(lo, positions.back());
             hi = glm::max(hi, positions.back());
         }
@@ -237,9 +210,8 @@ private:
         result.triangles += g.triangleCount() / g.instanceCount(); // this instance
     }
 
+private:
     tinygltf::Model& model_;
-    glm::mat4 matrix_;
-    std::vector<ResolvedState> state_;
     std::map<MaterialKey, int> materials_;
 };
 

@@ -1,5 +1,7 @@
 #include "sgfx/ObjWriter.h"
 
+#include "WorldGeometryVisitor.h"
+
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/NodeVisitor.h>
@@ -19,44 +21,21 @@ struct FileCloser {
 };
 using File = std::unique_ptr<std::FILE, FileCloser>;
 
-class ObjVisitor : public NodeVisitor {
+class ObjVisitor : public WorldGeometryVisitor {
 public:
-    ObjVisitor(std::FILE* obj)
-        : NodeVisitor(Mode::ActiveChildren)
-        , obj_(obj) {}
+    explicit ObjVisitor(std::FILE* obj)
+        : obj_(obj) {}
 
-    void apply(Node& n) override {
-        const auto saved = material_;
-        if (n.stateSet() && n.stateSet()->material.value) material_ = n.stateSet()->material.value->get();
-        traverse(n);
-        material_ = saved;
-    }
-    void apply(Transform& t) override {
-        const glm::mat4 saved = matrix_;
-        matrix_ = matrix_ * t.matrix();
-        apply(static_cast<Node&>(t));
-        matrix_ = saved;
-    }
-    void apply(Geometry& g) override {
-        if (g.mode != PrimitiveMode::Triangles || g.positions.empty()) return;
-        g.validate();
-        // Instanced geometry: written once per instance, each with its own matrix.
-        const glm::mat4 saved = matrix_;
-        for (std::size_t i = 0; i < g.instanceCount(); ++i) {
-            matrix_ = g.instances.empty() ? saved : saved * g.instances[i];
-            writeOne(g);
-        }
-        matrix_ = saved;
-    }
-    void writeOne(Geometry& g) {
-        const Material* mat = material_;
-        if (g.stateSet() && g.stateSet()->material.value) mat = g.stateSet()->material.value->get();
+protected:
+    void visit(const Geometry& g, const glm::mat4& world, const ResolvedState& state) override {
+        if (g.mode != PrimitiveMode::Triangles) return;
+        const Material* mat = state.materialOrNull().get();
         auto [it, added] = materials.emplace(mat, "m" + std::to_string(materials.size()));
         std::fprintf(obj_, "o %s_%zu\nusemtl %s\n", g.name.empty() ? "geometry" : g.name.c_str(),
                      result.objects, it->second.c_str());
-        const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(matrix_)));
+        const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(world)));
         for (const auto& p : g.positions) {
-            const glm::vec3 w = glm::vec3(matrix_ * glm::vec4(p, 1));
+            const glm::vec3 w = glm::vec3(world * glm::vec4(p, 1));
             std::fprintf(obj_, "v %.6g %.6g %.6g\n", w.x, w.y, w.z);
         }
         const bool normals = !g.normals.empty();
@@ -84,13 +63,12 @@ public:
         result.triangles += count / 3;
     }
 
+public:
     ObjWriteResult result;
     std::map<const Material*, std::string> materials;
 
 private:
     std::FILE* obj_;
-    glm::mat4 matrix_{1.0f};
-    const Material* material_ = nullptr;
     std::size_t base_ = 0, nbase_ = 0;
 };
 

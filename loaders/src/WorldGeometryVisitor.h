@@ -1,0 +1,49 @@
+#pragma once
+// The writers' common walk: every Geometry below a node (node masks honoured) with its world
+// matrix and the state resolved along its path, once per instance of instanced geometry.
+#include <sgfx/Geometry.h>
+#include <sgfx/Group.h>
+#include <sgfx/NodeVisitor.h>
+#include <sgfx/StateSet.h>
+
+#include <vector>
+
+namespace sgfx {
+
+class WorldGeometryVisitor : public NodeVisitor {
+public:
+    explicit WorldGeometryVisitor(const glm::mat4& root = glm::mat4(1.0f))
+        : NodeVisitor(Mode::ActiveChildren)
+        , matrix_(root) {
+        state_.push_back(ResolvedState{});
+    }
+
+    void apply(Node& n) override {
+        if (n.stateSet()) state_.push_back(state_.back().merged(*n.stateSet()));
+        traverse(n);
+        if (n.stateSet()) state_.pop_back();
+    }
+    void apply(Transform& t) override {
+        const glm::mat4 saved = matrix_;
+        matrix_ = matrix_ * t.matrix();
+        apply(static_cast<Node&>(t));
+        matrix_ = saved;
+    }
+    void apply(Geometry& g) override {
+        if (g.positions.empty()) return;
+        g.validate();
+        if (g.stateSet()) state_.push_back(state_.back().merged(*g.stateSet()));
+        for (std::size_t i = 0; i < g.instanceCount(); ++i)
+            visit(g, g.instances.empty() ? matrix_ : matrix_ * g.instances[i], state_.back());
+        if (g.stateSet()) state_.pop_back();
+    }
+
+protected:
+    virtual void visit(const Geometry& g, const glm::mat4& world, const ResolvedState& state) = 0;
+
+private:
+    glm::mat4 matrix_;
+    std::vector<ResolvedState> state_;
+};
+
+} // namespace sgfx
