@@ -4,7 +4,9 @@
 #include <sgfx/Effect.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
+#include <sgfx/Material.h>
 #include <sgfx/Renderer.h>
+#include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Visitors.h>
@@ -234,6 +236,57 @@ TEST(Culling, CullVisitorDropsOutsideKeepsInsideAndStraddling) {
     CullVisitor cv2(*cam, all);
     cv2.run(*cam);
     EXPECT_EQ(all.opaque.size(), 5u);
+}
+
+// Instanced leaves (one Geometry with its own StateSet under many Transforms) share the
+// ResolvedState the cull merges for them, per inherited state: under an Override material each
+// item still resolves to that parent's material, and the blend above one group changes its items'
+// features and bin but not the other group's.
+TEST(Culling, SharedLeafStateResolvesPerParentState) {
+    auto cam = perspectiveCamera();
+    auto leaf = unitBox("leaf");
+    auto own = Material::create();
+    leaf->getOrCreateStateSet().material.set(own);
+    auto red = Material::create(), blue = Material::create();
+    auto a = Group::create(), b = Group::create(), c = Group::create();
+    a->getOrCreateStateSet().material.set(red, Override);
+    b->getOrCreateStateSet().material.set(blue, Override);
+    c->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+    for (int i = 0; i < 40; ++i)
+        for (const auto& g : {a, b, c}) {
+            auto t =
+                Transform::create(glm::translate(glm::mat4(1.0f), {float(i % 5) - 2, 0, -20.0f - float(i)}));
+            t->addChild(leaf);
+            g->addChild(t);
+        }
+    cam->addChild(a);
+    cam->addChild(b);
+    cam->addChild(c);
+    RenderQueue q;
+    CullVisitor cv(*cam, q);
+    cv.run(*cam);
+    ASSERT_EQ(q.opaque.size(), 80u);
+    ASSERT_EQ(q.transparent.size(), 40u);
+    std::size_t reds = 0, blues = 0;
+    const ResolvedState* redState = nullptr;
+    for (const RenderItem& it : q.opaque) {
+        const Material* m = it.state->material.value->get();
+        reds += m == red.get();
+        blues += m == blue.get();
+        if (m == red.get()) {
+            if (!redState) redState = it.state;
+            EXPECT_EQ(it.state, redState) << "instanced leaves under one state share its merge";
+        }
+        EXPECT_EQ(it.features & FeatureBlend, 0u);
+    }
+    EXPECT_EQ(reds, 40u);
+    EXPECT_EQ(blues, 40u);
+    for (const RenderItem& it : q.transparent) {
+        EXPECT_EQ(it.state->material.value->get(), own.get());
+        EXPECT_NE(it.features & FeatureBlend, 0u);
+    }
+    // A few states for 120 items, not one per item.
+    EXPECT_LE(q.states.size(), 8u);
 }
 
 // A node with culling switched off is visited (its effect planned) even when everything is out of

@@ -10,6 +10,7 @@
 #include "sgfx/ShaderComposer.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -17,7 +18,19 @@ namespace sgfx {
 
 namespace {
 constexpr std::uint8_t kAllPlanes = 0x3f;
+
+// The radius factor BoundingSphere::transformed uses (the largest column length), with one
+// square root: a correctly rounded sqrt is monotonic, so the result is the same bit for bit.
+float maxAxisScale(const glm::mat4& m) {
+    const glm::vec3 x(m[0]), y(m[1]), z(m[2]);
+    return std::sqrt(std::max({glm::dot(x, x), glm::dot(y, y), glm::dot(z, z)}));
 }
+
+// std::ilogb for finite or infinite x > 1 (the exponent field), without the libm call.
+int exponentOf(float x) {
+    return int((std::bit_cast<std::uint32_t>(x) >> 23) & 0xffu) - 127;
+}
+} // namespace
 
 CullVisitor::CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* plan)
     : NodeVisitor(Mode::ActiveChildren)
@@ -29,6 +42,7 @@ CullVisitor::CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* pl
     , viewFrustum_(Frustum::fromMatrix(camera.projectionMatrix))
     , culling_(camera.cullingEnabled) {
     modelView_.push_back(view_);
+    scale_.push_back(maxAxisScale(view_));
     model_.push_back(glm::mat4(1.0f));
     queue_.states.push_back(ResolvedState::defaults());
     state_.push_back(&queue_.states.back());
@@ -42,7 +56,15 @@ void CullVisitor::run(Camera& camera) {
     popState(camera);
 }
 
-bool CullVisitor::cullTest(const Node& n) {
+BoundingSphere CullVisitor::toView(const BoundingSphere& local) const {
+    if (!local.valid()) return local;
+    BoundingSphere out;
+    out.center = glm::vec3(modelView_.back() * glm::vec4(local.center, 1.0f));
+    out.radius = local.radius * scale_.back();
+    return out;
+}
+
+bool CullVisitor::cullTest(const Node& n, BoundingSphere* viewBound) {
     const std::uint8_t mask = planeMask_.back();
     if (mask == 0) {
         planeMask_.push_back(0);
@@ -57,7 +79,8 @@ bool CullVisitor::cullTest(const Node& n) {
         ++culledNodes;
         return false;
     }
-    const BoundingSphere s = local.transformed(modelView_.back());
+    const BoundingSphere s = toView(local);
+    if (viewBound) *viewBound = s;
     std::uint8_t out = mask;
     for (int i = 0; i < 6; ++i) {
         if (!(mask & (1u << i))) continue;
@@ -73,9 +96,17 @@ bool CullVisitor::cullTest(const Node& n) {
 }
 
 void CullVisitor::pushState(const Node& n) {
-    if (!n.stateSet()) return;
-    queue_.states.push_back(state_.back()->merged(*n.stateSet()));
-    state_.push_back(&queue_.states.back());
+    const StateSet* set = n.stateSet().get();
+    if (!set) return;
+    const ResolvedState* inherited = state_.back();
+    const auto key = (reinterpret_cast<std::uintptr_t>(inherited) >> 4) * 31u +
+                     (reinterpret_cast<std::uintptr_t>(set) >> 4);
+    MergedState& slot = mergedStates_[key % mergedStates_.size()];
+    if (slot.inherited != inherited || slot.set != set) {
+        queue_.states.push_back(inherited->merged(*set));
+        slot = {inherited, set, &queue_.states.back()};
+    }
+    state_.push_back(slot.merged);
 }
 
 void CullVisitor::popState(const Node& n) {
@@ -98,7 +129,9 @@ void CullVisitor::apply(Transform& t) {
     if (!cullTest(t)) return;
     model_.push_back(model_.back() * t.matrix());
     modelView_.push_back(view_ * model_.back());
+    scale_.push_back(maxAxisScale(modelView_.back()));
     traverseWithState(t);
+    scale_.pop_back();
     modelView_.pop_back();
     model_.pop_back();
     planeMask_.pop_back();
@@ -109,7 +142,7 @@ void CullVisitor::apply(LOD& lod) {
     const BoundingSphere local = lod.selectionSphere();
     float pixels = 0.0f;
     if (local.valid()) {
-        const BoundingSphere s = local.transformed(modelView_.back());
+        const BoundingSphere s = toView(local);
         pixels = pixelSize(s.center, s.radius, projection_, viewportHeight_);
     }
     if (mode != Mode::None) {
@@ -186,22 +219,26 @@ void CullVisitor::apply(EffectNode& e) {
 }
 
 void CullVisitor::apply(Geometry& g) {
-    if (!cullTest(g)) return;
+    BoundingSphere viewBound;
+    if (!cullTest(g, &viewBound)) return;
     planeMask_.pop_back();
     if (g.positions.empty()) return;
     pushState(g);
     const ResolvedState* state = state_.back();
-    RenderItem item;
-    item.geometry = &g;
-    const bool transparent = state->transparent();
     const ShaderProgram* foreign = state->program.value ? state->program.value->get() : nullptr;
-    item.features = foreign ? ShaderComposer::blendFeatures(transparent, state->blendMode()) |
+    // The features follow from (state, geometry) alone: instanced leaves ask for the same pair.
+    if (state != featuresState_ || &g != featuresGeometry_) {
+        const bool transparent = state->transparent();
+        features_ = foreign ? ShaderComposer::blendFeatures(transparent, state->blendMode()) |
                                   (transparent ? std::uint32_t(FeatureBlend) : 0u)
                             : ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent,
                                                           state->blendMode());
+        featuresState_ = state;
+        featuresGeometry_ = &g;
+    }
     const bool triangles = g.mode == PrimitiveMode::Triangles || g.mode == PrimitiveMode::TriangleStrip ||
                            g.mode == PrimitiveMode::TriangleFan;
-    queueItem(item, *state, g.bound().transformed(modelView_.back()),
+    queueItem(&g, nullptr, features_, *state, viewBound.valid() ? viewBound : toView(g.bound()),
               reinterpret_cast<std::uintptr_t>(foreign), triangles);
     popState(g);
 }
@@ -241,34 +278,42 @@ void CullVisitor::apply(Drawable& d) {
     pushState(d);
     const ResolvedState* state = state_.back();
     const bool transparent = state->transparent();
-    RenderItem item;
-    item.drawable = &d;
-    item.features = d.features(*state) | ShaderComposer::blendFeatures(transparent, state->blendMode()) |
-                    (transparent ? std::uint32_t(FeatureBlend) : 0u);
+    const std::uint32_t features = d.features(*state) |
+                                   ShaderComposer::blendFeatures(transparent, state->blendMode()) |
+                                   (transparent ? std::uint32_t(FeatureBlend) : 0u);
     if (plan_ && plannedDrawables_.insert(&d).second) d.planFrame(*plan_);
     // Tagged so a drawable's base shader never shares a key with a foreign program.
-    queueItem(item, *state, vs, reinterpret_cast<std::uintptr_t>(&d.baseShader()) | 1u, false);
+    queueItem(nullptr, &d, features, *state, vs, reinterpret_cast<std::uintptr_t>(&d.baseShader()) | 1u,
+              false);
     popState(d);
 }
 
-void CullVisitor::queueItem(RenderItem item, const ResolvedState& state, const BoundingSphere& vs,
-                            std::uintptr_t program, bool twoPassable) {
-    item.model = model_.back();
-    item.state = &state;
-    item.effectSet = effectSet_.back();
-    item.depth = -vs.center.z;
-    item.depthBucket = item.depth > 1.0f ? std::int8_t(std::min(std::ilogb(item.depth), 127)) : 0;
-    item.sequence = sequence_++;
-    // Equal keys mean one program: (foreign shader, drawable base or built-in variant, snippets).
-    item.programKey = (std::uint64_t(program) << 8) ^
-                      (std::uint64_t(queue_.effectSets[item.effectSet].signature) << 44) ^
-                      (std::uint64_t(item.features) << 32);
-    computedNear = std::min(computedNear, item.depth - vs.radius);
-    computedFar = std::max(computedFar, item.depth + vs.radius);
+void CullVisitor::queueItem(const Geometry* geometry, const Drawable* drawable, std::uint32_t features,
+                            const ResolvedState& state, const BoundingSphere& vs, std::uintptr_t program,
+                            bool twoPassable) {
+    auto fill = [&](RenderItem& item) {
+        item.geometry = geometry;
+        item.drawable = drawable;
+        item.features = features;
+        item.model = model_.back();
+        item.state = &state;
+        item.effectSet = effectSet_.back();
+        item.depth = -vs.center.z;
+        item.depthBucket = item.depth > 1.0f ? std::int8_t(std::min(exponentOf(item.depth), 127)) : 0;
+        item.sequence = sequence_++;
+        // Equal keys mean one program: (foreign shader, drawable base or built-in variant, snippets).
+        item.programKey = (std::uint64_t(program) << 8) ^
+                          (std::uint64_t(queue_.effectSets[item.effectSet].signature) << 44) ^
+                          (std::uint64_t(item.features) << 32);
+        computedNear = std::min(computedNear, item.depth - vs.radius);
+        computedFar = std::max(computedFar, item.depth + vs.radius);
+    };
     if (!state.transparent()) {
-        queue_.opaque.push_back(item);
+        fill(queue_.opaque.emplace_back()); // written once, straight into the queue
         return;
     }
+    RenderItem item;
+    fill(item);
     const BlendMode blend = state.blendMode();
     const auto& effects = queue_.effectSets[item.effectSet].effects;
     if (std::any_of(effects.begin(), effects.end(),

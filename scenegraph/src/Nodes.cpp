@@ -36,24 +36,16 @@ StateSet& Node::getOrCreateStateSet() {
     return *stateSet_;
 }
 
-const BoundingSphere& Node::bound() const {
-    if (boundDirty_) {
-        bound_ = computeBound();
-        cullingDisabledBelow_ = computeCullingDisabledBelow();
-        boundDirty_ = false;
-    }
-    return bound_;
+void Node::updateBound() const {
+    bound_ = computeBound();
+    cullingDisabledBelow_ = computeCullingDisabledBelow();
+    boundDirty_ = false;
 }
 
 void Node::setCullingActive(bool active) {
     cullingActive_ = active;
     boundDirty_ = false; // force the notification up the parents
     dirtyBound();
-}
-
-bool Node::cullingDisabledInSubtree() const {
-    bound();
-    return !cullingActive_ || cullingDisabledBelow_;
 }
 
 void Node::dirtyBound() {

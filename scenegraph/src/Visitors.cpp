@@ -38,17 +38,6 @@ void NodeVisitor::apply(EffectNode& e) {
     apply(static_cast<Group&>(e));
 }
 
-bool NodeVisitor::accepts(const Node& node) const {
-    return mode != Mode::ActiveChildren || (node.nodeMask & traversalMask) != 0;
-}
-
-void NodeVisitor::traverse(Node& node) {
-    if (mode == Mode::None) return;
-    nodePath.push_back(&node);
-    node.traverse(*this);
-    nodePath.pop_back();
-}
-
 // ---------------------------------------------------------------- UpdateVisitor
 void UpdateVisitor::apply(Node& node) {
     nodePath.push_back(&node);

@@ -3,6 +3,7 @@
 #include "sgfx/NodeVisitor.h"
 #include "sgfx/RenderQueue.h"
 
+#include <array>
 #include <unordered_set>
 
 namespace sgfx {
@@ -36,14 +37,18 @@ public:
     std::size_t rejectedLights = 0; // non-finite or negative colour, zero direction
 
 private:
-    // Returns false when the node's bound is outside the frustum; narrows the plane mask.
-    bool cullTest(const Node& n);
+    // Returns false when the node's bound is outside the frustum; narrows the plane mask. Sets
+    // *viewBound to the view-space bound when it had to compute it (else leaves it invalid).
+    bool cullTest(const Node& n, BoundingSphere* viewBound = nullptr);
+    // local.transformed(modelView_.back()), with the matrix's scale taken from scale_.
+    BoundingSphere toView(const BoundingSphere& local) const;
     void pushState(const Node& n);
     void popState(const Node& n);
     void traverseWithState(Node& n);
     // Fills the item's common fields and puts it in the opaque, claimed or transparent list.
-    void queueItem(RenderItem item, const ResolvedState& state, const BoundingSphere& viewBound,
-                   std::uintptr_t program, bool twoPassable);
+    void queueItem(const Geometry* geometry, const Drawable* drawable, std::uint32_t features,
+                   const ResolvedState& state, const BoundingSphere& viewBound, std::uintptr_t program,
+                   bool twoPassable);
 
     RenderQueue& queue_;
     FramePlan* plan_;
@@ -53,6 +58,7 @@ private:
     Frustum viewFrustum_; // in view space
     bool culling_;
     std::vector<glm::mat4> modelView_;
+    std::vector<float> scale_; // largest axis scale of each modelView_ entry, computed once
     std::vector<glm::mat4> model_;
     std::vector<const ResolvedState*> state_;
     std::vector<const EffectNode*> effects_;
@@ -60,6 +66,19 @@ private:
     std::vector<std::uint8_t> planeMask_;
     std::unordered_set<const EffectNode*> planned_;
     std::unordered_set<const Drawable*> plannedDrawables_;
+    // This frame's merges by (inherited state, StateSet), direct-mapped: nodes that share a
+    // StateSet under the same state (instanced leaves) share one ResolvedState instead of each
+    // copying one into the queue. Stable within a cull: nothing edits StateSets during it.
+    struct MergedState {
+        const ResolvedState* inherited = nullptr;
+        const StateSet* set = nullptr;
+        const ResolvedState* merged = nullptr;
+    };
+    std::array<MergedState, 64> mergedStates_{};
+    // The last Geometry's material features and what they were computed from.
+    const ResolvedState* featuresState_ = nullptr;
+    const Geometry* featuresGeometry_ = nullptr;
+    std::uint32_t features_ = 0;
     std::uint32_t sequence_ = 0;
 };
 

@@ -40,7 +40,10 @@ public:
     StateSet& getOrCreateStateSet();
 
     // Bounding sphere in the node's parent frame; recomputed lazily after dirtyBound().
-    const BoundingSphere& bound() const;
+    const BoundingSphere& bound() const {
+        if (boundDirty_) updateBound(); // inline: culling asks every node for its bound
+        return bound_;
+    }
     void dirtyBound();
 
     // OSG's cull-active flag: off, view-frustum culling never rejects this node or any of its
@@ -49,7 +52,10 @@ public:
     void setCullingActive(bool active);
     bool cullingActive() const { return cullingActive_; }
     // True when this node or a descendant has culling switched off.
-    bool cullingDisabledInSubtree() const;
+    bool cullingDisabledInSubtree() const {
+        bound();
+        return !cullingActive_ || cullingDisabledBelow_;
+    }
 
     const std::vector<Group*>& parents() const { return parents_; }
 
@@ -59,6 +65,7 @@ protected:
 
 private:
     friend class Group;
+    void updateBound() const;
     std::shared_ptr<StateSet> stateSet_;
     std::vector<Group*> parents_;
     mutable BoundingSphere bound_;

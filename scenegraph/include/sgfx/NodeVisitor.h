@@ -1,4 +1,6 @@
 #pragma once
+#include "sgfx/Node.h"
+
 #include <cstdint>
 #include <vector>
 
@@ -36,9 +38,17 @@ public:
     virtual void apply(Light& light);
     virtual void apply(EffectNode& effect);
 
-    void traverse(Node& node);
+    // Inline, like accepts: called for every node of every traversal.
+    void traverse(Node& node) {
+        if (mode == Mode::None) return;
+        nodePath.push_back(&node);
+        node.traverse(*this);
+        nodePath.pop_back();
+    }
     // A node is visited if (node.nodeMask & traversalMask) != 0 (ActiveChildren mode only).
-    bool accepts(const Node& node) const;
+    bool accepts(const Node& node) const {
+        return mode != Mode::ActiveChildren || (node.nodeMask & traversalMask) != 0;
+    }
 
     Mode mode;
     NodeMask traversalMask = ~NodeMask{0};

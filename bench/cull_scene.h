@@ -1,0 +1,146 @@
+#pragma once
+// The cull-traversal scene shared by the sgfx side (cull_bench, sgfx_cull) and the OpenSceneGraph
+// peer (osg_cull), so both cull exactly the same graph from exactly the same camera. Plain C++ on
+// purpose: no sgfx or OSG types, each side builds its own nodes through the callbacks below.
+//
+// Scene: N leaves on an nx × ny × nz grid (Z up), each a small box under its own translation
+// Transform; above them a balanced tree of Groups with fan-out 8 over the leaves in Morton order
+// (so each Group holds a compact block of space).
+// Camera: looks along +x+y from -y, yawed so the frustum's left plane runs between the two middle
+// x columns: exactly the nx/2 far columns are in view (half the leaves when nx is even), and the
+// other planes hold all of them, with each box >= 2 px in radius (so OSG's default small-feature
+// culling drops none).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace cullscene {
+
+constexpr float kBoxSize = 1.2f; // full edge; bounding-sphere radius = kBoxSize * sqrt(3) / 2
+constexpr float kSpacing = 1.5f; // distance between neighbouring box centres
+constexpr int kWidth = 1920, kHeight = 1080;
+constexpr float kPi = 3.14159265358979f;
+
+struct Dims {
+    int nx, ny, nz;
+    long count() const { return long(nx) * ny * nz; }
+};
+
+// The three sizes of the issue exactly (nx even), anything else roughly cubic.
+inline Dims dims(long n) {
+    if (n == 10000) return {20, 25, 20};
+    if (n == 100000) return {50, 40, 50};
+    if (n == 1000000) return {100, 100, 100};
+    int nx = std::max(2, 2 * int(std::lround(std::cbrt(double(n)) / 2)));
+    const int ny = std::max(1, int(std::lround(std::sqrt(double(n) / nx))));
+    const int nz = std::max(1, int((n + long(nx) * ny - 1) / (long(nx) * ny)));
+    return {nx, ny, nz};
+}
+
+inline float boxRadius() {
+    return kBoxSize * std::sqrt(3.0f) * 0.5f;
+}
+
+// Centre of cell (i, j, k).
+inline void cellCenter(int i, int j, int k, float out[3]) {
+    out[0] = float(i) * kSpacing;
+    out[1] = float(j) * kSpacing;
+    out[2] = float(k) * kSpacing;
+}
+
+struct View {
+    float eye[3], center[3], up[3];
+    float fovyDegrees, aspect, zNear, zFar;
+    int width, height;
+};
+
+inline View view(const Dims& d) {
+    const float r = boxRadius();
+    // Left plane: just outside the spheres of column nx/2 - 1, so that column is culled and
+    // column nx/2 (its centre kSpacing - r - 0.05 inside) is kept.
+    const float xm = float(d.nx / 2 - 1) * kSpacing + r + 0.05f;
+    const float zc = float(d.nz - 1) * kSpacing * 0.5f;
+    const float hz = zc + r; // half height of the grid, spheres included
+    // 45° horizontal half-angle, so yawing by 45° puts the left plane on x = xm and the right
+    // plane on y = eye.y. tan(vertical half-angle) = 1 / aspect.
+    const float aspect = float(kWidth) / float(kHeight);
+    const float tanV = 1.0f / aspect;
+    const float s = std::sqrt(0.5f);
+    // Nearest depth of any kept sphere is s * D; the grid's height must fit there.
+    const float dist = 1.1f * hz / (s * tanV) + 2.0f;
+    View v{};
+    v.eye[0] = xm;
+    v.eye[1] = -dist;
+    v.eye[2] = zc;
+    v.center[0] = xm + s;
+    v.center[1] = -dist + s;
+    v.center[2] = zc;
+    v.up[0] = 0, v.up[1] = 0, v.up[2] = 1;
+    v.fovyDegrees = 2.0f * std::atan(tanV) * 180.0f / kPi;
+    v.aspect = aspect;
+    v.zNear = 1.0f;
+    const float farX = float(d.nx - 1) * kSpacing - xm, farY = float(d.ny - 1) * kSpacing + dist;
+    v.zFar = 1.1f * (s * (farX + farY) + r) + 10.0f;
+    v.width = kWidth;
+    v.height = kHeight;
+    return v;
+}
+
+// Morton code of a cell: neighbours in space are neighbours in the code.
+inline unsigned long long morton(int i, int j, int k) {
+    unsigned long long code = 0;
+    for (int b = 0; b < 21; ++b)
+        code |= (((unsigned long long)(i >> b) & 1u) << (3 * b)) |
+                (((unsigned long long)(j >> b) & 1u) << (3 * b + 1)) |
+                (((unsigned long long)(k >> b) & 1u) << (3 * b + 2));
+    return code;
+}
+
+// Builds the tree bottom-up: the leaves in Morton order, packed 8 to a Group, those Groups 8 to
+// a Group, and so on up to one root (fan-out 8 everywhere but the last Group of each level).
+// makeLeaf(i, j, k) returns the leaf Transform of a cell, makeGroup(std::vector<NodeT>&&) a
+// Group holding the given children.
+template <class NodeT, class MakeGroup, class MakeLeaf>
+NodeT build(const Dims& d, MakeGroup&& makeGroup, MakeLeaf&& makeLeaf) {
+    struct Cell {
+        unsigned long long code;
+        int i, j, k;
+    };
+    std::vector<Cell> cells;
+    cells.reserve(std::size_t(d.count()));
+    for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+            for (int i = 0; i < d.nx; ++i)
+                cells.push_back({morton(i, j, k), i, j, k});
+    std::sort(cells.begin(), cells.end(), [](const Cell& a, const Cell& b) { return a.code < b.code; });
+    std::vector<NodeT> level;
+    level.reserve(cells.size());
+    for (const Cell& c : cells)
+        level.push_back(makeLeaf(c.i, c.j, c.k));
+    do {
+        std::vector<NodeT> up;
+        up.reserve(level.size() / 8 + 1);
+        for (std::size_t b = 0; b < level.size(); b += 8) {
+            std::vector<NodeT> children;
+            for (std::size_t c = b; c < std::min(level.size(), b + 8); ++c)
+                children.push_back(std::move(level[c]));
+            up.push_back(makeGroup(std::move(children)));
+        }
+        level = std::move(up);
+    } while (level.size() > 1);
+    return std::move(level.front());
+}
+
+// Frames to time at a size: about 3·10^6 leaf visits, at least 7.
+inline int defaultFrames(long n) {
+    return int(std::clamp(3000000L / std::max(1L, n), 7L, 300L));
+}
+
+// Median of a sample (sorted in place).
+inline double median(std::vector<double>& v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t m = v.size() / 2;
+    return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+} // namespace cullscene
