@@ -14,6 +14,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <deque>
 #include <string>
 
 using namespace sgfx;
@@ -437,6 +439,48 @@ TEST(Queue, OpaqueSortedByDistanceOctaveProgramMaterialThenFrontToBack) {
     for (auto& it : q.opaque)
         if (it.state->material.value->get() == m1.get() && !it.program()) m1run += it.geometry->name + " ";
     EXPECT_EQ(m1run, "m1near m1mid m1far m1veryfar ");
+}
+
+TEST(Queue, PackedOpaqueSortEqualsTheComparisonOrder) {
+    // The radix sort on packed (octave, program rank, material rank, depth) keys gives exactly
+    // the order of the item comparison, also past 4096 distinct materials (its fallback), with
+    // ties (equal depths, -0 and +0) in cull order.
+    for (const int materials : {7, 5000}) {
+        SCOPED_TRACE(materials);
+        std::vector<std::shared_ptr<Material>> mats;
+        std::deque<ResolvedState> states;
+        for (int i = 0; i < materials; ++i) {
+            mats.push_back(Material::create());
+            states.push_back(ResolvedState::defaults());
+            states.back().material.set(mats.back());
+        }
+        RenderQueue q;
+        std::uint32_t seed = 12345;
+        auto next = [&seed] { return seed = seed * 1664525u + 1013904223u; };
+        for (std::uint32_t i = 0; i < 20000; ++i) {
+            RenderItem it;
+            it.state = &states[next() % std::uint32_t(materials)];
+            it.programKey = (next() % 5) * 0x9e3779b97f4a7c15ull;
+            const float depths[] = {0.5f, 1.0f, -0.0f, 0.0f, 3.0f, 3.0f, 1000.0f};
+            it.depth = next() % 4 == 0 ? depths[next() % 7] : float(next() % 100000) * 0.01f;
+            it.depthBucket = it.depth > 1.0f ? std::int8_t(std::ilogb(it.depth)) : 0;
+            it.sequence = i;
+            q.opaque.push_back(it);
+        }
+        std::vector<RenderItem> expected = q.opaque;
+        std::stable_sort(expected.begin(), expected.end(), [](const RenderItem& a, const RenderItem& b) {
+            if (a.depthBucket != b.depthBucket) return a.depthBucket < b.depthBucket;
+            if (a.programKey != b.programKey) return a.programKey < b.programKey;
+            const Material* ma = a.state->material.value->get();
+            const Material* mb = b.state->material.value->get();
+            if (ma != mb) return ma < mb;
+            return a.depth < b.depth;
+        });
+        q.sort();
+        ASSERT_EQ(q.opaque.size(), expected.size());
+        for (std::size_t i = 0; i < expected.size(); ++i)
+            ASSERT_EQ(q.opaque[i].sequence, expected[i].sequence) << i;
+    }
 }
 
 TEST(Queue, TransparentBackToFrontAndStable) {

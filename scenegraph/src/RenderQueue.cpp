@@ -49,19 +49,91 @@ std::uint32_t RenderQueue::internEffectSet(std::vector<const EffectNode*> effect
     return std::uint32_t(effectSets.size() - 1);
 }
 
+void RenderQueue::radixSort(std::vector<SortKey>& keys) {
+    // Stable LSD radix sort on the 64-bit primary key, 11 bits a pass; passes whose digit is the
+    // same for every key are skipped.
+    constexpr int kBits = 11;
+    constexpr std::uint32_t kMask = (1u << kBits) - 1;
+    const std::size_t n = keys.size();
+    sortScratchKeys_.resize(n);
+    for (int shift = 0; shift < 64; shift += kBits) {
+        std::uint32_t count[1u << kBits] = {};
+        for (const SortKey& k : keys)
+            ++count[(k.primary >> shift) & kMask];
+        if (n == 0 || count[(keys[0].primary >> shift) & kMask] == n) continue; // one digit
+        std::uint32_t sum = 0;
+        for (std::uint32_t& c : count)
+            sum += std::exchange(c, sum);
+        for (const SortKey& k : keys)
+            sortScratchKeys_[count[(k.primary >> shift) & kMask]++] = k;
+        keys.swap(sortScratchKeys_);
+    }
+}
+
 void RenderQueue::sort() {
     // Opaque: near to far by octave of distance (software rasterizers pay for every covered
     // fragment, GPUs for every one that passes), then fewest program and material switches
     // within an octave, then front to back.
-    std::sort(opaque.begin(), opaque.end(), [](const RenderItem& a, const RenderItem& b) {
-        if (a.depthBucket != b.depthBucket) return a.depthBucket < b.depthBucket;
-        if (a.programKey != b.programKey) return a.programKey < b.programKey;
-        const Material* ma = a.state->material.value ? a.state->material.value->get() : nullptr;
-        const Material* mb = b.state->material.value ? b.state->material.value->get() : nullptr;
-        if (ma != mb) return ma < mb;
-        if (a.depth != b.depth) return a.depth < b.depth;
-        return a.sequence < b.sequence;
-    });
+    // Items are 128 bytes and arrive in cull order (sequence order): rank the programs and
+    // materials, pack (bucket, program rank, material rank, depth) into one 64-bit key and radix
+    // sort it stably (ties keep cull order), then move each item once. Over 4096 distinct
+    // programs or materials in a view, fall back to comparing items.
+    const std::size_t no = opaque.size();
+    auto materialOf = [](const RenderItem& it) {
+        return reinterpret_cast<std::uintptr_t>(it.state->material.value ? it.state->material.value->get()
+                                                                         : nullptr);
+    };
+    // Rank = position among the distinct values, so ranks order as the values do. Neighbours in
+    // cull order mostly share them: look up only where the value changes.
+    auto ranks = [no, &distinct = rankScratch_](auto value, std::vector<std::uint64_t>& ids) {
+        ids.resize(no);
+        distinct.clear();
+        for (std::size_t i = 0; i < no; ++i) {
+            ids[i] = value(i);
+            if (i == 0 || ids[i] != ids[i - 1]) distinct.push_back(ids[i]);
+        }
+        std::sort(distinct.begin(), distinct.end());
+        distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+        if (distinct.size() > 4096) return false;
+        std::uint64_t previous = 0, rank = 0;
+        for (std::size_t i = 0; i < no; ++i) {
+            if (i == 0 || ids[i] != previous) {
+                previous = ids[i];
+                rank = std::uint64_t(std::lower_bound(distinct.begin(), distinct.end(), previous) -
+                                     distinct.begin());
+            }
+            ids[i] = rank;
+        }
+        return true;
+    };
+    const bool packed =
+        ranks([&](std::size_t i) { return opaque[i].programKey; }, programRanks_) &&
+        ranks([&](std::size_t i) { return std::uint64_t(materialOf(opaque[i])); }, materialRanks_);
+    if (packed) {
+        sortKeys_.resize(no);
+        for (std::size_t i = 0; i < no; ++i) {
+            const RenderItem& it = opaque[i];
+            std::uint32_t d = std::bit_cast<std::uint32_t>(it.depth + 0.0f);
+            d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u; // monotone in depth
+            const std::uint64_t high = (std::uint64_t(std::uint8_t(it.depthBucket ^ 0x80)) << 24) |
+                                       (programRanks_[i] << 12) | materialRanks_[i];
+            sortKeys_[i] = {(high << 32) | d, std::uint32_t(i)};
+        }
+        radixSort(sortKeys_);
+        sortScratch_.clear();
+        sortScratch_.reserve(no);
+        for (const SortKey& k : sortKeys_)
+            sortScratch_.push_back(opaque[k.index]);
+        opaque.swap(sortScratch_);
+    } else {
+        std::sort(opaque.begin(), opaque.end(), [&](const RenderItem& a, const RenderItem& b) {
+            if (a.depthBucket != b.depthBucket) return a.depthBucket < b.depthBucket;
+            if (a.programKey != b.programKey) return a.programKey < b.programKey;
+            if (materialOf(a) != materialOf(b)) return materialOf(a) < materialOf(b);
+            if (a.depth != b.depth) return a.depth < b.depth;
+            return a.sequence < b.sequence;
+        });
+    }
     // Transparent: explicit order first, then back to front; equal depths keep cull order (a
     // total order, so nothing flickers and the two faces of a double-sided item stay together).
     // Items are large (a matrix each) and arrive in cull order: a stable LSD radix sort of
@@ -74,22 +146,7 @@ void RenderQueue::sort() {
         d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u;              // monotone in depth
         sortKeys_[i] = {(std::uint64_t(std::uint32_t(it.order) ^ 0x80000000u) << 32) | ~d, std::uint32_t(i)};
     }
-    constexpr int kBits = 11;
-    constexpr std::uint32_t kMask = (1u << kBits) - 1;
-    sortScratchKeys_.resize(n);
-    for (int shift = 0; shift < 64; shift += kBits) {
-        std::uint32_t count[1u << kBits] = {};
-        for (const SortKey& k : sortKeys_)
-            ++count[(k.primary >> shift) & kMask];
-        if (count[(sortKeys_.empty() ? 0 : sortKeys_[0].primary >> shift) & kMask] == n)
-            continue; // one digit
-        std::uint32_t sum = 0;
-        for (std::uint32_t& c : count)
-            sum += std::exchange(c, sum);
-        for (const SortKey& k : sortKeys_)
-            sortScratchKeys_[count[(k.primary >> shift) & kMask]++] = k;
-        sortKeys_.swap(sortScratchKeys_);
-    }
+    radixSort(sortKeys_);
     sortScratch_.clear();
     sortScratch_.reserve(n);
     for (const SortKey& k : sortKeys_)

@@ -76,6 +76,8 @@ private:
         std::uint32_t index;
     };
     std::vector<SortKey> sortKeys_, sortScratchKeys_;
+    std::vector<std::uint64_t> programRanks_, materialRanks_, rankScratch_;
+    void radixSort(std::vector<SortKey>& keys);
     std::vector<RenderItem> sortScratch_;
 };
 
