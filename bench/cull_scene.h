@@ -12,6 +12,9 @@
 // culling drops none).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <vector>
 
 namespace cullscene {
@@ -137,6 +140,39 @@ inline int defaultFrames(long n) {
 }
 
 // Median of a sample (sorted in place).
+// The command line both sides take: --n N, --frames F, --no-memory, and (OSG only) --no-geode.
+struct Args {
+    long n = 10000;
+    int frames = 0; // 0: defaultFrames(n)
+    bool memory = true, geode = true;
+};
+// Returns false (after printing the usage) for an unknown option or a bad number.
+inline bool parseArgs(int argc, char** argv, const char* program, bool geodeOption, Args& a) {
+    for (int i = 1; i < argc; ++i) {
+        char* end = nullptr;
+        if (!std::strcmp(argv[i], "--n") && i + 1 < argc) {
+            a.n = std::strtol(argv[++i], &end, 10);
+            if (*end || a.n < 1) a.n = -1;
+        } else if (!std::strcmp(argv[i], "--frames") && i + 1 < argc) {
+            a.frames = int(std::strtol(argv[++i], &end, 10));
+            if (*end || a.frames < 0) a.n = -1;
+        } else if (!std::strcmp(argv[i], "--no-memory")) {
+            a.memory = false;
+        } else if (geodeOption && !std::strcmp(argv[i], "--no-geode")) {
+            a.geode = false;
+        } else {
+            a.n = -1;
+        }
+        if (a.n < 0) {
+            std::fprintf(stderr, "usage: %s [--n N] [--frames F] [--no-memory]%s\n", program,
+                         geodeOption ? " [--no-geode]" : "");
+            return false;
+        }
+    }
+    if (a.frames == 0) a.frames = defaultFrames(a.n);
+    return true;
+}
+
 inline double median(std::vector<double>& v) {
     std::sort(v.begin(), v.end());
     const std::size_t m = v.size() / 2;

@@ -105,24 +105,12 @@ std::size_t countLeaves(const osgUtil::StateGraph& sg) {
 } // namespace
 
 int main(int argc, char** argv) {
-    long n = 10000;
-    int frames = 0;
-    bool memory = true, geode = true;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--n") && i + 1 < argc)
-            n = std::stol(argv[++i]);
-        else if (!std::strcmp(argv[i], "--frames") && i + 1 < argc)
-            frames = std::stoi(argv[++i]);
-        else if (!std::strcmp(argv[i], "--no-memory"))
-            memory = false;
-        else if (!std::strcmp(argv[i], "--no-geode"))
-            geode = false;
-        else {
-            std::fprintf(stderr, "usage: osg_cull [--n N] [--frames F] [--no-memory] [--no-geode]\n");
-            return 2;
-        }
-    }
-    if (frames <= 0) frames = cullscene::defaultFrames(n);
+    cullscene::Args args;
+    if (!cullscene::parseArgs(argc, argv, "osg_cull", true, args)) return 2;
+    const long n = args.n;
+    const int frames = args.frames;
+    const bool memory = args.memory;
+    const bool geode = args.geode;
 
     osg::ref_ptr<osg::Geometry> box = makeBox();
     osg::ref_ptr<osg::Node> leaf = box;

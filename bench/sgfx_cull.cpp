@@ -17,22 +17,11 @@
 #include <string>
 
 int main(int argc, char** argv) {
-    long n = 10000;
-    int frames = 0;
-    bool memory = true;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--n") && i + 1 < argc)
-            n = std::stol(argv[++i]);
-        else if (!std::strcmp(argv[i], "--frames") && i + 1 < argc)
-            frames = std::stoi(argv[++i]);
-        else if (!std::strcmp(argv[i], "--no-memory"))
-            memory = false;
-        else {
-            std::fprintf(stderr, "usage: sgfx_cull [--n N] [--frames F] [--no-memory]\n");
-            return 2;
-        }
-    }
-    if (frames <= 0) frames = cullscene::defaultFrames(n);
+    cullscene::Args args;
+    if (!cullscene::parseArgs(argc, argv, "sgfx_cull", false, args)) return 2;
+    const long n = args.n;
+    const int frames = args.frames;
+    const bool memory = args.memory;
 
     cullscene::NodeBytes nodeBytes;
     if (memory) nodeBytes = cullscene::measureSgfxNodes();
