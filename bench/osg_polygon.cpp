@@ -22,15 +22,17 @@
 // draws nothing. If a different link line ever puts libGL first, LD_PRELOAD=libOSMesa.so.8 fixes it.
 #include <GL/osmesa.h>
 
+#include <osg/AlphaFunc>
 #include <osg/CullFace>
+#include <osg/Fog>
 #include <osg/GLExtensions>
 #include <osg/Geode>
 #include <osg/Geometry>
-#include <osg/Fog>
 #include <osg/Light>
 #include <osg/LightModel>
 #include <osg/Material>
 #include <osg/NodeVisitor>
+#include <osg/Texture2D>
 #include <osg/TriangleFunctor>
 #include <osgDB/ReadFile>
 #include <osgUtil/Optimizer>
@@ -184,7 +186,7 @@ public:
     }
 
     std::size_t drawables = 0, triangles = 0, vertices = 0, primitiveSets = 0, materials = 0;
-    std::size_t transparentMaterials = 0;
+    std::size_t transparentMaterials = 0, maskedMaterials = 0;
 
 private:
     void fixMaterial(osg::StateSet* ss) {
@@ -195,9 +197,22 @@ private:
             const float ns = m->getShininess(osg::Material::FRONT) * 1000.0f / 128.0f;
             m->setShininess(osg::Material::FRONT_AND_BACK, std::clamp(ns, 0.0f, 128.0f));
         }
+        // Alpha-masked materials (sgfx's leaf cards) come as an RGBA map_Kd: cut them out at
+        // sgfx's alpha cutoff (0.5) with the fixed-function alpha test, both faces drawn.
+        auto* tex = dynamic_cast<osg::Texture2D*>(ss->getTextureAttribute(0, osg::StateAttribute::TEXTURE));
+        if (tex && tex->getImage() && tex->getImage()->isImageTranslucent() &&
+            masked_.insert({ss, true}).second) {
+            ss->setAttributeAndModes(new osg::AlphaFunc(osg::AlphaFunc::GEQUAL, 0.5f),
+                                     osg::StateAttribute::ON);
+            ss->setMode(GL_CULL_FACE, osg::StateAttribute::OFF);
+            // The plugin sends translucent maps to the blended bin: a cut-out is opaque.
+            ss->setMode(GL_BLEND, osg::StateAttribute::OFF);
+            ss->setRenderingHint(osg::StateSet::OPAQUE_BIN);
+            ++maskedMaterials;
+        }
         // The plugin puts materials with d < 1 in the blended transparent bin; sgfx's glass is
         // drawn without face culling, so do the same here.
-        if (ss->getRenderingHint() == osg::StateSet::TRANSPARENT_BIN &&
+        if (ss->getRenderingHint() == osg::StateSet::TRANSPARENT_BIN && !masked_.count(ss) &&
             transparent_.insert({ss, true}).second) {
             ss->setAttributeAndModes(new osg::CullFace(osg::CullFace::BACK),
                                      osg::StateAttribute::OFF | osg::StateAttribute::OVERRIDE);
@@ -206,7 +221,7 @@ private:
     }
     bool fix_;
     std::map<osg::Material*, bool> fixed_;
-    std::map<osg::StateSet*, bool> transparent_;
+    std::map<osg::StateSet*, bool> transparent_, masked_;
 };
 
 // GL entry points OSG uses on this path (fixed function + VBOs), checked before anything is drawn.
@@ -291,9 +306,9 @@ int main(int argc, char** argv) {
     model->accept(before);
     std::printf(
         "loaded %s in %.0f ms: %zu drawables, %zu triangles, %zu vertices, %zu primitive sets, %zu materials "
-        "(%zu blended)\n",
+        "(%zu blended, %zu alpha-tested)\n",
         opt.file.c_str(), loadMs, before.drawables, before.triangles, before.vertices, before.primitiveSets,
-        before.materials, before.transparentMaterials);
+        before.materials, before.transparentMaterials, before.maskedMaterials);
     if (opt.optimize) {
         const auto to0 = clock::now();
         osgUtil::Optimizer optimizer;
@@ -433,8 +448,11 @@ int main(int argc, char** argv) {
         std::printf("OSG camera stats (mean over %d frames): cull %.3f ms, draw dispatch %.3f ms (CPU, "
                     "before glFinish)\n",
                     timeFrames, cullSum / timeFrames, drawSum / timeFrames);
-    std::printf("BENCH osg ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f size=%dx%d\n", mean,
-                1000.0 / mean, opt.frames, med, opt.width, opt.height);
+    std::printf("BENCH osg ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f size=%dx%d drawables=%.0f "
+                "triangles=%.0f cull_ms=%.3f\n",
+                mean, 1000.0 / mean, opt.frames, med, opt.width, opt.height,
+                statFrames ? drawablesSum / statFrames : 0.0, statFrames ? trianglesSum / statFrames : 0.0,
+                timeFrames ? cullSum / timeFrames : -1.0);
 
     // ---- the last frame as PNG, top row first
     if (!opt.out.empty()) {

@@ -11,6 +11,14 @@ layout(location = 5) in vec2 a_texcoord1;
 #ifdef SGFX_INSTANCED
 layout(location = 6) in mat4 a_instance; // Geometry::instances, applied before sgfx_model
 #endif
+#ifdef SGFX_BATCHED
+// Automatic instance batches: the renderer draws repeated meshes in one call, their model
+// matrices in this buffer (binding = sgfx::kBatchBinding).
+layout(std430, binding = 7) readonly buffer SgfxBatchModels {
+    mat4 sgfx_batchModels[];
+};
+uniform int sgfx_batchBase;
+#endif
 
 uniform mat4 sgfx_model;
 uniform mat3 sgfx_normalMatrix;
@@ -69,8 +77,12 @@ void vertexLighting(vec3 P, vec3 N) {
 // @sgfx:vertex_decl
 
 void main() {
-#ifdef SGFX_INSTANCED
+#if defined(SGFX_INSTANCED) || defined(SGFX_BATCHED)
+#ifdef SGFX_BATCHED
+    mat4 model = sgfx_batchModels[sgfx_batchBase + gl_InstanceID];
+#else
     mat4 model = sgfx_model * a_instance;
+#endif
     // Normals by the cofactor matrix (the inverse transpose up to a positive scale): instances
     // may scale unevenly or mirror, and a per-vertex inverse would cost far more.
     mat3 m = mat3(model);

@@ -8,14 +8,20 @@
 #include <sgfx/Visitors.h>
 
 #include <gtest/gtest.h>
+#include <sgfx/Image.h>
+#include <sgfx/Material.h>
+#include <sgfx/StateSet.h>
+#include <sgfx/Texture.h>
 
 #include <filesystem>
+#include <functional>
 
 using namespace sgfx;
 
 TEST(Export, ProvingGroundRoundTripsThroughObjAndGltf) {
     polygon::SceneOptions so;
     so.scale = 0.05f;
+    so.lod = false; // writers keep only the finest level of a LOD (GltfWriter test): compare all
     const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
     StatsVisitor stats;
     scene.root->accept(stats);
@@ -28,6 +34,7 @@ TEST(Export, ProvingGroundRoundTripsThroughObjAndGltf) {
     const GltfWriteResult glb = writeGltf(*scene.root, dir / "sgfx_export.glb");
     const GltfWriteResult gltf = writeGltf(*scene.root, dir / "sgfx_export.gltf");
     EXPECT_EQ(obj.triangles, stats.triangles);
+    EXPECT_EQ(obj.textures, 1u); // the leaf cards' mask, as an RGBA map_Kd
     EXPECT_EQ(glb.triangles, stats.triangles);
     EXPECT_EQ(gltf.triangles, stats.triangles);
     for (const char* name : {"sgfx_export.obj", "sgfx_export.glb", "sgfx_export.gltf"}) {
@@ -36,6 +43,24 @@ TEST(Export, ProvingGroundRoundTripsThroughObjAndGltf) {
         StatsVisitor back;
         model->accept(back);
         EXPECT_EQ(back.triangles, stats.triangles);
+        if (std::string(name) == "sgfx_export.obj") {
+            // The mask came back as the base colour map's alpha: leaf and gap texels both there.
+            std::size_t cut = 0, kept = 0;
+            std::function<void(const Node&)> walk = [&](const Node& n) {
+                const StateSet* ss = n.stateSet().get();
+                const Material* m = ss && ss->material.value ? ss->material.value->get() : nullptr;
+                if (m && m->baseColorTexture && m->baseColorTexture->image &&
+                    m->baseColorTexture->image->channels == 4)
+                    for (std::size_t i = 3; i < m->baseColorTexture->image->pixels.size(); i += 4)
+                        (m->baseColorTexture->image->pixels[i] < 128 ? cut : kept) += 1;
+                if (auto g = dynamic_cast<const Group*>(&n))
+                    for (const auto& c : g->children())
+                        walk(*c);
+            };
+            walk(*model);
+            EXPECT_GT(cut, 0u);
+            EXPECT_GT(kept, 0u);
+        }
         ComputeBoundsVisitor b;
         model->accept(b);
         // OBJ keeps 6 significant digits: 1 mm on an 800 m ground.

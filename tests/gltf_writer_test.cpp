@@ -5,6 +5,7 @@
 #include <sgfx/Group.h>
 #include <sgfx/LOD.h>
 #include <sgfx/Material.h>
+#include <sgfx/ObjWriter.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Visitors.h>
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 
 using namespace sgfx;
 
@@ -247,15 +249,22 @@ TEST(GltfWriter, WithoutZUpTheFileKeepsSgfxAxes) {
     std::filesystem::remove(file);
 }
 
-TEST(GltfWriter, EveryLodLevelIsWritten) {
+TEST(GltfWriter, OnlyTheMostDetailedLodLevelIsWritten) {
+    // Levels overlap in space: a file gets the one shown nearest (largest pixel range), whatever
+    // the order of the children. OBJ alike.
     auto lod = LOD::create();
-    lod->addChild(shapes::sphere(1.0f, 16, 8), 100.0f, 1e9f);
     lod->addChild(shapes::box({1, 1, 1}), 0.0f, 100.0f);
+    lod->addChild(shapes::sphere(1.0f, 16, 8), 100.0f, std::numeric_limits<float>::infinity());
+    lod->addChild(shapes::cylinder(0.5f, 1.0f, 12), 20.0f, 60.0f);
     const auto file = tempFile("lod.glb");
     const auto r = writeGltf(*lod, file);
-    EXPECT_EQ(r.meshes, 2u);
-    EXPECT_EQ(r.triangles, 256u + 12u);
+    EXPECT_EQ(r.meshes, 1u);
+    EXPECT_EQ(r.triangles, 256u);
+    const auto obj = tempFile("lod.obj");
+    EXPECT_EQ(writeObj(*lod, obj).triangles, 256u);
     std::filesystem::remove(file);
+    std::filesystem::remove(obj);
+    std::filesystem::remove(tempFile("lod.mtl"));
 }
 
 TEST(GltfWriter, BadPathsAndGeometryAreRefused) {

@@ -1323,6 +1323,174 @@ TEST(ThreadContractDeathTest, GlWorkFromAnotherThreadAbortsWithAMessage) {
         "from a thread that does not own it");
 }
 
+// ------------------------------------------------------------------------ automatic instancing
+
+TEST(AutoInstancing, BatchesDrawTheSameImageInEveryPass) {
+    // 60 copies of two meshes under Transforms that scale unevenly and mirror, under fog and AO
+    // (a snippet, a depth pre-pass and a G-buffer pass): batched and one by one give the same
+    // pixels, with far fewer draw calls.
+    auto root = Group::create();
+    auto fog = FogNode::create(FogParameters::ground());
+    auto ao = AmbientOcclusionNode::create();
+    fog->addChild(ao);
+    root->addChild(fog);
+    auto sun = Light::create(LightType::Directional);
+    sun->direction = glm::normalize(glm::vec3(-0.3f, -0.5f, -1.0f));
+    root->addChild(sun);
+    auto meshes = {shapes::box({1, 1, 1}), shapes::sphere(0.6f, 12, 8)};
+    auto mat = Material::create();
+    mat->specular = glm::vec3(0.5f);
+    int k = 0;
+    for (const auto& m : meshes) {
+        m->getOrCreateStateSet().material.set(mat);
+        for (int i = 0; i < 30; ++i, ++k) {
+            const glm::vec3 at(float(k % 10) * 2.2f - 10.0f, float(k / 10) * 2.2f - 6.0f, 0.0f);
+            glm::mat4 t = glm::translate(glm::mat4(1.0f), at);
+            t = glm::rotate(t, 0.3f * float(k), glm::vec3(0.2f, 0.5f, 1.0f));
+            t = glm::scale(t, glm::vec3(1.0f + 0.05f * float(k % 7), k % 3 == 0 ? -1.0f : 0.8f, 1.2f));
+            auto tr = Transform::create(t);
+            tr->addChild(m);
+            ao->addChild(tr);
+        }
+    }
+    auto ground = shapes::quad(60.0f, 60.0f);
+    ground->getOrCreateStateSet().material.set(Material::create());
+    ao->addChild(Transform::create(glm::translate(glm::mat4(1.0f), {0, 0, -1.5f})));
+    std::static_pointer_cast<Group>(ao->children().back())->addChild(ground);
+    auto v = Viewer::createHeadless(160, 120);
+    v->setSceneData(root);
+    v->camera()->setPerspective(50, 0.5f, 200);
+    v->camera()->setLookAt({0, -26, 18}, {0, -1, 0}, {0, 0, 1});
+    Image images[2];
+    std::size_t draws[2], batches[2];
+    for (int on = 0; on < 2; ++on) {
+        v->renderer().options().autoInstancing = on == 1;
+        v->frame();
+        images[on] = v->capture();
+        draws[on] = v->stats().drawCalls;
+        batches[on] = v->stats().instanceBatches;
+    }
+    EXPECT_EQ(batches[0], 0u);
+    EXPECT_GE(batches[1], 2u);
+    EXPECT_LT(draws[1] + 50, draws[0]) << draws[1] << " vs " << draws[0];
+    ASSERT_EQ(images[0].pixels.size(), images[1].pixels.size());
+    int worst = 0;
+    for (std::size_t i = 0; i < images[0].pixels.size(); ++i)
+        worst = std::max(worst, std::abs(int(images[0].pixels[i]) - int(images[1].pixels[i])));
+    EXPECT_LE(worst, 2)
+        << "batched drawing changed the image"; // the cofactor normal matrix rounds differently
+    EXPECT_TRUE(glErrors(*v).empty());
+}
+
+// ------------------------------------------------------------------------ levels of detail
+
+TEST(ProvingGroundLod, SkirtsCoverEveryStepBetweenTerrainLevels) {
+    // Along every tile edge, each level's skirt must reach below the edge of every other level
+    // (neighbours sample the shared edge alike): then, from either side of a boundary between
+    // two levels, the nearer tile's skirt fills the step. Read from the built geometry.
+    polygon::SceneOptions so;
+    so.scale = 0.25f;
+    const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
+    int lods = 0;
+    double worst = -1e9; // max over points of (skirt bottom of level i) - (edge of level j)
+    for (const auto& child : scene.terrain->children()) {
+        auto lod = std::dynamic_pointer_cast<LOD>(child);
+        if (!lod) continue;
+        ++lods;
+        ASSERT_EQ(lod->children().size(), 3u);
+        struct Level {
+            const Geometry* g;
+            std::size_t m; // vertices per edge
+        };
+        std::vector<Level> levels;
+        for (const auto& c : lod->children()) {
+            auto g = std::dynamic_pointer_cast<Geometry>(c);
+            ASSERT_TRUE(g);
+            // (n+1)^2 grid vertices, then per edge n+1 (top, bottom) pairs.
+            const double total = double(g->positions.size());
+            const auto m = std::size_t(std::lround((-8.0 + std::sqrt(64.0 + 4.0 * total)) / 2.0));
+            ASSERT_EQ(m * m + 8 * m, g->positions.size());
+            levels.push_back({g.get(), m});
+        }
+        auto edgeZ = [](const Level& l, int e, double t, int which) { // which 0: top, 1: bottom
+            const double u = t * double(l.m - 1);
+            const std::size_t k = std::min(std::size_t(u), l.m - 2);
+            const double f = u - double(k);
+            const std::size_t base = l.m * l.m + std::size_t(e) * 2 * l.m;
+            return (1 - f) * l.g->positions[base + 2 * k + which].z +
+                   f * l.g->positions[base + 2 * (k + 1) + which].z;
+        };
+        for (const Level& a : levels)
+            for (const Level& b : levels)
+                for (int e = 0; e < 4; ++e)
+                    for (std::size_t k = 0; k < b.m; ++k) {
+                        const double t = double(k) / double(b.m - 1);
+                        worst = std::max(worst, edgeZ(a, e, t, 1) - edgeZ(b, e, t, 0));
+                    }
+    }
+    EXPECT_GT(lods, 0);
+    EXPECT_LT(worst, 0.0) << "a skirt ends " << worst << " m above another level's edge";
+}
+
+TEST(ProvingGroundLod, TerrainLevelsLeaveNoCracksAndCutTriangles) {
+    // A magenta backdrop lies under the ground, the size of the ground: a crack between tiles of
+    // different levels, looked through, shows it; past the ground's edge the eye sees the sky.
+    polygon::SceneOptions so;
+    so.scale = 0.25f;
+    const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
+    ASSERT_GT(scene.info.terrainLods, 0);
+    auto makeRoot = [](const polygon::PolygonScene& sc) {
+        auto root = Group::create();
+        for (const auto& c : sc.root->children())
+            if (c != sc.glass) root->addChild(c);
+        auto backdrop =
+            shapes::quad(sc.terrain->bound().radius * 1.4142f, sc.terrain->bound().radius * 1.4142f);
+        auto mat = Material::create();
+        mat->ambient = mat->specular = glm::vec3(0.0f);
+        mat->diffuse = glm::vec4(0, 0, 0, 1);
+        mat->emissive = glm::vec3(1, 0, 1);
+        backdrop->getOrCreateStateSet().material.set(mat);
+        backdrop->getOrCreateStateSet().cullFace.set(CullFace::None);
+        auto below = Transform::create(glm::translate(glm::mat4(1.0f), {0, 0, -30.0f}));
+        below->addChild(backdrop);
+        root->addChild(below);
+        return root;
+    };
+    auto v = Viewer::createHeadless(256, 144);
+    v->setSceneData(makeRoot(scene));
+    auto& cam = *v->camera();
+    cam.setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
+    std::vector<glm::vec3> eyes;
+    std::size_t lodTriangles = 0;
+    for (int i = 0; i < 6; ++i) {
+        // Low over the ground, looking across it: level boundaries are seen edge-on, where a
+        // step between levels opens a slit unless a skirt fills it.
+        const float a = float(i) * 1.05f;
+        eyes.emplace_back(330.0f * std::cos(a), 330.0f * std::sin(a), 14.0f + 6.0f * float(i));
+        cam.setLookAt(eyes.back(), glm::vec3(-0.2f * eyes.back().x, -0.2f * eyes.back().y, -20.0f),
+                      {0, 0, 1});
+        v->frame();
+        lodTriangles += v->stats().triangles;
+        const Image img = v->capture();
+        if (std::getenv("SGFX_DUMP")) writePng("/tmp/lod" + std::to_string(i) + ".png", img);
+        int holes = 0;
+        for (std::size_t p = 0; p < img.pixels.size(); p += 4)
+            holes += img.pixels[p] == 255 && img.pixels[p + 1] == 0 && img.pixels[p + 2] == 255;
+        EXPECT_EQ(holes, 0) << "view " << i << ": the backdrop shows through the ground";
+    }
+    // The same views without levels of detail draw many more triangles.
+    so.lod = false;
+    const polygon::PolygonScene full = polygon::buildPolygonScene(so);
+    v->setSceneData(makeRoot(full));
+    std::size_t fullTriangles = 0;
+    for (const glm::vec3& eye : eyes) {
+        cam.setLookAt(eye, glm::vec3(-0.2f * eye.x, -0.2f * eye.y, -20.0f), {0, 0, 1});
+        v->frame();
+        fullTriangles += v->stats().triangles;
+    }
+    EXPECT_LT(double(lodTriangles), 0.8 * double(fullTriangles)) << lodTriangles << " vs " << fullTriangles;
+}
+
 // ------------------------------------------------------------------------ culling is conservative
 
 TEST(Culling, NeverDropsAVisibleObjectOnTheProvingGround) {

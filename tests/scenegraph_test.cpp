@@ -14,6 +14,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include <cmath>
 #include <deque>
 #include <string>
@@ -442,9 +444,17 @@ TEST(Queue, OpaqueSortedByDistanceOctaveProgramMaterialThenFrontToBack) {
 }
 
 TEST(Queue, PackedOpaqueSortEqualsTheComparisonOrder) {
-    // The radix sort on packed (octave, program rank, material rank, depth) keys gives exactly
-    // the order of the item comparison, also past 4096 distinct materials (its fallback), with
-    // ties (equal depths, -0 and +0) in cull order.
+    // The radix sort on packed (octave, program rank, material rank, mesh rank, depth) keys
+    // gives exactly the order of the item comparison, also past 4096 distinct materials (its
+    // fallback), with ties (equal depths, -0 and +0) in cull order.
+    auto depthKey = [](float depth) {
+        std::uint32_t d = std::bit_cast<std::uint32_t>(depth + 0.0f);
+        d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u;
+        return d >> 12;
+    };
+    std::vector<std::shared_ptr<Geometry>> meshes;
+    for (int i = 0; i < 9; ++i)
+        meshes.push_back(Geometry::create());
     for (const int materials : {7, 5000}) {
         SCOPED_TRACE(materials);
         std::vector<std::shared_ptr<Material>> mats;
@@ -460,6 +470,7 @@ TEST(Queue, PackedOpaqueSortEqualsTheComparisonOrder) {
         for (std::uint32_t i = 0; i < 20000; ++i) {
             RenderItem it;
             it.state = &states[next() % std::uint32_t(materials)];
+            it.geometry = meshes[next() % 9].get();
             it.programKey = (next() % 5) * 0x9e3779b97f4a7c15ull;
             const float depths[] = {0.5f, 1.0f, -0.0f, 0.0f, 3.0f, 3.0f, 1000.0f};
             it.depth = next() % 4 == 0 ? depths[next() % 7] : float(next() % 100000) * 0.01f;
@@ -468,13 +479,14 @@ TEST(Queue, PackedOpaqueSortEqualsTheComparisonOrder) {
             q.opaque.push_back(it);
         }
         std::vector<RenderItem> expected = q.opaque;
-        std::stable_sort(expected.begin(), expected.end(), [](const RenderItem& a, const RenderItem& b) {
+        std::stable_sort(expected.begin(), expected.end(), [&](const RenderItem& a, const RenderItem& b) {
             if (a.depthBucket != b.depthBucket) return a.depthBucket < b.depthBucket;
             if (a.programKey != b.programKey) return a.programKey < b.programKey;
             const Material* ma = a.state->material.value->get();
             const Material* mb = b.state->material.value->get();
             if (ma != mb) return ma < mb;
-            return a.depth < b.depth;
+            if (a.geometry != b.geometry) return a.geometry < b.geometry;
+            return depthKey(a.depth) < depthKey(b.depth); // depth's top 20 bits
         });
         q.sort();
         ASSERT_EQ(q.opaque.size(), expected.size());

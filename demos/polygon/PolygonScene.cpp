@@ -5,6 +5,7 @@
 #include <sgfx/Camera.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Image.h>
+#include <sgfx/LOD.h>
 #include <sgfx/Material.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
@@ -18,6 +19,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -78,6 +80,10 @@ constexpr int kAreaCellsPerSide = 8; // buildings and trees are grouped by area 
 constexpr float kCellsPerTileAtScale1 = 22.0f;
 constexpr float kBuildingsAtScale1 = 330.0f;
 constexpr float kTreesAtScale1 = 1500.0f;
+// Levels of detail: a terrain level serves while its cells cover fewer pixels than this on
+// screen; buildings show window boxes above kBuildingDetailPixels and flat window panes below.
+constexpr float kTerrainCellPixels = 12.0f;
+constexpr float kBuildingDetailPixels = 160.0f;
 
 glm::mat4 translate(const glm::vec3& t) {
     return glm::translate(glm::mat4(1.0f), t);
@@ -208,21 +214,99 @@ float roadDistance(glm::vec2 p, float ringRadius) {
 }
 
 // ------------------------------------------------------------------------------------------ terrain
-std::shared_ptr<Group> buildTerrain(const Terrain& terrain, float extent, int cells, SceneInfo& info) {
+// Upper bound of the gap between the smooth terrain and its linear interpolation over `cell` metres
+// (sum over the waves of A k^2 d^2 / 8, with d the cell diagonal); used to lift roads on coarse
+// terrain and to lower coarse terrain levels under them.
+float interpolationError(float cell) {
+    const float wavelengths[] = {420.0f, 260.0f, 150.0f, 90.0f, 55.0f};
+    const float amplitudes[] = {3.0f, 2.2f, 1.4f, 0.8f, 0.4f};
+    const float d2 = 2.0f * cell * cell;
+    float e = 0.0f;
+    for (int i = 0; i < 5; ++i) {
+        const float k = glm::two_pi<float>() / wavelengths[i];
+        e += amplitudes[i] * k * k * d2 / 8.0f;
+    }
+    return e;
+}
+
+// One terrain tile of cells x cells, lowered by `drop` metres, with `skirt` metre skirts: strips
+// hanging from the four edges, facing out, that hide the cracks where tiles of different levels
+// meet.
+std::shared_ptr<Geometry> terrainTile(const Terrain& terrain, float x0, float y0, float tile, int cells,
+                                      float drop, float skirt) {
+    const auto height = [&terrain, drop](float x, float y) { return terrain.height(x, y) - drop; };
+    auto g = sgfx::shapes::heightfield(x0, y0, tile, tile, cells, cells, height);
+    if (skirt <= 0.0f) return g;
+    const glm::vec2 corners[] = {{x0, y0}, {x0 + tile, y0}, {x0 + tile, y0 + tile}, {x0, y0 + tile}};
+    for (int e = 0; e < 4; ++e) {
+        // Corners run counter-clockwise seen from above, so (b - a) x down faces out of the tile.
+        const glm::vec2 a = corners[e], b = corners[(e + 1) % 4];
+        const auto base = std::uint32_t(g->positions.size());
+        for (int k = 0; k <= cells; ++k) {
+            const glm::vec2 p = glm::mix(a, b, float(k) / float(cells));
+            const float z = height(p.x, p.y);
+            for (float dz : {0.0f, -skirt}) {
+                g->positions.push_back(glm::vec3(p, z + dz));
+                g->normals.push_back(terrain.normal(p.x, p.y)); // shaded like the ground it hangs from
+                if (!g->tangents.empty()) g->tangents.push_back(glm::vec4(glm::normalize(b - a), 0.0f, 1.0f));
+                if (!g->texcoords.empty()) g->texcoords.push_back((p - glm::vec2(x0, y0)) / tile);
+            }
+        }
+        for (std::uint32_t k = 0; k < std::uint32_t(cells); ++k) {
+            const std::uint32_t top0 = base + 2 * k, bottom0 = top0 + 1, top1 = top0 + 2, bottom1 = top0 + 3;
+            g->indices.insert(g->indices.end(), {top0, bottom0, bottom1, top0, bottom1, top1});
+        }
+    }
+    g->dirty();
+    return g;
+}
+
+std::shared_ptr<Group> buildTerrain(const Terrain& terrain, float extent, int cells, bool lod,
+                                    SceneInfo& info) {
     auto group = Group::create();
     group->name = "terrain";
     // One grass material for all tiles. (No vertex colours: the OBJ export, which the
     // OpenSceneGraph peer benchmark renders, keeps only material colours.)
     group->setStateSet(materialState(makeMaterial(glm::vec3(0.14f, 0.26f, 0.055f))));
     const float tile = extent / kTerrainTilesPerSide;
-    const auto height = [&terrain](float x, float y) { return terrain.height(x, y); };
     for (int j = 0; j < kTerrainTilesPerSide; ++j)
         for (int i = 0; i < kTerrainTilesPerSide; ++i) {
             const float x0 = -extent * 0.5f + tile * float(i), y0 = -extent * 0.5f + tile * float(j);
-            auto g = sgfx::shapes::heightfield(x0, y0, tile, tile, cells, cells, height);
-            g->name = "terrain_" + std::to_string(i) + "_" + std::to_string(j);
-            group->addChild(g);
+            const std::string name = "terrain_" + std::to_string(i) + "_" + std::to_string(j);
             ++info.terrainTiles;
+            if (!lod || cells < 8) {
+                auto full = terrainTile(terrain, x0, y0, tile, cells, 0.0f, 0.0f);
+                full->name = name;
+                group->addChild(full);
+                continue;
+            }
+            // Distant tiles at half and quarter resolution: a level is used while its cells stay
+            // under kTerrainCellPixels on screen. Each coarser level is lowered by its own
+            // interpolation error so it never rises over the roads, which follow the fine one.
+            auto levels = sgfx::LOD::create();
+            levels->name = name + "_lod";
+            levels->setUserSphere(glm::vec3(x0 + 0.5f * tile, y0 + 0.5f * tile, 0.0f), 0.7072f * tile);
+            const float diameter = 2.0f * 0.7072f * tile;
+            // Level k (n_k cells) serves while the next coarser level's cells would still be
+            // larger than kTerrainCellPixels: pixels >= K * diameter / cell_{k+1}.
+            const int n[3] = {cells, std::max(2, cells / 2), std::max(2, cells / 4)};
+            // Every level hangs skirts deep enough for the largest step between two levels
+            // (the coarsest level's drop plus its own interpolation error), so whichever side
+            // of a boundary the eye is on, the nearer tile's skirt fills the gap.
+            const float skirt = 2.0f * interpolationError(tile / float(n[2])) + 0.25f;
+            for (int level = 0; level < 3; ++level) {
+                const float cell = tile / float(n[level]);
+                const float lower =
+                    level == 2 ? 0.0f : kTerrainCellPixels * diameter * float(n[level + 1]) / tile;
+                const float upper = level == 0 ? std::numeric_limits<float>::infinity()
+                                               : kTerrainCellPixels * diameter * float(n[level]) / tile;
+                const float drop = level == 0 ? 0.0f : interpolationError(cell);
+                auto g = terrainTile(terrain, x0, y0, tile, n[level], drop, skirt);
+                g->name = level == 0 ? name : name + "_level" + std::to_string(level);
+                levels->addChild(g, lower, upper);
+            }
+            group->addChild(levels);
+            ++info.terrainLods;
         }
     info.terrainCellsPerTile = cells;
     return group;
@@ -271,20 +355,6 @@ std::shared_ptr<Geometry> roadStrip(const Terrain& terrain, const std::function<
     return g;
 }
 
-// Upper bound of the gap between the smooth terrain and its linear interpolation over `cell` metres
-// (sum over the waves of A k^2 d^2 / 8, with d the cell diagonal); used to lift roads on coarse terrain.
-float interpolationError(float cell) {
-    const float wavelengths[] = {420.0f, 260.0f, 150.0f, 90.0f, 55.0f};
-    const float amplitudes[] = {3.0f, 2.2f, 1.4f, 0.8f, 0.4f};
-    const float d2 = 2.0f * cell * cell;
-    float e = 0.0f;
-    for (int i = 0; i < 5; ++i) {
-        const float k = glm::two_pi<float>() / wavelengths[i];
-        e += amplitudes[i] * k * k * d2 / 8.0f;
-    }
-    return e;
-}
-
 std::shared_ptr<Group> buildRoads(const Terrain& terrain, float extent, float ringRadius, float terrainCell,
                                   SceneInfo& info) {
     auto group = Group::create();
@@ -328,7 +398,8 @@ std::shared_ptr<Group> buildRoads(const Terrain& terrain, float extent, float ri
 struct BuildingPrototype {
     std::shared_ptr<Group> node;
     float halfDiagonal = 0.0f;
-    std::size_t triangles = 0;
+    std::size_t triangles = 0; // at full detail
+    std::size_t windows = 0;
 };
 
 struct BuildingMaterials {
@@ -350,10 +421,21 @@ BuildingMaterials makeBuildingMaterials() {
     return m;
 }
 
+// The outward face of a window box (1.4 x 1.6 m, centred on `centre`, facing `out`): what is
+// left of a window when its 8 cm depth is below a pixel.
+void addWindowPane(Geometry& g, const glm::vec3& centre, const glm::vec3& out) {
+    const glm::vec3 up(0, 0, 1), t = glm::cross(out, up) * 0.7f, u = up * 0.8f;
+    addFlatQuad(g, centre + t - u, centre - t - u, centre - t + u, centre + t + u);
+}
+
 // A building of footprint w x d and `floors` storeys, base at z = 0 (the walls reach 4 m below
 // so instances on slopes never float). Walls inherit the instance's colour.
+//   lod:           window boxes above kBuildingDetailPixels, flat panes below (12 -> 2 triangles)
+//   manyDrawables: every window its own drawable (a shared box under its own Transform), the
+//                  many-drawables benchmark scene; no levels of detail then
 BuildingPrototype makeBuildingPrototype(float w, float d, int floors, bool gable, bool slate,
-                                        const BuildingMaterials& mats, int index) {
+                                        const BuildingMaterials& mats, int index, bool lod,
+                                        bool manyDrawables) {
     constexpr float kFloorHeight = 3.2f, kFoundation = 4.0f;
     const float h = kFloorHeight * float(floors);
     auto node = Group::create();
@@ -367,23 +449,38 @@ BuildingPrototype makeBuildingPrototype(float w, float d, int floors, bool gable
     // Windows: protruding dark boxes, one row per floor on every facade.
     auto windows = Geometry::create();
     windows->name = "windows";
+    auto panes = Geometry::create();
+    panes->name = "window_panes";
+    auto windowGroup = Group::create();
+    windowGroup->name = "windows";
+    windowGroup->setStateSet(mats.windows);
     auto windowX = sgfx::shapes::box({1.4f, 0.16f, 1.6f}); // on the facades facing +-Y
     auto windowY = sgfx::shapes::box({0.16f, 1.4f, 1.6f}); // on the facades facing +-X
+    std::size_t windowCount = 0;
+    auto addWindow = [&](const std::shared_ptr<Geometry>& box, const glm::vec3& at, const glm::vec3& out) {
+        if (manyDrawables)
+            windowGroup->addChild(place(translate(at), box));
+        else
+            sgfx::shapes::append(*windows, *box, translate(at));
+        addWindowPane(*panes, at + 0.08f * out, out);
+        ++windowCount;
+    };
     for (int f = 0; f < floors; ++f) {
         const float z = kFloorHeight * float(f) + 1.7f;
         const int nx = std::max(1, int((w - 2.0f) / 3.0f)), ny = std::max(1, int((d - 2.0f) / 3.0f));
         for (int i = 0; i < nx; ++i) {
             const float x = -0.5f * w + w * (float(i) + 0.5f) / float(nx);
             for (float sy : {-1.0f, 1.0f})
-                sgfx::shapes::append(*windows, *windowX, translate({x, sy * 0.5f * d, z}));
+                addWindow(windowX, {x, sy * 0.5f * d, z}, {0, sy, 0});
         }
         for (int i = 0; i < ny; ++i) {
             const float y = -0.5f * d + d * (float(i) + 0.5f) / float(ny);
             for (float sx : {-1.0f, 1.0f})
-                sgfx::shapes::append(*windows, *windowY, translate({sx * 0.5f * w, y, z}));
+                addWindow(windowY, {sx * 0.5f * w, y, z}, {sx, 0, 0});
         }
     }
     windows->setStateSet(mats.windows);
+    panes->setStateSet(mats.windows);
 
     auto roof = Geometry::create();
     roof->name = "roof";
@@ -424,10 +521,23 @@ BuildingPrototype makeBuildingPrototype(float w, float d, int floors, bool gable
         roof->setStateSet(mats.flatRoof);
     }
     node->addChild(walls);
-    node->addChild(windows);
     node->addChild(roof);
-    return {node, 0.5f * std::sqrt(w * w + d * d) + 0.5f,
-            walls->triangleCount() + windows->triangleCount() + roof->triangleCount()};
+    const float halfDiagonal = 0.5f * std::sqrt(w * w + d * d) + 0.5f;
+    const std::size_t boxTriangles = windowCount * windowX->triangleCount();
+    if (manyDrawables) {
+        node->addChild(windowGroup);
+    } else if (lod) {
+        auto levels = sgfx::LOD::create();
+        levels->name = "windows_lod";
+        // Switch on the building's size, not the windows' bound.
+        levels->setUserSphere({0, 0, 0.5f * h}, std::sqrt(halfDiagonal * halfDiagonal + 0.25f * h * h));
+        levels->addChild(windows, kBuildingDetailPixels, std::numeric_limits<float>::infinity());
+        levels->addChild(panes, 0.0f, kBuildingDetailPixels);
+        node->addChild(levels);
+    } else {
+        node->addChild(windows);
+    }
+    return {node, halfDiagonal, walls->triangleCount() + boxTriangles + roof->triangleCount(), windowCount};
 }
 
 // ------------------------------------------------------------------------------------------ trees
@@ -701,7 +811,8 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
             const float w = std::round(rng.uniform(8.0f, 22.0f)), d = std::round(rng.uniform(7.0f, 15.0f));
             const int floors = floorsChoice[rng.index(10)];
             const bool gable = floors <= 3;
-            prototypes.push_back(makeBuildingPrototype(w, d, floors, gable, rng.uniform() < 0.4f, mats, i));
+            prototypes.push_back(makeBuildingPrototype(w, d, floors, gable, rng.uniform() < 0.4f, mats, i,
+                                                       options.lod, options.manyDrawables));
         }
     }
     scene.info.buildingPrototypes = int(prototypes.size());
@@ -750,6 +861,7 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
         ++placed;
         buildingTriangles += proto.triangles;
         scene.info.buildings = placed;
+        scene.info.windows += int(proto.windows);
     }
     buildingAreas.finish();
     scene.info.buildingsRequested = buildingCount;
@@ -796,7 +908,7 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     const int cells = std::max(
         2,
         int(std::lround(std::sqrt(terrainTriangles / (2.0 * kTerrainTilesPerSide * kTerrainTilesPerSide)))));
-    scene.terrain = buildTerrain(terrain, extent, cells, scene.info);
+    scene.terrain = buildTerrain(terrain, extent, cells, options.lod, scene.info);
     scene.roads =
         buildRoads(terrain, extent, ringRadius, extent / float(kTerrainTilesPerSide * cells), scene.info);
 

@@ -71,15 +71,23 @@ struct SceneOptions {
     float extent = 800.0f; // metres, side of the square ground
     float scale = 1.0f;    // scales the triangle count roughly linearly, in (0, 16]
     std::uint64_t seed = 1;
+    // Levels of detail: distant terrain tiles at half and quarter resolution (with skirts),
+    // distant buildings with flat window panes. Off: every object at full detail.
+    bool lod = true;
+    // The many-drawables benchmark scene: every window of every building its own drawable (a
+    // shared window box under its own Transform), some 30,000 drawables.
+    bool manyDrawables = false;
 };
 
 struct SceneInfo {
     int terrainTiles = 0;
     int terrainCellsPerTile = 0;
+    int terrainLods = 0; // tiles with levels of detail
     int roadPieces = 0;
     int buildings = 0;
     int buildingsRequested = 0; // fewer are placed when the ground is full
     int buildingPrototypes = 0;
+    int windows = 0; // over all placed buildings
     int trees = 0;
     int treesRequested = 0; // likewise for trees
 };

@@ -75,6 +75,12 @@ options:
   --scale S           scale the triangle count, 0 < S <= 16 (default 1, about 600k
                       triangles): terrain resolution and numbers of buildings and trees
   --seed N            scene seed, an unsigned integer (default 1)
+  --no-lod            every object at full detail (by default distant terrain tiles drop to
+                      half and quarter resolution and distant buildings to flat window panes;
+                      exports always hold the full detail)
+  --many-drawables    the many-drawables benchmark scene: every window of every building its
+                      own drawable (about 26,000 more drawables, no building levels of detail)
+  --no-instancing     draw repeated meshes one by one (RendererOptions::autoInstancing off)
   --egl               render headless through EGL (GPU) instead of OSMesa
   --lighting pixel|vertex
                       per-pixel Blinn-Phong (default) or per-vertex (Gouraud) lighting
@@ -149,6 +155,9 @@ struct Options {
     std::optional<polygon::CameraPose> look;
     float scale = 1.0f;
     std::uint64_t seed = 1;
+    bool lod = true;
+    bool manyDrawables = false;
+    bool autoInstancing = true;
     int benchFrames = 0;
     bool egl = false;
     sgfx::RendererOptions::Lighting lighting = sgfx::RendererOptions::Lighting::PerPixel;
@@ -258,6 +267,12 @@ Options parseArgs(int argc, char** argv) {
         } else if (arg == "--scale") {
             o.scale = parseNumber<float>(arg, value());
             if (!(o.scale > 0.0f && o.scale <= 16.0f)) throw UsageError("--scale: S must be in (0, 16]");
+        } else if (arg == "--no-lod") {
+            o.lod = false;
+        } else if (arg == "--no-instancing") {
+            o.autoInstancing = false;
+        } else if (arg == "--many-drawables") {
+            o.manyDrawables = true;
         } else if (arg == "--seed") {
             o.seed = parseNumber<std::uint64_t>(arg, value());
         } else if (arg == "--egl") {
@@ -514,6 +529,7 @@ std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
     auto viewer = sgfx::Viewer::createHeadless(
         o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
     viewer->renderer().options().lighting = o.lighting;
+    viewer->renderer().options().autoInstancing = o.autoInstancing;
     viewer->renderer().options().countFragments = o.countFragments;
     viewer->camera()->setAntiAliasing(o.aa);
     return viewer;
@@ -648,11 +664,12 @@ int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t s
     if (o.countFragments)
         std::printf("  fragments        %.0f passed depth per frame = %.2f per pixel\n", fragments / dn,
                     fragments / dn / (double(o.width) * o.height));
-    std::printf("BENCH sgfx ms_per_frame=%.3f fps=%.2f triangles=%.0f draw_calls=%.1f state_changes=%.1f "
-                "program_changes=%.1f median_ms=%.3f scene_triangles=%zu size=%dx%d context=%.*s\n",
-                mean, fps, triangles / dn, drawCalls / dn, stateChanges / dn, programChanges / dn, med,
-                sceneTriangles, o.width, o.height, int(viewer->context().kind().size()),
-                viewer->context().kind().data());
+    std::printf(
+        "BENCH sgfx ms_per_frame=%.3f fps=%.2f triangles=%.0f draw_calls=%.1f state_changes=%.1f "
+        "program_changes=%.1f median_ms=%.3f cull_ms=%.3f scene_triangles=%zu size=%dx%d context=%.*s\n",
+        mean, fps, triangles / dn, drawCalls / dn, stateChanges / dn, programChanges / dn, med, cullMs / dn,
+        sceneTriangles, o.width, o.height, int(viewer->context().kind().size()),
+        viewer->context().kind().data());
     std::printf("PASSES");
     for (const auto& [name, total] : passMs) {
         std::string key = name;
@@ -677,6 +694,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     GLFWwindow* win = window->handle();
     sgfx::Viewer viewer(std::move(window));
     viewer.renderer().options().lighting = o.lighting;
+    viewer.renderer().options().autoInstancing = o.autoInstancing;
     viewer.camera()->setAntiAliasing(o.aa);
     setupCamera(viewer, startPose(o, o.time));
     // Fog is always in the graph here so F can cycle it: off, forward, split, post.
@@ -790,7 +808,8 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
 
 int run(const Options& o) {
     const auto t0 = std::chrono::steady_clock::now();
-    const polygon::PolygonScene scene = polygon::buildPolygonScene({kExtent, o.scale, o.seed});
+    const polygon::PolygonScene scene =
+        polygon::buildPolygonScene({kExtent, o.scale, o.seed, o.lod, o.manyDrawables});
     const double buildMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     sgfx::StatsVisitor stats;
@@ -804,6 +823,17 @@ int run(const Options& o) {
         "       %d terrain tiles of %dx%d cells, %d road pieces, %d buildings from %d prototypes, %d trees\n",
         info.terrainTiles, info.terrainCellsPerTile, info.terrainCellsPerTile, info.roadPieces,
         info.buildings, info.buildingPrototypes, info.trees);
+    {
+        auto triangles = [](const std::shared_ptr<sgfx::Group>& g) {
+            sgfx::StatsVisitor v;
+            g->accept(v);
+            return v.triangles;
+        };
+        std::printf(
+            "       triangles: terrain %zu, roads %zu, buildings %zu, trees %zu, vehicle and glass %zu\n",
+            triangles(scene.terrain), triangles(scene.roads), triangles(scene.buildings),
+            triangles(scene.trees), triangles(scene.vehicle) + triangles(scene.glass));
+    }
     if (info.buildings < info.buildingsRequested || info.trees < info.treesRequested)
         std::printf("       (the ground is full: placed %d of %d buildings, %d of %d trees)\n",
                     info.buildings, info.buildingsRequested, info.trees, info.treesRequested);

@@ -1,8 +1,11 @@
 #pragma once
 // The writers' common walk: every Geometry below a node (node masks honoured) with its world
-// matrix and the state resolved along its path, once per instance of instanced geometry.
+// matrix and the state resolved along its path, once per instance of instanced geometry. Of a
+// LOD only the most detailed level is written (the one shown nearest), so levels never overlap
+// in the file.
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
+#include <sgfx/LOD.h>
 #include <sgfx/NodeVisitor.h>
 #include <sgfx/StateSet.h>
 
@@ -28,6 +31,20 @@ public:
         matrix_ = matrix_ * t.matrix();
         apply(static_cast<Node&>(t));
         matrix_ = saved;
+    }
+    void apply(LOD& lod) override {
+        if (lod.children().empty()) return;
+        std::size_t best = 0;
+        for (std::size_t i = 1; i < lod.children().size(); ++i) {
+            const LOD::Range &r = lod.range(i), &b = lod.range(best);
+            if (r.maxPixels > b.maxPixels || (r.maxPixels == b.maxPixels && r.minPixels > b.minPixels))
+                best = i;
+        }
+        if (lod.stateSet()) state_.push_back(state_.back().merged(*lod.stateSet()));
+        nodePath.push_back(&lod);
+        if (accepts(*lod.children()[best])) lod.children()[best]->accept(*this);
+        nodePath.pop_back();
+        if (lod.stateSet()) state_.pop_back();
     }
     void apply(Geometry& g) override {
         if (g.positions.empty()) return;

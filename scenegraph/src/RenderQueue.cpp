@@ -73,15 +73,27 @@ void RenderQueue::radixSort(std::vector<SortKey>& keys) {
 void RenderQueue::sort() {
     // Opaque: near to far by octave of distance (software rasterizers pay for every covered
     // fragment, GPUs for every one that passes), then fewest program and material switches
-    // within an octave, then front to back.
-    // Items are 128 bytes and arrive in cull order (sequence order): rank the programs and
-    // materials, pack (bucket, program rank, material rank, depth) into one 64-bit key and radix
-    // sort it stably (ties keep cull order), then move each item once. Over 4096 distinct
-    // programs or materials in a view, fall back to comparing items.
+    // within an octave, then the same mesh together (so repeated meshes follow each other and
+    // the renderer can draw them as one instanced batch), then front to back.
+    // Items are 128 bytes and arrive in cull order (sequence order): rank the programs,
+    // materials and meshes, pack (bucket, program rank, material rank, mesh rank, depth) into
+    // one 64-bit key and radix sort it stably (ties keep cull order), then move each item once.
+    // Depth keeps its top 20 bits (1/2048 relative) to make room for the mesh. Over 4096
+    // distinct programs or materials in a view, fall back to comparing items; over 4096
+    // distinct meshes, meshes are not grouped (both paths alike).
     const std::size_t no = opaque.size();
     auto materialOf = [](const RenderItem& it) {
         return reinterpret_cast<std::uintptr_t>(it.state->material.value ? it.state->material.value->get()
                                                                          : nullptr);
+    };
+    auto meshOf = [](const RenderItem& it) {
+        return it.geometry ? reinterpret_cast<std::uintptr_t>(it.geometry)
+                           : reinterpret_cast<std::uintptr_t>(it.drawable);
+    };
+    auto depthKey = [](float depth) {
+        std::uint32_t d = std::bit_cast<std::uint32_t>(depth + 0.0f); // -0 sorts as +0
+        d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u;           // monotone in depth
+        return d >> 12;
     };
     // Rank = position among the distinct values, so ranks order as the values do. Neighbours in
     // cull order mostly share them: look up only where the value changes.
@@ -106,34 +118,47 @@ void RenderQueue::sort() {
         }
         return true;
     };
+    // Meshes that occur more than once get ranks 1..n; one-off meshes share rank 0 and stay
+    // front to back among themselves.
+    bool groupMeshes = ranks([&](std::size_t i) { return std::uint64_t(meshOf(opaque[i])); }, meshRanks_) &&
+                       rankScratch_.size() < 4096;
+    if (groupMeshes) {
+        meshCounts_.assign(rankScratch_.size(), 0);
+        for (std::size_t i = 0; i < no; ++i)
+            ++meshCounts_[meshRanks_[i]];
+        for (std::size_t i = 0; i < no; ++i)
+            meshRanks_[i] = meshCounts_[meshRanks_[i]] > 1 ? meshRanks_[i] + 1 : 0;
+    }
     const bool packed =
         ranks([&](std::size_t i) { return opaque[i].programKey; }, programRanks_) &&
         ranks([&](std::size_t i) { return std::uint64_t(materialOf(opaque[i])); }, materialRanks_);
+    sortKeys_.resize(no);
+    for (std::size_t i = 0; i < no; ++i) {
+        const RenderItem& it = opaque[i];
+        const std::uint64_t high = packed ? (std::uint64_t(std::uint8_t(it.depthBucket ^ 0x80)) << 24) |
+                                                (programRanks_[i] << 12) | materialRanks_[i]
+                                          : 0;
+        const std::uint64_t low = ((groupMeshes ? meshRanks_[i] : 0u) << 20) | depthKey(it.depth);
+        sortKeys_[i] = {(high << 32) | low, std::uint32_t(i)};
+    }
     if (packed) {
-        sortKeys_.resize(no);
-        for (std::size_t i = 0; i < no; ++i) {
-            const RenderItem& it = opaque[i];
-            std::uint32_t d = std::bit_cast<std::uint32_t>(it.depth + 0.0f);
-            d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u; // monotone in depth
-            const std::uint64_t high = (std::uint64_t(std::uint8_t(it.depthBucket ^ 0x80)) << 24) |
-                                       (programRanks_[i] << 12) | materialRanks_[i];
-            sortKeys_[i] = {(high << 32) | d, std::uint32_t(i)};
-        }
         radixSort(sortKeys_);
-        sortScratch_.clear();
-        sortScratch_.reserve(no);
-        for (const SortKey& k : sortKeys_)
-            sortScratch_.push_back(opaque[k.index]);
-        opaque.swap(sortScratch_);
     } else {
-        std::sort(opaque.begin(), opaque.end(), [&](const RenderItem& a, const RenderItem& b) {
+        // The same order, comparing the fields the packed key could not hold.
+        std::sort(sortKeys_.begin(), sortKeys_.end(), [&](const SortKey& ka, const SortKey& kb) {
+            const RenderItem &a = opaque[ka.index], &b = opaque[kb.index];
             if (a.depthBucket != b.depthBucket) return a.depthBucket < b.depthBucket;
             if (a.programKey != b.programKey) return a.programKey < b.programKey;
             if (materialOf(a) != materialOf(b)) return materialOf(a) < materialOf(b);
-            if (a.depth != b.depth) return a.depth < b.depth;
+            if (ka.primary != kb.primary) return ka.primary < kb.primary; // mesh rank, depth
             return a.sequence < b.sequence;
         });
     }
+    sortScratch_.clear();
+    sortScratch_.reserve(no);
+    for (const SortKey& k : sortKeys_)
+        sortScratch_.push_back(opaque[k.index]);
+    opaque.swap(sortScratch_);
     // Transparent: explicit order first, then back to front; equal depths keep cull order (a
     // total order, so nothing flickers and the two faces of a double-sided item stay together).
     // Items are large (a matrix each) and arrive in cull order: a stable LSD radix sort of

@@ -288,6 +288,10 @@ struct Renderer::Impl {
     }
     gl::RenderTarget* current = &scene; // target of the view being drawn
     gl::BufferObject frameUbo;
+    // Model matrices of automatic instance batches (Renderer::drawBatch), a shader storage
+    // buffer at kBatchBinding.
+    gl::BufferObject batchModels;
+    std::vector<glm::mat4> batchScratch;
     gl::VertexArrayObject emptyVao; // full-screen passes take their vertices from gl_VertexID
     DebugLog log;
 
@@ -710,9 +714,29 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
     const ResolvedState* state = nullptr;
     const Material* material = nullptr;
     std::uint32_t effectSet = ~0u;
+    std::uint32_t programExtra = 0; // FeatureBatched when the current program draws batches
+    // The model matrices of every batch of this list, uploaded at once (one buffer write per
+    // list: writing per batch, or changing vertex layouts per batch, stalls llvmpipe).
+    s.batchScratch.clear();
+    for (std::size_t i = 0, run = 1; i < items.size(); i += run)
+        if ((run = batchLength(items.subspan(i))) > 1)
+            for (const RenderItem& it : items.subspan(i, run))
+                s.batchScratch.push_back(it.model);
+    bool batchesBound = s.batchScratch.empty();
+    std::size_t batchBase = 0;
+    if (!s.batchScratch.empty()) {
+        if (!s.batchModels) s.batchModels = gl::createBuffer();
+        glNamedBufferData(s.batchModels.get(), GLsizeiptr(s.batchScratch.size() * sizeof(glm::mat4)),
+                          s.batchScratch.data(), GL_STREAM_DRAW);
+    }
     std::vector<const ShaderSnippet*> snippets;
-    for (const RenderItem& item : items) {
+    for (std::size_t i = 0, run = 1; i < items.size(); i += run) {
+        const RenderItem& item = items[i];
         s.log.item = &item;
+        // Repeated meshes: neighbours in the sorted list that differ only in their matrix are
+        // drawn as one instanced batch (the trees and buildings of a simulator scene).
+        run = batchLength(items.subspan(i));
+        const std::uint32_t extra = run > 1 ? FeatureBatched : 0u;
         bool programChanged = false;
         if (item.drawable) {
             // Its own base shader: composed with the effects in the main pass; in depth and
@@ -736,7 +760,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
                 programKey = key;
                 programChanged = true;
             }
-        } else if (!override && item.programKey != programKey) {
+        } else if (!override && (item.programKey != programKey || extra != programExtra)) {
             const EffectSet& set = current_->effectSets[item.effectSet];
             snippets.clear();
             for (const EffectNode* e : set.effects)
@@ -745,13 +769,14 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
                 item.program()
                     ? (snippets.empty() ? 0u : item.features) // a foreign wrap uses the blend bits
                     : ShaderComposer::withWorldPosition(
-                          item.features | viewFeatures_,
+                          item.features | viewFeatures_ | extra,
                           std::any_of(snippets.begin(), snippets.end(), [](const ShaderSnippet* sn) {
                               return !sn->vertexCode.empty() || !sn->ambientCode.empty() ||
                                      !sn->colorCode.empty();
                           }));
             program = &composer_.program(item.program(), snippets, features);
             programKey = item.programKey;
+            programExtra = extra;
             programChanged = true;
         } else if (depthOnly && override) {
             // Alpha-masked and instanced built-in materials keep their cut-outs and instances in
@@ -759,15 +784,15 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
             // variant (no effects) with colour writes off; everything else the depth-only program.
             // G-buffer passes: every built-in material's G-buffer variant (normal maps, cut-outs).
             const bool builtin = !item.program();
-            const bool own = builtin && (mode == DrawMode::GBuffer ||
+            const bool own = builtin && (mode == DrawMode::GBuffer || extra ||
                                          (item.features & (FeatureAlphaMask | FeatureInstanced)));
             const std::uint32_t lighting = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
                                            FeatureVertexLighting | FeatureLightCountMask | FeaturePointLights;
             const std::uint32_t features =
                 mode == DrawMode::GBuffer
-                    ? (item.features & ~lighting) | FeatureGBuffer | FeatureWorldPosition
-                    : ShaderComposer::withWorldPosition((item.features & ~FeatureBlend) | viewFeatures_,
-                                                        false);
+                    ? (item.features & ~lighting) | extra | FeatureGBuffer | FeatureWorldPosition
+                    : ShaderComposer::withWorldPosition(
+                          (item.features & ~FeatureBlend) | extra | viewFeatures_, false);
             const std::uint64_t key = own ? features : ~0ull;
             if (key != programKey) {
                 program = own ? &composer_.program(nullptr, {}, features) : override;
@@ -863,12 +888,23 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (item.drawable) {
             program->set("sgfx_model", item.model);
             item.drawable->draw(*this, *program, item); // binds its own vertex arrays and units
+            batchesBound = false;                       // and maybe buffers
             ++stats_.drawCalls;
             stats_.triangles += item.drawable->triangleCount();
             continue;
         }
         const Geometry& g = *item.geometry;
         gl::GeometryBuffers& b = buffersFor(g);
+        if (extra) {
+            if (!batchesBound) {
+                glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBatchBinding, s.batchModels.get());
+                batchesBound = true;
+            }
+            drawBatch(b, run, batchBase, *program);
+            batchBase += run;
+            stats_.triangles += g.triangleCount() * run;
+            continue;
+        }
         program->set("sgfx_model", item.model);
         program->set("sgfx_normalMatrix", glm::mat3(glm::transpose(glm::inverse(item.model))));
         glBindVertexArray(b.vao.get());
@@ -913,6 +949,36 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
     if (mode == DrawMode::DepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     s.log.item = nullptr;
     s.log.program = nullptr;
+}
+
+std::size_t Renderer::batchLength(std::span<const RenderItem> items) const {
+    const RenderItem& first = items.front();
+    // Built-in materials only (a program of the user's does not read instance matrices); blended
+    // items keep their one-by-one path (triangle sorting).
+    if (!options_.autoInstancing || first.drawable || first.program() || !first.geometry->instances.empty() ||
+        (first.features & FeatureBlend))
+        return 1;
+    std::size_t n = 1;
+    while (n < items.size()) {
+        const RenderItem& it = items[n];
+        if (it.geometry != first.geometry || it.state != first.state || it.effectSet != first.effectSet ||
+            it.faces != first.faces || it.programKey != first.programKey || it.features != first.features)
+            break;
+        ++n;
+    }
+    return n >= options_.minInstanceBatch ? n : 1;
+}
+
+void Renderer::drawBatch(const gl::GeometryBuffers& b, std::size_t count, std::size_t base,
+                         gl::Program& program) {
+    program.set("sgfx_batchBase", int(base));
+    glBindVertexArray(b.vao.get());
+    if (b.indexed)
+        glDrawElementsInstanced(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr, GLsizei(count));
+    else
+        glDrawArraysInstanced(b.mode, 0, GLsizei(b.count), GLsizei(count));
+    ++stats_.drawCalls;
+    ++stats_.instanceBatches;
 }
 
 namespace {

@@ -184,7 +184,8 @@ std::string ShaderComposer::featureDefines(std::uint32_t f) {
         {FeatureEmissiveMap, "SGFX_EMISSIVE_MAP"},
         {FeatureTexCoords1, "SGFX_TEXCOORDS1"},
         {FeatureUvTransform, "SGFX_UV_TRANSFORM"},
-        {FeatureInstanced, "SGFX_INSTANCED"}};
+        {FeatureInstanced, "SGFX_INSTANCED"},
+        {FeatureBatched, "SGFX_BATCHED"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";

@@ -53,7 +53,7 @@ struct RenderItem {
 
 class RenderQueue {
 public:
-    std::vector<RenderItem> opaque;      // drawn first; sorted by program, material, front to back
+    std::vector<RenderItem> opaque;      // drawn first; by octave of depth, program, material, mesh, depth
     std::vector<RenderItem> transparent; // drawn last; sorted by order, then back to front
     // Blended items an effect above them draws itself (EffectNode::drawsBlended), e.g. an
     // order-independent transparency pass; not drawn by the main pass. Cull order.
@@ -76,7 +76,8 @@ private:
         std::uint32_t index;
     };
     std::vector<SortKey> sortKeys_, sortScratchKeys_;
-    std::vector<std::uint64_t> programRanks_, materialRanks_, rankScratch_;
+    std::vector<std::uint64_t> programRanks_, materialRanks_, meshRanks_, rankScratch_;
+    std::vector<std::uint32_t> meshCounts_;
     void radixSort(std::vector<SortKey>& keys);
     std::vector<RenderItem> sortScratch_;
 };

@@ -17,6 +17,7 @@ class Camera;
 class GraphicsContext;
 class Renderer;
 namespace gl {
+struct GeometryBuffers;
 struct RenderTarget;
 class StateCache;
 } // namespace gl
@@ -86,7 +87,8 @@ struct FrameStats {
     std::size_t stateChanges = 0; // program, material, blend/depth/cull and texture binds
     std::size_t culledNodes = 0;
     std::size_t items = 0;
-    std::size_t triangleSorts = 0; // per-triangle re-sorts (TransparencyDetails::sortTriangles)
+    std::size_t triangleSorts = 0;   // per-triangle re-sorts (TransparencyDetails::sortTriangles)
+    std::size_t instanceBatches = 0; // draws that drew several items (RendererOptions::autoInstancing)
     // GPU time of each pass and of the main pass's item drawing, in frame order, from timer
     // queries (RendererOptions::timePasses).
     struct PassTime {
@@ -118,6 +120,12 @@ struct RendererOptions {
     // Time every pass on the GPU (FrameStats::passTimes); the results are waited for at the end
     // of the frame, so off unless profiling.
     bool timePasses = false;
+    // Neighbours in the sorted queue that share mesh, state and effects and differ only in their
+    // matrix (a mesh placed many times) are drawn with one instanced call when at least
+    // minInstanceBatch of them follow each other. Built-in materials only; blended items are
+    // always drawn one by one.
+    bool autoInstancing = true;
+    std::size_t minInstanceBatch = 2;
 };
 
 // Owns GL-side resources for one context: composed programs, the scene target, the state cache.
@@ -188,6 +196,9 @@ private:
     void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
     void copyToTexture(const gl::RenderTarget& from, const Texture& to);
     void runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& target);
+    // Items at the front of `items` that one instanced draw can take (1: draw it alone).
+    std::size_t batchLength(std::span<const RenderItem> items) const;
+    void drawBatch(const gl::GeometryBuffers& b, std::size_t count, std::size_t base, gl::Program& program);
     GraphicsContext& context_;
     Options options_;
     std::uint32_t viewFeatures_ = 0; // variant bits that hold for the whole view (lights, depth test)

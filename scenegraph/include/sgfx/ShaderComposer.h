@@ -103,10 +103,15 @@ enum MaterialFeature : std::uint32_t {
     FeatureTexCoords1 = 1u << 25,  // a second texture coordinate set is interpolated
     FeatureUvTransform = 1u << 26, // some map reads set 1 or a transformed set (per-map uniforms)
     FeatureInstanced = 1u << 27,   // Geometry::instances: per-instance matrices at locations 6..9
+    // Automatic instance batch (RendererOptions::autoInstancing): the model matrix of instance i
+    // is sgfx_batchModels[sgfx_batchBase + i], a shader storage buffer at kBatchBinding.
+    FeatureBatched = 1u << 28,
     // Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
 };
+
+constexpr unsigned kBatchBinding = 7; // shader storage binding of FeatureBatched's matrices
 
 class Material;
 class Geometry;
