@@ -23,7 +23,7 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 declare -A line
 run() {
   local name=$1; shift
-  local out; out=$("$@" | grep '^BENCH')
+  local out; out=$("$@" 2>/dev/null | grep '^BENCH') # OSG's OBJ plugin warns a lot on stderr
   line[$name]=$out
   eval "$name+=(\"$(echo "$out" | field median_ms)\")"
   echo "  $name: $(echo "$out" | field median_ms) ms" >&2

@@ -431,8 +431,8 @@ void addWindowPane(Geometry& g, const glm::vec3& centre, const glm::vec3& out) {
 // A building of footprint w x d and `floors` storeys, base at z = 0 (the walls reach 4 m below
 // so instances on slopes never float). Walls inherit the instance's colour.
 //   lod:           window boxes above kBuildingDetailPixels, flat panes below (12 -> 2 triangles)
-//   manyDrawables: every window its own drawable (a shared box under its own Transform), the
-//                  many-drawables benchmark scene; no levels of detail then
+//   manyDrawables: every window its own drawable (a shared box, or pane, under its own
+//                  Transform): the many-drawables benchmark scene
 BuildingPrototype makeBuildingPrototype(float w, float d, int floors, bool gable, bool slate,
                                         const BuildingMaterials& mats, int index, bool lod,
                                         bool manyDrawables) {
@@ -451,16 +451,27 @@ BuildingPrototype makeBuildingPrototype(float w, float d, int floors, bool gable
     windows->name = "windows";
     auto panes = Geometry::create();
     panes->name = "window_panes";
-    auto windowGroup = Group::create();
+    auto windowGroup = Group::create(), paneGroup = Group::create();
     windowGroup->name = "windows";
     windowGroup->setStateSet(mats.windows);
+    paneGroup->name = "window_panes";
+    paneGroup->setStateSet(mats.windows);
+    // One pane per facing (+X, -X, +Y, -Y) for the many-drawables scene's distant level.
+    std::map<std::pair<int, int>, std::shared_ptr<Geometry>> paneMeshes;
     auto windowX = sgfx::shapes::box({1.4f, 0.16f, 1.6f}); // on the facades facing +-Y
     auto windowY = sgfx::shapes::box({0.16f, 1.4f, 1.6f}); // on the facades facing +-X
     std::size_t windowCount = 0;
     auto addWindow = [&](const std::shared_ptr<Geometry>& box, const glm::vec3& at, const glm::vec3& out) {
-        if (manyDrawables)
+        if (manyDrawables) {
             windowGroup->addChild(place(translate(at), box));
-        else
+            auto& pane = paneMeshes[{int(out.x), int(out.y)}];
+            if (!pane) {
+                pane = Geometry::create();
+                pane->name = "window_pane";
+                addWindowPane(*pane, glm::vec3(0.0f), out);
+            }
+            paneGroup->addChild(place(translate(at + 0.08f * out), pane));
+        } else
             sgfx::shapes::append(*windows, *box, translate(at));
         addWindowPane(*panes, at + 0.08f * out, out);
         ++windowCount;
@@ -524,18 +535,17 @@ BuildingPrototype makeBuildingPrototype(float w, float d, int floors, bool gable
     node->addChild(roof);
     const float halfDiagonal = 0.5f * std::sqrt(w * w + d * d) + 0.5f;
     const std::size_t boxTriangles = windowCount * windowX->triangleCount();
-    if (manyDrawables) {
-        node->addChild(windowGroup);
-    } else if (lod) {
+    if (lod) {
         auto levels = sgfx::LOD::create();
         levels->name = "windows_lod";
         // Switch on the building's size, not the windows' bound.
         levels->setUserSphere({0, 0, 0.5f * h}, std::sqrt(halfDiagonal * halfDiagonal + 0.25f * h * h));
-        levels->addChild(windows, kBuildingDetailPixels, std::numeric_limits<float>::infinity());
-        levels->addChild(panes, 0.0f, kBuildingDetailPixels);
+        levels->addChild(manyDrawables ? windowGroup : sgfx::NodePtr(windows), kBuildingDetailPixels,
+                         std::numeric_limits<float>::infinity());
+        levels->addChild(manyDrawables ? paneGroup : sgfx::NodePtr(panes), 0.0f, kBuildingDetailPixels);
         node->addChild(levels);
     } else {
-        node->addChild(windows);
+        node->addChild(manyDrawables ? windowGroup : sgfx::NodePtr(windows));
     }
     return {node, halfDiagonal, walls->triangleCount() + boxTriangles + roof->triangleCount(), windowCount};
 }

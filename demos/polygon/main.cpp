@@ -79,7 +79,7 @@ options:
                       half and quarter resolution and distant buildings to flat window panes;
                       exports always hold the full detail)
   --many-drawables    the many-drawables benchmark scene: every window of every building its
-                      own drawable (about 26,000 more drawables, no building levels of detail)
+                      own drawable (about 26,000 more drawables)
   --no-instancing     draw repeated meshes one by one (RendererOptions::autoInstancing off)
   --egl               render headless through EGL (GPU) instead of OSMesa
   --lighting pixel|vertex
@@ -809,7 +809,9 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
 int run(const Options& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const polygon::PolygonScene scene =
-        polygon::buildPolygonScene({kExtent, o.scale, o.seed, o.lod, o.manyDrawables});
+        polygon::buildPolygonScene(
+        // Exports hold the full detail without the levels' skirts: what --no-lod renders.
+        {kExtent, o.scale, o.seed, o.lod && o.mode != Mode::ExportObj && o.mode != Mode::ExportGltf, o.manyDrawables});
     const double buildMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     sgfx::StatsVisitor stats;
