@@ -808,10 +808,10 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
 
 int run(const Options& o) {
     const auto t0 = std::chrono::steady_clock::now();
-    const polygon::PolygonScene scene =
-        polygon::buildPolygonScene(
+    const polygon::PolygonScene scene = polygon::buildPolygonScene(
         // Exports hold the full detail without the levels' skirts: what --no-lod renders.
-        {kExtent, o.scale, o.seed, o.lod && o.mode != Mode::ExportObj && o.mode != Mode::ExportGltf, o.manyDrawables});
+        {kExtent, o.scale, o.seed, o.lod && o.mode != Mode::ExportObj && o.mode != Mode::ExportGltf,
+         o.manyDrawables});
     const double buildMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     sgfx::StatsVisitor stats;
