@@ -946,6 +946,9 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         stats_.triangles += g.triangleCount();
     }
     glBindVertexArray(0);
+    // Leave no buffer bound to the batch binding: Mesa leaks a buffer still bound to an indexed
+    // storage binding when the context is destroyed (LeakSanitizer).
+    if (!s.batchScratch.empty()) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBatchBinding, 0);
     if (mode == DrawMode::DepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     s.log.item = nullptr;
     s.log.program = nullptr;
