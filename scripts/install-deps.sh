@@ -14,6 +14,7 @@ packages=(
   clang libclang-rt-14-dev                       # the glTF loader's libFuzzer target (scripts/fuzz.sh)
   libopenscenegraph-dev                          # the OpenSceneGraph peer benchmark
   xvfb xauth libgl1-mesa-dri libglx-mesa0        # the windowed path tested on a virtual display
+  python3-matplotlib                             # sgfx-bench --plot (scripts/plot_bench.py)
 )
 
 missing=()
