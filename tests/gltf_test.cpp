@@ -205,6 +205,36 @@ TEST(Gltf, BadFilesNameTheElementAndTheReason) {
 "textures":[{"source":0}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])");
                  }),
         "images[0]");
+    // A PNG whose image-data chunk claims more bytes than there are: stb would copy from past
+    // the end of the buffer (found by the fuzzer); refused before stb sees it.
+    expectLoadError(
+        tinyFile(
+            "sgfx_truncated_png.gltf", tri, {0, 1, 2},
+            [](std::string& j) {
+                j.replace(j.find("\"indices\":1}"), 12, "\"indices\":1,\"material\":0}");
+                j.insert(
+                    j.size() - 1,
+                    R"(,"images":[{"uri":"data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAAAAAAAAAPoElEQVR4nAAAAAAAAAAAAAA="}],
+"textures":[{"source":0}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])");
+            }),
+        "images[0]: cannot decode: truncated PNG: the chunk at byte 33 claims 4000 bytes");
+    // An image in a buffer view that runs past its buffer: tinygltf 2.7 hands such views to the
+    // image decoder unchecked (the fuzzer's heap overread); checked before anything reads it.
+    expectLoadError(tinyFile("sgfx_image_view_overrun.gltf", tri, {0, 1, 2},
+                             [](std::string& j) {
+                                 j.replace(j.find("\"indices\":1}"), 12, "\"indices\":1,\"material\":0}");
+                                 const auto views = j.find("\"bufferViews\":[") + 15;
+                                 j.insert(views, R"({"buffer":0,"byteOffset":8,"byteLength":4000},)");
+                                 // the views the mesh uses move up by one
+                                 for (const char* from : {"\"bufferView\":1", "\"bufferView\":0"})
+                                     for (auto at = j.find(from); at != std::string::npos;
+                                          at = j.find(from, at + 1))
+                                         j[at + 13] = char(j[at + 13] + 1);
+                                 j.insert(j.size() - 1,
+                                          R"(,"images":[{"bufferView":0,"mimeType":"image/png"}],
+"textures":[{"source":0}],"materials":[{"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}])");
+                             }),
+                    "images[0]: its buffer view (4000 bytes at 8) runs past the buffer's");
 }
 
 namespace {

@@ -223,6 +223,86 @@ std::vector<float> readAccessor(const Context& c, int index, const std::string& 
     return out;
 }
 
+// Debian's stb_image (2022 snapshot) trusts PNG chunk lengths and reads past the end of a
+// buffer whose chunks claim more than it holds, so the chunk layout is checked first; and only
+// the formats glTF allows reach stb: its other decoders (PSD, TGA, HDR, ...) never see hostile
+// bytes. Returns why the bytes are refused, or nothing.
+std::string refuseImageBytes(const unsigned char* bytes, std::size_t n) {
+    static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (n >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) return {}; // JPEG
+    if (n < 8 || std::memcmp(bytes, png, 8) != 0) return "not a PNG or JPEG image";
+    for (std::size_t at = 8;;) {
+        if (n - at < 12) return "truncated PNG: no IEND chunk before byte " + std::to_string(n);
+        const std::size_t length = (std::size_t(bytes[at]) << 24) | (std::size_t(bytes[at + 1]) << 16) |
+                                   (std::size_t(bytes[at + 2]) << 8) | std::size_t(bytes[at + 3]);
+        if (length > n - at - 12)
+            return "truncated PNG: the chunk at byte " + std::to_string(at) + " claims " +
+                   std::to_string(length) + " bytes, " + std::to_string(n - at - 12) + " are left";
+        const bool end = std::memcmp(bytes + at + 4, "IEND", 4) == 0;
+        at += 12 + length;
+        if (end) return {};
+    }
+}
+
+// Decodes a PNG or JPEG into RGBA8. The header's size is charged to the budget first: stb
+// allocates what the header declares before it reads the pixels. Returns why it failed, or nothing.
+std::string decodePixels(const unsigned char* bytes, std::size_t size, Budget& budget,
+                         tinygltf::Image& image) {
+    if (size == 0 || size > std::size_t(std::numeric_limits<int>::max())) return "empty or over 2 GiB";
+    if (std::string why = refuseImageBytes(bytes, size); !why.empty()) return why;
+    int w = 0, h = 0, comp = 0;
+    if (!stbi_info_from_memory(bytes, int(size), &w, &h, &comp) || w <= 0 || h <= 0)
+        return "not a PNG or JPEG image";
+    if (!budget.take(std::size_t(w) * std::size_t(h) * 8))
+        return std::to_string(w) + "x" + std::to_string(h) + " pixels are more than the load's memory limit";
+    stbi_uc* data = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
+    if (!data) return stbi_failure_reason();
+    image.width = w;
+    image.height = h;
+    image.component = 4;
+    image.bits = 8;
+    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image.image.assign(data, data + std::size_t(w) * std::size_t(h) * 4);
+    stbi_image_free(data);
+    return {};
+}
+
+// tinygltf's image callback. Images in a buffer view are left for later (decodeDeferred):
+// tinygltf 2.7 hands them over without checking the view against its buffer, so `size` may run
+// past the data. Images from a URI arrive as exactly the bytes read.
+bool decodeImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+                 const unsigned char* bytes, int size, void* budget) {
+    if (image->bufferView >= 0) return true;
+    const std::string why =
+        decodePixels(bytes, std::size_t(std::max(size, 0)), *static_cast<Budget*>(budget), *image);
+    if (!why.empty() && err) *err += "images[" + std::to_string(index) + "]: cannot decode: " + why + "\n";
+    return why.empty();
+}
+
+// Decodes the images stored in buffer views, once their views are checked against the buffers.
+void decodeDeferred(tinygltf::Model& model, Budget& budget,
+                    const std::function<void(const std::string&, const std::string&)>& fail) {
+    for (std::size_t i = 0; i < model.images.size(); ++i) {
+        tinygltf::Image& image = model.images[i];
+        if (image.bufferView < 0 || !image.image.empty()) continue;
+        const std::string element = at("images", i);
+        if (std::size_t(image.bufferView) >= model.bufferViews.size())
+            fail(element, "buffer view " + std::to_string(image.bufferView) + " does not exist");
+        const tinygltf::BufferView& view = model.bufferViews[std::size_t(image.bufferView)];
+        if (view.buffer < 0 || std::size_t(view.buffer) >= model.buffers.size())
+            fail(element, "the buffer view's buffer " + std::to_string(view.buffer) + " does not exist");
+        const std::vector<unsigned char>& data = model.buffers[std::size_t(view.buffer)].data;
+        if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+            fail(element, "its buffer view (" + std::to_string(view.byteLength) + " bytes at " +
+                              std::to_string(view.byteOffset) + ") runs past the buffer's " +
+                              std::to_string(data.size()) + " bytes");
+        if (const std::string why =
+                decodePixels(data.data() + view.byteOffset, view.byteLength, budget, image);
+            !why.empty())
+            fail(element, "cannot decode: " + why);
+    }
+}
+
 std::shared_ptr<Texture> loadTexture(const Context& c, int index, bool srgb, const std::string& element,
                                      std::map<std::pair<int, bool>, std::shared_ptr<Texture>>& cache) {
     if (index < 0) return nullptr;
@@ -256,37 +336,6 @@ std::shared_ptr<Texture> loadTexture(const Context& c, int index, bool srgb, con
     }
     cache[{index, srgb}] = tex;
     return tex;
-}
-
-// Decodes images with stb (PNG, JPEG) into RGBA8; a failure names the image. The header's size is
-// charged to the budget first: stb allocates what the header declares before it reads the pixels.
-bool decodeImage(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
-                 const unsigned char* bytes, int size, void* budget) {
-    int w = 0, h = 0, comp = 0;
-    if (size <= 0 || !stbi_info_from_memory(bytes, size, &w, &h, &comp) || w <= 0 || h <= 0 ||
-        !static_cast<Budget*>(budget)->take(std::size_t(w) * std::size_t(h) * 8)) {
-        if (err)
-            *err += "images[" + std::to_string(index) + "]: cannot decode: " +
-                    (w > 0 && h > 0 ? std::to_string(w) + "x" + std::to_string(h) +
-                                          " pixels are more than the load's memory limit"
-                                    : std::string("not a PNG or JPEG image")) +
-                    "\n";
-        return false;
-    }
-    stbi_uc* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
-    if (!data) {
-        if (err)
-            *err += "images[" + std::to_string(index) + "]: cannot decode: " + stbi_failure_reason() + "\n";
-        return false;
-    }
-    image->width = w;
-    image->height = h;
-    image->component = 4;
-    image->bits = 8;
-    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image->image.assign(data, data + std::size_t(w) * std::size_t(h) * 4);
-    stbi_image_free(data);
-    return true;
 }
 
 glm::vec4 vec4Of(const Context& c, const std::vector<double>& v, const std::string& element) {
@@ -487,6 +536,9 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
         err = e.what();
     }
     if (!ok) throw refuse(err.empty() ? std::string("not a glTF file") : err);
+    decodeDeferred(model, budget, [&](const std::string& element, const std::string& why) {
+        throw refuse(element + ": " + why);
+    });
     const Context c{path, model, &budget, options.memoryLimit};
     GltfStats st;
     static const std::set<std::string> supported = {"KHR_texture_transform",
