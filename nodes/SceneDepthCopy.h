@@ -39,6 +39,10 @@ public:
     }
     // The copy for the view being drawn (0 before the first copy).
     unsigned current() const { return current_; }
+    void releaseGLObjects() {
+        targets_.clear();
+        current_ = 0;
+    }
 
 private:
     struct Target {

@@ -26,6 +26,9 @@ public:
         return t;
     }
 
+    // Drops every entry (their GL objects with them); the context they were made in must be current.
+    void clear() { entries_.clear(); }
+
 private:
     std::vector<T> entries_;
 };

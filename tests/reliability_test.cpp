@@ -206,6 +206,52 @@ TEST(Resources, ProvingGroundWithEveryEffectLeavesNothingBehind) {
         EXPECT_EQ(gl::liveObjects()[gl::Kind(k)], 0) << "kind " << k;
 }
 
+// A scene outlives the viewer that drew it (a model viewer reopening its window, a trainer
+// restarting a headless render): ~Viewer must release the effect nodes' own targets while its
+// context is current, and a second viewer must make them again and draw the same image.
+TEST(Resources, AnEffectSceneOutlivesItsViewerAndIsDrawnTheSameByTheNext) {
+    ASSERT_EQ(gl::liveObjects().total(), 0);
+    auto root = Group::create();
+    auto fogNode = FogNode::create(FogParameters::ground());
+    auto aoNode = AmbientOcclusionNode::create();
+    auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
+    bin->addChild(glassQuad(3, {0.2f, 0.8f, 0.3f}, 0.5f, {0, 0, 1.5f}));
+    aoNode->addChild(flatQuad(20, {0.3f, 0.3f, 0.3f}));
+    aoNode->addChild(shapes::box({2, 2, 2}));
+    aoNode->addChild(bin);
+    auto cloud = VolumeNode::create({}, VolumeGrid::noise(8, 2, 2, 0.4f));
+    auto cloudAt = Transform::create(glm::translate(glm::mat4(1.0f), {3, 0, 2}));
+    cloudAt->addChild(cloud);
+    aoNode->addChild(cloudAt);
+    fogNode->addChild(aoNode);
+    auto skyNode = SkyNode::create();
+    skyNode->attachFog(fogNode);
+    root->addChild(fogNode);
+    root->addChild(skyNode);
+    auto light = Light::create(LightType::Directional);
+    light->direction = glm::normalize(glm::vec3(-0.3f, 0.2f, -1.0f));
+    root->addChild(light);
+
+    for (FogMode mode : {FogMode::ForwardSplit, FogMode::PostProcess}) {
+        fogNode->setMode(mode);
+        auto draw = [&] {
+            auto v = Viewer::createHeadless(64, 48);
+            v->camera()->setLookAt({6, -9, 5}, {0, 0, 1});
+            v->camera()->setAntiAliasing(AntiAliasing::msaa(4));
+            v->setSceneData(root);
+            v->frame();
+            v->frame();
+            EXPECT_TRUE(glErrors(*v).empty());
+            return v->capture();
+        };
+        const Image first = draw();
+        EXPECT_EQ(gl::liveObjects().total(), 0) << "GL objects kept after the viewer died";
+        const Image second = draw();
+        EXPECT_EQ(gl::liveObjects().total(), 0);
+        EXPECT_EQ(channelsDiffering(first, second, 0), 0) << "fog mode " << int(mode);
+    }
+}
+
 TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
     auto v = orthoTopViewer(24, 2.0f);
     auto root = Group::create();

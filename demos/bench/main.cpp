@@ -628,25 +628,19 @@ int plot(const std::string& json, const std::string& png) {
 }
 
 int run(const Options& o) {
-    auto makeScene = [&o] {
-        BenchScene s = o.model.empty() ? provingGround(o.scale) : modelScene(o.model);
-        if (s.sun) s.sunDirection = s.sun->direction;
-        sgfx::StatsVisitor stats;
-        s.root->accept(stats);
-        s.triangles = stats.triangles;
-        return s;
-    };
-    const BenchScene scene = makeScene();
+    BenchScene scene = o.model.empty() ? provingGround(o.scale) : modelScene(o.model);
+    if (scene.sun) scene.sunDirection = scene.sun->direction;
+    sgfx::StatsVisitor stats;
+    scene.root->accept(stats);
+    scene.triangles = stats.triangles;
 
     Machine machine;
     std::vector<Result> results;
     const std::size_t total = o.sizes.size() * o.configs.size();
     for (const Size& size : o.sizes)
         for (const Config& c : o.configs) {
-            // A fresh scene for every viewer: effect nodes keep the GL targets of the viewer that
-            // drew them, and the viewer does not release those yet (a known gap).
-            BenchScene fresh = makeScene();
-            results.push_back(runOne(o, fresh, size, c, machine));
+            // One scene for every viewer: each viewer releases its GL objects when it goes.
+            results.push_back(runOne(o, scene, size, c, machine));
             std::fprintf(stderr, "[%zu/%zu] %s %s: %.1f ms\n", results.size(), total, size.name().c_str(),
                          c.name.c_str(), results.back().medianMs);
         }

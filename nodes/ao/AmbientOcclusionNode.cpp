@@ -185,6 +185,12 @@ struct AmbientOcclusionNode::Shared {
         t.width = w, t.height = h, t.mapWidth = mw, t.mapHeight = mh, t.positions = positions;
     }
 
+    void release() {
+        targets.clear();
+        current = nullptr;
+        noise.reset();
+    }
+
     GLuint noiseTexture() {
         if (!noise || noiseSeed != parameters.seed) {
             const std::vector<glm::vec2> n = ao::rotationNoise(parameters.seed);
@@ -350,6 +356,10 @@ AmbientOcclusionNode::AmbientOcclusionNode()
     , debugPass_(std::make_shared<DebugPass>(shared_)) {}
 
 AmbientOcclusionNode::~AmbientOcclusionNode() = default;
+
+void AmbientOcclusionNode::releaseGLObjects() {
+    shared_->release();
+}
 
 void AmbientOcclusionNode::setParameters(const AmbientOcclusionParameters& p) {
     p.validate();

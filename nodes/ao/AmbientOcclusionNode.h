@@ -98,6 +98,7 @@ public:
     const ShaderSnippet& snippet() const override;
     void planFrame(FramePlan& plan) const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
+    void releaseGLObjects() override;
 
     // Throws std::invalid_argument with the reason and keeps the previous value.
     void setParameters(const AmbientOcclusionParameters& parameters);

@@ -136,6 +136,11 @@ private:
         t.width = width; // only a complete target is ever matched
         t.height = height;
     }
+
+public:
+    void releaseGLObjects() { targets_.clear(); }
+
+private:
     nodes::TargetCache<Target> targets_;
 };
 
@@ -171,6 +176,7 @@ public:
                                       : DepthState{.test = true, .write = false, .func = CompareFunc::Equal});
         if (post_) r.bindTexture(kEffectTextureUnit, 0);
     }
+    void releaseGLObjects() { fbo_.reset(); }
 
 private:
     const BaseShader& base() const {
@@ -208,6 +214,12 @@ FogNode::FogNode()
 }
 
 FogNode::~FogNode() = default;
+
+void FogNode::releaseGLObjects() {
+    depthPass_->releaseGLObjects();
+    skyPass_->releaseGLObjects();
+    postPass_->releaseGLObjects();
+}
 
 void FogNode::setParameters(const FogParameters& p) {
     p.validate();

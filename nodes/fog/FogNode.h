@@ -67,6 +67,7 @@ public:
     const ShaderSnippet& snippet() const override;
     void planFrame(FramePlan& plan) const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
+    void releaseGLObjects() override;
 
     // Both throw std::invalid_argument with the reason and keep the previous value.
     void setParameters(const FogParameters& parameters);

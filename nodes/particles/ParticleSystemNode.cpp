@@ -450,7 +450,7 @@ std::size_t ParticleSystemNode::triangleCount() const {
 
 void ParticleSystemNode::releaseGLObjects() {
     gpu_.reset();
-    depthCopy_ = std::make_shared<nodes::SceneDepthCopy>("particles: depth copy");
+    depthCopy_->releaseGLObjects();
     resetPending_ = true;
 }
 

@@ -140,6 +140,13 @@ public:
         glDisable(GL_SCISSOR_TEST);
     }
 
+    void releaseGLObjects() {
+        fbo_.reset();
+        accum_.reset();
+        reveal_.reset();
+        depth_ = 0;
+    }
+
 private:
     void allocate(const gl::RenderTarget& view) {
         const GLenum revealFormat = revealage8Bit ? GL_R8 : GL_R16F;
@@ -221,6 +228,10 @@ TransparencyBin::TransparencyBin()
 }
 
 TransparencyBin::~TransparencyBin() = default;
+
+void TransparencyBin::releaseGLObjects() {
+    oitPass_->releaseGLObjects();
+}
 
 void TransparencyBin::setMode(TransparencyMode m) {
     if (std::uint8_t(m) > std::uint8_t(TransparencyMode::WeightedBlended))

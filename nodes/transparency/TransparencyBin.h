@@ -59,6 +59,7 @@ public:
     // The weighted blended mode draws straight and premultiplied alpha items itself; additive
     // and multiplicative blending commute, so those stay in the sorted stage.
     bool drawsBlended(BlendMode mode) const override;
+    void releaseGLObjects() override;
 
     // Each throws std::invalid_argument with the reason and keeps the previous value.
     void setMode(TransparencyMode mode);

@@ -383,7 +383,7 @@ void VolumeNode::planFrame(FramePlan& plan) const {
 void VolumeNode::releaseGLObjects() {
     gpu_.reset();
     gridDirty_ = true;
-    depthCopy_ = std::make_shared<nodes::SceneDepthCopy>("volume: depth copy");
+    depthCopy_->releaseGLObjects();
 }
 
 void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {

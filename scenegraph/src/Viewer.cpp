@@ -27,6 +27,10 @@ public:
         d.releaseGLObjects();
         apply(static_cast<Node&>(d));
     }
+    void apply(EffectNode& e) override {
+        e.releaseGLObjects();
+        apply(static_cast<Node&>(e));
+    }
     void apply(Camera& c) override {
         release(c.renderTarget.get());
         apply(static_cast<Node&>(c));
