@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config   # toolchain
   libglm-dev libglfw3-dev libstb-dev             # math, windows, PNG
+  libimgui-dev                                   # sgfx-view's panel (Dear ImGui)
   libtinygltf-dev nlohmann-json3-dev             # glTF 2.0 loading
   libopenmesh-dev                                # OBJ/OFF/PLY/STL meshes
   libosmesa6-dev                                 # software OpenGL 4.5 core (llvmpipe), headless

@@ -320,26 +320,11 @@ Options parseArgs(int argc, char** argv) {
             else
                 throw UsageError("--fog-sky: '" + std::string(v) + "' is not off, far or distance");
         } else if (arg == "--aa") {
-            const std::string_view v = value();
-            using Q = sgfx::AntiAliasing::FxaaQuality;
-            if (v == "none")
-                o.aa = sgfx::AntiAliasing::none();
-            else if (v == "msaa")
-                o.aa = sgfx::AntiAliasing::msaa(4);
-            else if (v.starts_with("msaa") && v.size() == 5 && v[4] >= '1' && v[4] <= '8')
-                o.aa = sgfx::AntiAliasing::msaa(v[4] - '0');
-            else if (v.starts_with("ssaa") && v.size() == 5 && v[4] >= '2' && v[4] <= '4')
-                o.aa = sgfx::AntiAliasing::ssaa(v[4] - '0');
-            else if (v == "fxaa")
-                o.aa = sgfx::AntiAliasing::fxaa(Q::Medium);
-            else if (v == "fxaa-low")
-                o.aa = sgfx::AntiAliasing::fxaa(Q::Low);
-            else if (v == "fxaa-high")
-                o.aa = sgfx::AntiAliasing::fxaa(Q::High);
-            else if (v == "taa")
-                o.aa = sgfx::AntiAliasing::taa();
-            else
-                throw UsageError("--aa: '" + std::string(v) + "' is not one of the modes listed in --help");
+            try {
+                o.aa = sgfx::AntiAliasing::parse(value());
+            } catch (const std::invalid_argument& e) {
+                throw UsageError(std::string("--aa: ") + e.what());
+            }
         } else if (arg == "--crop") {
             const std::string_view v = value();
             std::array<int, 5> c{};

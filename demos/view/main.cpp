@@ -1,21 +1,21 @@
-// sgfx-view: look at a model (glTF, OBJ, OFF, PLY, STL) under the effects. Headless: renders one
-// still to a PNG, optionally a row of panels comparing the effects (plain | fog | AO | both).
-// The camera frames the model's bounds; a ground plane under it shows contact shadows from AO.
-#include <ao/AmbientOcclusionNode.h>
-#include <fog/FogNode.h>
+// sgfx-view: look at a model (glTF, OBJ, OFF, PLY, STL) under the effects. With a display it opens
+// a window (orbit/fly camera, a panel to tune the effects, a stats overlay); without one, or with
+// --headless or --out, it renders one still to a PNG, optionally a row of panels comparing the
+// effects (plain | fog | AO | both).
+#include "Options.h"
+#include "ViewScene.h"
+
+#include <sgfx/GraphicsContext.h>
+#include <sgfx/Manipulator.h>
 #include <sgfx/ModelLoader.h>
-#include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
-
-#include <glm/gtc/matrix_transform.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,32 +23,36 @@
 namespace {
 
 const char* const kUsage = R"(usage: sgfx-view [options] FILE...
-Loads the files (.gltf .glb .obj .off .ply .stl) and renders them headless to a PNG.
-  --out PNG          output image (default sgfx-view.png)
-  --size WxH         image size per panel (default 512x384)
+Loads the files (.gltf .glb .obj .off .ply .stl). With a display (DISPLAY or WAYLAND_DISPLAY)
+it opens a window; otherwise, or with --headless or --out, it renders a PNG.
+  --out PNG          output image (default sgfx-view.png); implies --headless
+  --headless         render to the PNG even when a display exists
+  --window           open a window or fail (exit 1) when none can be opened
+  --size WxH         window size (default 1280x720), or image size per panel (512x384)
   --fog RHO|auto     height fog: density per metre at the model's base (auto: the model's
                      centre half hidden), falling off over the model's height
+  --fog-mode MODE    forward (default), split (seed 2's pre-pass) or post (seed 1's post-process)
   --ao               screen-space ambient occlusion (radius a tenth of the model's size)
-  --compare          four panels side by side: plain, fog, AO, fog + AO
+  --aa MODE          anti-aliasing: none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low,
+                     fxaa-high, taa
+  --weather KIND     none, rain or snow particles over the model
+  --sky HOURS        physical sky and sun at this solar time (0..24)
+  --compare          four panels side by side: plain, fog, AO, fog + AO (headless)
   --yaw DEG          camera azimuth around the model (default 30)
   --pitch DEG        camera elevation (default 25)
   --crease DEG       glTF normals made for primitives without them: smooth below DEG (default flat)
   --no-ground        no ground plane under the model
   --keep-y-up        do not turn glTF's Y up into Z up
+  --self-test N      window: N frames of scripted input (both cameras, every toggle, a resize,
+                     a screenshot to --out's name), then exit
+Window keys: left drag orbit/look, right drag zoom, middle drag pan, wheel zoom (fly: speed),
+  WASD move, Q/E down/up, Shift fast, V orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather,
+  K sky, G ground, F1 panel, F12 or P screenshot, Esc quit; drop files on the window to load them.
 Exit status: 0 written, 1 a file failed to load or render, 2 bad options.
 )";
 
 struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
-};
-
-struct Options {
-    std::vector<std::string> files;
-    std::string out = "sgfx-view.png";
-    int width = 512, height = 384;
-    std::optional<float> fog; // density; NaN = auto
-    bool ao = false, compare = false, ground = true, keepYUp = false;
-    float yaw = 30.0f, pitch = 25.0f, crease = 0.0f;
 };
 
 float number(const std::string& option, const std::string& text, float lo, float hi) {
@@ -60,8 +64,10 @@ float number(const std::string& option, const std::string& text, float lo, float
     return v;
 }
 
-Options parse(int argc, char** argv) {
-    Options o;
+view::Options parse(int argc, char** argv) {
+    view::Options o;
+    view::Settings& s = o.settings;
+    bool autoFog = false, sizeGiven = false;
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         auto value = [&] {
@@ -73,17 +79,54 @@ Options parse(int argc, char** argv) {
             std::exit(0);
         } else if (arg == "--out") {
             o.out = value();
+            o.outGiven = true;
+        } else if (arg == "--headless") {
+            o.headless = true;
+        } else if (arg == "--window") {
+            o.window = true;
         } else if (arg == "--size") {
             const std::string v = value();
             const auto x = v.find('x');
             if (x == std::string::npos) throw UsageError("--size: '" + v + "' is not WxH");
             o.width = int(number("--size", v.substr(0, x), 16, 4096));
             o.height = int(number("--size", v.substr(x + 1), 16, 4096));
+            sizeGiven = true;
         } else if (arg == "--fog") {
             const std::string v = value();
-            o.fog = v == "auto" ? std::nanf("") : number("--fog", v, 0.0f, 1e6f);
+            s.fog = true;
+            autoFog = v == "auto";
+            s.fogDensity = autoFog ? 0.0f : number("--fog", v, 0.0f, 1e6f);
+        } else if (arg == "--fog-mode") {
+            const std::string v = value();
+            if (v == "forward")
+                s.fogMode = sgfx::FogMode::Forward;
+            else if (v == "split")
+                s.fogMode = sgfx::FogMode::ForwardSplit;
+            else if (v == "post")
+                s.fogMode = sgfx::FogMode::PostProcess;
+            else
+                throw UsageError("--fog-mode: '" + v + "' is not forward, split or post");
         } else if (arg == "--ao") {
-            o.ao = true;
+            s.ao = true;
+        } else if (arg == "--aa") {
+            try {
+                s.antiAliasing = sgfx::AntiAliasing::parse(value());
+            } catch (const std::invalid_argument& e) {
+                throw UsageError(std::string("--aa: ") + e.what());
+            }
+        } else if (arg == "--weather") {
+            const std::string v = value();
+            if (v == "none")
+                s.weather = view::Weather::None;
+            else if (v == "rain")
+                s.weather = view::Weather::Rain;
+            else if (v == "snow")
+                s.weather = view::Weather::Snow;
+            else
+                throw UsageError("--weather: '" + v + "' is not none, rain or snow");
+        } else if (arg == "--sky") {
+            s.sky = true;
+            s.skyHours = number(arg, value(), 0.0f, 24.0f);
         } else if (arg == "--compare") {
             o.compare = true;
         } else if (arg == "--yaw") {
@@ -93,9 +136,12 @@ Options parse(int argc, char** argv) {
         } else if (arg == "--crease") {
             o.crease = number(arg, value(), 0.0f, 180.0f);
         } else if (arg == "--no-ground") {
-            o.ground = false;
+            s.ground = false;
         } else if (arg == "--keep-y-up") {
             o.keepYUp = true;
+        } else if (arg == "--self-test") {
+            o.selfTestFrames = int(number(arg, value(), 4, 100000));
+            o.window = true;
         } else if (arg.starts_with("--")) {
             throw UsageError("unknown option " + arg);
         } else {
@@ -103,77 +149,82 @@ Options parse(int argc, char** argv) {
         }
     }
     if (o.files.empty()) throw UsageError("no model file given");
+    if (o.window && (o.headless || o.compare))
+        throw UsageError("--window and --self-test cannot go with --headless or --compare");
+    if (o.outGiven && !o.window) o.headless = true;
+    if (o.compare) o.headless = true;
+    if (!o.headless && !sizeGiven) o.width = 1280, o.height = 720; // a window's default
+    (void)autoFog; // density 0 means the model-scaled preset's own
     return o;
 }
 
-struct Framing {
-    glm::vec3 centre, eye;
-    float radius, distance, baseZ;
-};
-
-Framing frame(const sgfx::ComputeBoundsVisitor& b, const Options& o) {
-    Framing f;
-    f.centre = 0.5f * (b.min + b.max);
-    f.radius = std::max(0.5f * glm::length(b.max - b.min), 1e-3f);
-    f.baseZ = b.min.z;
-    f.distance = f.radius / std::sin(glm::radians(20.0f)); // fits a 40° field of view
-    const float yaw = glm::radians(o.yaw), pitch = glm::radians(o.pitch);
-    f.eye = f.centre + f.distance * glm::vec3(std::sin(yaw) * std::cos(pitch),
-                                              -std::cos(yaw) * std::cos(pitch), std::sin(pitch));
-    return f;
-}
-
-// The scene for one panel: model (+ ground), lights, the chosen effects above it.
-sgfx::NodePtr buildScene(const sgfx::NodePtr& model, const Framing& f, const Options& o, bool fog, bool ao) {
-    auto world = sgfx::Group::create();
-    world->addChild(model);
-    if (o.ground) {
-        auto ground = sgfx::shapes::quad(f.radius * 60.0f, f.radius * 60.0f);
-        auto m = sgfx::Material::create();
-        m->diffuse = {0.55f, 0.55f, 0.52f, 1.0f};
-        m->ambient = glm::vec3(0.55f);
-        ground->getOrCreateStateSet().material.set(m);
-        auto t = sgfx::Transform::create(
-            glm::translate(glm::mat4(1.0f), {f.centre.x, f.centre.y, f.baseZ - 1e-3f * f.radius}));
-        t->addChild(ground);
-        world->addChild(t);
+int runHeadless(const view::Options& o, view::ViewScene& scene, double loadMs) {
+    sgfx::StatsVisitor stats;
+    scene.model()->accept(stats);
+    std::vector<view::Settings> panels;
+    if (o.compare) {
+        for (int p = 0; p < 4; ++p) {
+            view::Settings s = o.settings;
+            s.fog = p == 1 || p == 3;
+            s.ao = p >= 2;
+            panels.push_back(s);
+        }
+    } else {
+        panels.push_back(o.settings);
     }
-    sgfx::NodePtr top = world;
-    if (ao) {
-        sgfx::AmbientOcclusionParameters p;
-        p.radius = 0.1f * f.radius;
-        p.bias = 0.005f * f.radius;
-        auto node = sgfx::AmbientOcclusionNode::create(p);
-        node->addChild(top);
-        top = node;
+    sgfx::Image out;
+    out.width = o.width * int(panels.size());
+    out.height = o.height;
+    out.channels = 4;
+    out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 4, 0);
+    auto viewer = sgfx::Viewer::createHeadless(o.width, o.height);
+    auto& cam = *viewer->camera();
+    sgfx::OrbitManipulator orbit;
+    orbit.home(scene.boundsMin(), scene.boundsMax(), 40.0f, float(o.width) / float(o.height), o.yaw, o.pitch);
+    orbit.apply(cam);
+    cam.setPerspective(40.0f, orbit.distance * 0.02f, orbit.distance * 20.0f);
+    viewer->setSceneData(scene.root());
+    double frameMs = 0.0;
+    for (std::size_t p = 0; p < panels.size(); ++p) {
+        scene.apply(panels[p], cam);
+        const auto t0 = std::chrono::steady_clock::now();
+        // Particles and TAA need a few frames to settle; one is enough for the rest.
+        const bool settle = panels[p].weather != view::Weather::None ||
+                            panels[p].antiAliasing.mode == sgfx::AntiAliasing::Mode::Taa;
+        for (int f = 0; f < (settle ? 30 : 1); ++f)
+            viewer->frame();
+        const sgfx::Image img = viewer->capture();
+        frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        for (int y = 0; y < o.height; ++y)
+            std::copy_n(
+                img.pixel(0, y), std::size_t(o.width) * 4,
+                out.pixels.begin() +
+                    std::ptrdiff_t((std::size_t(y) * std::size_t(out.width) + p * std::size_t(o.width)) * 4));
     }
-    if (fog) {
-        sgfx::FogParameters p;
-        // Auto: half the light from the model's centre reaches the eye (e^(−ρ·d) = 0.5 at the base).
-        p.density = std::isnan(*o.fog) ? std::log(2.0f) / f.distance : *o.fog;
-        p.falloff = std::min(1.0f / f.radius, 1e3f);
-        p.referenceHeight = f.baseZ;
-        p.color = {0.72f, 0.76f, 0.82f};
-        auto node = sgfx::FogNode::create(p);
-        node->addChild(top);
-        top = node;
-    }
-    auto root = sgfx::Group::create();
-    auto sun = sgfx::Light::create(sgfx::LightType::Directional);
-    sun->direction = glm::normalize(glm::vec3(-0.4f, 0.3f, -0.85f));
-    sun->color = glm::vec3(0.9f);
-    auto sky = sgfx::Light::create(sgfx::LightType::Ambient);
-    sky->color = glm::vec3(0.35f);
-    root->addChild(sun);
-    root->addChild(sky);
-    root->addChild(top);
-    return root;
+    for (const std::string& e : viewer->renderer().takeGlErrors())
+        std::fprintf(stderr, "sgfx-view: GL: %s\n", e.c_str());
+    sgfx::writePng(o.out, out);
+    std::printf("wrote %s (%dx%d): %zu triangles, %zu nodes, loaded in %.0f ms, last frame %.0f ms, %u "
+                "draw calls\n",
+                o.out.c_str(), out.width, out.height, stats.triangles, stats.nodes, loadMs, frameMs,
+                unsigned(viewer->stats().drawCalls));
+    return 0;
 }
 
 } // namespace
 
+sgfx::NodePtr view::loadFiles(const std::vector<std::string>& files, const Options& o) {
+    auto model = sgfx::Group::create();
+    sgfx::GltfOptions gltf;
+    gltf.zUp = !o.keepYUp;
+    gltf.creaseAngle = glm::radians(o.crease);
+    for (const std::string& file : files)
+        model->addChild(sgfx::loadModel(file, gltf));
+    return model;
+}
+
 int main(int argc, char** argv) {
-    Options o;
+    view::Options o;
     try {
         o = parse(argc, argv);
     } catch (const UsageError& e) {
@@ -181,61 +232,21 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        auto model = sgfx::Group::create();
-        sgfx::GltfOptions gltf;
-        gltf.zUp = !o.keepYUp;
-        gltf.creaseAngle = glm::radians(o.crease);
         const auto start = std::chrono::steady_clock::now();
-        for (const std::string& file : o.files)
-            model->addChild(sgfx::loadModel(file, gltf));
+        view::ViewScene scene;
+        scene.setModel(view::loadFiles(o.files, o));
         const double loadMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-        sgfx::ComputeBoundsVisitor bounds;
-        model->accept(bounds);
-        if (!bounds.valid()) throw std::runtime_error("the files hold no geometry");
-        sgfx::StatsVisitor stats;
-        model->accept(stats);
-        const Framing f = frame(bounds, o);
-
-        struct Panel {
-            bool fog, ao;
-        };
-        std::vector<Panel> panels;
-        if (o.compare)
-            panels = {{false, false}, {true, false}, {false, true}, {true, true}};
-        else
-            panels = {{o.fog.has_value(), o.ao}};
-        if (o.compare && !o.fog) o.fog = std::nanf("");
-        sgfx::Image out;
-        out.width = o.width * int(panels.size());
-        out.height = o.height;
-        out.channels = 4;
-        out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 4, 0);
-        auto viewer = sgfx::Viewer::createHeadless(o.width, o.height);
-        auto& cam = *viewer->camera();
-        cam.setPerspective(40.0f, f.distance * 0.02f, f.distance * 20.0f);
-        cam.setLookAt(f.eye, f.centre, {0, 0, 1});
-        cam.clearColor = {0.72f, 0.76f, 0.82f, 1.0f};
-        double frameMs = 0.0;
-        for (std::size_t p = 0; p < panels.size(); ++p) {
-            viewer->setSceneData(buildScene(model, f, o, panels[p].fog, panels[p].ao));
-            const auto t0 = std::chrono::steady_clock::now();
-            viewer->frame();
-            const sgfx::Image img = viewer->capture();
-            frameMs =
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-            for (int y = 0; y < o.height; ++y)
-                std::copy_n(img.pixel(0, y), std::size_t(o.width) * 4,
-                            out.pixels.begin() + std::ptrdiff_t((std::size_t(y) * std::size_t(out.width) +
-                                                                 p * std::size_t(o.width)) *
-                                                                4));
+        if (!o.headless) {
+            try {
+                return view::runWindow(o, scene);
+            } catch (const sgfx::ContextError& e) {
+                std::fprintf(stderr, "sgfx-view: %s\n", e.what());
+                if (o.window) return 1;
+                std::fprintf(stderr, "sgfx-view: no window: rendering headless to %s\n", o.out.c_str());
+            }
         }
-        sgfx::writePng(o.out, out);
-        std::printf("wrote %s (%dx%d): %zu triangles, %zu nodes, loaded in %.0f ms, last frame %.0f ms, %u "
-                    "draw calls\n",
-                    o.out.c_str(), out.width, out.height, stats.triangles, stats.nodes, loadMs, frameMs,
-                    unsigned(viewer->stats().drawCalls));
-        return 0;
+        return runHeadless(o, scene, loadMs);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sgfx-view: %s\n", e.what());
         return 1;

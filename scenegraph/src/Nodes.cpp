@@ -370,6 +370,37 @@ void Camera::setViewport(int x, int y, int w, int h) {
             glm::perspective(glm::radians(fovy_), viewport.aspect(), zNear_, zFar_);
 }
 
+AntiAliasing AntiAliasing::parse(std::string_view v) {
+    if (v == "none") return none();
+    if (v == "msaa") return msaa(4);
+    if (v.starts_with("msaa") && v.size() == 5 && v[4] >= '1' && v[4] <= '8') return msaa(v[4] - '0');
+    if (v.starts_with("ssaa") && v.size() == 5 && v[4] >= '2' && v[4] <= '4') return ssaa(v[4] - '0');
+    if (v == "fxaa") return fxaa(FxaaQuality::Medium);
+    if (v == "fxaa-low") return fxaa(FxaaQuality::Low);
+    if (v == "fxaa-high") return fxaa(FxaaQuality::High);
+    if (v == "taa") return taa();
+    throw std::invalid_argument("anti-aliasing '" + std::string(v) + "' is not one of " +
+                                std::string(kNames));
+}
+
+std::string AntiAliasing::name() const {
+    switch (mode) {
+    case Mode::None:
+        return "none";
+    case Mode::Msaa:
+        return "msaa" + std::to_string(samples);
+    case Mode::Ssaa:
+        return "ssaa" + std::to_string(factor);
+    case Mode::Fxaa:
+        return fxaaQuality == FxaaQuality::Low    ? "fxaa-low"
+               : fxaaQuality == FxaaQuality::High ? "fxaa-high"
+                                                  : "fxaa";
+    case Mode::Taa:
+        return "taa";
+    }
+    return "none";
+}
+
 void AntiAliasing::validate() const {
     auto refuse = [](const std::string& what) { throw std::invalid_argument("sgfx: AntiAliasing: " + what); };
     if (std::uint8_t(mode) > std::uint8_t(Mode::Taa))

@@ -6,6 +6,8 @@
 #include "sgfx/StateSet.h"
 #include "sgfx/gl/Objects.h"
 
+#include <glad/gl.h>
+
 namespace sgfx {
 
 namespace {
@@ -100,7 +102,17 @@ void Viewer::frame(double dt) {
             camera_->setViewport(0, 0, w, h);
     }
     renderer_->render(*camera_, update_.simulationTime, update_.frameNumber);
-    renderer_->present();
+    if (!context_->isWindow() || !finalDrawCallback) {
+        renderer_->present();
+        return;
+    }
+    renderer_->blitToWindow();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, context_->width(), context_->height());
+    glDisable(GL_FRAMEBUFFER_SRGB);
+    finalDrawCallback(*this);
+    renderer_->resetStateCache(); // the callback's GL state is unknown to the renderer
+    context_->swapBuffers();
 }
 
 } // namespace sgfx

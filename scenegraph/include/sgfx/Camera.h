@@ -5,6 +5,8 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <string>
+#include <string_view>
 
 namespace sgfx {
 
@@ -59,6 +61,14 @@ struct AntiAliasing {
     // Throws std::invalid_argument naming the field (samples < 1, factor outside 1..4, ...).
     void validate() const;
     bool operator==(const AntiAliasing&) const = default;
+
+    // The names command lines and settings files use: none, msaa (4 samples), msaaN (N = 1..8),
+    // ssaaN (N = 2..4), fxaa, fxaa-low, fxaa-high, taa. parse() throws std::invalid_argument
+    // listing them for anything else; name() gives parse()'s name back (msaaN, ssaaN spelt out).
+    static AntiAliasing parse(std::string_view name);
+    std::string name() const;
+    static constexpr std::string_view kNames =
+        "none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low, fxaa-high, taa";
 };
 
 // A view into the graph: its children are the scene. View space looks down -Z.

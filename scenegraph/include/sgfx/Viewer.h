@@ -5,6 +5,7 @@
 #include "sgfx/Visitors.h"
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 
 namespace sgfx {
@@ -33,6 +34,11 @@ public:
     GraphicsContext& context() { return *context_; }
     const FrameStats& stats() const { return renderer_->stats(); }
     double simulationTime() const { return update_.simulationTime; }
+
+    // Windows only: called each frame after the scene is copied to the back buffer and before
+    // the swap, with the window's framebuffer bound, its viewport set and sRGB writes off (OSG's
+    // final draw callback), to draw a user interface over the view. Captures do not include it.
+    std::function<void(Viewer&)> finalDrawCallback;
 
 private:
     std::unique_ptr<GraphicsContext> context_;

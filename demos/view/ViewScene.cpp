@@ -1,0 +1,158 @@
+#include "ViewScene.h"
+
+#include <sky/SkyMath.h>
+
+#include <sgfx/Geometry.h>
+#include <sgfx/Material.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/Visitors.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace view {
+
+namespace {
+const glm::vec3 kSunDirection = glm::normalize(glm::vec3(-0.4f, 0.3f, -0.85f)); // travel direction
+constexpr std::uint32_t kWeatherCount = 20000;
+} // namespace
+
+ViewScene::ViewScene()
+    : world_(sgfx::Group::create())
+    , modelSlot_(sgfx::Group::create())
+    , ground_(sgfx::Transform::create())
+    , weatherPlace_(sgfx::Transform::create())
+    , fog_(sgfx::FogNode::create())
+    , ao_(sgfx::AmbientOcclusionNode::create())
+    , sky_(sgfx::SkyNode::create())
+    , sun_(sgfx::Light::create(sgfx::LightType::Directional)) {
+    auto quad = sgfx::shapes::quad(1.0f, 1.0f);
+    auto m = sgfx::Material::create();
+    m->diffuse = {0.55f, 0.55f, 0.52f, 1.0f};
+    m->ambient = glm::vec3(0.55f);
+    quad->getOrCreateStateSet().material.set(m);
+    ground_->addChild(quad);
+    world_->addChild(modelSlot_);
+    world_->addChild(ground_);
+    world_->addChild(weatherPlace_);
+    ao_->addChild(world_);
+    fog_->addChild(ao_);
+    sky_->attachFog(fog_);
+    sun_->name = "sun";
+    sun_->color = glm::vec3(0.9f);
+    auto ambient = sgfx::Light::create(sgfx::LightType::Ambient);
+    ambient->color = glm::vec3(0.35f);
+    auto root = sgfx::Group::create();
+    root->addChild(sun_);
+    root->addChild(ambient);
+    root->addChild(fog_);
+    root->addChild(sky_);
+    root_ = root;
+}
+
+void ViewScene::setModel(sgfx::NodePtr model) {
+    sgfx::ComputeBoundsVisitor bounds;
+    model->accept(bounds);
+    if (!bounds.valid()) throw std::runtime_error("the files hold no geometry");
+    min_ = bounds.min;
+    max_ = bounds.max;
+    radius_ = std::max(0.5f * glm::length(max_ - min_), 1e-3f);
+    const glm::vec3 centre = 0.5f * (min_ + max_);
+    modelSlot_->removeChildren();
+    modelSlot_->addChild(model);
+    model_ = std::move(model);
+    ground_->setMatrix(
+        glm::scale(glm::translate(glm::mat4(1.0f), {centre.x, centre.y, min_.z - 1e-3f * radius_}),
+                   glm::vec3(60.0f * radius_, 60.0f * radius_, 1.0f)));
+    // Weather over four model sizes around it, falling from two sizes above its top to its base.
+    const glm::vec2 area(8.0f * radius_);
+    rain_ = sgfx::ParticleSystemNode::rain(area, kWeatherCount);
+    snow_ = sgfx::ParticleSystemNode::snow(area, kWeatherCount);
+    const float height = max_.z + 2.0f * radius_;
+    for (const auto& p : {rain_, snow_}) {
+        sgfx::particles::Emitter e = p->settings().emitter;
+        e.lifetime = std::max(0.5f, (height - min_.z) / std::max(-e.velocity.z, 0.1f));
+        p->setEmitter(e);
+    }
+    weatherPlace_->removeChildren();
+    weatherPlace_->addChild(rain_);
+    weatherPlace_->addChild(snow_);
+    weatherPlace_->setMatrix(glm::translate(glm::mat4(1.0f), {centre.x, centre.y, height}));
+}
+
+sgfx::FogParameters ViewScene::fogParameters(const Settings& s) const {
+    sgfx::FogParameters p;
+    switch (s.fogPreset) {
+    case FogPreset::Solid:
+        p = sgfx::FogParameters::solid();
+        break;
+    case FogPreset::Ground:
+        p = sgfx::FogParameters::ground();
+        break;
+    case FogPreset::Model: {
+        // Half the light from the model's centre reaches the eye at the home distance (40° view).
+        const float distance = radius_ / std::sin(glm::radians(20.0f));
+        p.density = std::log(2.0f) / distance;
+        p.falloff = std::min(1.0f / radius_, 1e3f);
+        p.color = {0.72f, 0.76f, 0.82f};
+        break;
+    }
+    }
+    p.referenceHeight = s.fogPreset == FogPreset::Model ? min_.z : p.referenceHeight;
+    if (s.fogDensity > 0.0f) p.density = s.fogDensity;
+    if (s.fogFalloff > 0.0f) p.falloff = s.fogFalloff;
+    return p;
+}
+
+sgfx::AmbientOcclusionParameters ViewScene::aoParameters(const Settings& s) const {
+    sgfx::AmbientOcclusionParameters p;
+    p.samples = s.aoSamples;
+    p.radius = s.aoRadius > 0.0f ? s.aoRadius : 0.1f * radius_;
+    p.bias = 0.05f * p.radius;
+    return p;
+}
+
+void ViewScene::apply(const Settings& s, sgfx::Camera& camera) {
+    fog_->enabled = s.fog;
+    if (s.fog) {
+        fog_->setParameters(fogParameters(s));
+        fog_->setMode(s.fogMode);
+    }
+    ao_->enabled = s.ao;
+    if (s.ao) ao_->setParameters(aoParameters(s));
+    camera.setAntiAliasing(s.antiAliasing);
+    ground_->nodeMask = s.ground ? ~sgfx::NodeMask{0} : 0;
+    if (rain_) {
+        rain_->nodeMask = s.weather == Weather::Rain ? ~sgfx::NodeMask{0} : 0;
+        snow_->nodeMask = s.weather == Weather::Snow ? ~sgfx::NodeMask{0} : 0;
+    }
+    sky_->nodeMask = s.sky ? ~sgfx::NodeMask{0} : 0;
+    if (s.sky) {
+        sky_->setParameters(sgfx::SkyParameters::atTime(s.skyHours));
+        sun_->direction = -sgfx::sky::sunDirection(s.skyHours);
+    } else {
+        sun_->direction = kSunDirection;
+    }
+    camera.clearColor = {0.72f, 0.76f, 0.82f, 1.0f};
+}
+
+std::string ViewScene::describeEffects(const Settings& s) const {
+    std::ostringstream o;
+    const char* sep = "";
+    auto add = [&](const std::string& what) {
+        o << sep << what;
+        sep = ", ";
+    };
+    if (s.fog) add("fog");
+    if (s.ao) add("AO");
+    if (s.antiAliasing.mode != sgfx::AntiAliasing::Mode::None) add("AA");
+    if (s.weather == Weather::Rain) add("rain");
+    if (s.weather == Weather::Snow) add("snow");
+    if (s.sky) add("sky");
+    return o.str().empty() ? "no effects" : o.str();
+}
+
+} // namespace view

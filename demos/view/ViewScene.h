@@ -1,0 +1,68 @@
+#pragma once
+// sgfx-view's scene: the user's model on a ground plane, under every effect the viewer can
+// toggle. All effect nodes stay in the graph; switching one off clears its `enabled` flag or
+// node mask, so toggling costs no rebuild and keeps the nodes' GPU targets.
+#include <ao/AmbientOcclusionNode.h>
+#include <fog/FogNode.h>
+#include <particles/ParticleSystemNode.h>
+#include <sky/SkyNode.h>
+
+#include <sgfx/Camera.h>
+#include <sgfx/Group.h>
+
+#include <string>
+
+namespace view {
+
+enum class FogPreset : unsigned char { Model, Solid, Ground }; // Model: scaled to the model
+enum class Weather : unsigned char { None, Rain, Snow };
+
+struct Settings {
+    bool fog = false;
+    sgfx::FogMode fogMode = sgfx::FogMode::Forward;
+    FogPreset fogPreset = FogPreset::Model;
+    float fogDensity = 0.0f, fogFalloff = 0.0f; // ρ0 (1/m), b (1/m); 0: the preset's
+    bool ao = false;
+    int aoSamples = 32;
+    float aoRadius = 0.0f; // metres; 0: a tenth of the model's size
+    sgfx::AntiAliasing antiAliasing = sgfx::AntiAliasing::none();
+    Weather weather = Weather::None;
+    bool sky = false;
+    float skyHours = 10.0f; // local solar time
+    bool ground = true;
+};
+
+class ViewScene {
+public:
+    ViewScene();
+    // Replaces the model; the ground, the particle area and the model-scaled presets follow its
+    // bounds. Throws std::runtime_error when it holds no geometry.
+    void setModel(sgfx::NodePtr model);
+    // Applies the settings (validated by the nodes: std::invalid_argument names the field; the
+    // previous values stay).
+    void apply(const Settings& s, sgfx::Camera& camera);
+
+    const sgfx::NodePtr& root() const { return root_; }
+    const sgfx::NodePtr& model() const { return model_; }
+    glm::vec3 boundsMin() const { return min_; }
+    glm::vec3 boundsMax() const { return max_; }
+    float radius() const { return radius_; }
+    // The fog and AO parameters the settings give for this model (the panel shows them).
+    sgfx::FogParameters fogParameters(const Settings& s) const;
+    sgfx::AmbientOcclusionParameters aoParameters(const Settings& s) const;
+    std::string describeEffects(const Settings& s) const;
+
+private:
+    sgfx::NodePtr root_, model_;
+    std::shared_ptr<sgfx::Group> world_, modelSlot_;
+    std::shared_ptr<sgfx::Transform> ground_, weatherPlace_;
+    std::shared_ptr<sgfx::FogNode> fog_;
+    std::shared_ptr<sgfx::AmbientOcclusionNode> ao_;
+    std::shared_ptr<sgfx::SkyNode> sky_;
+    std::shared_ptr<sgfx::ParticleSystemNode> rain_, snow_;
+    std::shared_ptr<sgfx::Light> sun_;
+    glm::vec3 min_{-0.5f}, max_{0.5f};
+    float radius_ = 1.0f;
+};
+
+} // namespace view

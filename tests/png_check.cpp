@@ -1,0 +1,48 @@
+// png_check PNG [WxH] [--min-colors N]: prints the image's size and how many distinct colours it
+// has; exits 1 when the file is unreadable, the size differs or it has fewer colours than asked
+// (a blank or single-colour render). The demos' tests run it on what the demos wrote.
+#include <sgfx/Image.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+#include <unordered_set>
+
+int main(int argc, char** argv) {
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: png_check PNG [WxH] [--min-colors N]\n");
+        return 2;
+    }
+    try {
+        const sgfx::Image img = sgfx::readPng(argv[1]);
+        std::unordered_set<std::uint32_t> colours;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) {
+                std::uint32_t c = 0;
+                for (int k = 0; k < img.channels; ++k)
+                    c = c << 8 | img.pixel(x, y)[k];
+                colours.insert(c);
+            }
+        std::printf("png_check %s: %dx%d, %zu colours\n", argv[1], img.width, img.height, colours.size());
+        int status = 0;
+        for (int i = 2; i < argc; ++i) {
+            const std::string a = argv[i];
+            if (a == "--min-colors" && i + 1 < argc) {
+                const std::size_t n = std::strtoul(argv[++i], nullptr, 10);
+                if (colours.size() < n) {
+                    std::printf("png_check: FAIL: %zu colours, fewer than %zu (blank?)\n", colours.size(), n);
+                    status = 1;
+                }
+            } else if (a != std::to_string(img.width) + "x" + std::to_string(img.height)) {
+                std::printf("png_check: FAIL: size %dx%d, expected %s\n", img.width, img.height, a.c_str());
+                status = 1;
+            }
+        }
+        if (status == 0) std::printf("png_check: ok\n");
+        return status;
+    } catch (const std::exception& e) {
+        std::printf("png_check: FAIL: %s\n", e.what());
+        return 1;
+    }
+}
