@@ -1,6 +1,7 @@
 #pragma once
-// What the effect nodes share: their GLSL by file name, and parameter checks whose messages have
-// one form ("sgfx: FogParameters: density = -1 is outside [0, 1e+06]").
+/// @file
+/// What the effect nodes share: their GLSL by file name, and parameter checks whose messages have
+/// one form ("sgfx: FogParameters: density = -1 is outside [0, 1e+06]").
 #include "EmbeddedShaders.h"
 
 #include <cmath>
@@ -15,13 +16,13 @@ inline std::string shaderText(std::string_view file) {
     return std::string(shaders::embedded(file));
 }
 
-// `src` with `text` inserted after its first line (the #version line): defines, declarations.
+/// `src` with `text` inserted after its first line (the `#version` line): defines, declarations.
 inline std::string afterVersion(std::string src, std::string_view text) {
     src.insert(src.find('\n') + 1, text);
     return src;
 }
 
-// The file with each `#include "other.glsl"` line replaced by that embedded file (one level).
+/// The file with each `#include "other.glsl"` line replaced by that embedded file (one level).
 inline std::string shaderWithIncludes(std::string_view file) {
     std::string src = shaderText(file);
     const std::string key = "#include \"";
@@ -39,12 +40,12 @@ inline std::string number(double v) {
     return buf;
 }
 
-// Throws std::invalid_argument("sgfx: <owner>: <what>").
+/// Throws std::invalid_argument("sgfx: <owner>: <what>").
 [[noreturn]] inline void refuse(std::string_view owner, const std::string& what) {
     throw std::invalid_argument("sgfx: " + std::string(owner) + ": " + what);
 }
 
-// `v` must be finite and in [lo, hi] (or (lo, hi] with openLow).
+/// `v` must be finite and in [lo, hi] (or (lo, hi] with openLow).
 inline void checkRange(std::string_view owner, const char* name, float v, double lo, double hi,
                        bool openLow = false) {
     if (!std::isfinite(v)) refuse(owner, std::string(name) + " is " + number(v) + "; it must be finite");

@@ -1,8 +1,9 @@
 #pragma once
-// A copy of the opaque scene's depth, made after the opaque items (PassStage::AfterOpaque), for
-// effects that draw later and must know where the opaque surfaces are: soft particles, volumes
-// that stop at a wall. One texture per view size (TargetCache); `current` is the copy of the view
-// being drawn. The owner binds it where its shader reads it, at every draw.
+/// @file
+/// A copy of the opaque scene's depth, made after the opaque items (PassStage::AfterOpaque), for
+/// effects that draw later and must know where the opaque surfaces are: soft particles, volumes
+/// that stop at a wall. One texture per view size (TargetCache); `current` is the copy of the view
+/// being drawn. The owner binds it where its shader reads it, at every draw.
 #include "TargetCache.h"
 
 #include <sgfx/Renderer.h>
@@ -37,7 +38,7 @@ public:
                                GL_DEPTH_BUFFER_BIT, GL_NEAREST);
         current_ = own.depth.get();
     }
-    // The copy for the view being drawn (0 before the first copy).
+    /// The copy for the view being drawn (0 before the first copy).
     unsigned current() const { return current_; }
     void releaseGLObjects() {
         targets_.clear();

@@ -1,7 +1,8 @@
 #pragma once
-// A few GPU target sets kept by view size (and whatever else the caller matches on), so that a
-// render-to-texture view and the main view do not reallocate each other's every frame; the least
-// recently used one goes when a fifth is needed. `T` needs a `std::uint64_t lastUse` member.
+/// @file
+/// A few GPU target sets kept by view size (and whatever else the caller matches on), so that a
+/// render-to-texture view and the main view do not reallocate each other's every frame; the least
+/// recently used one goes when a fifth is needed. `T` needs a `std::uint64_t lastUse` member.
 #include <algorithm>
 #include <cstdint>
 #include <vector>

@@ -618,7 +618,8 @@ int plot(const std::string& json, const std::string& png) {
         return 1;
     }
     const std::string cmd =
-        "python3 " + shellQuote(script.string()) + " " + shellQuote(json) + " " + shellQuote(png);
+        "python3 " + shellQuote(script.string()) + " " + shellQuote(json) + " " + shellQuote(png) +
+        " 1>&2"; // stdout is the Markdown table
     if (std::system(cmd.c_str()) != 0) {
         std::cerr << "sgfx-bench: --plot: " << cmd << " failed; the results are in " << json << "\n";
         return 1;

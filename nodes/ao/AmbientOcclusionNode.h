@@ -10,83 +10,85 @@
 
 namespace sgfx {
 
-// Where the m sample offsets lie around a point (SSAO seed §2).
+/// Where the m sample offsets lie around a point (SSAO seed §2).
 enum class AoKernel : std::uint8_t {
-    // Inside the unit hemisphere along the normal, denser towards the centre (near occluders
-    // count most): default.
+    /// Inside the unit hemisphere along the normal, denser towards the centre (near occluders
+    /// count most): default.
     Hemisphere,
-    // The seed's S = (2r − 1, 2r − 1, r): a half cube, corners up to √3 from the centre.
+    /// The seed's S = (2r − 1, 2r − 1, r): a half cube, corners up to √3 from the centre.
     PaperHalfCube,
 };
 
-// How a sample point is tested against the surface seen at its pixel.
+/// How a sample point is tested against the surface seen at its pixel.
 enum class AoCompare : std::uint8_t {
-    // Against the tangent plane of that pixel, followed to the sample's exact screen position:
-    // flat surfaces never occlude themselves, at any angle. Default.
+    /// Against the tangent plane of that pixel, followed to the sample's exact screen position:
+    /// flat surfaces never occlude themselves, at any angle. Default.
     TangentPlane,
-    // The seed's F: the stored depth of the pixel (z_t ≥ z_A + δ). Pixels seen at grazing angles
-    // span more depth than δ and occlude themselves.
+    /// The seed's F: the stored depth of the pixel (z_t ≥ z_A + δ). Pixels seen at grazing angles
+    /// span more depth than δ and occlude themselves.
     StoredDepth,
 };
 
 enum class AoBlur : std::uint8_t {
-    Bilateral, // N×N weighted by depth similarity: no bleeding across depth edges. Default.
-    Box,       // the seed's §3 N×N mean
+    Bilateral, ///< N×N weighted by depth similarity: no bleeding across depth edges. Default.
+    Box,       ///< the seed's §3 N×N mean
 };
 
-// What the G-buffer pre-pass stores (seed §1).
+/// What the G-buffer pre-pass stores (seed §1).
 enum class AoGBuffer : std::uint8_t {
-    // View-space normal (RGBA16F) and linear view depth (R32F): positions are rebuilt from depth,
-    // exact to a fraction of a millimetre kilometres away. Default.
+    /// View-space normal (RGBA16F) and linear view depth (R32F): positions are rebuilt from depth,
+    /// exact to a fraction of a millimetre kilometres away. Default.
     LinearDepth,
-    // The seed's two RGB16F targets, positions and normals (stored as RGBA16F: three-channel
-    // float targets need not be renderable). Half floats lose centimetres beyond ~60 m.
+    /// The seed's two RGB16F targets, positions and normals (stored as RGBA16F: three-channel
+    /// float targets need not be renderable). Half floats lose centimetres beyond ~60 m.
     PaperPositions,
 };
 
-// Draws the occlusion map over the view (white = open, black = occluded), as the seed's
-// figures 5 and 7.
+/// Draws the occlusion map over the view (white = open, black = occluded), as the seed's
+/// figures 5 and 7.
 enum class AoDebugView : std::uint8_t { Off, Raw, Blurred };
 
 struct AmbientOcclusionParameters {
-    int samples = 32;    // m, 8..64
-    float radius = 0.5f; // R in metres, (0, 1e4]
-    float bias = 0.025f; // δ in metres, [0, 1e3]
+    int samples = 32;    ///< m, 8..64
+    float radius = 0.5f; ///< R in metres, (0, 1e4]
+    float bias = 0.025f; ///< δ in metres, [0, 1e3]
     AoKernel kernel = AoKernel::Hemisphere;
     AoCompare compare = AoCompare::TangentPlane;
-    // Occluders farther than R from the point (in depth) count less (smoothstep(0, 1, R / Δz)),
-    // so a distant foreground object casts no halo.
+    /// Occluders farther than R from the point (in depth) count less (smoothstep(0, 1, R / Δz)),
+    /// so a distant foreground object casts no halo.
     bool rangeCheck = true;
     AoBlur blur = AoBlur::Bilateral;
-    int blurSize = 5;            // N (odd), 1..15; 1 = no blur
-    bool halfResolution = false; // occlusion and blur at half size, depth-aware upsampling
-    float intensity = 1.0f;      // k' = min(1, intensity·k)^power, [0, 100]
-    float power = 1.0f;          // [0.01, 100]
+    int blurSize = 5;            ///< N (odd), 1..15; 1 = no blur
+    bool halfResolution = false; ///< occlusion and blur at half size, depth-aware upsampling
+    float intensity = 1.0f;      ///< k' = min(1, intensity·k)^power, [0, 100]
+    float power = 1.0f;          ///< [0.01, 100]
     AoGBuffer gbuffer = AoGBuffer::LinearDepth;
     AoDebugView debugView = AoDebugView::Off;
-    std::uint32_t seed = 1; // kernel and rotation noise (fixed: the same frame gives the same map)
+    std::uint32_t seed = 1; ///< kernel and rotation noise (fixed: the same frame gives the same map)
 
-    // The seed's method as published: half-cube kernel, stored-depth test, no range check,
-    // box blur, position G-buffer.
+    /// The seed's method as published: half-cube kernel, stored-depth test, no range check,
+    /// box blur, position G-buffer.
     static AmbientOcclusionParameters paper();
 
-    // Throws std::invalid_argument naming the field and the value.
+    /// Throws std::invalid_argument naming the field and the value.
     void validate() const;
 };
 
 namespace ao {
-// The m offsets in tangent space (normal = +Z), as the occlusion pass receives them.
+/// The m offsets in tangent space (normal = +Z), as the occlusion pass receives them.
 std::vector<glm::vec3> kernel(AoKernel kind, int samples, std::uint32_t seed);
-// The 4×4 tiled rotation vectors V_r = (2r − 1, 2r − 1, 0) (seed §2).
+/// The 4×4 tiled rotation vectors V_r = (2r − 1, 2r − 1, 0) (seed §2).
 std::vector<glm::vec2> rotationNoise(std::uint32_t seed);
 } // namespace ao
 
-// Screen-space ambient occlusion (SSAO seed, Maltsev 2019): a G-buffer pre-pass of the whole
-// view, an occlusion pass, a blur, and in every built-in material below the node the ambient
-// term multiplied by (1 − k). Blended surfaces are not occluded. Foreign shaders may opt in:
-//   #ifdef SGFX_AMBIENT_OCCLUSION
-//   float sgfx_ambientOcclusion(); // defined by sgfx: k at this pixel, 0..1
-//   #endif
+/// Screen-space ambient occlusion (SSAO seed, Maltsev 2019): a G-buffer pre-pass of the whole
+/// view, an occlusion pass, a blur, and in every built-in material below the node the ambient
+/// term multiplied by (1 − k). Blended surfaces are not occluded. Foreign shaders may opt in:
+/// @code
+///   #ifdef SGFX_AMBIENT_OCCLUSION
+///   float sgfx_ambientOcclusion(); // defined by sgfx: k at this pixel, 0..1
+///   #endif
+/// @endcode
 class AmbientOcclusionNode : public EffectNode {
 public:
     static std::shared_ptr<AmbientOcclusionNode> create(const AmbientOcclusionParameters& parameters = {});
@@ -100,7 +102,7 @@ public:
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
     void releaseGLObjects() override;
 
-    // Throws std::invalid_argument with the reason and keeps the previous value.
+    /// Throws std::invalid_argument with the reason and keeps the previous value.
     void setParameters(const AmbientOcclusionParameters& parameters);
     const AmbientOcclusionParameters& parameters() const { return parameters_; }
 

@@ -7,8 +7,8 @@
 
 namespace sgfx {
 
-// Tints the final colour of everything below it: colour = mix(colour, tint.rgb, tint.a).
-// A diagnostic (highlight a subtree) and the smallest example of an effect node.
+/// Tints the final colour of everything below it: colour = mix(colour, tint.rgb, tint.a).
+/// A diagnostic (highlight a subtree) and the smallest example of an effect node.
 class DebugTintNode : public EffectNode {
 public:
     static std::shared_ptr<DebugTintNode> create(const glm::vec4& tint = {1, 0, 0, 0.5f});
@@ -18,7 +18,7 @@ public:
     const ShaderSnippet& snippet() const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
 
-    // Throws std::invalid_argument for non-finite values or alpha outside [0, 1]; the old tint stays.
+    /// Throws std::invalid_argument for non-finite values or alpha outside [0, 1]; the old tint stays.
     void setTint(const glm::vec4& tint);
     const glm::vec4& tint() const { return tint_; }
 

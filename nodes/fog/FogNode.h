@@ -9,49 +9,49 @@
 
 namespace sgfx {
 
-// How fog reaches the pixels (switchable at run time; no user shader changes in any mode).
+/// How fog reaches the pixels (switchable at run time; no user shader changes in any mode).
 enum class FogMode : std::uint8_t {
-    // Every fragment, opaque or transparent, is fogged over its whole segment from the eye.
-    // Exact through alpha-blended glass with the Exponential response. No pre-pass. Default.
+    /// Every fragment, opaque or transparent, is fogged over its whole segment from the eye.
+    /// Exact through alpha-blended glass with the Exponential response. No pre-pass. Default.
     Forward,
-    // Seed §2: a depth pre-pass of the whole view; in every material, fragments in front
-    // (‖P−O‖ − ‖Pn−O‖ < ε) get F_n on [O, Pn], those behind get F_f on [Pn, P].
+    /// Seed §2: a depth pre-pass of the whole view; in every material, fragments in front
+    /// (‖P−O‖ − ‖Pn−O‖ < ε) get F_n on [O, Pn], those behind get F_f on [Pn, P].
     ForwardSplit,
-    // Seed §1: one full-screen pass after the scene, from the depth buffer (eq. 2, eq. 7).
-    // Fogs the whole view, not just the subtree, and nothing behind transparent surfaces.
+    /// Seed §1: one full-screen pass after the scene, from the depth buffer (eq. 2, eq. 7).
+    /// Fogs the whole view, not just the subtree, and nothing behind transparent surfaces.
     PostProcess,
 };
 
-// Optical depth F → fog amount k.
+/// Optical depth F → fog amount k.
 enum class FogResponse : std::uint8_t {
-    Linear,      // k = clamp(F, 0, 1): seed eq. 7
-    Exponential, // k = 1 − e^(−F): Beer–Lambert; transmittances of segments multiply
+    Linear,      ///< k = clamp(F, 0, 1): seed eq. 7
+    Exponential, ///< k = 1 − e^(−F): Beer–Lambert; transmittances of segments multiply
 };
 
-// What pixels without geometry (depth 1) get.
+/// What pixels without geometry (depth 1) get.
 enum class FogSky : std::uint8_t {
-    Off,      // the clear colour stays
-    FarPlane, // fog along the ray to the camera's far plane (moves with computed near/far)
-    Distance, // fog along the ray to FogParameters::skyDistance (default)
+    Off,      ///< the clear colour stays
+    FarPlane, ///< fog along the ray to the camera's far plane (moves with computed near/far)
+    Distance, ///< fog along the ray to FogParameters::skyDistance (default)
 };
 
-// ρ(h) = density·e^(−falloff·h), h = height above the reference plane along `up` (seed eq. 3).
+/// ρ(h) = density·e^(−falloff·h), h = height above the reference plane along `up` (seed eq. 3).
 struct FogParameters {
-    float density = 1e-4f;                // ρ0 per metre at the reference height, [0, 1e6]
-    float falloff = 1e-4f;                // b per metre, [0, 1e3]
-    glm::vec3 color{0.70f, 0.74f, 0.80f}; // linear RGB
-    float referenceHeight = 0.0f;         // metres along `up`
-    glm::vec3 up{0.0f, 0.0f, 1.0f};       // world up (normalised when set)
-    float maxOpacity = 1.0f;              // k never exceeds it, [0, 1]
+    float density = 1e-4f;                ///< ρ0 per metre at the reference height, [0, 1e6]
+    float falloff = 1e-4f;                ///< b per metre, [0, 1e3]
+    glm::vec3 color{0.70f, 0.74f, 0.80f}; ///< linear RGB
+    float referenceHeight = 0.0f;         ///< metres along `up`
+    glm::vec3 up{0.0f, 0.0f, 1.0f};       ///< world up (normalised when set)
+    float maxOpacity = 1.0f;              ///< k never exceeds it, [0, 1]
     FogResponse response = FogResponse::Exponential;
     FogSky sky = FogSky::Distance;
-    float skyDistance = 1e5f; // metres, (0, 1e10]
+    float skyDistance = 1e5f; ///< metres, (0, 1e10]
 
-    // The seed's figure 1: "solid" fog (ρ0 = 1e-4, b = 1e-4) and ground fog (ρ0 = 1e-3, b = 4.5e-3).
+    /// The seed's figure 1: "solid" fog (ρ0 = 1e-4, b = 1e-4) and ground fog (ρ0 = 1e-3, b = 4.5e-3).
     static FogParameters solid();
     static FogParameters ground();
 
-    // Throws std::invalid_argument naming the field and the value.
+    /// Throws std::invalid_argument naming the field and the value.
     void validate() const;
 };
 
@@ -69,14 +69,14 @@ public:
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
     void releaseGLObjects() override;
 
-    // Both throw std::invalid_argument with the reason and keep the previous value.
+    /// Both throw std::invalid_argument with the reason and keep the previous value.
     void setParameters(const FogParameters& parameters);
     void setMode(FogMode mode);
     const FogParameters& parameters() const { return parameters_; }
     FogMode mode() const { return mode_; }
 
-    // Sets the fog uniforms (fog_optical_depth.glsl) on any program that declares them, for a view
-    // whose eye is at `eye`.
+    /// Sets the fog uniforms (fog_optical_depth.glsl) on any program that declares them, for a view
+    /// whose eye is at `eye`.
     static void setUniforms(gl::Program& program, const FogParameters& parameters, const glm::vec3& eye);
 
 private:

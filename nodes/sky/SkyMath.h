@@ -1,7 +1,8 @@
 #pragma once
-// Single scattering in a spherical atmosphere (lecture 12: Rayleigh and Mie scattering, the
-// Henyey–Greenstein phase, the nested light march; Earth's defaults after Nishita et al. 1993):
-// the CPU mirror of sky_scattering.glsl, for the tests and for the horizon colour a FogNode takes.
+/// @file
+/// Single scattering in a spherical atmosphere (lecture 12: Rayleigh and Mie scattering, the
+/// Henyey–Greenstein phase, the nested light march; Earth's defaults after Nishita et al. 1993):
+/// the CPU mirror of sky_scattering.glsl, for the tests and for the horizon colour a FogNode takes.
 #include "volume/VolumeMath.h"
 
 #include <glm/glm.hpp>
@@ -11,17 +12,17 @@
 namespace sgfx::sky {
 
 struct Atmosphere {
-    float planetRadius = 6360e3f;                    // m
-    float atmosphereRadius = 6420e3f;                // m
-    glm::vec3 rayleigh{5.8e-6f, 13.5e-6f, 33.1e-6f}; // β_R at sea level, per metre (R, G, B)
-    float rayleighHeight = 7994.0f;                  // scale height H_R, m
-    float mie = 21e-6f;                              // β_M at sea level, per metre
-    float mieHeight = 1200.0f;                       // H_M, m
-    float mieG = 0.76f;                              // Henyey–Greenstein g of the haze
-    float mieExtinction = 1.1f;                      // extinction / scattering of the haze
+    float planetRadius = 6360e3f;                    ///< m
+    float atmosphereRadius = 6420e3f;                ///< m
+    glm::vec3 rayleigh{5.8e-6f, 13.5e-6f, 33.1e-6f}; ///< β_R at sea level, per metre (R, G, B)
+    float rayleighHeight = 7994.0f;                  ///< scale height H_R, m
+    float mie = 21e-6f;                              ///< β_M at sea level, per metre
+    float mieHeight = 1200.0f;                       ///< H_M, m
+    float mieG = 0.76f;                              ///< Henyey–Greenstein g of the haze
+    float mieExtinction = 1.1f;                      ///< extinction / scattering of the haze
 };
 
-// Distances along o + t·d (|d| = 1) to a sphere of radius r at the origin: (t0, t1), or (−1, −1).
+/// Distances along o + t·d (|d| = 1) to a sphere of radius r at the origin: (t0, t1), or (−1, −1).
 inline glm::vec2 sphereHit(glm::vec3 o, glm::vec3 d, float r) {
     const float b = glm::dot(o, d);
     const float c = glm::dot(o, o) - r * r;
@@ -31,9 +32,9 @@ inline glm::vec2 sphereHit(glm::vec3 o, glm::vec3 d, float r) {
     return {-b - s, -b + s};
 }
 
-// Radiance of the sky seen from `altitude` metres along `dir` (world, z up, normalised), with the
-// sun towards `sun` (normalised) of irradiance `sunIntensity`; `steps` and `lightSteps` midpoint
-// steps. The sun's disc is left out (the shader adds it).
+/// Radiance of the sky seen from `altitude` metres along `dir` (world, z up, normalised), with the
+/// sun towards `sun` (normalised) of irradiance `sunIntensity`; `steps` and `lightSteps` midpoint
+/// steps. The sun's disc is left out (the shader adds it).
 inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, float sunIntensity,
                              float altitude, int steps = 16, int lightSteps = 8) {
     // No ground model: below the horizon the sky shows the horizon's colour.
@@ -73,7 +74,7 @@ inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, 
                            sumM * a.mie * volume::henyeyGreensteinPhase(mu, a.mieG));
 }
 
-// What reaches the eye straight from the sun (the disc's colour): e^(−optical depth) along `sun`.
+/// What reaches the eye straight from the sun (the disc's colour): e^(−optical depth) along `sun`.
 inline glm::vec3 sunTransmittance(const Atmosphere& a, glm::vec3 sun, float altitude, int steps = 16) {
     const glm::vec3 o(0.0f, 0.0f, a.planetRadius + std::max(altitude, 1.0f));
     if (sphereHit(o, sun, a.planetRadius).x > 0.0f) return glm::vec3(0.0f);
@@ -88,16 +89,16 @@ inline glm::vec3 sunTransmittance(const Atmosphere& a, glm::vec3 sun, float alti
     return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
 }
 
-// The sky-view table's coordinates (after Hillaire 2020, which lecture 12 cites): azimuth across,
-// the square root of the elevation up, so texels crowd towards the horizon where colour changes.
+/// The sky-view table's coordinates (after Hillaire 2020, which lecture 12 cites): azimuth across,
+/// the square root of the elevation up, so texels crowd towards the horizon where colour changes.
 inline glm::vec2 lutCoordinates(glm::vec3 dir) {
     const float az = std::atan2(dir.y, dir.x);
     const float el = std::asin(std::clamp(dir.z, 0.0f, 1.0f));
     return {az / (2.0f * float(volume::kPi)) + 0.5f, std::sqrt(el / (0.5f * float(volume::kPi)))};
 }
 
-// Direction towards the sun at local solar time `hours` (0..24), latitude and day of the year
-// (world: x east, y north, z up).
+/// Direction towards the sun at local solar time `hours` (0..24), latitude and day of the year
+/// (world: x east, y north, z up).
 inline glm::vec3 sunDirection(float hours, float latitudeDegrees = 45.0f, int dayOfYear = 172) {
     const float decl = glm::radians(23.44f) * std::sin(glm::radians(360.0f / 365.0f * float(dayOfYear - 81)));
     const float lat = glm::radians(latitudeDegrees);

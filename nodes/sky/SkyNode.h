@@ -1,8 +1,9 @@
 #pragma once
-// A physically based sky behind the scene (lecture 12: Rayleigh and Mie single scattering; Earth
-// defaults after Nishita et al. 1993): a spherical atmosphere seen from the eye's altitude, a sun
-// disc, time of day by the sun's direction. Its horizon colour can drive a FogNode's colour, so
-// distant geometry fades into the sky (aerial perspective).
+/// @file
+/// A physically based sky behind the scene (lecture 12: Rayleigh and Mie single scattering; Earth
+/// defaults after Nishita et al. 1993): a spherical atmosphere seen from the eye's altitude, a sun
+/// disc, time of day by the sun's direction. Its horizon colour can drive a FogNode's colour, so
+/// distant geometry fades into the sky (aerial perspective).
 #include "sky/SkyMath.h"
 
 #include <sgfx/Drawable.h>
@@ -15,21 +16,21 @@ namespace sgfx {
 class FogNode;
 
 struct SkyParameters {
-    glm::vec3 sunDirection{0.0f, 0.5f, 0.866f}; // towards the sun, world (normalised when set)
-    float sunIntensity = 20.0f;                 // irradiance scale of the scattered light
-    float sunDiscRadiance = 2000.0f;            // radiance of the disc itself
-    float sunAngularRadius = 0.00465f;          // rad (the real sun: 0.267°)
-    float altitude = 0.0f;                      // m above sea level of world z = 0
-    sky::Atmosphere atmosphere;                 // Earth by default
-    int steps = 16;                             // view-ray steps
-    int lightSteps = 8;                         // sun-ray steps
-    // Sample a sky-view table made once per frame (256 × 128 texels) instead of integrating per
-    // pixel; `false` integrates every pixel (exact, several times the cost on a software GPU).
+    glm::vec3 sunDirection{0.0f, 0.5f, 0.866f}; ///< towards the sun, world (normalised when set)
+    float sunIntensity = 20.0f;                 ///< irradiance scale of the scattered light
+    float sunDiscRadiance = 2000.0f;            ///< radiance of the disc itself
+    float sunAngularRadius = 0.00465f;          ///< rad (the real sun: 0.267°)
+    float altitude = 0.0f;                      ///< m above sea level of world z = 0
+    sky::Atmosphere atmosphere;                 ///< Earth by default
+    int steps = 16;                             ///< view-ray steps
+    int lightSteps = 8;                         ///< sun-ray steps
+    /// Sample a sky-view table made once per frame (256 × 128 texels) instead of integrating per
+    /// pixel; `false` integrates every pixel (exact, several times the cost on a software GPU).
     bool lookupTable = true;
 
-    // Sun at local solar time `hours`, latitude (degrees) and day of the year.
+    /// Sun at local solar time `hours`, latitude (degrees) and day of the year.
     static SkyParameters atTime(float hours, float latitudeDegrees = 45.0f, int dayOfYear = 172);
-    // Throws std::invalid_argument naming the field.
+    /// Throws std::invalid_argument naming the field.
     void validate() const;
 };
 
@@ -38,15 +39,15 @@ public:
     static std::shared_ptr<SkyNode> create(const SkyParameters& parameters = {});
     explicit SkyNode(const SkyParameters& parameters);
 
-    // Throws std::invalid_argument and keeps the old parameters.
+    /// Throws std::invalid_argument and keeps the old parameters.
     void setParameters(const SkyParameters& parameters);
     const SkyParameters& parameters() const { return parameters_; }
 
-    // Each frame (update traversal) the fog's colour becomes the sky's horizon colour towards the
-    // sun's azimuth, averaged around the horizon, and the fog stops fogging sky pixels itself
-    // (FogSky::Off): the sky is fogged once, by its own atmosphere. Null detaches.
+    /// Each frame (update traversal) the fog's colour becomes the sky's horizon colour towards the
+    /// sun's azimuth, averaged around the horizon, and the fog stops fogging sky pixels itself
+    /// (FogSky::Off): the sky is fogged once, by its own atmosphere. Null detaches.
     void attachFog(std::shared_ptr<FogNode> fog);
-    // The linear radiance of the horizon (1° above it), averaged over 8 azimuths.
+    /// The linear radiance of the horizon (1° above it), averaged over 8 azimuths.
     glm::vec3 horizonColor() const;
 
     const BaseShader& baseShader() const override;
@@ -63,7 +64,7 @@ protected:
 private:
     struct LutPass;
     SkyParameters parameters_;
-    mutable std::shared_ptr<LutPass> lut_; // made at the first frame that plans it
+    mutable std::shared_ptr<LutPass> lut_; ///< made at the first frame that plans it
     std::weak_ptr<FogNode> fog_;
 };
 

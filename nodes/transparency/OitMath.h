@@ -1,13 +1,14 @@
 #pragma once
-// CPU mirror of oit_weight.glsl and of the composite pass (McGuire & Bavoil 2013), for tests
-// and for users who want to predict a pixel.
+/// @file
+/// CPU mirror of oit_weight.glsl and of the composite pass (McGuire & Bavoil 2013), for tests
+/// and for users who want to predict a pixel.
 #include <algorithm>
 #include <cmath>
 #include <span>
 
 namespace sgfx::oit {
 
-// w(z, α) of equations 7–10 (see OitWeight); z in depth-scale units, d the window depth.
+/// w(z, α) of equations 7–10 (see OitWeight); z in depth-scale units, d the window depth.
 template <class T> T weight(int equation, T alpha, T z, T d) {
     z = std::abs(z);
     auto clampW = [](T w) { return std::clamp(w, T(1e-2), T(3e3)); };
@@ -26,12 +27,12 @@ template <class T> T weight(int equation, T alpha, T z, T d) {
 }
 
 struct Layer {
-    double r, g, b; // straight (not premultiplied) linear colour
+    double r, g, b; ///< straight (not premultiplied) linear colour
     double alpha;
-    double weight; // w(z, α)
+    double weight; ///< w(z, α)
 };
 
-// Eq. 6: C = (Σ C_i α_i w_i / Σ α_i w_i)·(1 − Π(1 − α_i)) + C_0·Π(1 − α_i), per channel.
+/// Eq. 6: C = (Σ C_i α_i w_i / Σ α_i w_i)·(1 − Π(1 − α_i)) + C_0·Π(1 − α_i), per channel.
 inline void composite(std::span<const Layer> layers, const double background[3], double out[3]) {
     double sum[3] = {0, 0, 0}, sumA = 0, reveal = 1;
     for (const Layer& l : layers) {

@@ -1,8 +1,9 @@
 #pragma once
-// Participating media in a box, raymarched per pixel (lecture 12, volume rendering): absorption
-// (Beer–Lambert), emission, single scattering towards a directional light with a
-// Henyey–Greenstein or Rayleigh phase function; the march stops at the opaque scene's depth, so
-// walls inside smoke cut it. Composited premultiplied; fog applies up to where the medium starts.
+/// @file
+/// Participating media in a box, raymarched per pixel (lecture 12, volume rendering): absorption
+/// (Beer–Lambert), emission, single scattering towards a directional light with a
+/// Henyey–Greenstein or Rayleigh phase function; the march stops at the opaque scene's depth, so
+/// walls inside smoke cut it. Composited premultiplied; fog applies up to where the medium starts.
 #include "volume/VolumeMath.h"
 
 #include <sgfx/Drawable.h>
@@ -21,57 +22,57 @@ namespace nodes {
 class SceneDepthCopy;
 }
 
-// A density grid over the box, x fastest, then y, then z.
+/// A density grid over the box, x fastest, then y, then z.
 struct VolumeGrid {
-    enum class Format : std::uint8_t { R8, R16F, R32F }; // GPU storage; R8 holds [0, 1]
+    enum class Format : std::uint8_t { R8, R16F, R32F }; ///< GPU storage; R8 holds [0, 1]
     glm::ivec3 size{0};
     Format format = Format::R32F;
     std::vector<float> values;
 
     static VolumeGrid constant(float density);
-    // A ball of density 1 with radius `radius` (box units, 0.5 touches the faces), its edge
-    // softened over `edge`.
+    /// A ball of density 1 with radius `radius` (box units, 0.5 touches the faces), its edge
+    /// softened over `edge`.
     static VolumeGrid sphere(int resolution = 64, float radius = 0.45f, float edge = 0.05f);
-    // Fractal value noise for smoke and clouds: `coverage` of the box is non-empty, the rest is
-    // exactly 0 (what empty-space skipping jumps over).
+    /// Fractal value noise for smoke and clouds: `coverage` of the box is non-empty, the rest is
+    /// exactly 0 (what empty-space skipping jumps over).
     static VolumeGrid noise(int resolution = 64, std::uint32_t seed = 1, int octaves = 4,
                             float coverage = 0.5f);
-    // A raw file of size.x·size.y·size.z values (R8: bytes; R16F: IEEE half; R32F: float),
-    // little-endian; throws std::runtime_error naming the file and the expected and actual sizes.
+    /// A raw file of size.x·size.y·size.z values (R8: bytes; R16F: IEEE half; R32F: float),
+    /// little-endian; throws std::runtime_error naming the file and the expected and actual sizes.
     static VolumeGrid loadRaw(const std::filesystem::path& file, glm::ivec3 size, Format format);
-    // Throws std::invalid_argument: sizes, value count, non-finite or negative values.
+    /// Throws std::invalid_argument: sizes, value count, non-finite or negative values.
     void validate() const;
 };
 
 enum class VolumePhase : std::uint8_t { Isotropic, HenyeyGreenstein, Rayleigh };
-// Raymarch per pixel (default), or the lecture's slicing: view-aligned slices blended back to front.
+/// Raymarch per pixel (default), or the lecture's slicing: view-aligned slices blended back to front.
 enum class VolumeMethod : std::uint8_t { Raymarch, Slicing };
 
 struct VolumeParameters {
-    glm::vec3 size{1.0f};                        // box edges (m), centred on the node's origin
-    float absorption = 1.0f;                     // k_a per metre at density 1
-    float scattering = 0.0f;                     // k_s per metre at density 1
-    glm::vec3 emission{0.0f};                    // k_e per metre at density 1 (linear radiance)
-    float densityScale = 1.0f;                   // multiplies the grid or function
-    glm::vec3 lightColor{1.0f};                  // the directional light that scatters (linear)
-    float ambient = 1.0f;                        // share of the scene's ambient light the medium scatters
-    glm::vec3 lightDirection{0.0f, 0.0f, -1.0f}; // the way it travels, world (normalised when set)
+    glm::vec3 size{1.0f};                        ///< box edges (m), centred on the node's origin
+    float absorption = 1.0f;                     ///< k_a per metre at density 1
+    float scattering = 0.0f;                     ///< k_s per metre at density 1
+    glm::vec3 emission{0.0f};                    ///< k_e per metre at density 1 (linear radiance)
+    float densityScale = 1.0f;                   ///< multiplies the grid or function
+    glm::vec3 lightColor{1.0f};                  ///< the directional light that scatters (linear)
+    float ambient = 1.0f;                        ///< share of the scene's ambient light the medium scatters
+    glm::vec3 lightDirection{0.0f, 0.0f, -1.0f}; ///< the way it travels, world (normalised when set)
     VolumePhase phase = VolumePhase::HenyeyGreenstein;
-    float g = 0.3f;                 // Henyey–Greenstein asymmetry, (−1, 1)
-    int steps = 64;                 // N per ray (the most, with stepLength)
-    float stepLength = 0.0f;        // > 0: N = ceil(segment / stepLength), at most `steps`
-    int lightSteps = 8;             // M per light ray
-    float earlyTermination = 0.99f; // stop once the opacity exceeds it; 1 = never
+    float g = 0.3f;                 ///< Henyey–Greenstein asymmetry, (−1, 1)
+    int steps = 64;                 ///< N per ray (the most, with stepLength)
+    float stepLength = 0.0f;        ///< > 0: N = ceil(segment / stepLength), at most `steps`
+    int lightSteps = 8;             ///< M per light ray
+    float earlyTermination = 0.99f; ///< stop once the opacity exceeds it; 1 = never
     volume::Integration integration = volume::Integration::Exact;
-    bool jitter = false; // random start per pixel: banding becomes noise
-    // Jump over coarse cells whose maximum density is 0. Off by default: on llvmpipe the extra
-    // fetch and branch per step cost more than they save (bench/volume_table.sh).
+    bool jitter = false; ///< random start per pixel: banding becomes noise
+    /// Jump over coarse cells whose maximum density is 0. Off by default: on llvmpipe the extra
+    /// fetch and branch per step cost more than they save (bench/volume_table.sh).
     bool emptySpaceSkipping = false;
-    bool halfResolution = false; // march at half size, then a depth-aware upsample
+    bool halfResolution = false; ///< march at half size, then a depth-aware upsample
     VolumeMethod method = VolumeMethod::Raymarch;
-    int slices = 128; // Slicing: planes across the box
+    int slices = 128; ///< Slicing: planes across the box
 
-    // Throws std::invalid_argument naming the field and its range.
+    /// Throws std::invalid_argument naming the field and its range.
     void validate() const;
 };
 
@@ -79,21 +80,21 @@ class VolumeNode : public Drawable {
 public:
     static std::shared_ptr<VolumeNode> create(const VolumeParameters& parameters = {},
                                               VolumeGrid grid = VolumeGrid::constant(1.0f));
-    // The density as GLSL: the body of `float volumeDensity(vec3 uvw)`, uvw ∈ [0, 1]³.
+    /// The density as GLSL: the body of `float volumeDensity(vec3 uvw)`, uvw ∈ [0, 1]³.
     static std::shared_ptr<VolumeNode> createFunction(const VolumeParameters& parameters,
                                                       std::string glslBody);
     VolumeNode(const VolumeParameters& parameters, VolumeGrid grid, std::string function);
     ~VolumeNode() override;
 
-    // Both throw std::invalid_argument and keep the old values.
+    /// Both throw std::invalid_argument and keep the old values.
     void setParameters(const VolumeParameters& parameters);
     void setGrid(VolumeGrid grid);
     const VolumeParameters& parameters() const { return parameters_; }
-    // Emission colour by density (a row image; x = ρ in [0, 1]), multiplying k_e; null: none.
+    /// Emission colour by density (a row image; x = ρ in [0, 1]), multiplying k_e; null: none.
     void setTransferFunction(std::shared_ptr<Image> ramp);
 
-    // Default state: premultiplied blending, front faces culled, no depth test (the march
-    // stops at the scene's depth itself).
+    /// Default state: premultiplied blending, front faces culled, no depth test (the march
+    /// stops at the scene's depth itself).
     static std::shared_ptr<StateSet> defaultState();
 
     const BaseShader& baseShader() const override;

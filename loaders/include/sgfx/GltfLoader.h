@@ -1,8 +1,9 @@
 #pragma once
-// glTF 2.0 into the scene graph (tinygltf from Debian): .gltf with external or base64 buffers,
-// and .glb. Every index, offset, count and type is checked before the data is touched (tinygltf
-// 2.7 accepts many files that break those rules); a bad file raises LoadError naming the file,
-// the element (`meshes[2].primitives[0].indices`) and the reason, and nothing is built.
+/// @file
+/// glTF 2.0 into the scene graph (tinygltf from Debian): .gltf with external or base64 buffers,
+/// and .glb. Every index, offset, count and type is checked before the data is touched (tinygltf
+/// 2.7 accepts many files that break those rules); a bad file raises LoadError naming the file,
+/// the element (`meshes[2].primitives[0].indices`) and the reason, and nothing is built.
 #include <sgfx/Group.h>
 
 #include <cstddef>
@@ -22,44 +23,44 @@ public:
 };
 
 struct GltfOptions {
-    int scene = -1;  // the file's default scene (or its first), or this index
-    bool zUp = true; // rotate glTF's Y-up into sgfx's Z-up at the root
-    // Normals made for primitives without them: 0 = flat (per face, as glTF asks); an angle in
-    // radians smooths faces meeting at less than it (see computeNormals).
+    int scene = -1;  ///< the file's default scene (or its first), or this index
+    bool zUp = true; ///< rotate glTF's Y-up into sgfx's Z-up at the root
+    /// Normals made for primitives without them: 0 = flat (per face, as glTF asks); an angle in
+    /// radians smooths faces meeting at less than it (see computeNormals).
     float creaseAngle = 0.0f;
-    // Bytes of decoded vertex, index and image data one load may make. A small file can declare
-    // millions of elements (accessors shared by many primitives, sparse accessors without data,
-    // image headers): past this the load fails with LoadError instead of exhausting memory.
+    /// Bytes of decoded vertex, index and image data one load may make. A small file can declare
+    /// millions of elements (accessors shared by many primitives, sparse accessors without data,
+    /// image headers): past this the load fails with LoadError instead of exhausting memory.
     std::size_t memoryLimit = std::size_t(2) << 30;
 };
 
-// What a load made, for tools and tests.
+/// What a load made, for tools and tests.
 struct GltfStats {
-    std::size_t nodes = 0;      // glTF nodes instanced in the scene (each use counts)
-    std::size_t meshes = 0;     // distinct meshes loaded
-    std::size_t primitives = 0; // distinct primitives loaded
-    std::size_t triangles = 0;  // of the distinct meshes, counted once each
+    std::size_t nodes = 0;      ///< glTF nodes instanced in the scene (each use counts)
+    std::size_t meshes = 0;     ///< distinct meshes loaded
+    std::size_t primitives = 0; ///< distinct primitives loaded
+    std::size_t triangles = 0;  ///< of the distinct meshes, counted once each
     std::size_t materials = 0;
     std::size_t textures = 0;
-    std::size_t opaque = 0, masked = 0, blended = 0; // materials by alphaMode
-    std::size_t tangentsMade = 0;                    // primitives given tangents for their normal maps
-    std::size_t instances = 0;                       // EXT_mesh_gpu_instancing instances drawn
-    // Optional extensions the loader ignored, and tinygltf's own warnings.
+    std::size_t opaque = 0, masked = 0, blended = 0; ///< materials by alphaMode
+    std::size_t tangentsMade = 0;                    ///< primitives given tangents for their normal maps
+    std::size_t instances = 0;                       ///< EXT_mesh_gpu_instancing instances drawn
+    /// Optional extensions the loader ignored, and tinygltf's own warnings.
     std::vector<std::string> warnings;
 };
 
-// Loads the file's scene. Shared meshes stay shared (one Geometry per primitive, used by each
-// node that names the mesh; a node with EXT_mesh_gpu_instancing gets its own instanced copy).
-// Materials use the metallic-roughness model. Supported extensions: KHR_texture_transform,
-// KHR_materials_emissive_strength, EXT_mesh_gpu_instancing, KHR_mesh_quantization. A required
-// extension outside that list is a LoadError; an optional one is skipped with a warning (in
-// GltfStats::warnings and on stderr unless `stats` is given). Throws LoadError.
+/// Loads the file's scene. Shared meshes stay shared (one Geometry per primitive, used by each
+/// node that names the mesh; a node with EXT_mesh_gpu_instancing gets its own instanced copy).
+/// Materials use the metallic-roughness model. Supported extensions: KHR_texture_transform,
+/// KHR_materials_emissive_strength, EXT_mesh_gpu_instancing, KHR_mesh_quantization. A required
+/// extension outside that list is a LoadError; an optional one is skipped with a warning (in
+/// GltfStats::warnings and on stderr unless `stats` is given). Throws LoadError.
 std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options = {},
                                 GltfStats* stats = nullptr);
 
-// The same from bytes in memory: .glb when they start with "glTF", else .gltf JSON. There is no
-// base directory, so a file that names external buffers or images fails with LoadError (data: URIs
-// and the GLB chunk work). `nameForErrors` stands in for the file name in messages.
+/// The same from bytes in memory: .glb when they start with "glTF", else .gltf JSON. There is no
+/// base directory, so a file that names external buffers or images fails with LoadError (data: URIs
+/// and the GLB chunk work). `nameForErrors` stands in for the file name in messages.
 std::shared_ptr<Group> loadGltfFromMemory(std::span<const std::byte> bytes, std::string_view nameForErrors,
                                           const GltfOptions& options = {}, GltfStats* stats = nullptr);
 

@@ -1,7 +1,8 @@
 #pragma once
-// glTF 2.0 out of the scene graph, the counterpart of loadGltf: what it writes loads back
-// through loadGltf with the same triangles, positions, normals, texcoords, colours and
-// material colours.
+/// @file
+/// glTF 2.0 out of the scene graph, the counterpart of loadGltf: what it writes loads back
+/// through loadGltf with the same triangles, positions, normals, texcoords, colours and
+/// material colours.
 #include <sgfx/Node.h>
 
 #include <filesystem>
@@ -9,7 +10,7 @@
 namespace sgfx {
 
 struct GltfWriteOptions {
-    // The scene is sgfx's Z-up: rotate it into glTF's Y-up, which loadGltf's default undoes.
+    /// The scene is sgfx's Z-up: rotate it into glTF's Y-up, which loadGltf's default undoes.
     bool zUp = true;
 };
 
@@ -17,14 +18,14 @@ struct GltfWriteResult {
     std::size_t meshes = 0, vertices = 0, triangles = 0, materials = 0;
 };
 
-// Writes every Geometry below `root` (node masks honoured, every LOD level included) as one
-// glTF mesh each, world transforms applied to the vertices, with NORMAL, TEXCOORD_0, TANGENT and
-// COLOR_0 when present, and one glTF material per distinct sgfx::Material and blending:
-// baseColorFactor = diffuse, emissiveFactor = emissive (KHR_materials_emissive_strength above 1),
-// alphaMode MASK with an alphaCutoff, BLEND for blended state or opacity below 1, else OPAQUE.
-// Textures are not written. `.glb` gives a binary file, `.gltf` JSON with the buffer embedded as
-// base64. Throws std::invalid_argument for another extension or an invalid geometry
-// (Geometry::validate), std::runtime_error naming the path when it cannot be written.
+/// Writes every Geometry below `root` (node masks honoured, every LOD level included) as one
+/// glTF mesh each, world transforms applied to the vertices, with NORMAL, TEXCOORD_0, TANGENT and
+/// COLOR_0 when present, and one glTF material per distinct sgfx::Material and blending:
+/// baseColorFactor = diffuse, emissiveFactor = emissive (KHR_materials_emissive_strength above 1),
+/// alphaMode MASK with an alphaCutoff, BLEND for blended state or opacity below 1, else OPAQUE.
+/// Textures are not written. `.glb` gives a binary file, `.gltf` JSON with the buffer embedded as
+/// base64. Throws std::invalid_argument for another extension or an invalid geometry
+/// (Geometry::validate), std::runtime_error naming the path when it cannot be written.
 GltfWriteResult writeGltf(Node& root, const std::filesystem::path& path,
                           const GltfWriteOptions& options = {});
 

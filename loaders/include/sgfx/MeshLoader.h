@@ -1,8 +1,9 @@
 #pragma once
-// Older mesh formats through OpenMesh (Debian's libopenmesh-dev): OBJ, OFF, PLY and STL, read as
-// triangle meshes (polygons are triangulated) with the file's normals, or smooth normals made
-// from the faces when it has none; and written back, so other tools and peer benchmarks can load
-// exactly what sgfx renders. Errors raise LoadError naming the file and the reason.
+/// @file
+/// Older mesh formats through OpenMesh (Debian's libopenmesh-dev): OBJ, OFF, PLY and STL, read as
+/// triangle meshes (polygons are triangulated) with the file's normals, or smooth normals made
+/// from the faces when it has none; and written back, so other tools and peer benchmarks can load
+/// exactly what sgfx renders. Errors raise LoadError naming the file and the reason.
 #include <sgfx/GltfLoader.h>
 
 #include <sgfx/Geometry.h>
@@ -12,20 +13,20 @@
 
 namespace sgfx {
 
-// By the file's extension: .obj, .off, .ply, .stl (ASCII or binary). Throws LoadError.
+/// By the file's extension: .obj, .off, .ply, .stl (ASCII or binary). Throws LoadError.
 std::shared_ptr<Geometry> loadMesh(const std::filesystem::path& file);
 
-// A model with its materials: for .obj, the `mtllib` materials (Kd, Ka, Ks, Ns, Ke, d/Tr, map_Kd,
-// map_d, map_Bump/bump/norm) and texture coordinates, one Geometry per material in order of first
-// use (vertices split where a corner's texcoord or normal differs, texcoords flipped to glTF's
-// top-left origin); a missing MTL file or unknown material gives geometry with no StateSet (the
-// scene's default material). Other formats: loadMesh's Geometry in a Group. Throws LoadError
-// naming file:line for bad OBJ/MTL lines, and the .mtl file and material for a texture that is
-// missing or does not decode.
+/// A model with its materials: for .obj, the `mtllib` materials (Kd, Ka, Ks, Ns, Ke, d/Tr, map_Kd,
+/// map_d, map_Bump/bump/norm) and texture coordinates, one Geometry per material in order of first
+/// use (vertices split where a corner's texcoord or normal differs, texcoords flipped to glTF's
+/// top-left origin); a missing MTL file or unknown material gives geometry with no StateSet (the
+/// scene's default material). Other formats: loadMesh's Geometry in a Group. Throws LoadError
+/// naming file:line for bad OBJ/MTL lines, and the .mtl file and material for a texture that is
+/// missing or does not decode.
 std::shared_ptr<Group> loadMeshModel(const std::filesystem::path& file);
 
-// Writes a triangle geometry (positions, normals) by the extension: .obj, .off, .ply, .stl.
-// Throws LoadError naming the file when the geometry is not triangles or the file cannot be written.
+/// Writes a triangle geometry (positions, normals) by the extension: .obj, .off, .ply, .stl.
+/// Throws LoadError naming the file when the geometry is not triangles or the file cannot be written.
 void writeMesh(const Geometry& geometry, const std::filesystem::path& file);
 
 } // namespace sgfx

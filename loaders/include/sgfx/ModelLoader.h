@@ -1,7 +1,8 @@
 #pragma once
-// One entry point for every model format sgfx reads, chosen by the file's extension (any case):
-// .gltf and .glb through loadGltf; .obj (with its MTL materials), .off, .ply and .stl through
-// loadMeshModel. Throws LoadError; an unknown extension names the file and the accepted ones.
+/// @file
+/// One entry point for every model format sgfx reads, chosen by the file's extension (any case):
+/// .gltf and .glb through loadGltf; .obj (with its MTL materials), .off, .ply and .stl through
+/// loadMeshModel. Throws LoadError; an unknown extension names the file and the accepted ones.
 #include <sgfx/GltfLoader.h>
 
 #include <filesystem>
@@ -9,7 +10,7 @@
 
 namespace sgfx {
 
-// `gltf` applies to glTF files only.
+/// `gltf` applies to glTF files only.
 std::shared_ptr<Group> loadModel(const std::filesystem::path& file, const GltfOptions& gltf = {});
 
 } // namespace sgfx

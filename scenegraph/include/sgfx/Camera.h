@@ -16,22 +16,22 @@ struct Viewport {
     bool operator==(const Viewport&) const = default;
 };
 
-// Anti-aliasing of one camera's image (Camera::setAntiAliasing). Headless and windowed renders
-// take the same path; the targets follow the viewport.
+/// Anti-aliasing of one camera's image (Camera::setAntiAliasing). Headless and windowed renders
+/// take the same path; the targets follow the viewport.
 struct AntiAliasing {
     enum class Mode : std::uint8_t {
         None,
-        Msaa, // multisample colour and depth, resolved before the post passes
-        Ssaa, // rendered `factor`× larger per axis, box-filtered down
-        Fxaa, // fast approximate AA on the final image (Lottes' FXAA 3.11, written from its description)
-        Taa,  // temporal: Halton(2,3) sub-pixel jitter, history reprojected and clamped
+        Msaa, ///< multisample colour and depth, resolved before the post passes
+        Ssaa, ///< rendered `factor`× larger per axis, box-filtered down
+        Fxaa, ///< fast approximate AA on the final image (Lottes' FXAA 3.11, written from its description)
+        Taa,  ///< temporal: Halton(2,3) sub-pixel jitter, history reprojected and clamped
     };
     enum class FxaaQuality : std::uint8_t { Low, Medium, High };
     Mode mode = Mode::None;
-    int samples = 4; // MSAA samples; clamped to GL_MAX_SAMPLES with a warning
-    int factor = 2;  // SSAA per axis, 2..4
+    int samples = 4; ///< MSAA samples; clamped to GL_MAX_SAMPLES with a warning
+    int factor = 2;  ///< SSAA per axis, 2..4
     FxaaQuality fxaaQuality = FxaaQuality::Medium;
-    float taaFeedback = 0.9375f; // TAA: history weight once 1/(1 − feedback) = 16 frames are in, [0, 0.98]
+    float taaFeedback = 0.9375f; ///< TAA: history weight once 1/(1 − feedback) = 16 frames are in, [0, 0.98]
 
     static AntiAliasing none() { return {}; }
     static AntiAliasing msaa(int samples = 4) {
@@ -58,20 +58,20 @@ struct AntiAliasing {
         a.taaFeedback = feedback;
         return a;
     }
-    // Throws std::invalid_argument naming the field (samples < 1, factor outside 1..4, ...).
+    /// Throws std::invalid_argument naming the field (samples < 1, factor outside 1..4, ...).
     void validate() const;
     bool operator==(const AntiAliasing&) const = default;
 
-    // The names command lines and settings files use: none, msaa (4 samples), msaaN (N = 1..8),
-    // ssaaN (N = 2..4), fxaa, fxaa-low, fxaa-high, taa. parse() throws std::invalid_argument
-    // listing them for anything else; name() gives parse()'s name back (msaaN, ssaaN spelt out).
+    /// The names command lines and settings files use: none, msaa (4 samples), msaaN (N = 1..8),
+    /// ssaaN (N = 2..4), fxaa, fxaa-low, fxaa-high, taa. parse() throws std::invalid_argument
+    /// listing them for anything else; name() gives parse()'s name back (msaaN, ssaaN spelt out).
     static AntiAliasing parse(std::string_view name);
     std::string name() const;
     static constexpr std::string_view kNames =
         "none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low, fxaa-high, taa";
 };
 
-// A view into the graph: its children are the scene. View space looks down -Z.
+/// A view into the graph: its children are the scene. View space looks down -Z.
 class Camera : public Group {
 public:
     static std::shared_ptr<Camera> create() { return std::make_shared<Camera>(); }
@@ -80,36 +80,36 @@ public:
     glm::mat4 viewMatrix{1.0f};
     glm::mat4 projectionMatrix{1.0f};
     Viewport viewport;
-    glm::vec4 clearColor{0.2f, 0.25f, 0.3f, 1.0f}; // linear RGBA
+    glm::vec4 clearColor{0.2f, 0.25f, 0.3f, 1.0f}; ///< linear RGBA
     bool clearColorEnabled = true;
     bool clearDepthEnabled = true;
     bool cullingEnabled = true;
-    // When set, the projection's near/far come from the visible bounds each frame (OSG's
-    // COMPUTE_NEAR_FAR), clamped so near >= far * nearFarRatio.
+    /// When set, the projection's near/far come from the visible bounds each frame (OSG's
+    /// COMPUTE_NEAR_FAR), clamped so near >= far * nearFarRatio.
     bool computeNearFar = false;
     float nearFarRatio = 1e-4f;
-    // Render to texture: a camera nested in a scene with a target draws its own children into
-    // the texture (sized to its viewport, sRGB colour) before the enclosing camera draws, so any
-    // material may sample it in the same frame (a mirror, a monitor in a cockpit). On the
-    // viewer's own camera it receives a copy of the final image.
+    /// Render to texture: a camera nested in a scene with a target draws its own children into
+    /// the texture (sized to its viewport, sRGB colour) before the enclosing camera draws, so any
+    /// material may sample it in the same frame (a mirror, a monitor in a cockpit). On the
+    /// viewer's own camera it receives a copy of the final image.
     std::shared_ptr<Texture> renderTarget;
 
-    // Validated (std::invalid_argument, the previous setting kept).
+    /// Validated (std::invalid_argument, the previous setting kept).
     void setAntiAliasing(const AntiAliasing& aa);
     const AntiAliasing& antiAliasing() const { return antiAliasing_; }
-    // TAA: drop the history at the next frame (a camera cut). Large jumps of the view are
-    // detected on their own.
+    /// TAA: drop the history at the next frame (a camera cut). Large jumps of the view are
+    /// detected on their own.
     void resetHistory() { ++historyEpoch_; }
     std::uint64_t historyEpoch() const { return historyEpoch_; }
 
-    // Perspective projection kept symbolic so a resize can refresh the aspect ratio.
-    // Throws std::invalid_argument for fovy outside (0,180), near <= 0 or far <= near.
+    /// Perspective projection kept symbolic so a resize can refresh the aspect ratio.
+    /// Throws std::invalid_argument for fovy outside (0,180), near <= 0 or far <= near.
     void setPerspective(float fovyDegrees, float zNear, float zFar);
     void setLookAt(const glm::vec3& eye, const glm::vec3& center, const glm::vec3& up = {0, 0, 1});
     void setViewport(int x, int y, int w, int h);
 
-    // True while projectionMatrix is still the one setPerspective made (assigning another
-    // matrix, e.g. an orthographic one, switches the automatic aspect refresh off).
+    /// True while projectionMatrix is still the one setPerspective made (assigning another
+    /// matrix, e.g. an orthographic one, switches the automatic aspect refresh off).
     bool perspective() const { return perspective_ && projectionMatrix == perspectiveMatrix_; }
     float fovy() const { return fovy_; }
     float zNear() const { return zNear_; }
@@ -126,7 +126,7 @@ private:
 
 enum class LightType : std::uint8_t { Directional, Point, Ambient };
 
-// A light placed in the graph; it illuminates the whole scene (positional state, as in OSG).
+/// A light placed in the graph; it illuminates the whole scene (positional state, as in OSG).
 class Light : public Node {
 public:
     static std::shared_ptr<Light> create(LightType t = LightType::Directional) {
@@ -137,10 +137,10 @@ public:
     void accept(NodeVisitor& v) override;
 
     LightType type = LightType::Directional;
-    glm::vec3 color{1.0f}; // linear RGB, multiplied by intensity
+    glm::vec3 color{1.0f}; ///< linear RGB, multiplied by intensity
     float intensity = 1.0f;
-    glm::vec3 direction{0, 0, -1}; // direction the light travels (directional), local frame
-    glm::vec3 position{0.0f};      // point lights, local frame
+    glm::vec3 direction{0, 0, -1}; ///< direction the light travels (directional), local frame
+    glm::vec3 position{0.0f};      ///< point lights, local frame
 };
 
 } // namespace sgfx

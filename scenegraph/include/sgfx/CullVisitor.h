@@ -11,15 +11,15 @@ namespace sgfx {
 class Camera;
 class FramePlan;
 
-// Walks the scene under a camera: frustum-culls bounding spheres, honours node masks,
-// accumulates transforms, state and active effects, and fills a RenderQueue.
+/// Walks the scene under a camera: frustum-culls bounding spheres, honours node masks,
+/// accumulates transforms, state and active effects, and fills a RenderQueue.
 class CullVisitor : public NodeVisitor {
 public:
     CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* plan = nullptr);
 
     void apply(Node& node) override;
     void apply(Transform& t) override;
-    // Visits the children whose pixel range holds the LOD's size on screen.
+    /// Visits the children whose pixel range holds the LOD's size on screen.
     void apply(LOD& lod) override;
     void apply(Geometry& g) override;
     void apply(Drawable& d) override;
@@ -27,25 +27,25 @@ public:
     void apply(Light& l) override;
     void apply(EffectNode& e) override;
 
-    // Visits the camera's children.
+    /// Visits the camera's children.
     void run(Camera& camera);
 
-    // Nearest/farthest view depth of what was drawn (valid after traversal when anything was).
+    /// Nearest/farthest view depth of what was drawn (valid after traversal when anything was).
     float computedNear = std::numeric_limits<float>::max();
     float computedFar = 0.0f;
     std::size_t culledNodes = 0;
-    std::size_t rejectedLights = 0; // non-finite or negative colour, zero direction
+    std::size_t rejectedLights = 0; ///< non-finite or negative colour, zero direction
 
 private:
-    // Returns false when the node's bound is outside the frustum; narrows the plane mask. Sets
-    // *viewBound to the view-space bound when it had to compute it (else leaves it invalid).
+    /// Returns false when the node's bound is outside the frustum; narrows the plane mask. Sets
+    /// *viewBound to the view-space bound when it had to compute it (else leaves it invalid).
     bool cullTest(const Node& n, BoundingSphere* viewBound = nullptr);
-    // local.transformed(modelView_.back()), with the matrix's scale taken from scale_.
+    /// local.transformed(modelView_.back()), with the matrix's scale taken from scale_.
     BoundingSphere toView(const BoundingSphere& local) const;
     void pushState(const Node& n);
     void popState(const Node& n);
     void traverseWithState(Node& n);
-    // Fills the item's common fields and puts it in the opaque, claimed or transparent list.
+    /// Fills the item's common fields and puts it in the opaque, claimed or transparent list.
     void queueItem(const Geometry* geometry, const Drawable* drawable, std::uint32_t features,
                    const ResolvedState& state, const BoundingSphere& viewBound, std::uintptr_t program,
                    bool twoPassable);
@@ -55,10 +55,10 @@ private:
     glm::mat4 view_;
     glm::mat4 projection_;
     int viewportHeight_;
-    Frustum viewFrustum_; // in view space
+    Frustum viewFrustum_; ///< in view space
     bool culling_;
     std::vector<glm::mat4> modelView_;
-    std::vector<float> scale_; // largest axis scale of each modelView_ entry, computed once
+    std::vector<float> scale_; ///< largest axis scale of each modelView_ entry, computed once
     std::vector<glm::mat4> model_;
     std::vector<const ResolvedState*> state_;
     std::vector<const EffectNode*> effects_;
@@ -66,16 +66,16 @@ private:
     std::vector<std::uint8_t> planeMask_;
     std::unordered_set<const EffectNode*> planned_;
     std::unordered_set<const Drawable*> plannedDrawables_;
-    // This frame's merges by (inherited state, StateSet), direct-mapped: nodes that share a
-    // StateSet under the same state (instanced leaves) share one ResolvedState instead of each
-    // copying one into the queue. Stable within a cull: nothing edits StateSets during it.
+    /// This frame's merges by (inherited state, StateSet), direct-mapped: nodes that share a
+    /// StateSet under the same state (instanced leaves) share one ResolvedState instead of each
+    /// copying one into the queue. Stable within a cull: nothing edits StateSets during it.
     struct MergedState {
         const ResolvedState* inherited = nullptr;
         const StateSet* set = nullptr;
         const ResolvedState* merged = nullptr;
     };
     std::array<MergedState, 64> mergedStates_{};
-    // The last Geometry's material features and what they were computed from.
+    /// The last Geometry's material features and what they were computed from.
     const ResolvedState* featuresState_ = nullptr;
     const Geometry* featuresGeometry_ = nullptr;
     std::uint32_t features_ = 0;

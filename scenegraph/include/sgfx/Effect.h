@@ -13,15 +13,15 @@ class Program;
 class FramePlan;
 struct DrawContext;
 
-// GLSL an effect contributes at the material's hook points. Every field may be empty.
-//  vertexDecl/fragmentDecl: uniforms, varyings, functions (file scope)
-//  vertexCode:   runs after the world position is known; may read/write
-//                `vec3 sgfx_worldPos`, `vec3 sgfx_worldNormal`, `vec4 sgfx_viewPos`
-//  ambientCode:  may modify `vec3 sgfx_ambient` (the ambient light term)
-//  colorCode:    may modify `vec4 sgfx_color` (final linear colour, before output);
-//                `vec3 sgfx_worldPos` and `vec3 sgfx_eyePos` are available.
+/// GLSL an effect contributes at the material's hook points. Every field may be empty.
+///  vertexDecl/fragmentDecl: uniforms, varyings, functions (file scope)
+///  vertexCode:   runs after the world position is known; may read/write
+///                `vec3 sgfx_worldPos`, `vec3 sgfx_worldNormal`, `vec4 sgfx_viewPos`
+///  ambientCode:  may modify `vec3 sgfx_ambient` (the ambient light term)
+///  colorCode:    may modify `vec4 sgfx_color` (final linear colour, before output);
+///                `vec3 sgfx_worldPos` and `vec3 sgfx_eyePos` are available.
 struct ShaderSnippet {
-    std::string name; // identifies the code: equal names must mean equal code
+    std::string name; ///< identifies the code: equal names must mean equal code
     std::string defines;
     std::string vertexDecl;
     std::string vertexCode;
@@ -30,26 +30,26 @@ struct ShaderSnippet {
     std::string colorCode;
 };
 
-// A Group whose subtree gets an effect. The core knows effects only through this interface.
-// Nested effects of the same kind: the inner one wins for its subtree.
+/// A Group whose subtree gets an effect. The core knows effects only through this interface.
+/// Nested effects of the same kind: the inner one wins for its subtree.
 class EffectNode : public Group {
 public:
     void accept(NodeVisitor& v) override;
 
     virtual std::string_view kind() const = 0;
-    // Lower runs first at a hook (e.g. AO before fog).
+    /// Lower runs first at a hook (e.g. AO before fog).
     virtual int order() const { return 0; }
     virtual const ShaderSnippet& snippet() const = 0;
-    // Called once per frame while the node is visible, to request pre-/post-passes.
+    /// Called once per frame while the node is visible, to request pre-/post-passes.
     virtual void planFrame(FramePlan&) const {}
-    // Sets this effect's uniforms on a program that contains its snippet.
+    /// Sets this effect's uniforms on a program that contains its snippet.
     virtual void applyUniforms(gl::Program&, const DrawContext&) const {}
-    // Whether this effect draws the blended items below it that use `mode` itself (in a pass of
-    // its own, from RenderQueue::claimed) instead of the main pass's sorted transparent stage.
+    /// Whether this effect draws the blended items below it that use `mode` itself (in a pass of
+    /// its own, from RenderQueue::claimed) instead of the main pass's sorted transparent stage.
     virtual bool drawsBlended(BlendMode) const { return false; }
-    // Deletes the GL objects the node's passes made (targets, noise textures) while their context
-    // is current; the next frame, in whatever viewer, makes them again. Called by ~Viewer, so a
-    // scene may outlive the viewer that drew it and be drawn by another (OSG's releaseGLObjects).
+    /// Deletes the GL objects the node's passes made (targets, noise textures) while their context
+    /// is current; the next frame, in whatever viewer, makes them again. Called by ~Viewer, so a
+    /// scene may outlive the viewer that drew it and be drawn by another (OSG's releaseGLObjects).
     virtual void releaseGLObjects() {}
     bool enabled = true;
 };

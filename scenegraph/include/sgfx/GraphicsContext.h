@@ -8,7 +8,7 @@ struct GLFWwindow;
 
 namespace sgfx {
 
-// Creating or using a context failed (no display, no driver, wrong version); what() says which.
+/// Creating or using a context failed (no display, no driver, wrong version); what() says which.
 class ContextError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
@@ -17,9 +17,9 @@ public:
 using ProcAddress = void (*)();
 using GetProcAddressFn = ProcAddress (*)(const char*);
 
-// One OpenGL 4.5 core context. GL calls for it happen only on the thread that created it
-// (checked by assertOwnerThread()). Making it current (re)loads the glad function table
-// from this context's getProcAddress when another kind of context was current before.
+/// One OpenGL 4.5 core context. GL calls for it happen only on the thread that created it
+/// (checked by assertOwnerThread()). Making it current (re)loads the glad function table
+/// from this context's getProcAddress when another kind of context was current before.
 class GraphicsContext {
 public:
     virtual ~GraphicsContext() = default;
@@ -28,7 +28,7 @@ public:
     virtual GetProcAddressFn procAddress() const = 0;
     virtual std::string_view kind() const = 0;
     virtual bool isWindow() const { return false; }
-    // Drawable size for windows; headless contexts render to offscreen targets only.
+    /// Drawable size for windows; headless contexts render to offscreen targets only.
     virtual int width() const { return 0; }
     virtual int height() const { return 0; }
     virtual bool shouldClose() const { return false; }
@@ -38,7 +38,7 @@ public:
     const std::string& version() const { return version_; }
 
 protected:
-    // Loads GL through glad for this context and checks the version is at least 4.5.
+    /// Loads GL through glad for this context and checks the version is at least 4.5.
     void loadGl();
     std::thread::id owner_ = std::this_thread::get_id();
 
@@ -46,7 +46,7 @@ private:
     std::string renderer_, version_;
 };
 
-// Software OpenGL 4.5 core through Mesa's OSMesa (llvmpipe). Needs no display or GPU.
+/// Software OpenGL 4.5 core through Mesa's OSMesa (llvmpipe). Needs no display or GPU.
 class OsmesaContext : public GraphicsContext {
 public:
     OsmesaContext();
@@ -60,8 +60,8 @@ private:
     std::unique_ptr<unsigned char[]> buffer_;
 };
 
-// Headless OpenGL 4.5 core through EGL: the NVIDIA device platform or Mesa surfaceless.
-// libEGL is loaded at run time, so binaries that never use it do not depend on it.
+/// Headless OpenGL 4.5 core through EGL: the NVIDIA device platform or Mesa surfaceless.
+/// libEGL is loaded at run time, so binaries that never use it do not depend on it.
 class EglContext : public GraphicsContext {
 public:
     EglContext();
@@ -77,8 +77,8 @@ private:
     std::string platform_;
 };
 
-// An interactive GLFW window with an OpenGL 4.5 core context.
-// Throws ContextError("no display ...") where no X11/Wayland display is available.
+/// An interactive GLFW window with an OpenGL 4.5 core context.
+/// Throws ContextError("no display ...") where no X11/Wayland display is available.
 class GlfwWindow : public GraphicsContext {
 public:
     GlfwWindow(int width, int height, const std::string& title);
@@ -97,7 +97,7 @@ private:
     GLFWwindow* window_ = nullptr;
 };
 
-// Best available headless context: OSMesa unless `preferEgl`, falling back to the other.
+/// Best available headless context: OSMesa unless `preferEgl`, falling back to the other.
 std::unique_ptr<GraphicsContext> createHeadlessContext(bool preferEgl = false);
 
 } // namespace sgfx

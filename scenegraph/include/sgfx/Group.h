@@ -11,7 +11,7 @@ public:
     void accept(NodeVisitor& v) override;
     void traverse(NodeVisitor& v) override;
 
-    // Throws std::invalid_argument for a null child or one that would close a cycle.
+    /// Throws std::invalid_argument for a null child or one that would close a cycle.
     void addChild(NodePtr child);
     void insertChild(std::size_t index, NodePtr child);
     bool removeChild(const Node* child);
@@ -25,8 +25,8 @@ public:
 protected:
     BoundingSphere computeBound() const override;
     bool computeCullingDisabledBelow() const override;
-    // Called after a child enters at `index` / leaves from `index`, so subclasses that keep
-    // per-child data (LOD ranges) stay aligned with the children.
+    /// Called after a child enters at `index` / leaves from `index`, so subclasses that keep
+    /// per-child data (LOD ranges) stay aligned with the children.
     virtual void childInserted(std::size_t /*index*/) {}
     virtual void childRemoved(std::size_t /*index*/) {}
 
@@ -35,7 +35,7 @@ private:
     std::vector<NodePtr> children_;
 };
 
-// Local matrix relative to the parent; world matrices are accumulated during traversal.
+/// Local matrix relative to the parent; world matrices are accumulated during traversal.
 class Transform : public Group {
 public:
     static std::shared_ptr<Transform> create(const glm::mat4& m = glm::mat4(1.0f)) {

@@ -7,11 +7,11 @@
 
 namespace sgfx {
 
-// 8-bit image, rows stored top to bottom (the PNG order).
+/// 8-bit image, rows stored top to bottom (the PNG order).
 struct Image {
     int width = 0;
     int height = 0;
-    int channels = 4; // 1..4
+    int channels = 4; ///< 1..4
     std::vector<std::uint8_t> pixels;
 
     static std::shared_ptr<Image> create(int w, int h, int channels);
@@ -21,14 +21,14 @@ struct Image {
     }
 };
 
-// Linear RGBA floats, rows top to bottom.
+/// Linear RGBA floats, rows top to bottom.
 struct FloatImage {
     int width = 0;
     int height = 0;
     std::vector<float> rgba;
 };
 
-// Throws std::runtime_error with the path and the reason.
+/// Throws std::runtime_error with the path and the reason.
 void writePng(const std::filesystem::path& path, const Image& image);
 Image readPng(const std::filesystem::path& path);
 

@@ -7,18 +7,18 @@
 
 namespace sgfx {
 
-// Projected diameter, in pixels, of a sphere whose centre is `viewCenter` (view space) under
-// `projection`, for a viewport `viewportHeight` pixels tall: 2r · (P[1][1] / 2) · height / w with
-// w = |P[2][3]| · |viewCenter| + P[3][3]. For a perspective projection w is the distance from the
-// eye (not the view depth, so turning the camera does not switch levels); for an orthographic one
-// w = 1 and the size depends on the view volume's height only. An eye at the centre gives the
-// largest finite float.
+/// Projected diameter, in pixels, of a sphere whose centre is `viewCenter` (view space) under
+/// `projection`, for a viewport `viewportHeight` pixels tall: 2r · (P[1][1] / 2) · height / w with
+/// w = |P[2][3]| · |viewCenter| + P[3][3]. For a perspective projection w is the distance from the
+/// eye (not the view depth, so turning the camera does not switch levels); for an orthographic one
+/// w = 1 and the size depends on the view volume's height only. An eye at the centre gives the
+/// largest finite float.
 float pixelSize(const glm::vec3& viewCenter, float radius, const glm::mat4& projection, int viewportHeight);
 
-// Level of detail by size on screen (OSG's osg::LOD in PIXEL_SIZE_ON_SCREEN mode): the cull
-// visitor visits exactly the children whose range [minPixels, maxPixels) holds the projected
-// diameter of the LOD's bounding sphere (or of the user sphere). Every other visitor sees all
-// children, and the bound is the union of all children, so switching never changes the bound.
+/// Level of detail by size on screen (OSG's osg::LOD in PIXEL_SIZE_ON_SCREEN mode): the cull
+/// visitor visits exactly the children whose range [minPixels, maxPixels) holds the projected
+/// diameter of the LOD's bounding sphere (or of the user sphere). Every other visitor sees all
+/// children, and the bound is the union of all children, so switching never changes the bound.
 class LOD : public Group {
 public:
     struct Range {
@@ -30,23 +30,23 @@ public:
     static std::shared_ptr<LOD> create() { return std::make_shared<LOD>(); }
     void accept(NodeVisitor& v) override;
 
-    // Children added through Group's addChild/insertChild get [0, inf): always shown.
+    /// Children added through Group's addChild/insertChild get [0, inf): always shown.
     using Group::addChild;
-    // Throws std::invalid_argument naming the LOD and the child index for a NaN or negative
-    // bound or minPixels > maxPixels; nothing is added then.
+    /// Throws std::invalid_argument naming the LOD and the child index for a NaN or negative
+    /// bound or minPixels > maxPixels; nothing is added then.
     void addChild(NodePtr child, float minPixels, float maxPixels);
-    // Same checks; throws std::out_of_range for a bad index.
+    /// Same checks; throws std::out_of_range for a bad index.
     void setRange(std::size_t index, float minPixels, float maxPixels);
     const Range& range(std::size_t index) const { return ranges_.at(index); }
     const std::vector<Range>& ranges() const { return ranges_; }
 
-    // Measure this sphere (LOD's local frame) instead of the bound, like OSG's
-    // USER_DEFINED_CENTER: levels then switch at the same place however the children differ.
-    // Throws std::invalid_argument for a non-finite centre or a radius that is not > 0.
+    /// Measure this sphere (LOD's local frame) instead of the bound, like OSG's
+    /// USER_DEFINED_CENTER: levels then switch at the same place however the children differ.
+    /// Throws std::invalid_argument for a non-finite centre or a radius that is not > 0.
     void setUserSphere(const glm::vec3& center, float radius);
     void clearUserSphere() { userSphere_.reset(); }
     const std::optional<BoundingSphere>& userSphere() const { return userSphere_; }
-    // The sphere whose size selects the children: the user sphere or the bound.
+    /// The sphere whose size selects the children: the user sphere or the bound.
     const BoundingSphere& selectionSphere() const { return userSphere_ ? *userSphere_ : bound(); }
 
 protected:

@@ -10,29 +10,29 @@
 
 namespace sgfx {
 
-// How the built-in material lights a surface. Both have the same hook points, so every effect
-// applies to either.
+/// How the built-in material lights a surface. Both have the same hook points, so every effect
+/// applies to either.
 enum class ShadingModel : std::uint8_t {
-    // colour = emissive + ambientLight*ambient + sum_l light_l*(diffuse*max(N.L,0) +
-    // specular*max(N.H,0)^shininess)
+    /// colour = emissive + ambientLight*ambient + sum_l light_l*(diffuse*max(N.L,0) +
+    /// specular*max(N.H,0)^shininess)
     BlinnPhong,
-    // glTF 2.0's metallic-roughness model (spec appendix B): Lambert diffuse of
-    // mix(base, 0, metallic), GGX distribution, height-correlated Smith visibility, Schlick
-    // Fresnel with F0 = mix(0.04, base, metallic). Uses diffuse (base colour and opacity),
-    // metallic, roughness and emissive; ambient, specular and shininess are ignored.
+    /// glTF 2.0's metallic-roughness model (spec appendix B): Lambert diffuse of
+    /// mix(base, 0, metallic), GGX distribution, height-correlated Smith visibility, Schlick
+    /// Fresnel with F0 = mix(0.04, base, metallic). Uses diffuse (base colour and opacity),
+    /// metallic, roughness and emissive; ambient, specular and shininess are ignored.
     MetallicRoughness,
 };
 
-// The textures a material may carry, indexing Material::mappings.
+/// The textures a material may carry, indexing Material::mappings.
 enum class MaterialMap : std::uint8_t { BaseColor, Alpha, Normal, MetallicRoughness, Occlusion, Emissive };
 inline constexpr std::size_t kMaterialMapCount = 6;
 
-// Which texture coordinates a map reads and how they are transformed first
-// (KHR_texture_transform: uv' = T(offset) * R(rotation) * S(scale) * uv).
+/// Which texture coordinates a map reads and how they are transformed first
+/// (KHR_texture_transform: uv' = T(offset) * R(rotation) * S(scale) * uv).
 struct TextureMapping {
-    int texCoord = 0; // 0: Geometry::texcoords, 1: Geometry::texcoords1
+    int texCoord = 0; ///< 0: Geometry::texcoords, 1: Geometry::texcoords1
     glm::vec2 offset{0.0f};
-    float rotation = 0.0f; // radians; positive turns the texture counter-clockwise in uv space
+    float rotation = 0.0f; ///< radians; positive turns the texture counter-clockwise in uv space
     glm::vec2 scale{1.0f};
 
     glm::mat3 matrix() const;
@@ -41,7 +41,7 @@ struct TextureMapping {
     }
 };
 
-// The built-in material. Colours are linear RGB.
+/// The built-in material. Colours are linear RGB.
 class Material {
 public:
     static std::shared_ptr<Material> create() { return std::make_shared<Material>(); }
@@ -49,30 +49,30 @@ public:
     ShadingModel model = ShadingModel::BlinnPhong;
 
     glm::vec3 ambient{0.2f};
-    glm::vec4 diffuse{0.8f, 0.8f, 0.8f, 1.0f}; // base colour; alpha = opacity
+    glm::vec4 diffuse{0.8f, 0.8f, 0.8f, 1.0f}; ///< base colour; alpha = opacity
     glm::vec3 specular{0.0f};
     float shininess = 32.0f;
     glm::vec3 emissive{0.0f};
-    // MetallicRoughness only: both in [0, 1].
+    /// MetallicRoughness only: both in [0, 1].
     float metallic = 0.0f;
     float roughness = 0.5f;
 
-    std::shared_ptr<Texture> baseColorTexture;         // multiplies ambient and diffuse (sRGB)
-    std::shared_ptr<Texture> alphaTexture;             // red channel multiplies opacity (linear)
-    std::shared_ptr<Texture> normalTexture;            // tangent-space normal map (linear)
-    std::shared_ptr<Texture> metallicRoughnessTexture; // G scales roughness, B metallic (linear)
-    std::shared_ptr<Texture> occlusionTexture;         // R darkens ambient light only (linear)
-    std::shared_ptr<Texture> emissiveTexture;          // multiplies emissive (sRGB)
-    float normalScale = 1.0f;       // scales the normal map's x and y (glTF normalTexture.scale)
-    float occlusionStrength = 1.0f; // 0: no occlusion, 1: the texture's full value
+    std::shared_ptr<Texture> baseColorTexture;         ///< multiplies ambient and diffuse (sRGB)
+    std::shared_ptr<Texture> alphaTexture;             ///< red channel multiplies opacity (linear)
+    std::shared_ptr<Texture> normalTexture;            ///< tangent-space normal map (linear)
+    std::shared_ptr<Texture> metallicRoughnessTexture; ///< G scales roughness, B metallic (linear)
+    std::shared_ptr<Texture> occlusionTexture;         ///< R darkens ambient light only (linear)
+    std::shared_ptr<Texture> emissiveTexture;          ///< multiplies emissive (sRGB)
+    float normalScale = 1.0f;       ///< scales the normal map's x and y (glTF normalTexture.scale)
+    float occlusionStrength = 1.0f; ///< 0: no occlusion, 1: the texture's full value
     std::array<TextureMapping, kMaterialMapCount> mappings{};
     TextureMapping& mapping(MaterialMap m) { return mappings[std::size_t(m)]; }
     const TextureMapping& mapping(MaterialMap m) const { return mappings[std::size_t(m)]; }
 
-    // When set, fragments whose opacity is below the cutoff are discarded (alpha mask).
+    /// When set, fragments whose opacity is below the cutoff are discarded (alpha mask).
     std::optional<float> alphaCutoff;
 
-    // Throws std::invalid_argument naming the field for NaN, negative or out-of-range values.
+    /// Throws std::invalid_argument naming the field for NaN, negative or out-of-range values.
     void validate() const;
 };
 

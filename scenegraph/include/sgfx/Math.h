@@ -1,5 +1,6 @@
 #pragma once
-// Value types for bounds and frusta. World is right-handed, Z up, metres.
+/// @file
+/// Value types for bounds and frusta. World is right-handed, Z up, metres.
 #include <glm/glm.hpp>
 
 #include <array>
@@ -8,7 +9,7 @@ namespace sgfx {
 
 struct BoundingSphere {
     glm::vec3 center{0.0f};
-    float radius = -1.0f; // negative = invalid (empty)
+    float radius = -1.0f; ///< negative = invalid (empty)
 
     bool valid() const { return radius >= 0.0f; }
     void expandBy(const glm::vec3& p);
@@ -16,7 +17,7 @@ struct BoundingSphere {
     BoundingSphere transformed(const glm::mat4& m) const;
 };
 
-// Axis-aligned box, used to build tight spheres from vertex data.
+/// Axis-aligned box, used to build tight spheres from vertex data.
 struct BoundingBox {
     glm::vec3 min{std::numeric_limits<float>::max()};
     glm::vec3 max{-std::numeric_limits<float>::max()};
@@ -30,15 +31,15 @@ struct BoundingBox {
 
 struct Plane {
     glm::vec3 n{0, 0, 1};
-    float d = 0; // n·p + d = signed distance
+    float d = 0; ///< n·p + d = signed distance
     float distance(const glm::vec3& p) const { return glm::dot(n, p) + d; }
 };
 
 enum class Containment { Outside, Intersects, Inside };
 
-// Six planes from a view-projection matrix (Gribb/Hartmann), normals point inwards.
+/// Six planes from a view-projection matrix (Gribb/Hartmann), normals point inwards.
 struct Frustum {
-    std::array<Plane, 6> planes; // left, right, bottom, top, near, far
+    std::array<Plane, 6> planes; ///< left, right, bottom, top, near, far
     static Frustum fromMatrix(const glm::mat4& viewProj);
     Containment classify(const BoundingSphere& s) const;
 };

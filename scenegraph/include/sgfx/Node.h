@@ -16,8 +16,8 @@ class Group;
 
 using NodeMask = std::uint32_t;
 
-// Base of the graph. Nodes are shared (std::shared_ptr); a node may have several parents.
-// Parents are tracked as raw back-pointers: a Group clears them when it lets a child go.
+/// Base of the graph. Nodes are shared (std::shared_ptr); a node may have several parents.
+/// Parents are tracked as raw back-pointers: a Group clears them when it lets a child go.
 class Node : public std::enable_shared_from_this<Node> {
 public:
     using UpdateCallback = std::function<void(Node&, UpdateVisitor&)>;
@@ -32,26 +32,26 @@ public:
     UpdateCallback updateCallback;
 
     virtual void accept(NodeVisitor& v);
-    // Visits the children (none for a leaf).
+    /// Visits the children (none for a leaf).
     virtual void traverse(NodeVisitor&) {}
 
     const std::shared_ptr<StateSet>& stateSet() const { return stateSet_; }
     void setStateSet(std::shared_ptr<StateSet> s) { stateSet_ = std::move(s); }
     StateSet& getOrCreateStateSet();
 
-    // Bounding sphere in the node's parent frame; recomputed lazily after dirtyBound().
+    /// Bounding sphere in the node's parent frame; recomputed lazily after dirtyBound().
     const BoundingSphere& bound() const {
         if (boundDirty_) updateBound(); // inline: culling asks every node for its bound
         return bound_;
     }
     void dirtyBound();
 
-    // OSG's cull-active flag: off, view-frustum culling never rejects this node or any of its
-    // ancestors (an effect whose passes cover the whole view, like fog over the sky, must be
-    // planned even when nothing below it is in view). Its children are still culled.
+    /// OSG's cull-active flag: off, view-frustum culling never rejects this node or any of its
+    /// ancestors (an effect whose passes cover the whole view, like fog over the sky, must be
+    /// planned even when nothing below it is in view). Its children are still culled.
     void setCullingActive(bool active);
     bool cullingActive() const { return cullingActive_; }
-    // True when this node or a descendant has culling switched off.
+    /// True when this node or a descendant has culling switched off.
     bool cullingDisabledInSubtree() const {
         bound();
         return !cullingActive_ || cullingDisabledBelow_;
@@ -70,7 +70,7 @@ private:
     std::vector<Group*> parents_;
     mutable BoundingSphere bound_;
     mutable bool boundDirty_ = true;
-    mutable bool cullingDisabledBelow_ = false; // cached with the bound
+    mutable bool cullingDisabledBelow_ = false; ///< cached with the bound
     bool cullingActive_ = true;
 };
 

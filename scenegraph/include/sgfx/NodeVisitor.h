@@ -18,8 +18,8 @@ class EffectNode;
 
 using NodeMask = std::uint32_t;
 
-// Double dispatch over node types. The default for each type forwards to its base's apply,
-// ending in apply(Node&), which traverses the children.
+/// Double dispatch over node types. The default for each type forwards to its base's apply,
+/// ending in apply(Node&), which traverses the children.
 class NodeVisitor {
 public:
     enum class Mode { None, AllChildren, ActiveChildren };
@@ -31,28 +31,28 @@ public:
     virtual void apply(Node& node);
     virtual void apply(Group& group);
     virtual void apply(Transform& transform);
-    virtual void apply(LOD& lod); // default: all children, like a Group
+    virtual void apply(LOD& lod); ///< default: all children, like a Group
     virtual void apply(Geometry& geometry);
     virtual void apply(Drawable& drawable);
     virtual void apply(Camera& camera);
     virtual void apply(Light& light);
     virtual void apply(EffectNode& effect);
 
-    // Inline, like accepts: called for every node of every traversal.
+    /// Inline, like accepts: called for every node of every traversal.
     void traverse(Node& node) {
         if (mode == Mode::None) return;
         nodePath.push_back(&node);
         node.traverse(*this);
         nodePath.pop_back();
     }
-    // A node is visited if (node.nodeMask & traversalMask) != 0 (ActiveChildren mode only).
+    /// A node is visited if (node.nodeMask & traversalMask) != 0 (ActiveChildren mode only).
     bool accepts(const Node& node) const {
         return mode != Mode::ActiveChildren || (node.nodeMask & traversalMask) != 0;
     }
 
     Mode mode;
     NodeMask traversalMask = ~NodeMask{0};
-    // Nodes from the root to the current one (the current node last).
+    /// Nodes from the root to the current one (the current node last).
     std::vector<Node*> nodePath;
 };
 

@@ -17,52 +17,52 @@ class EffectNode;
 class ShaderProgram;
 class Camera;
 
-// The effects active above an item, ordered by EffectNode::order(); interned per frame so items
-// share one entry. `signature` is equal for sets whose snippets are equal (same program variant).
+/// The effects active above an item, ordered by EffectNode::order(); interned per frame so items
+/// share one entry. `signature` is equal for sets whose snippets are equal (same program variant).
 struct EffectSet {
     std::vector<const EffectNode*> effects;
     std::uint32_t signature = 0;
 };
 
 struct LightInfo {
-    glm::vec4 vector{0, 0, 1, 0}; // world: direction towards the light (w=0) or position (w=1)
-    glm::vec3 color{1.0f};        // colour × intensity
+    glm::vec4 vector{0, 0, 1, 0}; ///< world: direction towards the light (w=0) or position (w=1)
+    glm::vec3 color{1.0f};        ///< colour × intensity
 };
 
 struct RenderItem {
-    const Geometry* geometry = nullptr; // one of these two is set
+    const Geometry* geometry = nullptr; ///< one of these two is set
     const Drawable* drawable = nullptr;
     glm::mat4 model{1.0f};
     const ResolvedState* state = nullptr;
-    std::uint32_t effectSet = 0; // index into RenderQueue::effectSets
-    float depth = 0.0f;          // view-space distance of the bound's centre along -Z (transparent
-                                 // items: plus TransparencyDetails::depthBias)
-    std::int32_t order = 0;      // transparent items: TransparencyDetails::order
-    std::int8_t depthBucket = 0; // floor(log2(depth)): opaque items sort near-to-far by it first
-    std::uint32_t sequence = 0;  // cull order, keeps sorting stable
+    std::uint32_t effectSet = 0; ///< index into RenderQueue::effectSets
+    float depth = 0.0f;          ///< view-space distance of the bound's centre along -Z (transparent
+                                 /// items: plus TransparencyDetails::depthBias)
+    std::int32_t order = 0;      ///< transparent items: TransparencyDetails::order
+    std::int8_t depthBucket = 0; ///< floor(log2(depth)): opaque items sort near-to-far by it first
+    std::uint32_t sequence = 0;  ///< cull order, keeps sorting stable
     std::uint64_t programKey = 0;
-    std::uint32_t features = 0; // built-in material variant (MaterialFeature bits)
-    // Which faces this item draws (a double-sided transparent item is queued twice: back faces,
-    // then front faces); AsState = as its state's CullFace says.
+    std::uint32_t features = 0; ///< built-in material variant (MaterialFeature bits)
+    /// Which faces this item draws (a double-sided transparent item is queued twice: back faces,
+    /// then front faces); AsState = as its state's CullFace says.
     enum class Faces : std::uint8_t { AsState, Back, Front } faces = Faces::AsState;
 
     const ShaderProgram* program() const;
-    const Node& node() const; // the geometry or drawable
+    const Node& node() const; ///< the geometry or drawable
     BoundingSphere worldBound() const;
 };
 
 class RenderQueue {
 public:
-    std::vector<RenderItem> opaque;      // drawn first; by octave of depth, program, material, mesh, depth
-    std::vector<RenderItem> transparent; // drawn last; sorted by order, then back to front
-    // Blended items an effect above them draws itself (EffectNode::drawsBlended), e.g. an
-    // order-independent transparency pass; not drawn by the main pass. Cull order.
+    std::vector<RenderItem> opaque;      ///< drawn first; by octave of depth, program, material, mesh, depth
+    std::vector<RenderItem> transparent; ///< drawn last; sorted by order, then back to front
+    /// Blended items an effect above them draws itself (EffectNode::drawsBlended), e.g. an
+    /// order-independent transparency pass; not drawn by the main pass. Cull order.
     std::vector<RenderItem> claimed;
-    std::vector<EffectSet> effectSets{EffectSet{}}; // [0] = no effect
+    std::vector<EffectSet> effectSets{EffectSet{}}; ///< [0] = no effect
     std::vector<LightInfo> lights;
     glm::vec3 ambientLight{0.0f};
-    std::deque<ResolvedState> states; // stable addresses for items' state pointers
-    std::vector<Camera*> subCameras;  // nested render-to-texture cameras, drawn first
+    std::deque<ResolvedState> states; ///< stable addresses for items' state pointers
+    std::vector<Camera*> subCameras;  ///< nested render-to-texture cameras, drawn first
 
     void clear();
     void sort();
@@ -70,7 +70,7 @@ public:
     std::uint32_t internEffectSet(std::vector<const EffectNode*> effects);
 
 private:
-    std::vector<std::string> signatures_{std::string()}; // [0] = no snippet
+    std::vector<std::string> signatures_{std::string()}; ///< [0] = no snippet
     struct SortKey {
         std::uint64_t primary;
         std::uint32_t index;

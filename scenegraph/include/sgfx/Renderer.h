@@ -22,7 +22,7 @@ struct RenderTarget;
 class StateCache;
 } // namespace gl
 
-// Per-frame data every pass and effect can read.
+/// Per-frame data every pass and effect can read.
 struct FrameData {
     glm::mat4 view{1.0f}, projection{1.0f}, viewProjection{1.0f}, inverseViewProjection{1.0f};
     glm::vec3 eye{0.0f};
@@ -31,36 +31,36 @@ struct FrameData {
     std::uint64_t frameNumber = 0;
 };
 
-// What an effect's applyUniforms sees for one draw.
+/// What an effect's applyUniforms sees for one draw.
 struct DrawContext {
     const FrameData& frame;
     const RenderItem& item;
 };
 
-// When a pass runs: Compute and PrePass before the main pass; AfterOpaque between the opaque and
-// the transparent items (the background is final, nothing blended over it yet); Transparent after
-// that, for passes that draw blended items themselves (RenderQueue::claimed), before the sorted
-// transparent items; Post at the end.
+/// When a pass runs: Compute and PrePass before the main pass; AfterOpaque between the opaque and
+/// the transparent items (the background is final, nothing blended over it yet); Transparent after
+/// that, for passes that draw blended items themselves (RenderQueue::claimed), before the sorted
+/// transparent items; Post at the end.
 enum class PassStage : std::uint8_t { Compute, PrePass, AfterOpaque, Transparent, Post };
 
-// How Renderer::drawItems treats each item's state.
+/// How Renderer::drawItems treats each item's state.
 enum class DrawMode : std::uint8_t {
-    Main,      // the item's blend, depth and faces (blended items: depth writes off unless asked)
-    DepthOnly, // no colour writes, no blending, depth test and write on for every item
-    PassBlend, // blend and depth state as the calling pass set them; the item's faces
-    GBuffer,   // like DepthOnly, but writing the G-buffer variant's outputs (FeatureGBuffer); items
+    Main,      ///< the item's blend, depth and faces (blended items: depth writes off unless asked)
+    DepthOnly, ///< no colour writes, no blending, depth test and write on for every item
+    PassBlend, ///< blend and depth state as the calling pass set them; the item's faces
+    GBuffer,   ///< like DepthOnly, but writing the G-buffer variant's outputs (FeatureGBuffer); items
                // with foreign shaders use the `override` program (Renderer::gbufferProgram())
 };
 
-// Texture units 12..15 belong to effects (user textures of a StateSet use 4..11). An effect binds
-// its textures there through Renderer::bindTexture and declares `layout(binding = N)` samplers.
-// Textures the materials read during the main pass keep their unit for the whole frame: 12 fog
-// depth (split mode), 13 ambient occlusion map; 14 and 15 are for a pass's own use (OIT). A pass
-// may also use units 0..3 for its own inputs: the materials rebind them after every pass.
+/// Texture units 12..15 belong to effects (user textures of a StateSet use 4..11). An effect binds
+/// its textures there through Renderer::bindTexture and declares `layout(binding = N)` samplers.
+/// Textures the materials read during the main pass keep their unit for the whole frame: 12 fog
+/// depth (split mode), 13 ambient occlusion map; 14 and 15 are for a pass's own use (OIT). A pass
+/// may also use units 0..3 for its own inputs: the materials rebind them after every pass.
 inline constexpr unsigned kEffectTextureUnit = 12;
 inline constexpr unsigned kEffectTextureUnits = 4;
 
-// Work an effect adds to a frame (pre-passes before the main pass, post-passes after it).
+/// Work an effect adds to a frame (pre-passes before the main pass, post-passes after it).
 class RenderPass {
 public:
     virtual ~RenderPass() = default;
@@ -69,12 +69,12 @@ public:
     virtual void execute(Renderer& renderer) = 0;
 };
 
-// Passes requested for this frame by the visible effects (each at most once).
+/// Passes requested for this frame by the visible effects (each at most once).
 class FramePlan {
 public:
     void add(std::shared_ptr<RenderPass> pass);
-    // Whether a pass with this name is already planned: effects whose passes must run once per
-    // view (a shared pre-pass, a full-screen pass) check it, so the outermost node's pass wins.
+    /// Whether a pass with this name is already planned: effects whose passes must run once per
+    /// view (a shared pre-pass, a full-screen pass) check it, so the outermost node's pass wins.
     bool has(std::string_view name) const;
     void clear() { passes.clear(); }
     std::vector<std::shared_ptr<RenderPass>> passes;
@@ -84,51 +84,51 @@ struct FrameStats {
     std::size_t drawCalls = 0;
     std::size_t triangles = 0;
     std::size_t programChanges = 0;
-    std::size_t stateChanges = 0; // program, material, blend/depth/cull and texture binds
+    std::size_t stateChanges = 0; ///< program, material, blend/depth/cull and texture binds
     std::size_t culledNodes = 0;
     std::size_t items = 0;
-    std::size_t triangleSorts = 0;   // per-triangle re-sorts (TransparencyDetails::sortTriangles)
-    std::size_t instanceBatches = 0; // draws that drew several items (RendererOptions::autoInstancing)
-    // GPU time of each pass and of the main pass's item drawing, in frame order, from timer
-    // queries (RendererOptions::timePasses).
+    std::size_t triangleSorts = 0;   ///< per-triangle re-sorts (TransparencyDetails::sortTriangles)
+    std::size_t instanceBatches = 0; ///< draws that drew several items (RendererOptions::autoInstancing)
+    /// GPU time of each pass and of the main pass's item drawing, in frame order, from timer
+    /// queries (RendererOptions::timePasses).
     struct PassTime {
         std::string name;
         double gpuMs = 0.0;
     };
     std::vector<PassTime> passTimes;
-    std::uint64_t fragments = 0; // with RendererOptions::countFragments
+    std::uint64_t fragments = 0; ///< with RendererOptions::countFragments
     double cullMs = 0.0, drawMs = 0.0;
 };
 
-// Quality/speed choices of a Renderer.
+/// Quality/speed choices of a Renderer.
 struct RendererOptions {
-    // Per-pixel Blinn-Phong (default) or per-vertex (Gouraud, the fixed-function look and
-    // cost of OpenSceneGraph's default path; normal maps are ignored).
+    /// Per-pixel Blinn-Phong (default) or per-vertex (Gouraud, the fixed-function look and
+    /// cost of OpenSceneGraph's default path; normal maps are ignored).
     enum class Lighting : std::uint8_t { PerPixel, PerVertex } lighting = Lighting::PerPixel;
-    // Count the fragments that pass the depth test in the main pass (FrameStats::fragments);
-    // an occlusion query per view, so off unless profiling.
+    /// Count the fragments that pass the depth test in the main pass (FrameStats::fragments);
+    /// an occlusion query per view, so off unless profiling.
     bool countFragments = false;
-    // Scene colour target: 8-bit sRGB (default), or linear float for HDR work and diagnostics
-    // (NaN/Inf checks); captures are sRGB-encoded either way.
+    /// Scene colour target: 8-bit sRGB (default), or linear float for HDR work and diagnostics
+    /// (NaN/Inf checks); captures are sRGB-encoded either way.
     enum class ColorTarget : std::uint8_t { Srgb8, Rgba16F, Rgba32F } colorTarget = ColorTarget::Srgb8;
-    // GL errors and high-severity debug messages are collected for takeGlErrors() (Collect), or
-    // make render() throw at the end of the frame with every message and its call site (Throw).
-    // Unset: Throw when the environment has SGFX_GL_ERRORS=throw (the test suite sets it),
-    // otherwise Collect.
+    /// GL errors and high-severity debug messages are collected for takeGlErrors() (Collect), or
+    /// make render() throw at the end of the frame with every message and its call site (Throw).
+    /// Unset: Throw when the environment has SGFX_GL_ERRORS=throw (the test suite sets it),
+    /// otherwise Collect.
     enum class GlErrorPolicy : std::uint8_t { Collect, Throw };
     std::optional<GlErrorPolicy> glErrors;
-    // Time every pass on the GPU (FrameStats::passTimes); the results are waited for at the end
-    // of the frame, so off unless profiling.
+    /// Time every pass on the GPU (FrameStats::passTimes); the results are waited for at the end
+    /// of the frame, so off unless profiling.
     bool timePasses = false;
-    // Neighbours in the sorted queue that share mesh, state and effects and differ only in their
-    // matrix (a mesh placed many times) are drawn with one instanced call when at least
-    // minInstanceBatch of them follow each other. Built-in materials only; blended items are
-    // always drawn one by one.
+    /// Neighbours in the sorted queue that share mesh, state and effects and differ only in their
+    /// matrix (a mesh placed many times) are drawn with one instanced call when at least
+    /// minInstanceBatch of them follow each other. Built-in materials only; blended items are
+    /// always drawn one by one.
     bool autoInstancing = true;
     std::size_t minInstanceBatch = 2;
 };
 
-// Owns GL-side resources for one context: composed programs, the scene target, the state cache.
+/// Owns GL-side resources for one context: composed programs, the scene target, the state cache.
 class Renderer {
 public:
     using Options = RendererOptions;
@@ -138,57 +138,57 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Culls and draws the camera's scene into the scene target.
+    /// Culls and draws the camera's scene into the scene target.
     void render(Camera& camera, double time = 0.0, std::uint64_t frameNumber = 0);
-    // The last frame as 8-bit sRGB RGBA, top row first.
+    /// The last frame as 8-bit sRGB RGBA, top row first.
     Image readPixels();
-    // The last frame as linear RGBA floats, top row first (exact with a float colour target).
+    /// The last frame as linear RGBA floats, top row first (exact with a float colour target).
     FloatImage readPixelsLinear();
-    // Ends the frame: copies the scene target to the window's back buffer and swaps (windows),
-    // or submits the queued work (headless).
+    /// Ends the frame: copies the scene target to the window's back buffer and swaps (windows),
+    /// or submits the queued work (headless).
     void present();
-    void blitToWindow(); // the copy alone, without the swap
+    void blitToWindow(); ///< the copy alone, without the swap
 
-    // Draws the queue's items with each item's composed program (the main pass), or with
-    // `override` for geometry-only passes (depth pre-pass, G-buffer).
+    /// Draws the queue's items with each item's composed program (the main pass), or with
+    /// `override` for geometry-only passes (depth pre-pass, G-buffer).
     void drawItems(std::span<const RenderItem> items, gl::Program* override = nullptr,
                    DrawMode mode = DrawMode::Main);
-    // Draws one full-screen triangle with `program` into whatever framebuffer is bound (vertex
-    // stage: ShaderComposer::fullscreenVertex(), v_uv in [0, 1]); depth test and writes off
-    // unless `depth` says otherwise. No culling.
+    /// Draws one full-screen triangle with `program` into whatever framebuffer is bound (vertex
+    /// stage: ShaderComposer::fullscreenVertex(), v_uv in [0, 1]); depth test and writes off
+    /// unless `depth` says otherwise. No culling.
     void drawFullscreen(gl::Program& program, const DepthState& depth = {.test = false,
                                                                          .write = false,
                                                                          .func = CompareFunc::Always});
-    // Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
+    /// Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
     gl::Program& depthOnlyProgram();
-    // G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.
+    /// G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.
     gl::Program& gbufferProgram();
-    // Binds a texture to a unit through the renderer's state cache (effect units: see above).
+    /// Binds a texture to a unit through the renderer's state cache (effect units: see above).
     void bindTexture(unsigned unit, unsigned texture);
-    // Sets the blend state through the cache (full-screen passes that blend onto the target).
+    /// Sets the blend state through the cache (full-screen passes that blend onto the target).
     void setBlend(BlendMode mode);
-    // Forgets the cached GL state: a pass that set blend, depth or program state directly calls
-    // it before using the renderer's draw functions again.
+    /// Forgets the cached GL state: a pass that set blend, depth or program state directly calls
+    /// it before using the renderer's draw functions again.
     void resetStateCache();
 
     ShaderComposer& composer() { return composer_; }
-    // The queue of the view being drawn (a render-to-texture camera's inside its passes), else the
-    // main view's.
+    /// The queue of the view being drawn (a render-to-texture camera's inside its passes), else the
+    /// main view's.
     const RenderQueue& queue() const { return *current_; }
     const FrameData& frame() const { return frame_; }
     const FrameStats& stats() const { return stats_; }
     gl::RenderTarget& sceneTarget();
-    // The target of the view being drawn (the scene target, or a render-to-texture camera's).
+    /// The target of the view being drawn (the scene target, or a render-to-texture camera's).
     gl::RenderTarget& currentTarget();
     GraphicsContext& context() { return context_; }
     Options& options() { return options_; }
 
-    // GL errors and high-severity KHR_debug messages seen since the last call.
+    /// GL errors and high-severity KHR_debug messages seen since the last call.
     std::vector<std::string> takeGlErrors();
-    // Settings the renderer had to change (an MSAA sample count above the driver's limit), each
-    // once, since the last call.
+    /// Settings the renderer had to change (an MSAA sample count above the driver's limit), each
+    /// once, since the last call.
     std::vector<std::string> takeWarnings();
-    // Adds a warning for takeWarnings() (an effect that refused a setting and kept its last one).
+    /// Adds a warning for takeWarnings() (an effect that refused a setting and kept its last one).
     void warn(std::string message);
 
 private:
@@ -196,18 +196,18 @@ private:
     void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
     void copyToTexture(const gl::RenderTarget& from, const Texture& to);
     void runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& target);
-    // Items at the front of `items` that one instanced draw can take (1: draw it alone).
+    /// Items at the front of `items` that one instanced draw can take (1: draw it alone).
     std::size_t batchLength(std::span<const RenderItem> items) const;
     void drawBatch(const gl::GeometryBuffers& b, std::size_t count, std::size_t base, gl::Program& program);
     GraphicsContext& context_;
     Options options_;
-    std::uint32_t viewFeatures_ = 0; // variant bits that hold for the whole view (lights, depth test)
+    std::uint32_t viewFeatures_ = 0; ///< variant bits that hold for the whole view (lights, depth test)
     ShaderComposer composer_;
     RenderQueue queue_;
     FramePlan plan_;
     FrameData frame_;
     FrameStats stats_;
-    const RenderQueue* current_ = &queue_; // the queue being drawn (sub-cameras have their own)
+    const RenderQueue* current_ = &queue_; ///< the queue being drawn (sub-cameras have their own)
     std::unique_ptr<Impl> impl_;
 };
 

@@ -18,11 +18,11 @@ namespace gl {
 class Program;
 }
 
-// The application's own GLSL 450 program. sgfx feeds it:
-//  attributes: location 0 position, 1 normal, 2 tangent, 3 texcoord, 4 colour
-//  uniforms:   mat4 sgfx_model, sgfx_normalMatrix (mat3) and the std140 block `SgfxFrame`
-//              (declare it with `#include`-free text from docs, or leave it: the wrap adds it)
-// Its fragment `main` is renamed and wrapped so active effects apply to its colour output.
+/// The application's own GLSL 450 program. sgfx feeds it:
+///  attributes: location 0 position, 1 normal, 2 tangent, 3 texcoord, 4 colour
+///  uniforms:   mat4 sgfx_model, sgfx_normalMatrix (mat3) and the std140 block `SgfxFrame`
+///              (declare it with `#include`-free text from docs, or leave it: the wrap adds it)
+/// Its fragment `main` is renamed and wrapped so active effects apply to its colour output.
 class ShaderProgram {
 public:
     static std::shared_ptr<ShaderProgram> create(std::string name, std::string vertexSource,
@@ -38,7 +38,7 @@ public:
     std::string fragmentSource;
 };
 
-// A compile or link failure; what() names the base shader, the snippets and the original line.
+/// A compile or link failure; what() names the base shader, the snippets and the original line.
 class ShaderError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
@@ -46,22 +46,22 @@ public:
 
 struct ComposedProgram {
     std::string vertex;
-    std::string geometry; // optional
-    std::string fragment; // may be empty for a transform-feedback-only program
-    // Transform feedback outputs, captured into one buffer (interleaved) or one buffer each.
+    std::string geometry; ///< optional
+    std::string fragment; ///< may be empty for a transform-feedback-only program
+    /// Transform feedback outputs, captured into one buffer (interleaved) or one buffer each.
     std::vector<std::string> feedbackVaryings;
     bool feedbackInterleaved = true;
-    // Per stage: source-string numbers used in #line directives → names
-    // ("blinn_phong.frag", "debug_tint.colorCode").
+    /// Per stage: source-string numbers used in `#line` directives → names
+    /// ("blinn_phong.frag", "debug_tint.colorCode").
     std::vector<std::string> vertexSources;
     std::vector<std::string> geometrySources;
     std::vector<std::string> fragmentSources;
-    std::string description; // "blinn_phong + [debug_tint]"
+    std::string description; ///< "blinn_phong + [debug_tint]"
 };
 
-// A material shader written once with hook markers (`// @sgfx:NAME` lines). With a geometry
-// stage, the vertex hooks (`vertex_decl`, `vertex`) live in the geometry stage, which is where
-// the world positions are made (particle sprites); the vertex stage then has no hooks.
+/// A material shader written once with hook markers (`// @sgfx:NAME` lines). With a geometry
+/// stage, the vertex hooks (`vertex_decl`, `vertex`) live in the geometry stage, which is where
+/// the world positions are made (particle sprites); the vertex stage then has no hooks.
 struct BaseShader {
     std::string name;
     std::string vertexName, vertexSource;
@@ -71,8 +71,8 @@ struct BaseShader {
     bool feedbackInterleaved = true;
 };
 
-// What a built-in material variant contains; each bit becomes a #define (SGFX_BASE_MAP, ...)
-// so a plain material carries no texture fetch, no unused varying and no `discard`.
+/// What a built-in material variant contains; each bit becomes a #define (SGFX_BASE_MAP, ...)
+/// so a plain material carries no texture fetch, no unused varying and no `discard`.
 enum MaterialFeature : std::uint32_t {
     FeatureBaseMap = 1u << 0,
     FeatureAlphaMap = 1u << 1,
@@ -84,70 +84,70 @@ enum MaterialFeature : std::uint32_t {
     FeatureAlphaMask = 1u << 7,
     FeatureBlend = 1u << 8,
     FeatureSpecular = 1u << 9,
-    FeatureMetallicRoughness = 1u << 10, // ShadingModel::MetallicRoughness
-    FeatureVertexLighting = 1u << 11,    // Gouraud: lights summed per vertex (Renderer::Options::lighting)
-    FeatureWorldPosition = 1u << 16,     // interpolate the world position (snippets, point lights, ...)
-    FeaturePointLights = 1u << 17,       // some light of the view has a position
-    // How the output is blended (with FeatureBlend; none of them = straight alpha), so colour
-    // effects can treat premultiplied, additive and multiplicative output correctly.
+    FeatureMetallicRoughness = 1u << 10, ///< ShadingModel::MetallicRoughness
+    FeatureVertexLighting = 1u << 11,    ///< Gouraud: lights summed per vertex (Renderer::Options::lighting)
+    FeatureWorldPosition = 1u << 16,     ///< interpolate the world position (snippets, point lights, ...)
+    FeaturePointLights = 1u << 17,       ///< some light of the view has a position
+    /// How the output is blended (with FeatureBlend; none of them = straight alpha), so colour
+    /// effects can treat premultiplied, additive and multiplicative output correctly.
     FeatureBlendPremultiplied = 1u << 18,
     FeatureBlendAdditive = 1u << 19,
     FeatureBlendMultiply = 1u << 20,
     FeatureBlendKindMask = FeatureBlendPremultiplied | FeatureBlendAdditive | FeatureBlendMultiply,
-    // G-buffer variant: writes the view-space normal (location 0), linear view depth (1) and
-    // view-space position (2) instead of a colour, keeping cut-outs and normal maps.
+    /// G-buffer variant: writes the view-space normal (location 0), linear view depth (1) and
+    /// view-space position (2) instead of a colour, keeping cut-outs and normal maps.
     FeatureGBuffer = 1u << 21,
-    FeatureMetalRoughMap = 1u << 22, // metallic-roughness texture
+    FeatureMetalRoughMap = 1u << 22, ///< metallic-roughness texture
     FeatureOcclusionMap = 1u << 23,
     FeatureEmissiveMap = 1u << 24,
-    FeatureTexCoords1 = 1u << 25,  // a second texture coordinate set is interpolated
-    FeatureUvTransform = 1u << 26, // some map reads set 1 or a transformed set (per-map uniforms)
-    FeatureInstanced = 1u << 27,   // Geometry::instances: per-instance matrices at locations 6..9
-    // Automatic instance batch (RendererOptions::autoInstancing): the model matrix of instance i
-    // is sgfx_batchModels[sgfx_batchBase + i], a shader storage buffer at kBatchBinding.
+    FeatureTexCoords1 = 1u << 25,  ///< a second texture coordinate set is interpolated
+    FeatureUvTransform = 1u << 26, ///< some map reads set 1 or a transformed set (per-map uniforms)
+    FeatureInstanced = 1u << 27,   ///< Geometry::instances: per-instance matrices at locations 6..9
+    /// Automatic instance batch (RendererOptions::autoInstancing): the model matrix of instance i
+    /// is sgfx_batchModels[sgfx_batchBase + i], a shader storage buffer at kBatchBinding.
     FeatureBatched = 1u << 28,
-    // Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
+    /// Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
 };
 
-constexpr unsigned kBatchBinding = 7; // shader storage binding of FeatureBatched's matrices
+constexpr unsigned kBatchBinding = 7; ///< shader storage binding of FeatureBatched's matrices
 
 class Material;
 class Geometry;
 
-// Builds program variants for (base shader, features, snippets) and caches them.
+/// Builds program variants for (base shader, features, snippets) and caches them.
 class ShaderComposer {
 public:
     ShaderComposer();
     ~ShaderComposer();
 
-    // Text only (no GL): testable anywhere.
+    /// Text only (no GL): testable anywhere.
     static ComposedProgram composeBuiltin(const BaseShader& base,
                                           std::span<const ShaderSnippet* const> snippets,
                                           std::uint32_t features = 0);
     static std::string featureDefines(std::uint32_t features);
-    // The variant a material needs for a geometry (attributes present, textures, mask, blending).
+    /// The variant a material needs for a geometry (attributes present, textures, mask, blending).
     static std::uint32_t featuresFor(const Material* material, const Geometry& geometry, bool blended,
                                      BlendMode blend = BlendMode::Alpha);
-    // The blend-kind bits alone (the only feature bits a foreign shader's wrap uses).
+    /// The blend-kind bits alone (the only feature bits a foreign shader's wrap uses).
     static std::uint32_t blendFeatures(bool blended, BlendMode blend);
-    // Adds FeatureWorldPosition where the variant or its snippets read the world position.
+    /// Adds FeatureWorldPosition where the variant or its snippets read the world position.
     static std::uint32_t withWorldPosition(std::uint32_t features, bool hasSnippets);
     static ComposedProgram composeForeign(const ShaderProgram& program,
                                           std::span<const ShaderSnippet* const> snippets,
                                           std::uint32_t features = 0);
-    // Rewrites "S:L(C): msg" / "S(L) : msg" driver lines into "name:line: msg".
+    /// Rewrites "S:L(C): msg" / "S(L) : msg" driver lines into "name:line: msg".
     static std::string translateLog(std::string_view log, std::span<const std::string> sourceNames);
 
-    // The built-in Blinn-Phong material.
+    /// The built-in Blinn-Phong material.
     static const BaseShader& blinnPhong();
-    // Vertex stage of full-screen passes (Renderer::drawFullscreen): one triangle from
-    // gl_VertexID, `out vec2 v_uv` in [0, 1]; with SGFX_FULLSCREEN_FAR defined it lies on the far
-    // plane (depth 1), so a depth test EQUAL limits a pass to pixels no geometry covered.
+    /// Vertex stage of full-screen passes (Renderer::drawFullscreen): one triangle from
+    /// gl_VertexID, `out vec2 v_uv` in [0, 1]; with SGFX_FULLSCREEN_FAR defined it lies on the far
+    /// plane (depth 1), so a depth test EQUAL limits a pass to pixels no geometry covered.
     static std::string_view fullscreenVertex();
 
-    // Compiles on a miss (GL thread). `foreign` null = built-in material.
+    /// Compiles on a miss (GL thread). `foreign` null = built-in material.
     gl::Program& program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets,
                          std::uint32_t features = 0);
     gl::Program& program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,

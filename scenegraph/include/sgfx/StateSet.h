@@ -15,8 +15,8 @@ namespace sgfx {
 
 class ShaderProgram;
 
-// OSG-style inheritance flags. A parent's Override beats a child's plain value; a child's
-// Protected value beats the parent's Override.
+/// OSG-style inheritance flags. A parent's Override beats a child's plain value; a child's
+/// Protected value beats the parent's Override.
 enum StateFlags : std::uint8_t { Inherit = 0, Override = 1, Protected = 2 };
 
 template <class T> struct StateAttr {
@@ -51,34 +51,34 @@ struct DepthState {
     bool operator==(const DepthState&) const = default;
 };
 
-// How a blended item is ordered and drawn in the transparent stage (OSG's render bin details,
-// three.js's renderOrder). Items are drawn by ascending `order`, then back to front by the view
-// depth of their bound's centre plus `depthBias`, then in cull order.
+/// How a blended item is ordered and drawn in the transparent stage (OSG's render bin details,
+/// three.js's renderOrder). Items are drawn by ascending `order`, then back to front by the view
+/// depth of their bound's centre plus `depthBias`, then in cull order.
 struct TransparencyDetails {
-    int order = 0;              // explicit order: lower is drawn first, whatever the depths
-    float depthBias = 0.0f;     // metres added to the sort depth (positive: drawn earlier, as if farther)
-    bool twoPass = true;        // double-sided items (CullFace::None): back faces first, then front faces
-    bool sortTriangles = false; // re-sort the triangles back to front (self-overlapping meshes)
-    float resortAngle = 5.0f;   // degrees the view direction may turn before triangles are re-sorted
-    bool writeDepth = false;    // "depth-writing glass": later items and depth readers see it
+    int order = 0;              ///< explicit order: lower is drawn first, whatever the depths
+    float depthBias = 0.0f;     ///< metres added to the sort depth (positive: drawn earlier, as if farther)
+    bool twoPass = true;        ///< double-sided items (CullFace::None): back faces first, then front faces
+    bool sortTriangles = false; ///< re-sort the triangles back to front (self-overlapping meshes)
+    float resortAngle = 5.0f;   ///< degrees the view direction may turn before triangles are re-sorted
+    bool writeDepth = false;    ///< "depth-writing glass": later items and depth readers see it
     bool operator==(const TransparencyDetails&) const = default;
 
-    // Throws std::invalid_argument naming the field (non-finite bias, angle outside [0, 180]).
+    /// Throws std::invalid_argument naming the field (non-finite bias, angle outside [0, 180]).
     void validate() const;
 };
 
 using UniformValue = std::variant<int, float, glm::vec2, glm::vec3, glm::vec4, glm::mat3, glm::mat4>;
 
-// The attributes a StateSet may set and a ResolvedState holds, each with its flags.
+/// The attributes a StateSet may set and a ResolvedState holds, each with its flags.
 struct StateAttributes {
     StateAttr<std::shared_ptr<Material>> material;
-    StateAttr<std::shared_ptr<ShaderProgram>> program; // foreign shader; built-in material when unset
+    StateAttr<std::shared_ptr<ShaderProgram>> program; ///< foreign shader; built-in material when unset
     StateAttr<BlendMode> blend;
     StateAttr<DepthState> depth;
     StateAttr<CullFace> cullFace;
     StateAttr<RenderBin> renderBin;
     StateAttr<TransparencyDetails> transparency;
-    // Named uniforms and sampler textures for foreign shaders (and effect tuning).
+    /// Named uniforms and sampler textures for foreign shaders (and effect tuning).
     std::map<std::string, StateAttr<UniformValue>, std::less<>> uniforms;
     std::map<std::string, StateAttr<std::shared_ptr<Texture>>, std::less<>> textures;
 };
@@ -95,8 +95,8 @@ public:
     }
 };
 
-// The state in force at a point of the graph: every attribute resolved, with its flags kept so
-// deeper StateSets merge correctly.
+/// The state in force at a point of the graph: every attribute resolved, with its flags kept so
+/// deeper StateSets merge correctly.
 struct ResolvedState : StateAttributes {
     static ResolvedState defaults();
     ResolvedState merged(const StateSet& child) const;

@@ -13,7 +13,7 @@ class Texture;
 enum class Filter : std::uint8_t { Nearest, Linear, LinearMipmapLinear };
 enum class Wrap : std::uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 
-// An image plus sampling state. `srgb` marks colour data stored sRGB-encoded (decoded on sampling).
+/// An image plus sampling state. `srgb` marks colour data stored sRGB-encoded (decoded on sampling).
 class Texture {
 public:
     static std::shared_ptr<Texture> create(std::shared_ptr<Image> image, bool srgb = true);

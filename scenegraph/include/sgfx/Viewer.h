@@ -10,13 +10,13 @@
 
 namespace sgfx {
 
-// One context, one camera, one scene: update → cull → render → present, each frame.
-// Destroy the scene before or with the Viewer; GL objects die with their owners while the
-// Viewer's context is current.
+/// One context, one camera, one scene: update → cull → render → present, each frame.
+/// Destroy the scene before or with the Viewer; GL objects die with their owners while the
+/// Viewer's context is current.
 class Viewer {
 public:
     explicit Viewer(std::unique_ptr<GraphicsContext> context);
-    // Headless viewer with the given target size: on OSMesa (software), or through EGL on a GPU.
+    /// Headless viewer with the given target size: on OSMesa (software), or through EGL on a GPU.
     enum class Headless : std::uint8_t { Osmesa, Egl };
     static std::unique_ptr<Viewer> createHeadless(int width, int height, Headless kind = Headless::Osmesa);
     ~Viewer();
@@ -25,7 +25,7 @@ public:
     const NodePtr& sceneData() const { return scene_; }
     const std::shared_ptr<Camera>& camera() const { return camera_; }
 
-    // Advances the clock by dt seconds, then updates, culls and renders one frame.
+    /// Advances the clock by dt seconds, then updates, culls and renders one frame.
     void frame(double dt = 1.0 / 60.0);
     Image capture() { return renderer_->readPixels(); }
     void writeScreenshot(const std::filesystem::path& png) { writePng(png, capture()); }
@@ -35,9 +35,9 @@ public:
     const FrameStats& stats() const { return renderer_->stats(); }
     double simulationTime() const { return update_.simulationTime; }
 
-    // Windows only: called each frame after the scene is copied to the back buffer and before
-    // the swap, with the window's framebuffer bound, its viewport set and sRGB writes off (OSG's
-    // final draw callback), to draw a user interface over the view. Captures do not include it.
+    /// Windows only: called each frame after the scene is copied to the back buffer and before
+    /// the swap, with the window's framebuffer bound, its viewport set and sRGB writes off (OSG's
+    /// final draw callback), to draw a user interface over the view. Captures do not include it.
     std::function<void(Viewer&)> finalDrawCallback;
 
 private:

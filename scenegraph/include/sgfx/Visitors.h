@@ -8,7 +8,7 @@
 
 namespace sgfx {
 
-// Runs update callbacks; carries the frame clock.
+/// Runs update callbacks; carries the frame clock.
 class UpdateVisitor : public NodeVisitor {
 public:
     UpdateVisitor()
@@ -16,12 +16,12 @@ public:
     void apply(Node& node) override;
     void apply(Drawable& drawable) override;
 
-    double simulationTime = 0.0; // seconds
+    double simulationTime = 0.0; ///< seconds
     double deltaTime = 0.0;
     std::uint64_t frameNumber = 0;
 };
 
-// World-space bounds of everything below the visited node (accumulating transforms).
+/// World-space bounds of everything below the visited node (accumulating transforms).
 class ComputeBoundsVisitor : public NodeVisitor {
 public:
     ComputeBoundsVisitor()
@@ -38,7 +38,7 @@ private:
     glm::mat4 matrix_{1.0f};
 };
 
-// Counts what a traversal reaches: each shared subgraph counts once per parent path.
+/// Counts what a traversal reaches: each shared subgraph counts once per parent path.
 class StatsVisitor : public NodeVisitor {
 public:
     StatsVisitor()

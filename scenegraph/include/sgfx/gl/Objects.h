@@ -1,6 +1,7 @@
 #pragma once
-// RAII wrappers for GL objects. Each owns one name, deletes it on destruction, and is counted
-// in liveObjects() so tests can prove a scene and viewer leave nothing behind.
+/// @file
+/// RAII wrappers for GL objects. Each owns one name, deletes it on destruction, and is counted
+/// in liveObjects() so tests can prove a scene and viewer leave nothing behind.
 #include "sgfx/ShaderComposer.h"
 #include "sgfx/StateSet.h"
 
@@ -36,7 +37,7 @@ struct LiveCounts {
 };
 LiveCounts& liveObjects();
 
-// Move-only owner of one GL name of kind K.
+/// Move-only owner of one GL name of kind K.
 template <Kind K> class Object {
 public:
     Object() = default;
@@ -75,16 +76,16 @@ using QueryObject = Object<Kind::Query>;
 BufferObject createBuffer();
 VertexArrayObject createVertexArray();
 TextureObject createTexture(unsigned target);
-// A single-level 2D texture for a pass's own use: `filter` (GL_NEAREST or GL_LINEAR) both ways,
-// clamped to its edges.
+/// A single-level 2D texture for a pass's own use: `filter` (GL_NEAREST or GL_LINEAR) both ways,
+/// clamped to its edges.
 TextureObject createTexture2D(unsigned format, int width, int height, int filter = 0x2600 /* GL_NEAREST */);
 FramebufferObject createFramebuffer();
 QueryObject createQuery(unsigned target);
 
-// Linked program with a uniform-location cache.
+/// Linked program with a uniform-location cache.
 class Program {
 public:
-    // Compiles and links; throws ShaderError with the driver log translated to original lines.
+    /// Compiles and links; throws ShaderError with the driver log translated to original lines.
     explicit Program(const ComposedProgram& composed);
     Program(Program&&) = delete;
     ~Program();
@@ -95,13 +96,13 @@ public:
     void set(std::string_view uniform, const UniformValue& v);
     void set(int location, const UniformValue& v);
 
-    // Renderer bookkeeping: which frame's per-program uniforms were last uploaded.
+    /// Renderer bookkeeping: which frame's per-program uniforms were last uploaded.
     std::uint64_t frameStamp = 0;
 
 private:
     Name name_ = 0;
     std::string description_;
-    // Few uniforms per program: a flat list searched by string_view never allocates per draw.
+    /// Few uniforms per program: a flat list searched by string_view never allocates per draw.
     std::vector<std::pair<std::string, int>> locations_;
 };
 
@@ -112,12 +113,12 @@ public:
     std::uint64_t revision = 0;
 };
 
-// A Geometry's GPU copy: one interleaved-free VBO per attribute, an index buffer and a VAO.
+/// A Geometry's GPU copy: one interleaved-free VBO per attribute, an index buffer and a VAO.
 struct GeometryBuffers {
     VertexArrayObject vao;
-    // position, normal, tangent, texcoord, colour, texcoord1, instance matrices (locations 6..9)
+    /// position, normal, tangent, texcoord, colour, texcoord1, instance matrices (locations 6..9)
     std::array<BufferObject, 7> attributes;
-    std::uint32_t instances = 0; // 0: not instanced
+    std::uint32_t instances = 0; ///< 0: not instanced
     BufferObject indices;
     std::uint64_t revision = 0;
     std::uint32_t count = 0;
@@ -125,17 +126,17 @@ struct GeometryBuffers {
     unsigned mode = 0;
 };
 
-// A colour + depth render target whose attachments are textures (readable by later passes).
+/// A colour + depth render target whose attachments are textures (readable by later passes).
 struct RenderTarget {
     FramebufferObject fbo;
     TextureObject color;
     TextureObject depth;
     int width = 0, height = 0;
-    unsigned colorFormat = 0; // GL internal format of `color`
-    int samples = 1;          // > 1: multisample textures (GL_TEXTURE_2D_MULTISAMPLE)
-    // (Re)allocates for a new size or colour format (GL_SRGB8_ALPHA8 by default); throws
-    // std::invalid_argument for a size outside the driver's limits and std::runtime_error naming
-    // the attachment formats when the framebuffer is incomplete.
+    unsigned colorFormat = 0; ///< GL internal format of `color`
+    int samples = 1;          ///< > 1: multisample textures (GL_TEXTURE_2D_MULTISAMPLE)
+    /// (Re)allocates for a new size or colour format (GL_SRGB8_ALPHA8 by default); throws
+    /// std::invalid_argument for a size outside the driver's limits and std::runtime_error naming
+    /// the attachment formats when the framebuffer is incomplete.
     void resize(int w, int h, unsigned format = 0x8C43 /* GL_SRGB8_ALPHA8 */, int samples = 1);
 };
 
