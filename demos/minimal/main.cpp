@@ -1,11 +1,11 @@
 // The minimal example: a model under a FogNode, rendered headless to a PNG.
 // Usage: minimal MODEL [PNG]   (glTF, OBJ, OFF, PLY or STL; the PNG defaults to minimal.png)
 #include <fog/FogNode.h>
+#include <sgfx/Manipulator.h>
 #include <sgfx/ModelLoader.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <stdexcept>
@@ -15,12 +15,13 @@ int main(int argc, char** argv) try {
     if (argc < 2) throw std::runtime_error("usage: minimal MODEL [PNG]");
     const std::string out = argc > 2 ? argv[2] : "minimal.png";
     auto model = sgfx::loadModel(argv[1]); // throws sgfx::LoadError naming the file
-    sgfx::ComputeBoundsVisitor bounds;     // frame the camera on the model's bounds
+    sgfx::ComputeBoundsVisitor bounds;
     model->accept(bounds);
-    const glm::vec3 centre = 0.5f * (bounds.min + bounds.max);
-    const float radius = std::max(0.5f * glm::length(bounds.max - bounds.min), 1e-3f);
+    sgfx::OrbitManipulator camera; // frames the model's bounds in a 40° view
+    camera.home(bounds.min, bounds.max, 40.0f, 512.0f / 384.0f);
+    const float radius = camera.sceneRadius();
 
-    sgfx::FogParameters fogParameters;     // uniform fog: about a third of the light lost at the model
+    sgfx::FogParameters fogParameters; // uniform fog: about a third of the light lost at the model
     fogParameters.density = 0.15f / radius;
     auto fog = sgfx::FogNode::create(fogParameters);
     fog->addChild(model);
@@ -34,7 +35,7 @@ int main(int argc, char** argv) try {
     auto viewer = sgfx::Viewer::createHeadless(512, 384);
     viewer->setSceneData(fog);
     viewer->camera()->setPerspective(40.0f, 0.05f * radius, 20.0f * radius);
-    viewer->camera()->setLookAt(centre + 3.0f * radius * glm::vec3(0.5f, -0.75f, 0.45f), centre);
+    camera.apply(*viewer->camera());
     viewer->frame();
     viewer->writeScreenshot(out);
     std::printf("wrote %s (512x384)\n", out.c_str());
