@@ -8,6 +8,7 @@
 #include <particles/ParticleSystemNode.h>
 #include <sgfx/GltfWriter.h>
 #include <sgfx/GraphicsContext.h>
+#include <sgfx/Manipulator.h>
 
 #include <filesystem>
 #include <sgfx/ObjWriter.h>
@@ -692,9 +693,9 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     const polygon::Terrain terrain(o.seed);
 
     const polygon::CameraPose start = startPose(o, o.time);
-    glm::vec3 eye = start.eye;
-    const glm::vec3 dir0 = glm::normalize(start.target - start.eye);
-    float yaw = std::atan2(dir0.y, dir0.x), pitch = std::asin(dir0.z);
+    sgfx::FlyManipulator fly; // the library's: left drag looks, WASD along the view, Q/E down/up
+    fly.setLookAt(start.eye, start.target);
+    fly.speed = 20.0f; // m/s; Shift: 80
     double lastX = 0, lastY = 0;
     bool dragging = false;
     double last = glfwGetTime(), titleTime = last;
@@ -741,30 +742,19 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
 
         double x = 0, y = 0;
         glfwGetCursorPos(win, &x, &y);
-        if (glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) {
-            if (dragging) {
-                yaw -= float(x - lastX) * 0.004f;
-                pitch = std::clamp(pitch - float(y - lastY) * 0.004f, -1.5f, 1.5f);
-            }
-            dragging = true;
-        } else {
-            dragging = false;
-        }
+        const bool held = glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+        if (held && dragging)
+            fly.drag(sgfx::MouseButton::Left, {float(x - lastX), float(y - lastY)},
+                     float(viewer.camera()->viewport.height));
+        dragging = held;
         lastX = x;
         lastY = y;
-
-        const glm::vec3 forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
-                                std::sin(pitch));
-        const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0, 0, 1)));
-        const bool fast = glfwGetKey(win, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
-                          glfwGetKey(win, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
-        const float speed = (fast ? 80.0f : 20.0f) * dt;
         auto key = [&](int k) { return glfwGetKey(win, k) == GLFW_PRESS ? 1.0f : 0.0f; };
-        eye += forward * speed * (key(GLFW_KEY_W) - key(GLFW_KEY_S));
-        eye += right * speed * (key(GLFW_KEY_D) - key(GLFW_KEY_A));
-        eye.z += speed * (key(GLFW_KEY_E) - key(GLFW_KEY_Q));
-        eye.z = std::max(eye.z, terrain.height(eye.x, eye.y) + 1.5f);
-        viewer.camera()->setLookAt(eye, eye + forward, glm::vec3(0, 0, 1));
+        fly.move({key(GLFW_KEY_D) - key(GLFW_KEY_A), key(GLFW_KEY_W) - key(GLFW_KEY_S),
+                  key(GLFW_KEY_E) - key(GLFW_KEY_Q)},
+                 dt, key(GLFW_KEY_LEFT_SHIFT) + key(GLFW_KEY_RIGHT_SHIFT) > 0.0f);
+        fly.position.z = std::max(fly.position.z, terrain.height(fly.position.x, fly.position.y) + 1.5f);
+        fly.apply(*viewer.camera());
 
         viewer.frame(dt);
         reportGlErrors(viewer);
