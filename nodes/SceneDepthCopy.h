@@ -15,6 +15,7 @@
 
 namespace sgfx::nodes {
 
+/// The pass that copies the opaque depth of the view being drawn (see the file comment).
 class SceneDepthCopy : public RenderPass {
 public:
     explicit SceneDepthCopy(std::string name)

@@ -9,6 +9,7 @@
 
 namespace sgfx::nodes {
 
+/// Per-view-size GPU targets, least recently used first out (see the file comment).
 template <class T, std::size_t Capacity = 4> class TargetCache {
 public:
     // The entry `matches` accepts, or a new one that `init` sets up.

@@ -48,6 +48,7 @@ enum class AoGBuffer : std::uint8_t {
 /// figures 5 and 7.
 enum class AoDebugView : std::uint8_t { Off, Raw, Blurred };
 
+/// The occlusion kernel, its G-buffer, blur and strength (seed symbols in the field comments).
 struct AmbientOcclusionParameters {
     int samples = 32;    ///< m, 8..64
     float radius = 0.5f; ///< R in metres, (0, 1e4]

@@ -55,6 +55,9 @@ struct FogParameters {
     void validate() const;
 };
 
+/// Height fog over its subtree (fog seed, eq. 3): the optical depth of ρ(h) = ρ0·e^(−b·h) along
+/// each view ray turns into the fog amount k, applied in every material below (Forward,
+/// ForwardSplit) or in a full-screen pass (PostProcess). See docs/effects/fog.md.
 class FogNode : public EffectNode {
 public:
     static std::shared_ptr<FogNode> create(const FogParameters& parameters = FogParameters::solid(),

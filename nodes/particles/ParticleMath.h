@@ -50,6 +50,7 @@ enum class StartMode : std::uint8_t {
     Burst,  ///< every particle born at once
 };
 
+/// What one simulation step reads besides the particle itself.
 struct StepInput {
     glm::mat4 emitterToWorld{1.0f}; ///< Mmodel
     Emitter emitter;

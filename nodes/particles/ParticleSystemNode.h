@@ -46,6 +46,7 @@ enum class ParticlePath : std::uint8_t { Auto, GeometryShader, Instanced, Pulled
 /// (age + position, velocity, r0, r), one buffer each.
 enum class ParticleLayout : std::uint8_t { Interleaved, Split };
 
+/// A particle system: emitter, forces, look, count, and how it is simulated and drawn.
 struct ParticleSettings {
     particles::Emitter emitter;
     std::uint32_t capacity = 10000; ///< n
@@ -65,6 +66,9 @@ struct ParticleSettings {
     void validate() const;
 };
 
+/// A GPU particle system (particle seed): simulated by transform feedback, drawn lit and
+/// composed like any surface. Presets: rain(), snow(), leaves(), smoke(), waterJet(), sparks().
+/// See docs/effects/particles.md.
 class ParticleSystemNode : public Drawable {
 public:
     /// Most particles a system may hold: 2^24 (2 × 872 MB of records).

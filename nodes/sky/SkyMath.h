@@ -11,6 +11,7 @@
 
 namespace sgfx::sky {
 
+/// A spherical atmosphere: radii, scale heights and scattering coefficients (metres).
 struct Atmosphere {
     float planetRadius = 6360e3f;                    ///< m
     float atmosphereRadius = 6420e3f;                ///< m

@@ -15,6 +15,7 @@ namespace sgfx {
 
 class FogNode;
 
+/// The atmosphere, the sun and how the sky is drawn (view table or per pixel).
 struct SkyParameters {
     glm::vec3 sunDirection{0.0f, 0.5f, 0.866f}; ///< towards the sun, world (normalised when set)
     float sunIntensity = 20.0f;                 ///< irradiance scale of the scattered light
@@ -34,6 +35,9 @@ struct SkyParameters {
     void validate() const;
 };
 
+/// The sky behind everything (lecture 12: Rayleigh and Mie single scattering), drawn where
+/// nothing else is; attachFog() makes a FogNode take its horizon colour. See
+/// docs/effects/volume-sky.md.
 class SkyNode : public Drawable {
 public:
     static std::shared_ptr<SkyNode> create(const SkyParameters& parameters = {});

@@ -26,6 +26,7 @@ template <class T> T weight(int equation, T alpha, T z, T d) {
     }
 }
 
+/// One transparent layer over a pixel: straight colour, alpha, view depth.
 struct Layer {
     double r, g, b; ///< straight (not premultiplied) linear colour
     double alpha;

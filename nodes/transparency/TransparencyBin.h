@@ -28,6 +28,7 @@ enum class OitWeight : std::uint8_t {
     WindowDepth10, ///< α·max(1e-2, 3e3·(1 − d)³)
 };
 
+/// Weighted blended OIT: the weight function's depth scale and the revealage precision.
 struct OitParameters {
     OitWeight weight = OitWeight::Depth7;
     /// Metres per unit of the paper's z: its constants suit 0.1–500 units, so a scene whose

@@ -47,6 +47,7 @@ enum class Integration : std::uint8_t {
     Riemann, ///< the lecture's loop: opt += σ·Δx; L += e^(−opt)·ke·Δx (the sample dims itself)
 };
 
+/// What a march along one ray gives: the light it gathered, its transmittance and the steps taken.
 struct MarchResult {
     glm::dvec3 radiance{0.0};
     double transmittance = 1.0;

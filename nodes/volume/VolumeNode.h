@@ -44,10 +44,12 @@ struct VolumeGrid {
     void validate() const;
 };
 
+/// The phase function of single scattering.
 enum class VolumePhase : std::uint8_t { Isotropic, HenyeyGreenstein, Rayleigh };
 /// Raymarch per pixel (default), or the lecture's slicing: view-aligned slices blended back to front.
 enum class VolumeMethod : std::uint8_t { Raymarch, Slicing };
 
+/// The medium's optical properties, its light, the box size and the rendering method.
 struct VolumeParameters {
     glm::vec3 size{1.0f};                        ///< box edges (m), centred on the node's origin
     float absorption = 1.0f;                     ///< k_a per metre at density 1
@@ -76,6 +78,9 @@ struct VolumeParameters {
     void validate() const;
 };
 
+/// A participating medium in a box (lecture 12): a density grid raymarched per pixel or drawn
+/// as slices, with absorption, emission and single scattering, stopped by the opaque scene.
+/// See docs/effects/volume-sky.md.
 class VolumeNode : public Drawable {
 public:
     static std::shared_ptr<VolumeNode> create(const VolumeParameters& parameters = {},

@@ -22,6 +22,7 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// How glTF content is turned into sgfx nodes (axes, normals, limits).
 struct GltfOptions {
     int scene = -1;  ///< the file's default scene (or its first), or this index
     bool zUp = true; ///< rotate glTF's Y-up into sgfx's Z-up at the root

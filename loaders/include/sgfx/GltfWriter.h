@@ -9,11 +9,13 @@
 
 namespace sgfx {
 
+/// Choices for writeGltf.
 struct GltfWriteOptions {
     /// The scene is sgfx's Z-up: rotate it into glTF's Y-up, which loadGltf's default undoes.
     bool zUp = true;
 };
 
+/// What writeGltf wrote.
 struct GltfWriteResult {
     std::size_t meshes = 0, vertices = 0, triangles = 0, materials = 0;
 };

@@ -5,6 +5,7 @@
 
 namespace sgfx {
 
+/// What writeObj wrote.
 struct ObjWriteResult {
     std::size_t objects = 0, vertices = 0, triangles = 0, textures = 0;
 };

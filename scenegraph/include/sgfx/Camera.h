@@ -10,6 +10,7 @@
 
 namespace sgfx {
 
+/// A rectangle of the target in pixels, origin bottom left.
 struct Viewport {
     int x = 0, y = 0, width = 640, height = 480;
     float aspect() const { return height > 0 ? float(width) / float(height) : 1.0f; }

@@ -3,6 +3,7 @@
 
 namespace sgfx {
 
+/// A node with children, in order (OSG's Group); a child may have several parents.
 class Group : public Node {
 public:
     static std::shared_ptr<Group> create() { return std::make_shared<Group>(); }
@@ -13,13 +14,16 @@ public:
 
     /// Throws std::invalid_argument for a null child or one that would close a cycle.
     void addChild(NodePtr child);
+    /// As addChild, at `index` (at most numChildren()).
     void insertChild(std::size_t index, NodePtr child);
+    /// Removes the first occurrence of `child`; false when it is not a child.
     bool removeChild(const Node* child);
-    void removeChildren();
+    void removeChildren(); ///< all of them, each parent back-pointer cleared
+    /// Puts `child` in place of the child at `index` (checked as addChild).
     void replaceChild(std::size_t index, NodePtr child);
 
     std::size_t numChildren() const { return children_.size(); }
-    const NodePtr& child(std::size_t i) const { return children_.at(i); }
+    const NodePtr& child(std::size_t i) const { return children_.at(i); } ///< throws std::out_of_range
     const std::vector<NodePtr>& children() const { return children_; }
 
 protected:
@@ -46,6 +50,7 @@ public:
     void accept(NodeVisitor& v) override;
 
     const glm::mat4& matrix() const { return matrix_; }
+    /// Sets the local matrix and dirties the bounds above.
     void setMatrix(const glm::mat4& m);
 
 protected:

@@ -21,6 +21,7 @@ float pixelSize(const glm::vec3& viewCenter, float radius, const glm::mat4& proj
 /// children, and the bound is the union of all children, so switching never changes the bound.
 class LOD : public Group {
 public:
+    /// On-screen size range, in pixels, in which a child is drawn.
     struct Range {
         float minPixels = 0.0f;
         float maxPixels = std::numeric_limits<float>::infinity();

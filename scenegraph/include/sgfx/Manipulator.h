@@ -12,6 +12,7 @@ class Camera;
 /// Which mouse button a drag is made with.
 enum class MouseButton : unsigned char { Left, Right, Middle };
 
+/// Turns input into a view: the base of OrbitManipulator and FlyManipulator.
 class CameraManipulator {
 public:
     virtual ~CameraManipulator() = default;

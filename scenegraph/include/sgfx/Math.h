@@ -7,6 +7,7 @@
 
 namespace sgfx {
 
+/// A sphere that holds a node and everything below it (an empty one has a negative radius).
 struct BoundingSphere {
     glm::vec3 center{0.0f};
     float radius = -1.0f; ///< negative = invalid (empty)
@@ -29,6 +30,7 @@ struct BoundingBox {
     glm::vec3 center() const { return (min + max) * 0.5f; }
 };
 
+/// A plane n·p + d = 0; distance() is positive on the side the normal points to.
 struct Plane {
     glm::vec3 n{0, 0, 1};
     float d = 0; ///< n·p + d = signed distance

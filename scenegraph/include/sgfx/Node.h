@@ -27,16 +27,22 @@ public:
     Node& operator=(const Node&) = delete;
     virtual ~Node();
 
-    std::string name;
+    std::string name; ///< for finding nodes and for messages; not unique
+    /// Visitors in ActiveChildren mode skip the node when (nodeMask & traversalMask) == 0: 0 hides
+    /// it from culling and drawing.
     NodeMask nodeMask = ~NodeMask{0};
+    /// Called by the UpdateVisitor once per frame before culling (animation, following a camera).
     UpdateCallback updateCallback;
 
+    /// Calls v.apply with this node's most derived type (double dispatch).
     virtual void accept(NodeVisitor& v);
     /// Visits the children (none for a leaf).
     virtual void traverse(NodeVisitor&) {}
 
+    /// The node's render state (null: all inherited). A StateSet may be shared by many nodes.
     const std::shared_ptr<StateSet>& stateSet() const { return stateSet_; }
     void setStateSet(std::shared_ptr<StateSet> s) { stateSet_ = std::move(s); }
+    /// The node's own StateSet, made empty first if it has none.
     StateSet& getOrCreateStateSet();
 
     /// Bounding sphere in the node's parent frame; recomputed lazily after dirtyBound().
@@ -44,23 +50,27 @@ public:
         if (boundDirty_) updateBound(); // inline: culling asks every node for its bound
         return bound_;
     }
+    /// Marks this bound and every ancestor's for recomputation (geometry or matrix changed).
     void dirtyBound();
 
     /// OSG's cull-active flag: off, view-frustum culling never rejects this node or any of its
     /// ancestors (an effect whose passes cover the whole view, like fog over the sky, must be
     /// planned even when nothing below it is in view). Its children are still culled.
     void setCullingActive(bool active);
-    bool cullingActive() const { return cullingActive_; }
+    bool cullingActive() const { return cullingActive_; } ///< see setCullingActive
     /// True when this node or a descendant has culling switched off.
     bool cullingDisabledInSubtree() const {
         bound();
         return !cullingActive_ || cullingDisabledBelow_;
     }
 
+    /// The groups this node is a child of (back-pointers, not owners).
     const std::vector<Group*>& parents() const { return parents_; }
 
 protected:
+    /// The bound from scratch, in the parent frame (bound() caches it).
     virtual BoundingSphere computeBound() const { return {}; }
+    /// Whether a descendant has culling switched off (cached with the bound).
     virtual bool computeCullingDisabledBelow() const { return false; }
 
 private:

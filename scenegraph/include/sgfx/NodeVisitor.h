@@ -22,12 +22,14 @@ using NodeMask = std::uint32_t;
 /// ending in apply(Node&), which traverses the children.
 class NodeVisitor {
 public:
+    /// Which children traverse() visits: none, all, or those whose nodeMask passes traversalMask.
     enum class Mode { None, AllChildren, ActiveChildren };
 
     explicit NodeVisitor(Mode m = Mode::AllChildren)
         : mode(m) {}
     virtual ~NodeVisitor() = default;
 
+    /// One overload per node type; override the ones a visitor cares about.
     virtual void apply(Node& node);
     virtual void apply(Group& group);
     virtual void apply(Transform& transform);
@@ -50,8 +52,8 @@ public:
         return mode != Mode::ActiveChildren || (node.nodeMask & traversalMask) != 0;
     }
 
-    Mode mode;
-    NodeMask traversalMask = ~NodeMask{0};
+    Mode mode;                             ///< see Mode
+    NodeMask traversalMask = ~NodeMask{0}; ///< see accepts()
     /// Nodes from the root to the current one (the current node last).
     std::vector<Node*> nodePath;
 };

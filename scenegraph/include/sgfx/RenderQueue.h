@@ -24,11 +24,13 @@ struct EffectSet {
     std::uint32_t signature = 0;
 };
 
+/// A light as the frame block carries it: world position (w = 1) or direction (w = 0), colour.
 struct LightInfo {
     glm::vec4 vector{0, 0, 1, 0}; ///< world: direction towards the light (w=0) or position (w=1)
     glm::vec3 color{1.0f};        ///< colour × intensity
 };
 
+/// One draw of the frame: what, with which state, effects and matrix, and its sort keys.
 struct RenderItem {
     const Geometry* geometry = nullptr; ///< one of these two is set
     const Drawable* drawable = nullptr;
@@ -51,6 +53,7 @@ struct RenderItem {
     BoundingSphere worldBound() const;
 };
 
+/// Everything the cull traversal found for one view: items by stage, lights, sub-cameras.
 class RenderQueue {
 public:
     std::vector<RenderItem> opaque;      ///< drawn first; by octave of depth, program, material, mesh, depth

@@ -80,6 +80,7 @@ public:
     std::vector<std::shared_ptr<RenderPass>> passes;
 };
 
+/// What the last frame drew and how long the CPU and (with timePasses) the GPU took.
 struct FrameStats {
     std::size_t drawCalls = 0;
     std::size_t triangles = 0;

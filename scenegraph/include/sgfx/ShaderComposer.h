@@ -44,6 +44,7 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// A linked program with the names of the sources it was composed from (for error messages).
 struct ComposedProgram {
     std::string vertex;
     std::string geometry; ///< optional

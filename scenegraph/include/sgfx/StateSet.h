@@ -19,6 +19,7 @@ class ShaderProgram;
 /// Protected value beats the parent's Override.
 enum StateFlags : std::uint8_t { Inherit = 0, Override = 1, Protected = 2 };
 
+/// One attribute of a StateSet: unset (inherited), or a value with its StateFlags.
 template <class T> struct StateAttr {
     std::optional<T> value;
     std::uint8_t flags = Inherit;
@@ -44,6 +45,7 @@ enum class CompareFunc : std::uint8_t {
 enum class CullFace : std::uint8_t { None, Back, Front };
 enum class RenderBin : std::uint8_t { Opaque, Transparent };
 
+/// Depth test, depth writes and the comparison, as a pass or a StateSet sets them.
 struct DepthState {
     bool test = true;
     bool write = true;
@@ -83,6 +85,8 @@ struct StateAttributes {
     std::map<std::string, StateAttr<std::shared_ptr<Texture>>, std::less<>> textures;
 };
 
+/// Render state of a node and its subtree (OSG's StateSet): material, textures, blending, depth,
+/// culling, render bin, a foreign program. Unset attributes are inherited from above.
 class StateSet : public StateAttributes {
 public:
     static std::shared_ptr<StateSet> create() { return std::make_shared<StateSet>(); }

@@ -30,6 +30,7 @@ enum class Kind : std::uint8_t {
     Count
 };
 
+/// How many GL objects of each kind are alive (tests prove scenes leave none behind).
 struct LiveCounts {
     std::array<std::atomic<long>, std::size_t(Kind::Count)> counts{};
     long total() const;
@@ -106,6 +107,7 @@ private:
     std::vector<std::pair<std::string, int>> locations_;
 };
 
+/// A texture's GPU copy: the GL object and what it was made from.
 class Texture {
 public:
     TextureObject object;
