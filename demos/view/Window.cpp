@@ -17,6 +17,8 @@
 #include <GLFW/glfw3.h>
 
 #if SGFX_VIEW_IMGUI
+#include <dlfcn.h>
+
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
@@ -374,6 +376,11 @@ int runWindow(const Options& o, ViewScene& scene) {
 
     App app(o, scene, viewer, win);
 #if SGFX_VIEW_IMGUI
+    // ImGui's GL loader dlopens the system libGL and closes it at shutdown; this process-lifetime
+    // reference keeps the library (and glvnd's dispatch stubs it made for ImGui) loaded, so
+    // nothing of it is unloaded while still referenced and leak reports can name it.
+    static void* const keepLibGl = dlopen("libGL.so.1", RTLD_LAZY | RTLD_LOCAL);
+    (void)keepLibGl;
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr; // no imgui.ini written next to the user's files
@@ -471,6 +478,7 @@ int runWindow(const Options& o, ViewScene& scene) {
         }
 #endif
         std::printf("\n");
+        std::fflush(stdout); // before the leak checker's exit, which skips stdio's flush
         if (img.width != w || img.height != h) {
             std::fprintf(stderr, "sgfx-view: the scene target (%dx%d) did not follow the window (%dx%d)\n",
                          img.width, img.height, w, h);
