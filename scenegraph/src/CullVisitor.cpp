@@ -19,13 +19,6 @@ namespace sgfx {
 namespace {
 constexpr std::uint8_t kAllPlanes = 0x3f;
 
-// The radius factor BoundingSphere::transformed uses (the largest column length), with one
-// square root: a correctly rounded sqrt is monotonic, so the result is the same bit for bit.
-float maxAxisScale(const glm::mat4& m) {
-    const glm::vec3 x(m[0]), y(m[1]), z(m[2]);
-    return std::sqrt(std::max({glm::dot(x, x), glm::dot(y, y), glm::dot(z, z)}));
-}
-
 // std::ilogb for finite or infinite x > 1 (the exponent field), without the libm call.
 int exponentOf(float x) {
     return int((std::bit_cast<std::uint32_t>(x) >> 23) & 0xffu) - 127;
@@ -43,6 +36,7 @@ CullVisitor::CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* pl
     , culling_(camera.cullingEnabled) {
     modelView_.push_back(view_);
     scale_.push_back(maxAxisScale(view_));
+    similar_.push_back(isSimilarity(view_));
     model_.push_back(glm::mat4(1.0f));
     queue_.states.push_back(ResolvedState::defaults());
     state_.push_back(&queue_.states.back());
@@ -129,8 +123,12 @@ void CullVisitor::apply(Transform& t) {
     if (!cullTest(t)) return;
     model_.push_back(model_.back() * t.matrix());
     modelView_.push_back(view_ * model_.back());
-    scale_.push_back(maxAxisScale(modelView_.back()));
+    // Under a rotation-and-uniform-scale chain the scale multiplies: no square root per node.
+    const bool similar = similar_.back();
+    scale_.push_back(similar ? scale_.back() * t.maxScale() : maxAxisScale(modelView_.back()));
+    similar_.push_back(similar && t.similarity());
     traverseWithState(t);
+    similar_.pop_back();
     scale_.pop_back();
     modelView_.pop_back();
     model_.pop_back();

@@ -38,6 +38,22 @@ void BoundingSphere::expandBy(const BoundingSphere& s) {
     radius = newRadius;
 }
 
+float maxAxisScale(const glm::mat4& m) {
+    const glm::vec3 x(m[0]), y(m[1]), z(m[2]);
+    // One square root: a correctly rounded sqrt is monotonic, so this equals the largest of the
+    // three column lengths bit for bit (as transformed() computes them).
+    return std::sqrt(std::max({glm::dot(x, x), glm::dot(y, y), glm::dot(z, z)}));
+}
+
+bool isSimilarity(const glm::mat4& m) {
+    const glm::vec3 x(m[0]), y(m[1]), z(m[2]);
+    const float xx = glm::dot(x, x), yy = glm::dot(y, y), zz = glm::dot(z, z);
+    const float tolerance = 1e-6f * std::max({xx, yy, zz});
+    return std::abs(xx - yy) <= tolerance && std::abs(xx - zz) <= tolerance &&
+           std::abs(glm::dot(x, y)) <= tolerance && std::abs(glm::dot(x, z)) <= tolerance &&
+           std::abs(glm::dot(y, z)) <= tolerance;
+}
+
 BoundingSphere BoundingSphere::transformed(const glm::mat4& m) const {
     if (!valid()) return *this;
     BoundingSphere out;

@@ -170,6 +170,8 @@ void Transform::setMatrix(const glm::mat4& m) {
             if (!std::isfinite(m[c][r]))
                 throw std::invalid_argument("sgfx: Transform " + label(*this) + " given a non-finite matrix");
     matrix_ = m;
+    maxScale_ = maxAxisScale(m);
+    similarity_ = isSimilarity(m);
     dirtyBound();
 }
 

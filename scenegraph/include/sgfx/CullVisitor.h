@@ -58,7 +58,8 @@ private:
     Frustum viewFrustum_; ///< in view space
     bool culling_;
     std::vector<glm::mat4> modelView_;
-    std::vector<float> scale_; ///< largest axis scale of each modelView_ entry, computed once
+    std::vector<float> scale_;          ///< largest axis scale of each modelView_ entry, computed once
+    std::vector<std::uint8_t> similar_; ///< whether each modelView_ entry is a similarity
     std::vector<glm::mat4> model_;
     std::vector<const ResolvedState*> state_;
     std::vector<const EffectNode*> effects_;

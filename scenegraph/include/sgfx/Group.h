@@ -50,6 +50,9 @@ public:
     void accept(NodeVisitor& v) override;
 
     const glm::mat4& matrix() const { return matrix_; }
+    /// maxAxisScale(matrix()) and isSimilarity(matrix()), kept with the matrix for culling.
+    float maxScale() const { return maxScale_; }
+    bool similarity() const { return similarity_; }
     /// Sets the local matrix and dirties the bounds above.
     void setMatrix(const glm::mat4& m);
 
@@ -58,6 +61,8 @@ protected:
 
 private:
     glm::mat4 matrix_{1.0f};
+    float maxScale_ = 1.0f;
+    bool similarity_ = true;
 };
 
 } // namespace sgfx

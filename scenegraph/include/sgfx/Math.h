@@ -37,6 +37,13 @@ struct Plane {
     float distance(const glm::vec3& p) const { return glm::dot(n, p) + d; }
 };
 
+/// The largest column length of m's 3×3 part: how much m can stretch a bounding sphere's radius.
+float maxAxisScale(const glm::mat4& m);
+/// Whether m's 3×3 part is a rotation times a uniform scale (columns orthogonal and of equal
+/// length, to 1e-6 relative): then maxAxisScale(a * m) = maxAxisScale(a) * maxAxisScale(m) for
+/// any `a` that is one too.
+bool isSimilarity(const glm::mat4& m);
+
 enum class Containment { Outside, Intersects, Inside };
 
 /// Six planes from a view-projection matrix (Gribb/Hartmann), normals point inwards.
