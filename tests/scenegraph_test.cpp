@@ -242,6 +242,39 @@ TEST(Culling, CullVisitorDropsOutsideKeepsInsideAndStraddling) {
     EXPECT_EQ(all.opaque.size(), 5u);
 }
 
+// The cull traversal multiplies the radius scale down chains of rotations and uniform scales
+// instead of measuring every modelView matrix; it must give the radius BoundingSphere::transformed
+// gives for the whole matrix, with or without a non-uniform scale (the measured path) in the chain.
+TEST(Culling, RadiusScaleMatchesTheWholeMatrixDownSimilarAndShearedChains) {
+    for (bool stretched : {false, true}) {
+        auto cam = Camera::create();
+        cam->setViewport(0, 0, 100, 100);
+        cam->setPerspective(60.0f, 0.1f, 1000.0f);
+        cam->setLookAt({30, -40, 20}, {0, 0, 0});
+        const glm::mat4 a = glm::scale(glm::rotate(glm::mat4(1.0f), 0.7f, glm::normalize(glm::vec3(1, 2, 3))),
+                                       glm::vec3(2.0f));
+        const glm::mat4 b =
+            stretched ? glm::scale(glm::mat4(1.0f), {1.0f, 3.0f, 1.0f})
+                      : glm::scale(glm::rotate(glm::mat4(1.0f), -1.1f, glm::vec3(0, 0, 1)), glm::vec3(0.5f));
+        const glm::mat4 c = glm::translate(glm::rotate(glm::mat4(1.0f), 0.3f, glm::vec3(1, 0, 0)), {1, 2, 0});
+        auto ta = Transform::create(a), tb = Transform::create(b), tc = Transform::create(c);
+        EXPECT_TRUE(ta->similarity());
+        EXPECT_EQ(tb->similarity(), !stretched);
+        auto box = shapes::box({1, 2, 3});
+        tc->addChild(box);
+        tb->addChild(tc);
+        ta->addChild(tb);
+        cam->addChild(ta);
+        RenderQueue q;
+        CullVisitor cv(*cam, q);
+        cv.run(*cam);
+        ASSERT_EQ(q.opaque.size(), 1u);
+        const BoundingSphere expected = box->bound().transformed(cam->viewMatrix * a * b * c);
+        EXPECT_NEAR(cv.computedNear, -expected.center.z - expected.radius, 1e-4f * expected.radius);
+        EXPECT_NEAR(cv.computedFar, -expected.center.z + expected.radius, 1e-4f * expected.radius);
+    }
+}
+
 // Instanced leaves (one Geometry with its own StateSet under many Transforms) share the
 // ResolvedState the cull merges for them, per inherited state: under an Override material each
 // item still resolves to that parent's material, and the blend above one group changes its items'
