@@ -309,27 +309,7 @@ sgfx::NodePtr withRain(const BenchScene& s, sgfx::NodePtr world, std::shared_ptr
     const float area = s.provingGround ? 80.0f : 4.0f * s.radius;
     const float above = s.provingGround ? 20.0f : 2.0f * s.radius;
     const float lowest = s.provingGround ? -10.0f : s.baseZ;
-    auto rain = sgfx::ParticleSystemNode::rain({area, area}, kRainCount);
-    auto place = sgfx::Transform::create();
-    place->updateCallback = [weakCamera = std::weak_ptr<const sgfx::Camera>(camera), rain = rain.get(), above,
-                             lowest](sgfx::Node& n, sgfx::UpdateVisitor&) {
-        const auto cam = weakCamera.lock();
-        if (!cam) return;
-        const glm::vec3 eye(glm::inverse(cam->viewMatrix)[3]);
-        const float height = eye.z + above;
-        static_cast<sgfx::Transform&>(n).setMatrix(glm::translate(glm::mat4(1.0f), {eye.x, eye.y, height}));
-        sgfx::particles::Emitter e = rain->settings().emitter;
-        const float lifetime = std::max(1.0f, (height - lowest) / -e.velocity.z);
-        if (std::abs(lifetime - e.lifetime) > 0.05f * e.lifetime) {
-            e.lifetime = lifetime;
-            rain->setEmitter(e);
-        }
-    };
-    place->addChild(rain);
-    auto group = sgfx::Group::create();
-    group->addChild(world);
-    group->addChild(place);
-    return group;
+    return polygon::withRainFollowing(std::move(world), std::move(camera), area, kRainCount, above, lowest);
 }
 
 // The scene with the configuration's effects around it, placed as polygon's sceneWithEffects.
@@ -617,9 +597,8 @@ int plot(const std::string& json, const std::string& png) {
                   << json << "\n";
         return 1;
     }
-    const std::string cmd =
-        "python3 " + shellQuote(script.string()) + " " + shellQuote(json) + " " + shellQuote(png) +
-        " 1>&2"; // stdout is the Markdown table
+    const std::string cmd = "python3 " + shellQuote(script.string()) + " " + shellQuote(json) + " " +
+                            shellQuote(png) + " 1>&2"; // stdout is the Markdown table
     if (std::system(cmd.c_str()) != 0) {
         std::cerr << "sgfx-bench: --plot: " << cmd << " failed; the results are in " << json << "\n";
         return 1;

@@ -1,5 +1,7 @@
 #include "PolygonScene.h"
 
+#include <particles/ParticleSystemNode.h>
+
 #include "CameraPath.h"
 
 #include <sgfx/Camera.h>
@@ -938,6 +940,32 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     scene.root->addChild(scene.vehicle);
     scene.root->addChild(scene.glass);
     return scene;
+}
+
+sgfx::NodePtr withRainFollowing(sgfx::NodePtr world, std::shared_ptr<const sgfx::Camera> camera, float area,
+                                std::uint32_t count, float above, float lowest) {
+    auto rain = sgfx::ParticleSystemNode::rain({area, area}, count);
+    auto place = sgfx::Transform::create();
+    // Weak: the camera holds the scene, and the scene this callback (no cycle).
+    place->updateCallback = [weakCamera = std::weak_ptr<const sgfx::Camera>(camera), rain = rain.get(), above,
+                             lowest](sgfx::Node& n, sgfx::UpdateVisitor&) {
+        const auto cam = weakCamera.lock();
+        if (!cam) return;
+        const glm::vec3 eye(glm::inverse(cam->viewMatrix)[3]);
+        const float height = eye.z + above;
+        static_cast<sgfx::Transform&>(n).setMatrix(glm::translate(glm::mat4(1.0f), {eye.x, eye.y, height}));
+        sgfx::particles::Emitter e = rain->settings().emitter;
+        const float lifetime = std::max(1.0f, (height - lowest) / -e.velocity.z);
+        if (std::abs(lifetime - e.lifetime) > 0.05f * e.lifetime) {
+            e.lifetime = lifetime;
+            rain->setEmitter(e);
+        }
+    };
+    place->addChild(rain);
+    auto group = sgfx::Group::create();
+    group->addChild(world);
+    group->addChild(place);
+    return group;
 }
 
 } // namespace polygon

@@ -10,6 +10,7 @@
 //   vehicle   a tracked robot vehicle near the centre
 //   glass     two alpha-blended glass panes near the centre
 //   lights    a directional sun and an ambient light
+#include <sgfx/Camera.h>
 #include <sgfx/Group.h>
 
 #include <glm/glm.hpp>
@@ -106,5 +107,10 @@ PolygonScene buildPolygonScene(const SceneOptions& options = {});
 
 // The tracked robot vehicle alone, at the origin, facing +X (for figures and tests).
 std::shared_ptr<sgfx::Group> buildVehicle();
+
+// `world` and a rain of `count` drops over an area x area square that follows the camera, emitted
+// `above` metres over the eye and falling long enough to reach height `lowest`.
+sgfx::NodePtr withRainFollowing(sgfx::NodePtr world, std::shared_ptr<const sgfx::Camera> camera, float area,
+                                std::uint32_t count, float above, float lowest);
 
 } // namespace polygon

@@ -434,32 +434,10 @@ Options parseArgs(int argc, char** argv) {
 polygon::CameraPose startPose(const Options& o, float t);
 
 // Rain over an area that follows `camera` (the drops already falling stay where they are).
+// 200,000 drops (--rain-count) over 80 x 80 m, 20 m above the eye, reaching the lowest ground (z = -10).
 sgfx::NodePtr withRain(const Options& o, sgfx::NodePtr world, std::shared_ptr<const sgfx::Camera> camera) {
     if (!o.rain) return world;
-    auto rain = sgfx::ParticleSystemNode::rain({80.0f, 80.0f}, o.rainCount);
-    auto above = sgfx::Transform::create();
-    // Weak: the camera holds the scene, and the scene this callback (no cycle).
-    above->updateCallback = [weakCamera = std::weak_ptr<const sgfx::Camera>(camera),
-                             rain = rain.get()](sgfx::Node& n, sgfx::UpdateVisitor&) {
-        const auto cam = weakCamera.lock();
-        if (!cam) return;
-        // 20 m above the eye, falling long enough to reach the lowest ground (z = -10).
-        const glm::vec3 eye(glm::inverse(cam->viewMatrix)[3]);
-        const float height = eye.z + 20.0f;
-        static_cast<sgfx::Transform&>(n).setMatrix(
-            glm::translate(glm::mat4(1.0f), glm::vec3(eye.x, eye.y, height)));
-        sgfx::particles::Emitter e = rain->settings().emitter;
-        const float lifetime = std::max(1.0f, (height + 10.0f) / -e.velocity.z);
-        if (std::abs(lifetime - e.lifetime) > 0.05f * e.lifetime) {
-            e.lifetime = lifetime;
-            rain->setEmitter(e);
-        }
-    };
-    above->addChild(rain);
-    auto group = sgfx::Group::create();
-    group->addChild(world);
-    group->addChild(above);
-    return group;
+    return polygon::withRainFollowing(std::move(world), std::move(camera), 80.0f, o.rainCount, 20.0f, -10.0f);
 }
 
 // The sky (its sun becomes the scene's) and a smoke cloud over the road ahead of the start pose.
