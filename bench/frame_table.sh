@@ -5,8 +5,8 @@
 # times interleaved (so machine drift hits all of them) along the same camera path with glibc's
 # mmap threshold pinned, and prints a Markdown table of the medians of the per-run median frame
 # times, with the ratios. sgfx runs with fog off, once as shipped (levels of detail, automatic
-# instancing), once without levels of detail, and once with per-vertex lighting like OSG's
-# fixed function.
+# instancing, a submission every 20000 triangles), once without levels of detail, once with
+# per-vertex lighting like OSG's fixed function, and once submitting once per frame.
 # Usage: bench/frame_table.sh [BUILD_DIR] [ROUNDS] [FRAMES] [SIZE]
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -28,7 +28,7 @@ run() {
   eval "$name+=(\"$(echo "$out" | field median_ms)\")"
   echo "  $name: $(echo "$out" | field median_ms) ms" >&2
 }
-plain_sgfx=(); plain_nolod=(); plain_vertex=(); plain_osg=(); many_sgfx=(); many_noinst=(); many_osg=()
+plain_sgfx=(); plain_nolod=(); plain_vertex=(); plain_onesub=(); plain_osg=(); many_sgfx=(); many_noinst=(); many_osg=()
 poly=("$build/demos/polygon" --bench "$frames" --size "$size" --fog off)
 osg=("$build/bench/osg_polygon" --frames "$frames" --size "$size" --osg-stats)
 for ((r = 0; r < rounds; ++r)); do
@@ -36,6 +36,7 @@ for ((r = 0; r < rounds; ++r)); do
   run plain_sgfx "${poly[@]}"
   run plain_nolod "${poly[@]}" --no-lod
   run plain_vertex "${poly[@]}" --lighting vertex
+  run plain_onesub "${poly[@]}" --submit-triangles 0
   run plain_osg "${osg[@]}" "$tmp/plain.obj"
   run many_sgfx "${poly[@]}" --many-drawables
   run many_noinst "${poly[@]}" --many-drawables --no-instancing
@@ -62,6 +63,7 @@ row() { # SCENE LABEL NAME OSGNAME
 row "plain frame" "sgfx (LOD, auto-instancing)" plain_sgfx plain_osg
 row "plain frame" "sgfx, no LOD" plain_nolod plain_osg
 row "plain frame" "sgfx, per-vertex lighting" plain_vertex plain_osg
+row "plain frame" "sgfx, one submission per frame" plain_onesub plain_osg
 row "plain frame" "OpenSceneGraph 3.6" plain_osg plain_osg
 row "many drawables" "sgfx (auto-instancing)" many_sgfx many_osg
 row "many drawables" "sgfx, no auto-instancing" many_noinst many_osg

@@ -1539,6 +1539,31 @@ TEST(ProvingGroundLod, TerrainLevelsLeaveNoCracksAndCutTriangles) {
 
 // ------------------------------------------------------------------------ culling is conservative
 
+// RendererOptions::submitTriangles only changes when the driver starts rasterising: submitting
+// before every draw, every 500 triangles or once per frame gives the same pixels.
+TEST(Submission, FlushingWhileDrawingDrawsTheSameImage) {
+    polygon::SceneOptions so;
+    so.scale = 0.1f;
+    const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
+    auto v = Viewer::createHeadless(128, 72);
+    v->setSceneData(scene.root);
+    auto& cam = *v->camera();
+    cam.setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
+    for (int i = 0; i < 3; ++i) {
+        const polygon::CameraPose pose = polygon::cameraPose(float(i) / 3.0f, so.extent);
+        cam.setLookAt(pose.eye, pose.target, pose.up);
+        v->renderer().options().submitTriangles = 0;
+        v->frame();
+        const Image once = v->capture();
+        ASSERT_GT(v->stats().triangles, 1000u);
+        for (std::uint64_t every : {std::uint64_t(1), std::uint64_t(500)}) {
+            v->renderer().options().submitTriangles = every;
+            v->frame();
+            EXPECT_EQ(v->capture().pixels, once.pixels) << "view " << i << ", a submission every " << every;
+        }
+    }
+}
+
 TEST(Culling, NeverDropsAVisibleObjectOnTheProvingGround) {
     polygon::SceneOptions so;
     so.scale = 0.1f;

@@ -82,6 +82,10 @@ options:
   --many-drawables    the many-drawables benchmark scene: every window of every building its
                       own drawable (about 26,000 more drawables)
   --no-instancing     draw repeated meshes one by one (RendererOptions::autoInstancing off)
+  --submit-triangles N
+                      submit queued draws every N triangles so llvmpipe rasterises while
+                      the frame is still being drawn (RendererOptions::submitTriangles,
+                      default 20000; 0 submits once per frame)
   --egl               render headless through EGL (GPU) instead of OSMesa
   --lighting pixel|vertex
                       per-pixel Blinn-Phong (default) or per-vertex (Gouraud) lighting
@@ -159,6 +163,7 @@ struct Options {
     bool lod = true;
     bool manyDrawables = false;
     bool autoInstancing = true;
+    std::uint64_t submitTriangles = sgfx::RendererOptions{}.submitTriangles;
     int benchFrames = 0;
     bool egl = false;
     sgfx::RendererOptions::Lighting lighting = sgfx::RendererOptions::Lighting::PerPixel;
@@ -272,6 +277,8 @@ Options parseArgs(int argc, char** argv) {
             o.lod = false;
         } else if (arg == "--no-instancing") {
             o.autoInstancing = false;
+        } else if (arg == "--submit-triangles") {
+            o.submitTriangles = parseNumber<std::uint64_t>(arg, value());
         } else if (arg == "--many-drawables") {
             o.manyDrawables = true;
         } else if (arg == "--seed") {
@@ -494,6 +501,7 @@ std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
         o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
     viewer->renderer().options().lighting = o.lighting;
     viewer->renderer().options().autoInstancing = o.autoInstancing;
+    viewer->renderer().options().submitTriangles = o.submitTriangles;
     viewer->renderer().options().countFragments = o.countFragments;
     viewer->camera()->setAntiAliasing(o.aa);
     return viewer;
@@ -659,6 +667,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     sgfx::Viewer viewer(std::move(window));
     viewer.renderer().options().lighting = o.lighting;
     viewer.renderer().options().autoInstancing = o.autoInstancing;
+    viewer.renderer().options().submitTriangles = o.submitTriangles;
     viewer.camera()->setAntiAliasing(o.aa);
     setupCamera(viewer, startPose(o, o.time));
     // Fog is always in the graph here so F can cycle it: off, forward, split, post.

@@ -292,7 +292,8 @@ struct Renderer::Impl {
     // buffer at kBatchBinding.
     gl::BufferObject batchModels;
     std::vector<glm::mat4> batchScratch;
-    gl::VertexArrayObject emptyVao; // full-screen passes take their vertices from gl_VertexID
+    std::uint64_t submittedTriangles = 0; // FrameStats::triangles at the last glFlush
+    gl::VertexArrayObject emptyVao;       // full-screen passes take their vertices from gl_VertexID
     DebugLog log;
 
     GLuint program = 0;
@@ -472,6 +473,7 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     context_.assertOwnerThread();
     const auto t0 = clock::now();
     stats_ = {};
+    impl_->submittedTriangles = 0;
     frame_.time = time;
     frame_.frameNumber = frameNumber;
     // Forget the targets of render-to-texture cameras that no longer exist.
@@ -731,6 +733,10 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
     }
     std::vector<const ShaderSnippet*> snippets;
     for (std::size_t i = 0, run = 1; i < items.size(); i += run) {
+        if (options_.submitTriangles && stats_.triangles - s.submittedTriangles >= options_.submitTriangles) {
+            glFlush(); // llvmpipe's threads rasterise what is binned while this thread goes on
+            s.submittedTriangles = stats_.triangles;
+        }
         const RenderItem& item = items[i];
         s.log.item = &item;
         // Repeated meshes: neighbours in the sorted list that differ only in their matrix are

@@ -127,6 +127,12 @@ struct RendererOptions {
     /// always drawn one by one.
     bool autoInstancing = true;
     std::size_t minInstanceBatch = 2;
+    /// Submit the queued draws (glFlush) whenever this many triangles have been drawn since the
+    /// last submission; 0 never does. A driver that bins a whole submission before rasterising
+    /// it (llvmpipe) then rasterises on its threads while this thread keeps drawing instead of
+    /// after it: the proving ground's frame about 10 % faster on 2 cores. Desktop GPUs are
+    /// unaffected; on tile-based mobile GPUs a flush can force tiles out, so set 0 there.
+    std::uint64_t submitTriangles = 20000;
 };
 
 /// Owns GL-side resources for one context: composed programs, the scene target, the state cache.
