@@ -289,29 +289,26 @@ void CullVisitor::apply(Drawable& d) {
 void CullVisitor::queueItem(const Geometry* geometry, const Drawable* drawable, std::uint32_t features,
                             const ResolvedState& state, const BoundingSphere& vs, std::uintptr_t program,
                             bool twoPassable) {
-    auto fill = [&](RenderItem& item) {
-        item.geometry = geometry;
-        item.drawable = drawable;
-        item.features = features;
-        item.model = model_.back();
-        item.state = &state;
-        item.effectSet = effectSet_.back();
-        item.depth = -vs.center.z;
-        item.depthBucket = item.depth > 1.0f ? std::int8_t(std::min(exponentOf(item.depth), 127)) : 0;
-        item.sequence = sequence_++;
-        // Equal keys mean one program: (foreign shader, drawable base or built-in variant, snippets).
-        item.programKey = (std::uint64_t(program) << 8) ^
-                          (std::uint64_t(queue_.effectSets[item.effectSet].signature) << 44) ^
-                          (std::uint64_t(item.features) << 32);
-        computedNear = std::min(computedNear, item.depth - vs.radius);
-        computedFar = std::max(computedFar, item.depth + vs.radius);
+    const std::uint32_t effectSet = effectSet_.back();
+    const float depth = -vs.center.z;
+    const std::int8_t bucket = depth > 1.0f ? std::int8_t(std::min(exponentOf(depth), 127)) : 0;
+    // Equal keys mean one program: (foreign shader, drawable base or built-in variant, snippets).
+    const std::uint64_t programKey = (std::uint64_t(program) << 8) ^
+                                     (std::uint64_t(queue_.effectSets[effectSet].signature) << 44) ^
+                                     (std::uint64_t(features) << 32);
+    computedNear = std::min(computedNear, depth - vs.radius);
+    computedFar = std::max(computedFar, depth + vs.radius);
+    // Items are built from their fields in place, each of their 128 bytes written once (a
+    // default-constructed item filled afterwards wrote them twice).
+    auto build = [&](auto&& construct) -> decltype(auto) {
+        return construct(geometry, drawable, model_.back(), &state, effectSet, depth, std::int32_t(0), bucket,
+                         sequence_++, programKey, features, RenderItem::Faces::AsState);
     };
     if (!state.transparent()) {
-        fill(queue_.opaque.emplace_back()); // written once, straight into the queue
+        build([&](auto&&... field) -> RenderItem& { return queue_.opaque.emplace_back(field...); });
         return;
     }
-    RenderItem item;
-    fill(item);
+    RenderItem item = build([](auto&&... field) { return RenderItem(field...); });
     const BlendMode blend = state.blendMode();
     const auto& effects = queue_.effectSets[item.effectSet].effects;
     if (std::any_of(effects.begin(), effects.end(),
