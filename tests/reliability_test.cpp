@@ -9,6 +9,7 @@
 #include <debugtint/DebugTintNode.h>
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
+#include <sgfx/CullVisitor.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/GltfLoader.h>
 #include <sgfx/GltfWriter.h>
@@ -37,6 +38,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <set>
 #include <thread>
 
 using namespace sgfx;
@@ -1370,6 +1372,77 @@ TEST(ThreadContractDeathTest, GlWorkFromAnotherThreadAbortsWithAMessage) {
 }
 
 // ------------------------------------------------------------------------ automatic instancing
+
+// Windows of differently coloured buildings: the windows' StateSet replaces everything the
+// buildings set, so every path resolves to one state; the cull shares one pointer for it and the
+// renderer draws them as one batch. A parent that overrides the material, or sets another
+// attribute, keeps its own state.
+TEST(StateSorting, PathsThatResolveToTheSameStateShareOneStateAndBatch) {
+    auto cam = Camera::create();
+    cam->setViewport(0, 0, 96, 64);
+    cam->setPerspective(60.0f, 0.1f, 200.0f);
+    cam->setLookAt({0, -30, 6}, {0, 0, 0});
+    auto window = shapes::box({1.0f, 0.2f, 1.4f});
+    auto windowState = StateSet::create();
+    auto glassy = Material::create();
+    glassy->diffuse = glm::vec4(0.1f, 0.2f, 0.5f, 1.0f);
+    windowState->material.set(glassy);
+    enum Kind { Plain, OverridesMaterial, SetsCullFace };
+    std::vector<Kind> kinds;
+    for (int b = 0; b < 8; ++b) {
+        const Kind kind = b == 5 ? OverridesMaterial : b == 6 ? SetsCullFace : Plain;
+        auto building = Transform::create(glm::translate(glm::mat4(1.0f), {float(b) * 3.0f - 10.0f, 0, 0}));
+        auto colour = Material::create();
+        colour->diffuse = glm::vec4(0.3f + 0.08f * float(b), 0.3f, 0.2f, 1.0f);
+        building->getOrCreateStateSet().material.set(colour, kind == OverridesMaterial ? Override : Inherit);
+        if (kind == SetsCullFace) building->getOrCreateStateSet().cullFace.set(CullFace::None);
+        auto windows = Group::create();
+        windows->setStateSet(windowState);
+        for (int w = 0; w < 3; ++w) {
+            auto at = Transform::create(glm::translate(glm::mat4(1.0f), {0, 0, float(w) * 2.0f}));
+            at->addChild(window);
+            windows->addChild(at);
+        }
+        building->addChild(windows);
+        cam->addChild(building);
+        kinds.push_back(kind);
+    }
+    RenderQueue q;
+    CullVisitor cv(*cam, q);
+    cv.run(*cam);
+    ASSERT_EQ(q.opaque.size(), 24u);
+    std::map<Kind, std::set<const ResolvedState*>> statesOf;
+    for (const RenderItem& it : q.opaque) {
+        const int b = int(std::lround((it.model[3].x + 10.0f) / 3.0f));
+        ASSERT_TRUE(b >= 0 && b < 8);
+        statesOf[kinds[std::size_t(b)]].insert(it.state);
+        const bool overridden = kinds[std::size_t(b)] == OverridesMaterial;
+        EXPECT_EQ(it.state->material.value->get() == glassy.get(), !overridden) << "building " << b;
+    }
+    EXPECT_EQ(statesOf[Plain].size(), 1u) << "six buildings, one resolved window state";
+    EXPECT_EQ(statesOf[OverridesMaterial].size(), 1u);
+    EXPECT_EQ(statesOf[SetsCullFace].size(), 1u);
+    EXPECT_NE(*statesOf[Plain].begin(), *statesOf[OverridesMaterial].begin());
+    EXPECT_NE(*statesOf[Plain].begin(), *statesOf[SetsCullFace].begin());
+    EXPECT_EQ((*statesOf[SetsCullFace].begin())->cullFace.value, CullFace::None);
+
+    // Drawn: the 18 windows of the six plain buildings, from one distance octave, are one batch
+    // (six states interleaved by depth drew them in many runs).
+    auto v = Viewer::createHeadless(96, 64);
+    auto root = Group::create();
+    for (std::size_t b = 0; b < kinds.size(); ++b)
+        if (kinds[b] == Plain) root->addChild(cam->children()[b]);
+    auto sun = Light::create(LightType::Directional);
+    sun->direction = glm::normalize(glm::vec3(0.2f, 1.0f, -0.6f));
+    root->addChild(sun);
+    v->setSceneData(root);
+    v->camera()->setPerspective(60.0f, 0.1f, 200.0f);
+    v->camera()->setLookAt({0, -45, 4}, {0, 0, 2}); // every window 32..64 m away
+    v->frame();
+    EXPECT_EQ(v->stats().triangles, 18u * window->triangleCount());
+    EXPECT_EQ(v->stats().drawCalls, 1u);
+    EXPECT_EQ(v->stats().instanceBatches, 1u);
+}
 
 TEST(AutoInstancing, BatchesDrawTheSameImageInEveryPass) {
     // 60 copies of two meshes under Transforms that scale unevenly and mirror, under fog and AO

@@ -97,8 +97,7 @@ void CullVisitor::pushState(const Node& n) {
                      (reinterpret_cast<std::uintptr_t>(set) >> 4);
     MergedState& slot = mergedStates_[key % mergedStates_.size()];
     if (slot.inherited != inherited || slot.set != set) {
-        queue_.states.push_back(inherited->merged(*set));
-        slot = {inherited, set, &queue_.states.back()};
+        slot = {inherited, set, queue_.internState(inherited->merged(*set))};
     }
     state_.push_back(slot.merged);
 }

@@ -33,7 +33,25 @@ void RenderQueue::clear() {
     lights.clear();
     ambientLight = glm::vec3(0.0f);
     states.clear();
+    stateIndex_.clear();
     subCameras.clear();
+}
+
+const ResolvedState* RenderQueue::internState(ResolvedState&& state) {
+    // A cheap hash of what usually differs; equality decides.
+    auto mix = [](std::size_t h, std::size_t v) { return (h ^ v) * 0x100000001b3ull; };
+    std::size_t h = 0xcbf29ce484222325ull;
+    h = mix(h, std::hash<const void*>{}(state.material.value ? state.material.value->get() : nullptr));
+    h = mix(h, std::hash<const void*>{}(state.program.value ? state.program.value->get() : nullptr));
+    h = mix(h, std::size_t(state.blend.value.value_or(BlendMode(255))));
+    h = mix(h, std::size_t(state.cullFace.value.value_or(CullFace(255))));
+    h = mix(h, state.uniforms.size() * 131 + state.textures.size());
+    const auto [first, last] = stateIndex_.equal_range(h);
+    for (auto it = first; it != last; ++it)
+        if (*it->second == state) return it->second;
+    const ResolvedState* kept = &states.emplace_back(std::move(state));
+    stateIndex_.emplace(h, kept);
+    return kept;
 }
 
 std::uint32_t RenderQueue::internEffectSet(std::vector<const EffectNode*> effects) {

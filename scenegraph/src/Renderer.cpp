@@ -742,6 +742,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         // Repeated meshes: neighbours in the sorted list that differ only in their matrix are
         // drawn as one instanced batch (the trees and buildings of a simulator scene).
         run = batchLength(items.subspan(i));
+        if (getenv("SGFX_DBG") && s.frames == 5) fprintf(stderr, "DRAW %s run %zu %s\n", item.node().name.c_str(), run, item.geometry ? item.geometry->name.c_str() : "drawable");
         const std::uint32_t extra = run > 1 ? FeatureBatched : 0u;
         bool programChanged = false;
         if (item.drawable) {

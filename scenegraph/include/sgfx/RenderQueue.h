@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <unordered_map>
 #include <vector>
 
 namespace sgfx {
@@ -71,8 +72,14 @@ public:
     void sort();
     std::size_t size() const { return opaque.size() + transparent.size() + claimed.size(); }
     std::uint32_t internEffectSet(std::vector<const EffectNode*> effects);
+    /// Keeps `state` in `states` and returns its address, or the address of an equal state
+    /// already kept this frame: paths that resolve to the same state share one pointer, so
+    /// their items batch and draw without a state change (windows of differently coloured
+    /// buildings).
+    const ResolvedState* internState(ResolvedState&& state);
 
 private:
+    std::unordered_multimap<std::size_t, const ResolvedState*> stateIndex_;
     std::vector<std::string> signatures_{std::string()}; ///< [0] = no snippet
     struct SortKey {
         std::uint64_t primary;

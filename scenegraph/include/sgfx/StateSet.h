@@ -29,6 +29,7 @@ template <class T> struct StateAttr {
     }
     void clear() { value.reset(), flags = Inherit; }
     explicit operator bool() const { return value.has_value(); }
+    bool operator==(const StateAttr&) const = default;
 };
 
 enum class BlendMode : std::uint8_t { Off, Alpha, Premultiplied, Additive, Multiply };
@@ -83,6 +84,8 @@ struct StateAttributes {
     /// Named uniforms and sampler textures for foreign shaders (and effect tuning).
     std::map<std::string, StateAttr<UniformValue>, std::less<>> uniforms;
     std::map<std::string, StateAttr<std::shared_ptr<Texture>>, std::less<>> textures;
+    /// Same values and flags (resources compared by identity).
+    bool operator==(const StateAttributes&) const = default;
 };
 
 /// Render state of a node and its subtree (OSG's StateSet): material, textures, blending, depth,
