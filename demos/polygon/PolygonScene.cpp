@@ -4,6 +4,7 @@
 
 #include "CameraPath.h"
 
+#include <sgfx/Billboard.h>
 #include <sgfx/Camera.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Image.h>
@@ -86,6 +87,9 @@ constexpr float kTreesAtScale1 = 1500.0f;
 // screen; buildings show window boxes above kBuildingDetailPixels and flat window panes below.
 constexpr float kTerrainCellPixels = 12.0f;
 constexpr float kBuildingDetailPixels = 160.0f;
+// Trees smaller than this on screen (their sphere's diameter) are one leaf card turned to the
+// eye (a Billboard) instead of four crossed cards: a quarter of the alpha-masked area to shade.
+constexpr float kTreeBillboardPixels = 120.0f;
 
 glm::mat4 translate(const glm::vec3& t) {
     return glm::translate(glm::mat4(1.0f), t);
@@ -584,8 +588,9 @@ std::shared_ptr<sgfx::Image> makeLeafMask(std::uint64_t seed, int size) {
 }
 
 // One tree: trunk cylinder plus three crossed vertical leaf cards and one horizontal card
-// (seen from the air), alpha-masked with the leaf silhouette.
-std::shared_ptr<Group> makeTree(std::uint64_t seed) {
+// (seen from the air), alpha-masked with the leaf silhouette; with levels of detail, distant
+// trees are the trunk and one card facing the eye.
+std::shared_ptr<Group> makeTree(std::uint64_t seed, bool lod) {
     auto tree = Group::create();
     tree->name = "tree";
     auto trunk = sgfx::shapes::cylinder(0.24f, 3.8f, 8, false);
@@ -614,7 +619,34 @@ std::shared_ptr<Group> makeTree(std::uint64_t seed) {
 
     tree->addChild(trunk);
     tree->addChild(leaves);
-    return tree;
+    if (!lod) return tree;
+    auto facing = Geometry::create();
+    facing->name = "leaves_billboard";
+    sgfx::shapes::append(*facing, *card,
+                         translate({0, 0, bottom + 0.5f * cardH}) * rotateX(glm::half_pi<float>()));
+    // Seen from its lit side, a card facing the eye is brighter than three crossed cards, whose
+    // visible faces turn from the light by a uniformly spread angle: their mean diffuse
+    // factor, weighted by projected area, is E[cos^2]/E[|cos|] = pi/4 of the facing card's.
+    auto facingMat = std::make_shared<sgfx::Material>(*mat);
+    facingMat->diffuse = glm::vec4(glm::vec3(mat->diffuse) * glm::quarter_pi<float>(), mat->diffuse.a);
+    auto facingState = std::make_shared<StateSet>(*leafState);
+    facingState->material.set(facingMat);
+    facing->setStateSet(facingState);
+    auto billboard = sgfx::Billboard::create(); // turns about z; the card's -Y side to the eye
+    billboard->addChild(facing);
+    auto distant = Group::create();
+    distant->name = "tree_distant";
+    distant->addChild(trunk);
+    distant->addChild(billboard);
+    auto levels = sgfx::LOD::create();
+    levels->name = "tree_lod";
+    levels->setUserSphere({0, 0, 0.5f * (bottom + cardH)}, 0.5f * (bottom + cardH));
+    levels->addChild(tree, kTreeBillboardPixels, std::numeric_limits<float>::infinity());
+    levels->addChild(distant, 0.0f, kTreeBillboardPixels);
+    auto root = Group::create();
+    root->name = "tree";
+    root->addChild(levels);
+    return root;
 }
 
 // ------------------------------------------------------------------------------------------ vehicle
@@ -879,7 +911,7 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     scene.info.buildingsRequested = buildingCount;
 
     // Trees: one shared tree under many Transforms, mostly in small forests.
-    auto tree = makeTree(options.seed);
+    auto tree = makeTree(options.seed, options.lod);
     scene.trees = Group::create();
     scene.trees->name = "trees";
     AreaGroups treeAreas("trees", extent, scene.trees);

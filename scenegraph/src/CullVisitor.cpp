@@ -1,5 +1,6 @@
 #include "sgfx/CullVisitor.h"
 
+#include "sgfx/Billboard.h"
 #include "sgfx/Camera.h"
 #include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
@@ -127,6 +128,23 @@ void CullVisitor::apply(Transform& t) {
     scale_.push_back(similar ? scale_.back() * t.maxScale() : maxAxisScale(modelView_.back()));
     similar_.push_back(similar && t.similarity());
     traverseWithState(t);
+    similar_.pop_back();
+    scale_.pop_back();
+    modelView_.pop_back();
+    model_.pop_back();
+    planeMask_.pop_back();
+}
+
+void CullVisitor::apply(Billboard& b) {
+    if (!cullTest(b)) return;
+    // The eye and the view's up in the billboard's frame.
+    const glm::mat4 toLocal = glm::inverse(modelView_.back());
+    const glm::mat4 r = b.orientation(glm::vec3(toLocal[3]), glm::vec3(toLocal[1]));
+    model_.push_back(model_.back() * r);
+    modelView_.push_back(modelView_.back() * r);
+    scale_.push_back(scale_.back()); // a rotation: same scale, same similarity
+    similar_.push_back(similar_.back());
+    traverseWithState(b);
     similar_.pop_back();
     scale_.pop_back();
     modelView_.pop_back();

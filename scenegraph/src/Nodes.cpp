@@ -1,3 +1,4 @@
+#include "sgfx/Billboard.h"
 #include "sgfx/Camera.h"
 #include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
@@ -177,6 +178,54 @@ void Transform::setMatrix(const glm::mat4& m) {
 
 BoundingSphere Transform::computeBound() const {
     return Group::computeBound().transformed(matrix_);
+}
+
+// ---------------------------------------------------------------- Billboard
+void Billboard::accept(NodeVisitor& v) {
+    v.apply(*this);
+}
+
+glm::mat4 Billboard::orientation(const glm::vec3& eye, const glm::vec3& up) const {
+    auto isFinite = [](const glm::vec3& v) {
+        return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    const bool finite = isFinite(axis) && isFinite(normal);
+    if (!finite || std::abs(glm::length(axis) - 1.0f) > 1e-3f ||
+        std::abs(glm::length(normal) - 1.0f) > 1e-3f || std::abs(glm::dot(axis, normal)) > 1e-3f)
+        throw std::invalid_argument("sgfx: Billboard " + label(*this) +
+                                    ": axis and normal must be finite, perpendicular unit vectors");
+    if (!isFinite(eye)) return glm::mat4(1.0f);
+    if (mode == Mode::AxialRotation) {
+        const glm::vec3 across = eye - axis * glm::dot(eye, axis);
+        const float len = glm::length(across);
+        if (!(len > 1e-6f * glm::length(eye))) return glm::mat4(1.0f); // on the axis
+        const glm::vec3 to = across / len;
+        const float angle = std::atan2(glm::dot(glm::cross(normal, to), axis), glm::dot(normal, to));
+        return glm::rotate(glm::mat4(1.0f), angle, axis);
+    }
+    const float distance = glm::length(eye);
+    if (!(distance > 0.0f)) return glm::mat4(1.0f);
+    const glm::vec3 n = eye / distance;
+    // The up that stays: the view's, else the rest axis, else anything across the eye.
+    glm::vec3 u = isFinite(up) ? up - n * glm::dot(up, n) : glm::vec3(0.0f);
+    if (!(glm::length(u) > 1e-6f)) u = axis - n * glm::dot(axis, n);
+    if (!(glm::length(u) > 1e-6f))
+        u = glm::cross(n, std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0));
+    u = glm::normalize(u);
+    // Map the rest frame (axis x normal, axis, normal) onto (u x n, u, n).
+    const glm::mat3 from(glm::cross(axis, normal), axis, normal);
+    const glm::mat3 to(glm::cross(u, n), u, n);
+    return glm::mat4(to * glm::transpose(from));
+}
+
+BoundingSphere Billboard::computeBound() const {
+    const BoundingSphere rest = Group::computeBound();
+    if (!rest.valid()) return rest;
+    if (mode == Mode::AxialRotation) {
+        const glm::vec3 onAxis = axis * glm::dot(rest.center, axis);
+        return {onAxis, rest.radius + glm::length(rest.center - onAxis)};
+    }
+    return {glm::vec3(0.0f), rest.radius + glm::length(rest.center)};
 }
 
 // ---------------------------------------------------------------- LOD

@@ -1,5 +1,6 @@
 #include "sgfx/Visitors.h"
 
+#include "sgfx/Billboard.h"
 #include "sgfx/Camera.h"
 #include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
@@ -21,6 +22,9 @@ void NodeVisitor::apply(Transform& t) {
 }
 void NodeVisitor::apply(LOD& lod) {
     apply(static_cast<Group&>(lod));
+}
+void NodeVisitor::apply(Billboard& b) {
+    apply(static_cast<Group&>(b));
 }
 void NodeVisitor::apply(Geometry& g) {
     apply(static_cast<Node&>(g));

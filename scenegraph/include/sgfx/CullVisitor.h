@@ -21,6 +21,8 @@ public:
     void apply(Transform& t) override;
     /// Visits the children whose pixel range holds the LOD's size on screen.
     void apply(LOD& lod) override;
+    /// Turns the children towards this view's eye.
+    void apply(Billboard& b) override;
     void apply(Geometry& g) override;
     void apply(Drawable& d) override;
     void apply(Camera& c) override;

@@ -10,6 +10,7 @@ class Node;
 class Group;
 class Transform;
 class LOD;
+class Billboard;
 class Geometry;
 class Drawable;
 class Camera;
@@ -33,7 +34,8 @@ public:
     virtual void apply(Node& node);
     virtual void apply(Group& group);
     virtual void apply(Transform& transform);
-    virtual void apply(LOD& lod); ///< default: all children, like a Group
+    virtual void apply(LOD& lod);             ///< default: all children, like a Group
+    virtual void apply(Billboard& billboard); ///< default: the children unrotated, like a Group
     virtual void apply(Geometry& geometry);
     virtual void apply(Drawable& drawable);
     virtual void apply(Camera& camera);
