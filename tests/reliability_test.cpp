@@ -1551,6 +1551,43 @@ TEST(ProvingGroundLod, SkirtsCoverEveryStepBetweenTerrainLevels) {
     EXPECT_LT(worst, 0.0) << "a skirt ends " << worst << " m above another level's edge";
 }
 
+TEST(ProvingGroundLod, CoarseTerrainLevelsNeverRiseOverTheTerrain) {
+    // Each coarser level is lowered by the largest rise of its triangles over the terrain,
+    // measured per tile, so the roads laid on the terrain never sink into a distant tile. Read
+    // from the built geometry: centroids and edge midpoints of every grid triangle, against the
+    // terrain's height there. Flat tiles measure far less than the worst-case bound.
+    polygon::SceneOptions so;
+    so.scale = 0.25f;
+    const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
+    const polygon::Terrain terrain(so.seed);
+    double worstRise = -1e9, smallestDrop = 1e9, largestDrop = 0.0;
+    int levels = 0;
+    for (const auto& child : scene.terrain->children()) {
+        auto lod = std::dynamic_pointer_cast<LOD>(child);
+        if (!lod) continue;
+        for (std::size_t level = 1; level < lod->children().size(); ++level) {
+            auto g = std::dynamic_pointer_cast<Geometry>(lod->children()[level]);
+            ASSERT_TRUE(g);
+            ++levels;
+            double drop = 0.0;
+            for (std::size_t t = 0; t + 2 < g->indices.size(); t += 3) {
+                const glm::vec3 a = g->positions[g->indices[t]], b = g->positions[g->indices[t + 1]],
+                                c = g->positions[g->indices[t + 2]];
+                if (std::abs(glm::cross(b - a, c - a).z) < 1e-6f) continue; // a skirt strip
+                drop = std::max(drop, double(terrain.height(a.x, a.y) - a.z));
+                for (const glm::vec3& p :
+                     {(a + b + c) / 3.0f, (a + b) * 0.5f, (b + c) * 0.5f, (a + c) * 0.5f})
+                    worstRise = std::max(worstRise, double(p.z - terrain.height(p.x, p.y)));
+            }
+            smallestDrop = std::min(smallestDrop, drop);
+            largestDrop = std::max(largestDrop, drop);
+        }
+    }
+    EXPECT_GT(levels, 0);
+    EXPECT_LE(worstRise, 1e-4) << "a coarse terrain level rises " << worstRise << " m over the terrain";
+    EXPECT_LT(smallestDrop, 0.5 * largestDrop) << "drops are measured per tile, not one bound for all";
+}
+
 TEST(ProvingGroundLod, TerrainLevelsLeaveNoCracksAndCutTriangles) {
     // A magenta backdrop lies under the ground, the size of the ground: a crack between tiles of
     // different levels, looked through, shows it; past the ground's edge the eye sees the sky.

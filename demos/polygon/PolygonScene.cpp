@@ -83,9 +83,12 @@ constexpr int kAreaCellsPerSide = 8; // buildings and trees are grouped by area 
 constexpr float kCellsPerTileAtScale1 = 22.0f;
 constexpr float kBuildingsAtScale1 = 330.0f;
 constexpr float kTreesAtScale1 = 1500.0f;
-// Levels of detail: a terrain level serves while its cells cover fewer pixels than this on
-// screen; buildings show window boxes above kBuildingDetailPixels and flat window panes below.
-constexpr float kTerrainCellPixels = 12.0f;
+// Levels of detail: a coarser terrain level serves while its height error, seen from the
+// nearest point of the tile's sphere, stays under kTerrainErrorPixels on screen (the screen-space
+// error bound of chunked terrain LOD) for a view kTerrainViewPixels tall with the camera path's
+// field of view; buildings show window boxes above kBuildingDetailPixels and flat panes below.
+constexpr float kTerrainErrorPixels = 1.0f;
+constexpr float kTerrainViewPixels = 720.0f;
 constexpr float kBuildingDetailPixels = 160.0f;
 // Trees smaller than this on screen (their sphere's diameter) are one leaf card turned to the
 // eye (a Billboard) instead of four crossed cards: a quarter of the alpha-masked area to shade.
@@ -235,6 +238,39 @@ float interpolationError(float cell) {
     return e;
 }
 
+// How far a tile drawn with n x n cells strays from the terrain, measured on a grid finer than
+// the finest level: `drop` lowers it so it never rises over the terrain (and the roads on it),
+// `error` is then its largest distance from the terrain. Smooth and flat tiles measure far
+// below interpolationError's worst case, so they coarsen sooner.
+struct LevelError {
+    float drop = 0.0f;
+    float error = 0.0f;
+};
+LevelError measureLevel(const Terrain& terrain, float x0, float y0, float tile, int n, int samples) {
+    auto h = [&](int i, int j) {
+        return terrain.height(x0 + tile * float(i) / float(n), y0 + tile * float(j) / float(n));
+    };
+    float above = 0.0f, below = 0.0f;
+    for (int sj = 0; sj <= samples; ++sj)
+        for (int si = 0; si <= samples; ++si) {
+            // The point in cell (i, j) at (u, v), split along its (0,0)-(1,1) diagonal as
+            // shapes::heightfield triangulates it.
+            const float fx = float(n) * float(si) / float(samples),
+                        fy = float(n) * float(sj) / float(samples);
+            const int i = std::min(int(fx), n - 1), j = std::min(int(fy), n - 1);
+            const float u = fx - float(i), v = fy - float(j);
+            const float ha = h(i, j), hb = h(i + 1, j), hc = h(i, j + 1), hd = h(i + 1, j + 1);
+            const float drawn =
+                u >= v ? ha + u * (hb - ha) + v * (hd - hb) : ha + v * (hc - ha) + u * (hd - hc);
+            const float diff = drawn - terrain.height(x0 + tile * fx / float(n), y0 + tile * fy / float(n));
+            above = std::max(above, diff);
+            below = std::max(below, -diff);
+        }
+    // A margin for what falls between the samples.
+    const float drop = above * 1.1f + 0.01f;
+    return {drop, drop + below};
+}
+
 // One terrain tile of cells x cells, lowered by `drop` metres, with `skirt` metre skirts: strips
 // hanging from the four edges, facing out, that hide the cracks where tiles of different levels
 // meet.
@@ -286,28 +322,34 @@ std::shared_ptr<Group> buildTerrain(const Terrain& terrain, float extent, int ce
                 group->addChild(full);
                 continue;
             }
-            // Distant tiles at half and quarter resolution: a level is used while its cells stay
-            // under kTerrainCellPixels on screen. Each coarser level is lowered by its own
-            // interpolation error so it never rises over the roads, which follow the fine one.
+            // Distant tiles at half and quarter resolution. Each coarser level is lowered by its
+            // own interpolation error so it never rises over the roads, which follow the fine one.
             auto levels = sgfx::LOD::create();
             levels->name = name + "_lod";
-            levels->setUserSphere(glm::vec3(x0 + 0.5f * tile, y0 + 0.5f * tile, 0.0f), 0.7072f * tile);
-            const float diameter = 2.0f * 0.7072f * tile;
-            // Level k (n_k cells) serves while the next coarser level's cells would still be
-            // larger than kTerrainCellPixels: pixels >= K * diameter / cell_{k+1}.
+            const float radius = 0.7072f * tile;
+            levels->setUserSphere(glm::vec3(x0 + 0.5f * tile, y0 + 0.5f * tile, 0.0f), radius);
+            // The sphere is p = 2rK/d pixels across at centre distance d (K: focal length in
+            // pixels). A height error e seen from the sphere's nearest point, d - r away, spans
+            // eK/(d - r) pixels, at most kTerrainErrorPixels (tau) while p <= 2K / (1 + eK/(r tau)).
+            const float focal = 0.5f * kTerrainViewPixels / std::tan(glm::radians(0.5f * kPathFovyDegrees));
+            auto maxPixels = [&](float error) {
+                return 2.0f * focal / (1.0f + error * focal / (radius * kTerrainErrorPixels));
+            };
             const int n[3] = {cells, std::max(2, cells / 2), std::max(2, cells / 4)};
+            LevelError measured[3];
+            for (int level = 1; level < 3; ++level)
+                measured[level] = measureLevel(terrain, x0, y0, tile, n[level], 2 * cells);
+            measured[2].error = std::max(measured[2].error, measured[1].error); // ranges stay ordered
             // Every level hangs skirts deep enough for the largest step between two levels
-            // (the coarsest level's drop plus its own interpolation error), so whichever side
-            // of a boundary the eye is on, the nearer tile's skirt fills the gap.
+            // (the coarsest level's drop plus its own interpolation error, at worst), so
+            // whichever side of a boundary the eye is on, the nearer tile's skirt fills the gap.
             const float skirt = 2.0f * interpolationError(tile / float(n[2])) + 0.25f;
             for (int level = 0; level < 3; ++level) {
-                const float cell = tile / float(n[level]);
-                const float lower =
-                    level == 2 ? 0.0f : kTerrainCellPixels * diameter * float(n[level + 1]) / tile;
-                const float upper = level == 0 ? std::numeric_limits<float>::infinity()
-                                               : kTerrainCellPixels * diameter * float(n[level]) / tile;
-                const float drop = level == 0 ? 0.0f : interpolationError(cell);
-                auto g = terrainTile(terrain, x0, y0, tile, n[level], drop, skirt);
+                // Level k serves from where level k + 1's error would show up to where its own does.
+                const float lower = level == 2 ? 0.0f : maxPixels(measured[level + 1].error);
+                const float upper =
+                    level == 0 ? std::numeric_limits<float>::infinity() : maxPixels(measured[level].error);
+                auto g = terrainTile(terrain, x0, y0, tile, n[level], measured[level].drop, skirt);
                 g->name = level == 0 ? name : name + "_level" + std::to_string(level);
                 levels->addChild(g, lower, upper);
             }
