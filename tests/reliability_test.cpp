@@ -1649,43 +1649,48 @@ TEST(ProvingGroundLod, TerrainLevelsLeaveNoCracksAndCutTriangles) {
 
 // ------------------------------------------------------------------------ culling is conservative
 
+// The proving ground at a tenth of its triangles in a 128 x 72 headless viewer with the camera
+// path's lens; at(i, n) puts the camera at path time i / n.
+struct SmallProvingGround {
+    polygon::SceneOptions options{.scale = 0.1f};
+    polygon::PolygonScene scene = polygon::buildPolygonScene(options);
+    std::unique_ptr<Viewer> viewer = Viewer::createHeadless(128, 72);
+    SmallProvingGround() {
+        viewer->setSceneData(scene.root);
+        viewer->camera()->setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
+    }
+    void at(int i, int n) {
+        const polygon::CameraPose pose = polygon::cameraPose(float(i) / float(n), options.extent);
+        viewer->camera()->setLookAt(pose.eye, pose.target, pose.up);
+    }
+};
+
 // RendererOptions::submitTriangles only changes when the driver starts rasterising: submitting
 // before every draw, every 500 triangles or once per frame gives the same pixels.
 TEST(Submission, FlushingWhileDrawingDrawsTheSameImage) {
-    polygon::SceneOptions so;
-    so.scale = 0.1f;
-    const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
-    auto v = Viewer::createHeadless(128, 72);
-    v->setSceneData(scene.root);
-    auto& cam = *v->camera();
-    cam.setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
+    SmallProvingGround ground;
+    Viewer& v = *ground.viewer;
     for (int i = 0; i < 3; ++i) {
-        const polygon::CameraPose pose = polygon::cameraPose(float(i) / 3.0f, so.extent);
-        cam.setLookAt(pose.eye, pose.target, pose.up);
-        v->renderer().options().submitTriangles = 0;
-        v->frame();
-        const Image once = v->capture();
-        ASSERT_GT(v->stats().triangles, 1000u);
+        ground.at(i, 3);
+        v.renderer().options().submitTriangles = 0;
+        v.frame();
+        const Image once = v.capture();
+        ASSERT_GT(v.stats().triangles, 1000u);
         for (std::uint64_t every : {std::uint64_t(1), std::uint64_t(500)}) {
-            v->renderer().options().submitTriangles = every;
-            v->frame();
-            EXPECT_EQ(v->capture().pixels, once.pixels) << "view " << i << ", a submission every " << every;
+            v.renderer().options().submitTriangles = every;
+            v.frame();
+            EXPECT_EQ(v.capture().pixels, once.pixels) << "view " << i << ", a submission every " << every;
         }
     }
 }
 
 TEST(Culling, NeverDropsAVisibleObjectOnTheProvingGround) {
-    polygon::SceneOptions so;
-    so.scale = 0.1f;
-    const polygon::PolygonScene scene = polygon::buildPolygonScene(so);
-    auto v = Viewer::createHeadless(128, 72);
-    v->setSceneData(scene.root);
+    SmallProvingGround ground;
+    auto& v = ground.viewer;
     auto& cam = *v->camera();
-    cam.setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
     int culledSomewhere = 0;
     for (int i = 0; i < 8; ++i) {
-        const polygon::CameraPose pose = polygon::cameraPose(float(i) / 8.0f, so.extent);
-        cam.setLookAt(pose.eye, pose.target, pose.up);
+        ground.at(i, 8);
         cam.cullingEnabled = true;
         v->frame();
         const Image culled = v->capture();
