@@ -179,3 +179,25 @@ TEST(BillboardRender, ACardKeepsItsAnalyticSizeFromEverySideWhileAPlainCardTurns
     for (const auto& e : v->renderer().takeGlErrors())
         ADD_FAILURE() << "GL: " << e;
 }
+
+// Under a stretching parent the turned matrix stretches the card differently in every direction:
+// the cull's radius (near/far) must be the whole matrix's, as BoundingSphere::transformed gives.
+TEST(Billboard, TheCullMeasuresTheTurnedMatrixUnderAStretch) {
+    auto cam = Camera::create();
+    cam->setViewport(0, 0, 100, 100);
+    cam->setPerspective(60.0f, 0.1f, 500.0f);
+    cam->setLookAt({25, 30, 4}, {0, 0, 2});
+    auto stretch = Transform::create(glm::scale(glm::mat4(1.0f), {1.0f, 3.0f, 1.0f}));
+    auto b = Billboard::create();
+    auto g = card(4.0f, 1.0f);
+    b->addChild(g);
+    stretch->addChild(b);
+    cam->addChild(stretch);
+    RenderQueue q;
+    CullVisitor cv(*cam, q);
+    cv.run(*cam);
+    ASSERT_EQ(q.opaque.size(), 1u);
+    const BoundingSphere s = g->bound().transformed(cam->viewMatrix * q.opaque[0].model);
+    EXPECT_NEAR(cv.computedNear, -s.center.z - s.radius, 1e-4f * s.radius);
+    EXPECT_NEAR(cv.computedFar, -s.center.z + s.radius, 1e-4f * s.radius);
+}

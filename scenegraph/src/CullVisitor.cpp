@@ -142,7 +142,8 @@ void CullVisitor::apply(Billboard& b) {
     const glm::mat4 r = b.orientation(glm::vec3(toLocal[3]), glm::vec3(toLocal[1]));
     model_.push_back(model_.back() * r);
     modelView_.push_back(modelView_.back() * r);
-    scale_.push_back(scale_.back()); // a rotation: same scale, same similarity
+    // A rotation keeps a similar chain's scale; under a stretch the columns change, so measure.
+    scale_.push_back(similar_.back() ? scale_.back() : maxAxisScale(modelView_.back()));
     similar_.push_back(similar_.back());
     traverseWithState(b);
     similar_.pop_back();
