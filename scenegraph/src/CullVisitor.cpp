@@ -316,17 +316,15 @@ void CullVisitor::queueItem(const Geometry* geometry, const Drawable* drawable, 
                                      (std::uint64_t(features) << 32);
     computedNear = std::min(computedNear, depth - vs.radius);
     computedFar = std::max(computedFar, depth + vs.radius);
-    // Items are built from their fields in place, each of their 128 bytes written once (a
-    // default-constructed item filled afterwards wrote them twice).
-    auto build = [&](auto&& construct) -> decltype(auto) {
-        return construct(geometry, drawable, model_.back(), &state, effectSet, depth, std::int32_t(0), bucket,
-                         sequence_++, programKey, features, RenderItem::Faces::AsState);
-    };
+    // Opaque items are built in place, each of their 128 bytes written once (a default-
+    // constructed item filled afterwards wrote them twice).
     if (!state.transparent()) {
-        build([&](auto&&... field) -> RenderItem& { return queue_.opaque.emplace_back(field...); });
+        queue_.opaque.emplace_back(geometry, drawable, model_.back(), &state, effectSet, depth, bucket,
+                                   sequence_++, programKey, features);
         return;
     }
-    RenderItem item = build([](auto&&... field) { return RenderItem(field...); });
+    RenderItem item(geometry, drawable, model_.back(), &state, effectSet, depth, bucket, sequence_++,
+                    programKey, features);
     const BlendMode blend = state.blendMode();
     const auto& effects = queue_.effectSets[item.effectSet].effects;
     if (std::any_of(effects.begin(), effects.end(),

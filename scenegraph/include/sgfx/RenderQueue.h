@@ -49,6 +49,22 @@ struct RenderItem {
     /// then front faces); AsState = as its state's CullFace says.
     enum class Faces : std::uint8_t { AsState, Back, Front } faces = Faces::AsState;
 
+    RenderItem() = default;
+    /// Every field but `order` (0) and `faces` (AsState), so a queue builds items in place.
+    RenderItem(const Geometry* g, const Drawable* d, const glm::mat4& m, const ResolvedState* s,
+               std::uint32_t effects, float viewDepth, std::int8_t bucket, std::uint32_t seq,
+               std::uint64_t key, std::uint32_t featureBits)
+        : geometry(g)
+        , drawable(d)
+        , model(m)
+        , state(s)
+        , effectSet(effects)
+        , depth(viewDepth)
+        , depthBucket(bucket)
+        , sequence(seq)
+        , programKey(key)
+        , features(featureBits) {}
+
     const ShaderProgram* program() const;
     const Node& node() const; ///< the geometry or drawable
     BoundingSphere worldBound() const;
