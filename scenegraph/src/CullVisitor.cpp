@@ -119,37 +119,37 @@ void CullVisitor::apply(Node& node) {
     planeMask_.pop_back();
 }
 
-void CullVisitor::apply(Transform& t) {
-    if (!cullTest(t)) return;
-    model_.push_back(model_.back() * t.matrix());
+void CullVisitor::enterFrame(const glm::mat4& local, float localScale, bool localSimilar) {
+    model_.push_back(model_.back() * local);
     modelView_.push_back(view_ * model_.back());
     // Under a rotation-and-uniform-scale chain the scale multiplies: no square root per node.
     const bool similar = similar_.back();
-    scale_.push_back(similar ? scale_.back() * t.maxScale() : maxAxisScale(modelView_.back()));
-    similar_.push_back(similar && t.similarity());
-    traverseWithState(t);
+    scale_.push_back(similar ? scale_.back() * localScale : maxAxisScale(modelView_.back()));
+    similar_.push_back(similar && localSimilar);
+}
+
+void CullVisitor::leaveFrame() {
     similar_.pop_back();
     scale_.pop_back();
     modelView_.pop_back();
     model_.pop_back();
+}
+
+void CullVisitor::apply(Transform& t) {
+    if (!cullTest(t)) return;
+    enterFrame(t.matrix(), t.maxScale(), t.similarity());
+    traverseWithState(t);
+    leaveFrame();
     planeMask_.pop_back();
 }
 
 void CullVisitor::apply(Billboard& b) {
     if (!cullTest(b)) return;
-    // The eye and the view's up in the billboard's frame.
+    // The eye and the view's up in the billboard's frame; the turn is a rotation.
     const glm::mat4 toLocal = glm::inverse(modelView_.back());
-    const glm::mat4 r = b.orientation(glm::vec3(toLocal[3]), glm::vec3(toLocal[1]));
-    model_.push_back(model_.back() * r);
-    modelView_.push_back(modelView_.back() * r);
-    // A rotation keeps a similar chain's scale; under a stretch the columns change, so measure.
-    scale_.push_back(similar_.back() ? scale_.back() : maxAxisScale(modelView_.back()));
-    similar_.push_back(similar_.back());
+    enterFrame(b.orientation(glm::vec3(toLocal[3]), glm::vec3(toLocal[1])), 1.0f, true);
     traverseWithState(b);
-    similar_.pop_back();
-    scale_.pop_back();
-    modelView_.pop_back();
-    model_.pop_back();
+    leaveFrame();
     planeMask_.pop_back();
 }
 

@@ -44,6 +44,10 @@ private:
     bool cullTest(const Node& n, BoundingSphere* viewBound = nullptr);
     /// local.transformed(modelView_.back()), with the matrix's scale taken from scale_.
     BoundingSphere toView(const BoundingSphere& local) const;
+    /// Pushes the model, modelView, radius scale and similarity of a child frame `local` (whose
+    /// largest axis scale and similarity are given); leaveFrame pops them.
+    void enterFrame(const glm::mat4& local, float localScale, bool localSimilar);
+    void leaveFrame();
     void pushState(const Node& n);
     void popState(const Node& n);
     void traverseWithState(Node& n);
