@@ -87,8 +87,12 @@ vec3 surfaceNormal() {
 #ifdef SGFX_NORMALS
     vec3 N = normalize(v_worldNormal);
 #else
-    // Flat shading from the triangle's plane when the geometry has no normals.
-    vec3 N = normalize(cross(dFdx(v_worldPos), dFdy(v_worldPos)));
+    // Flat shading from the triangle's plane when the geometry has no normals; a sliver with
+    // parallel derivatives (a zero cross product) faces the eye rather than normalising zero.
+    vec3 c = cross(dFdx(v_worldPos), dFdy(v_worldPos));
+    float c2 = dot(c, c);
+    vec3 N = c2 > 1e-30 ? c * inversesqrt(c2) : sgfx_eye.xyz - v_worldPos;
+    N = dot(N, N) > 1e-30 ? normalize(N) : vec3(0.0, 0.0, 1.0);
 #endif
 #if defined(SGFX_NORMAL_MAP) && defined(SGFX_TEXCOORDS)
     vec3 T, B;

@@ -11,6 +11,33 @@ layout(binding = 2) uniform sampler2D sgfx_taaHistory; // linear, RGBA16F
 uniform mat4 sgfx_taaReprojection; // previous view-projection × inverse of this one (no jitter)
 uniform float sgfx_taaAlpha;       // weight of this frame
 
+// The history at uv through a Catmull-Rom spline (nine bilinear taps, after Jimenez's
+// "Filmic SMAA", SIGGRAPH 2016): a bilinear fetch blurs the history a little on every frame the
+// camera moves by a fraction of a pixel, and those blurs add up over the history's 16 frames.
+vec4 historyCatmullRom(vec2 uv, vec2 size) {
+    vec2 pos = uv * size;
+    vec2 centre = floor(pos - 0.5) + 0.5;
+    vec2 f = pos - centre;
+    vec2 w0 = f * (-0.5 + f * (1.0 - 0.5 * f));
+    vec2 w1 = 1.0 + f * f * (-2.5 + 1.5 * f);
+    vec2 w2 = f * (0.5 + f * (2.0 - 1.5 * f));
+    vec2 w3 = f * f * (-0.5 + 0.5 * f);
+    vec2 w12 = w1 + w2;
+    vec2 t0 = (centre - 1.0) / size, t3 = (centre + 2.0) / size;
+    vec2 t12 = (centre + w2 / w12) / size;
+    vec4 sum = vec4(0.0);
+    sum += textureLod(sgfx_taaHistory, vec2(t0.x, t0.y), 0.0) * (w0.x * w0.y);
+    sum += textureLod(sgfx_taaHistory, vec2(t12.x, t0.y), 0.0) * (w12.x * w0.y);
+    sum += textureLod(sgfx_taaHistory, vec2(t3.x, t0.y), 0.0) * (w3.x * w0.y);
+    sum += textureLod(sgfx_taaHistory, vec2(t0.x, t12.y), 0.0) * (w0.x * w12.y);
+    sum += textureLod(sgfx_taaHistory, vec2(t12.x, t12.y), 0.0) * (w12.x * w12.y);
+    sum += textureLod(sgfx_taaHistory, vec2(t3.x, t12.y), 0.0) * (w3.x * w12.y);
+    sum += textureLod(sgfx_taaHistory, vec2(t0.x, t3.y), 0.0) * (w0.x * w3.y);
+    sum += textureLod(sgfx_taaHistory, vec2(t12.x, t3.y), 0.0) * (w12.x * w3.y);
+    sum += textureLod(sgfx_taaHistory, vec2(t3.x, t3.y), 0.0) * (w3.x * w3.y);
+    return sum;
+}
+
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     ivec2 last = textureSize(sgfx_taaCurrent, 0) - 1;
@@ -29,7 +56,7 @@ void main() {
     vec2 prevUv = prev.xy / prev.w * 0.5 + 0.5;
     vec4 history = current;
     if (sgfx_taaAlpha < 1.0 && all(greaterThanEqual(prevUv, vec2(0.0))) && all(lessThanEqual(prevUv, vec2(1.0))))
-        history = clamp(textureLod(sgfx_taaHistory, prevUv, 0.0), lo, hi);
+        history = clamp(historyCatmullRom(prevUv, size), lo, hi);
     vec4 result = mix(history, current, sgfx_taaAlpha);
     sgfx_fragColor = result;
     sgfx_taaHistoryOut = result;

@@ -447,3 +447,45 @@ TEST(AoKernel, HemisphereStaysInsideAndConcentratesTowardsTheCentre) {
     EXPECT_GT(longest, 1.0f) << "the seed's half cube reaches beyond the unit hemisphere";
     EXPECT_EQ(ao::kernel(AoKernel::Hemisphere, 32, 7), ao::kernel(AoKernel::Hemisphere, 32, 7));
 }
+
+TEST(AmbientOcclusion, RangeCheckRemovesTheHaloOfAThinPoleOnAFarWall) {
+    // A 0.4 m pole 2 m from the eye in front of a wall 12 m away: kernel points on the wall next
+    // to the pole's silhouette land on the pole in the depth buffer, far in front. Without the
+    // range check that counts as occlusion and the wall shows a dark halo around the pole; with
+    // it the 12 m gap weighs each such sample smoothstep(0, 1, R / Δz) = smoothstep(0, 1, 0.17)
+    // ≈ 0.08, and what is left of the halo is under a seventh of it.
+    auto scene = Group::create();
+    auto wallT = glm::rotate(at({0, 12, 0}), glm::radians(90.0f), glm::vec3(1, 0, 0));
+    scene->addChild(placed(wallT, shapes::quad(60, 60)));
+    scene->addChild(placed(at({0, 0, 0}), shapes::box({0.4f, 0.4f, 20.0f})));
+    const glm::vec3 eye(0, -2, 0), target(0, 12, 0);
+    auto halo = [&](bool rangeCheck) {
+        AmbientOcclusionParameters p;
+        p.radius = 2.0f;
+        p.rangeCheck = rangeCheck;
+        const Render r = renderAo(scene, p, eye, target);
+        // The wall's pixels on the middle rows by their distance from the pole's silhouette (it
+        // covers about x = 40..56; the kernel's 2 m is about 12 px on the wall at 14 m): the
+        // darkest column within 8 px of it, and the mean of those 20 px and more away.
+        const int mid = kSize / 2;
+        double nearK = 0, farK = 0;
+        int farN = 0;
+        for (int d = 1; d <= 8; ++d) {
+            double k = 0;
+            for (int y = mid - 8; y < mid + 8; ++y)
+                k += r.kAt(mid - 9 - d, y) + r.kAt(mid + 8 + d, y);
+            nearK = std::max(nearK, k / 32.0);
+        }
+        for (int y = mid - 8; y < mid + 8; ++y)
+            for (int x = 0; x < kSize; ++x)
+                if (std::abs(x - mid) >= 29) farK += r.kAt(x, y), ++farN;
+        return std::pair(nearK, farK / farN);
+    };
+    const auto [offNear, offFar] = halo(false);
+    const auto [onNear, onFar] = halo(true);
+    std::printf("pole halo on the wall: k near %.3f far %.3f without the range check, %.3f / %.3f with\n",
+                offNear, offFar, onNear, onFar);
+    EXPECT_GT(offNear - offFar, 0.2) << "without the check the wall darkens around the pole";
+    EXPECT_LT(onNear - onFar, (offNear - offFar) / 7.0) << "with the check it does not";
+    EXPECT_LT(onFar, 0.02);
+}

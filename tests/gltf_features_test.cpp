@@ -269,7 +269,7 @@ TEST(GltfFeatures, CreaseAngleSmoothsNormalsMadeForTheFile) {
 
 TEST(GltfFeatures, SharedModelsMatchTheirAccessorBounds) {
     // Every primitive's vertex positions span exactly its POSITION accessor's min/max.
-    if (!std::filesystem::exists(kAssets)) GTEST_SKIP() << "no shared assets at " << kAssets;
+    SGFX_REQUIRE(std::filesystem::exists(kAssets), "the shared assets at " << kAssets);
     for (const char* file : {"Box/glTF-Binary/Box.glb", "BoxTextured/glTF-Binary/BoxTextured.glb",
                              "Duck/glTF-Binary/Duck.glb", "AlphaBlendModeTest/glTF/AlphaBlendModeTest.gltf",
                              "NormalTangentMirrorTest/glTF/NormalTangentMirrorTest.gltf",

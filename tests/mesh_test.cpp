@@ -1,5 +1,7 @@
 // OBJ/OFF/PLY/STL through OpenMesh: round trips through the writer keep the vertex positions and
 // the triangle count; normals are made when a file has none; bad files say why.
+#include "TestUtil.h"
+
 #include <sgfx/Image.h>
 #include <sgfx/Material.h>
 #include <sgfx/MeshLoader.h>
@@ -217,7 +219,8 @@ TEST(Mesh, LoadModelChoosesTheLoaderByExtension) {
     const auto stl = loadModel(dir / "box.STL");
     ASSERT_EQ(stl->numChildren(), 1u);
     EXPECT_EQ(dynamic_cast<const Geometry&>(*stl->child(0)).triangleCount(), 12u);
-    if (std::filesystem::exists(kAssets)) {
+    if (sgfx::test::optionalPrerequisite(std::filesystem::exists(kAssets),
+                                         "the shared assets at " + kAssets.string())) {
         ComputeBoundsVisitor bounds;
         loadModel(kAssets / "Box/glTF-Binary/Box.glb")->accept(bounds);
         EXPECT_TRUE(bounds.valid());

@@ -231,11 +231,13 @@ TEST(Render, GeometryEditsReachTheGpu) {
 
 TEST(Contexts, EglHeadlessWhereAvailable) {
     std::unique_ptr<GraphicsContext> ctx;
+    std::string why;
     try {
         ctx = std::make_unique<EglContext>();
     } catch (const ContextError& e) {
-        GTEST_SKIP() << "EGL unavailable here: " << e.what();
+        why = e.what();
     }
+    SGFX_REQUIRE(ctx, "an EGL context (libegl1, libegl-mesa0): " << why);
     Viewer v(std::move(ctx));
     v.camera()->setViewport(0, 0, 16, 16);
     v.camera()->clearColor = {0.25f, 0.5f, 0.75f, 1};
@@ -367,34 +369,6 @@ TEST(Render, TangentSpaceNormalMapTiltsTheShadingNormal) {
     // Without the map the flat normal gives a different value: the test can tell them apart.
     EXPECT_GT(std::abs(srgbByte(0.8 * ndotl) - srgbByte(0.8 / std::sqrt(2.0))), 10);
     expectNoGlErrors(*v);
-}
-
-// Runs only with a display (CTest starts it under xvfb-run); elsewhere it skips.
-TEST(Window, GlfwWindowRendersAndPresents) {
-    const char* display = std::getenv("DISPLAY");
-    if (!display || !*display) GTEST_SKIP() << "no DISPLAY";
-    std::unique_ptr<GlfwWindow> window;
-    try {
-        window = std::make_unique<GlfwWindow>(96, 64, "sgfx test");
-    } catch (const ContextError& e) {
-        FAIL() << e.what();
-    }
-    Viewer v(std::move(window));
-    EXPECT_EQ(v.camera()->viewport.width, 96);
-    v.camera()->clearColor = {0.5f, 0.25f, 0.0f, 1};
-    v.frame();
-    expectPixel(v.capture(), 10, 10, {0.5, 0.25, 0.0}, 1);
-    // What reaches the window: the copy present() makes into the back buffer holds the same
-    // sRGB bytes (no second encode, no decode).
-    v.renderer().blitToWindow();
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-    glReadBuffer(GL_BACK);
-    std::uint8_t px[4] = {};
-    glReadPixels(10, 10, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, px);
-    EXPECT_NEAR(px[0], srgbByte(0.5), 1);
-    EXPECT_NEAR(px[1], srgbByte(0.25), 1);
-    EXPECT_NEAR(px[2], 0, 1);
-    expectNoGlErrors(v);
 }
 
 TEST(Render, BadLightsAndMaterialsNeverReachPixels) {

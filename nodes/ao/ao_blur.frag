@@ -29,6 +29,7 @@ void main() {
         float dz = (s.g - centre.g) / sigma;
         float w = s.g > 0.0 ? exp(-dz * dz) : 0.0;
 #endif
+        if (isnan(s.r) || isinf(s.r)) w = 0.0; // one bad texel must not spread to the window
         sum += s.r * w;
         weight += w;
     }

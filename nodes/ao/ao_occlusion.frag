@@ -26,7 +26,12 @@ void main() {
     bool rangeCheck = sgfx_aoShape.z > 0.5, plane = sgfx_aoShape.w > 0.5;
     vec2 gsize = vec2(textureSize(sgfx_aoGDepth, 0));
     vec3 P = sgfx_aoPosition(gp, d, gsize);
-    vec3 N = normalize(texelFetch(sgfx_aoGNormal, gp, 0).xyz);
+    vec3 gN = texelFetch(sgfx_aoGNormal, gp, 0).xyz;
+    if (!(dot(gN, gN) > 1e-12)) { // no usable normal (zero or NaN from a foreign shader): unoccluded
+        sgfx_aoOut = vec4(0.0, d, 0.0, 0.0);
+        return;
+    }
+    vec3 N = normalize(gN);
     // Seed §2: TBN by Gram–Schmidt from a per-pixel random vector, B = N × T.
     vec3 Vr = vec3(texelFetch(sgfx_aoNoise, ivec2(gl_FragCoord.xy) & 3, 0).xy, 0.0);
     vec3 T = Vr - N * dot(Vr, N);

@@ -16,7 +16,9 @@ out vec4 v_color;
 void main() {
     float age = a_state.x;
     vec3 sgfx_worldPos = a_state.yzw;
-    vec3 sgfx_worldNormal = normalize(sgfx_eye.xyz - sgfx_worldPos); // N of the seed's sprite
+    vec3 toEye = sgfx_eye.xyz - sgfx_worldPos; // N of the seed's sprite; at the eye, the view's back axis
+    vec3 sgfx_worldNormal =
+        dot(toEye, toEye) > 1e-12 ? normalize(toEye) : vec3(sgfx_view[0][2], sgfx_view[1][2], sgfx_view[2][2]);
     vec4 sgfx_viewPos = sgfx_view * vec4(sgfx_worldPos, 1.0);
     // @sgfx:vertex
     float life = particleLife(age);
@@ -24,8 +26,9 @@ void main() {
     v_worldNormal = sgfx_worldNormal;
     v_color = mix(u_colorStart, u_colorEnd, life);
     gl_Position = sgfx_projection * sgfx_viewPos;
-    // Side k at view depth d: k · f / d pixels, f = projection[1][1] · height / 2.
-    float depth = max(-sgfx_viewPos.z, 1e-4);
+    // Side k at view depth d: k · f / d pixels, f = projection[1][1] · height / 2; an
+    // orthographic projection (projection[2][3] = 0) does not shrink with depth.
+    float depth = sgfx_projection[2][3] != 0.0 ? max(-sgfx_viewPos.z, 1e-4) : 1.0;
     gl_PointSize = age < 0.0 || sgfx_viewPos.z >= 0.0
                        ? 0.0
                        : mix(u_size.x, u_size.y, life) * sgfx_projection[1][1] * 0.5 * sgfx_viewport.w / depth;

@@ -461,6 +461,7 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     program.set("u_integration", int(p.integration));
     program.set("u_jitter", p.jitter ? 1 : 0);
     program.set("u_skip", p.emptySpaceSkipping && function_.empty() ? 1 : 0);
+    program.set("u_countSamples", p.debugSampleCount ? 1 : 0);
     glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y,
                        g.maxSize.z);
     program.set("u_useTransfer", g.transfer ? 1 : 0);

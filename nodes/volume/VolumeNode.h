@@ -71,6 +71,9 @@ struct VolumeParameters {
     /// fetch and branch per step cost more than they save (bench/volume_table.sh).
     bool emptySpaceSkipping = false;
     bool halfResolution = false; ///< march at half size, then a depth-aware upsample
+    /// Diagnostics: each pixel's red channel is the number of density samples its ray took
+    /// (raymarching at full resolution only), for tests and for tuning skipping and early stops.
+    bool debugSampleCount = false;
     VolumeMethod method = VolumeMethod::Raymarch;
     int slices = 128; ///< Slicing: planes across the box
 

@@ -29,6 +29,7 @@ uniform float u_threshold;     // early termination: stop once 1 − T exceeds i
 uniform int u_integration;     // 0 exact per step, 1 the lecture's sum
 uniform int u_jitter;          // start each pixel's samples at a random offset (noise for banding)
 uniform int u_skip;            // empty-space skipping with the coarse maximum grid
+uniform int u_countSamples;    // diagnostics: output the number of density samples taken
 uniform ivec3 u_maxGridSize;
 uniform int u_useTransfer;
 uniform int u_pixelScale;      // 2 when marching at half resolution
@@ -95,6 +96,7 @@ void main() {
     vec3 dl = mat3(u_worldToBox) * -u_lightDirection; // towards the light, box frame
     vec3 radiance = vec3(0.0);
     float T = 1.0;
+    int samples = 0;
     for (int i = 0; i < n; ++i) {
         float t = tmin + (float(i) + offset) * dt;
         vec3 p = o + t * d;
@@ -114,6 +116,7 @@ void main() {
             }
         }
         float rho = densityAt(uvw);
+        ++samples;
         if (rho <= 0.0) continue;
         float sigma = extinctionPerRho * rho;
         vec3 source = u_emission * rho;
@@ -140,6 +143,10 @@ void main() {
             T *= tau;
         }
         if (1.0 - T > u_threshold) break; // early termination
+    }
+    if (u_countSamples != 0) {
+        sgfx_fragColor = vec4(float(samples), 0.0, 0.0, 1.0);
+        return;
     }
     vec4 sgfx_color = vec4(radiance, 1.0 - T);
     vec3 sgfx_worldPos = eye + dirW * tmin; // where the medium starts: fog up to there
