@@ -174,16 +174,20 @@ TEST(Gltf, BadFilesNameTheElementAndTheReason) {
         expectLoadError(dir / "sgfx_truncated.glb", "sgfx_truncated.glb");
     }
     const std::vector<float> tri{0, 0, 0, 1, 0, 0, 0, 1, 0};
-    expectLoadError(tinyFile("sgfx_bad_index.gltf", tri, {0, 1, 7}),
-                    "meshes[0].primitives[0].indices: index 7");
+    expectLoadError(
+        tinyFile("sgfx_bad_index.gltf", tri, {0, 1, 7}),
+        "meshes[0].primitives[0].indices: index 7 (entry 2 of accessors[1]) is out of range for 3 "
+        "vertices");
     expectLoadError(tinyFile("sgfx_nan.gltf", {0, 0, 0, std::nanf(""), 0, 0, 0, 1, 0}, {0, 1, 2}),
                     "meshes[0].primitives[0].attributes.POSITION: has a NaN");
-    expectLoadError(tinyFile("sgfx_overrun.gltf", tri, {0, 1, 2},
-                             [](std::string& j) {
-                                 const auto at = j.find("\"count\":3,\"type\":\"VEC3\"");
-                                 j.replace(at, 9, "\"count\":99");
-                             }),
-                    "accessors[0]: 99 elements");
+    expectLoadError(
+        tinyFile("sgfx_overrun.gltf", tri, {0, 1, 2},
+                 [](std::string& j) {
+                     const auto at = j.find("\"count\":3,\"type\":\"VEC3\"");
+                     j.replace(at, 9, "\"count\":99");
+                 }),
+        "accessors[0]: 99 elements of 12 bytes from offset 0 (stride 12) run past the 36 bytes of "
+        "bufferViews[0] (used by meshes[0].primitives[0].attributes.POSITION)");
     expectLoadError(tinyFile("sgfx_cycle.gltf", tri, {0, 1, 2},
                              [](std::string& j) {
                                  j.replace(j.find("\"nodes\":[{\"mesh\":0}]"), 20,
@@ -340,4 +344,103 @@ TEST(Gltf, HostileFilesAreRefusedBeforeTheyCostMemory) {
         R"({"asset":{"version":"2.0"},"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[-1,0,0,1]}}]})",
         0));
     EXPECT_NE(negative.find("materials[0]"), std::string::npos) << negative;
+}
+
+namespace {
+// tinyFile's triangle with its "asset" object replaced.
+std::filesystem::path withAsset(const std::string& name, const std::string& asset) {
+    return tinyFile(name, {0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}, [&](std::string& j) {
+        const std::string from = R"("asset":{"version":"2.0"})";
+        j.replace(j.find(from), from.size(), "\"asset\":" + asset);
+    });
+}
+
+// tinyFile's triangle with `"byteStride":stride` on its positions' buffer view.
+std::filesystem::path withStride(const std::string& name, const std::string& stride) {
+    return tinyFile(name, {0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2}, [&](std::string& j) {
+        j.insert(j.find(R"("byteOffset":0,)"), "\"byteStride\":" + stride + ",");
+    });
+}
+} // namespace
+
+TEST(Gltf, OnlyGltf2IsRead) {
+    // Refused: another major version, a minVersion past 2.0, a version not of the form MAJOR.MINOR.
+    expectLoadError(withAsset("sgfx_version3.gltf", R"({"version":"3.0"})"),
+                    R"(asset.version: "3.0" is not supported: this loader reads glTF 2.x)");
+    expectLoadError(withAsset("sgfx_version1.gltf", R"({"version":"1.0"})"),
+                    R"(asset.version: "1.0" is not supported: this loader reads glTF 2.x)");
+    expectLoadError(withAsset("sgfx_minversion.gltf", R"({"version":"2.1","minVersion":"2.1"})"),
+                    "asset.minVersion: 2.1 is newer than the 2.0 this loader reads");
+    expectLoadError(withAsset("sgfx_version_form.gltf", R"({"version":"2.0.1"})"),
+                    R"(asset.version: "2.0.1" is not of the form MAJOR.MINOR (such as "2.0"))");
+    expectLoadError(withAsset("sgfx_version_v.gltf", R"({"version":"v2.0"})"),
+                    R"(asset.version: "v2.0" is not of the form MAJOR.MINOR)");
+    expectLoadError(withAsset("sgfx_version_empty.gltf", R"({"version":""})"),
+                    R"(asset.version: "" is not of the form MAJOR.MINOR)");
+    expectLoadError(withAsset("sgfx_minversion_form.gltf", R"({"version":"2.0","minVersion":"2"})"),
+                    R"(asset.minVersion: "2" is not of the form MAJOR.MINOR)");
+    expectLoadError(withAsset("sgfx_version_number.gltf", R"({"version":2.0})"),
+                    R"(asset.version: 2.0 is not a string such as "2.0")");
+    expectLoadError(withAsset("sgfx_version_missing.gltf", R"({"generator":"x"})"),
+                    "asset.version: is missing");
+    // Read: 2.0 with minVersion 2.0; 2.1 without minVersion (minor versions only add to 2.0).
+    for (const char* asset : {R"({"version":"2.0","minVersion":"2.0"})", R"({"version":"2.1"})"}) {
+        SCOPED_TRACE(asset);
+        const auto file = withAsset("sgfx_version_ok.gltf", asset);
+        GltfStats st;
+        EXPECT_NO_THROW((void)loadGltf(file, {}, &st));
+        EXPECT_EQ(st.triangles, 1u);
+        std::filesystem::remove(file);
+    }
+    // From memory too, where the name stands in for the file's.
+    const std::string glb3 = memoryLoadError(glb(R"({"asset":{"version":"3.0"}})", 0));
+    EXPECT_NE(glb3.find(R"(sgfx: glTF 'in-memory.glb': asset.version: "3.0" is not supported)"),
+              std::string::npos)
+        << glb3;
+}
+
+TEST(Gltf, ByteStrideIsAMultipleOfFourIn4To252) {
+    expectLoadError(withStride("sgfx_stride_negative.gltf", "-4"),
+                    "bufferViews[0].byteStride: -4 is outside 4..252");
+    expectLoadError(withStride("sgfx_stride_2.gltf", "2"), "bufferViews[0].byteStride: 2 is outside 4..252");
+    expectLoadError(withStride("sgfx_stride_0.gltf", "0"), "bufferViews[0].byteStride: 0 is outside 4..252");
+    expectLoadError(withStride("sgfx_stride_256.gltf", "256"),
+                    "bufferViews[0].byteStride: 256 is outside 4..252");
+    expectLoadError(withStride("sgfx_stride_6.gltf", "6"),
+                    "bufferViews[0].byteStride: 6 is not a multiple of 4");
+    expectLoadError(withStride("sgfx_stride_float.gltf", "4.5"),
+                    "bufferViews[0].byteStride: 4.5 is not an integer");
+    // In range but smaller than the VEC3 of floats read through it.
+    expectLoadError(withStride("sgfx_stride_8.gltf", "8"),
+                    "bufferViews[0].byteStride: 8 is less than the 12 bytes of each element of accessors[0] "
+                    "(used by meshes[0].primitives[0].attributes.POSITION)");
+    const auto file = withStride("sgfx_stride_12.gltf", "12");
+    ComputeBoundsVisitor bounds;
+    loadGltf(file, {.zUp = false})->accept(bounds);
+    EXPECT_EQ(bounds.max, glm::vec3(1.0f, 1.0f, 0.0f));
+    std::filesystem::remove(file);
+}
+
+TEST(Gltf, BadIndicesNameTheMeshAndPrimitive) {
+    const std::vector<float> tri{0, 0, 0, 1, 0, 0, 0, 1, 0};
+    // An index past the vertices: the value, where it is and how many vertices there are.
+    expectLoadError(
+        tinyFile("sgfx_index_57.gltf", tri, {0, 57, 2}),
+        "meshes[0].primitives[0].indices: index 57 (entry 1 of accessors[1]) is out of range for 3 "
+        "vertices");
+    // An indices accessor that does not exist (tinygltf's own message names neither mesh nor primitive).
+    auto indices = [&](const std::string& name, const std::string& value) {
+        return tinyFile(name, tri, {0, 1, 2}, [&](std::string& j) {
+            j.replace(j.find(R"("indices":1)"), 11, "\"indices\":" + value);
+        });
+    };
+    expectLoadError(indices("sgfx_indices_5.gltf", "5"),
+                    "meshes[0].primitives[0].indices: accessor 5 does not exist (2 accessors)");
+    // A negative one, which tinygltf takes for "no indices".
+    expectLoadError(indices("sgfx_indices_negative.gltf", "-1"),
+                    "meshes[0].primitives[0].indices: -1 is not an accessor index");
+    // An indices accessor without a buffer view.
+    expectLoadError(tinyFile("sgfx_indices_no_view.gltf", tri, {0, 1, 2},
+                             [](std::string& j) { j.replace(j.find(R"("bufferView":1,)"), 15, ""); }),
+                    "meshes[0].primitives[0].indices: accessors[1] has no bufferView");
 }

@@ -9,6 +9,8 @@
 
 #include <tiny_gltf.h>
 
+#include <nlohmann/json.hpp>
+
 #include <stb_image.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -23,6 +25,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -44,6 +47,14 @@ struct Budget {
 // Bytes a vertex may take in a Geometry: position, normal, tangent, two texcoords, colour.
 constexpr std::size_t vertexBytes = (3 + 3 + 4 + 2 + 2 + 4) * sizeof(float);
 
+// A LoadError naming the file, the element and the reason.
+struct Refusal {
+    const std::string& file;
+    [[noreturn]] void operator()(const std::string& element, const std::string& why) const {
+        throw LoadError("sgfx: glTF '" + file + "': " + element + ": " + why);
+    }
+};
+
 struct Context {
     std::string file;
     const tinygltf::Model& model;
@@ -52,10 +63,12 @@ struct Context {
     [[noreturn]] void fail(const std::string& element, const std::string& why) const {
         throw LoadError("sgfx: glTF '" + file + "': " + element + ": " + why);
     }
-    void charge(std::size_t count, std::size_t bytesEach, const std::string& element) const {
+    // `note` ends the message (" (used by meshes[0]...)" where an accessor is read for an element).
+    void charge(std::size_t count, std::size_t bytesEach, const std::string& element,
+                const std::string& note = {}) const {
         if ((bytesEach && count > SIZE_MAX / bytesEach) || !budget->take(count * bytesEach))
             fail(element, "needs more memory than the load's limit of " + std::to_string(limit) +
-                              " bytes (GltfOptions::memoryLimit)");
+                              " bytes (GltfOptions::memoryLimit)" + note);
     }
 };
 
@@ -76,6 +89,27 @@ int componentBytes(int type) {
         return 4;
     default:
         return 0;
+    }
+}
+
+const char* typeName(int type) {
+    switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+        return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+        return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+        return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+        return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+        return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+        return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+        return "MAT4";
+    default:
+        return "unknown";
     }
 }
 
@@ -132,40 +166,45 @@ float component(const unsigned char* p, int type, bool normalized) {
 }
 
 // The bytes of `count` elements of `elementBytes` from a buffer view, checked against its buffer.
+// `element` reads them (accessors[2], accessors[2].sparse.indices); `note` ends each message.
 struct View {
     const unsigned char* data = nullptr;
     std::size_t stride = 0;
 };
 View checkedView(const Context& c, int viewIndex, std::size_t offset, std::size_t count,
-                 std::size_t elementBytes, const std::string& element) {
+                 std::size_t elementBytes, const std::string& element, const std::string& note) {
     const auto& views = c.model.bufferViews;
     if (viewIndex < 0 || std::size_t(viewIndex) >= views.size())
         c.fail(element, "bufferView " + std::to_string(viewIndex) + " does not exist (" +
-                            std::to_string(views.size()) + " buffer views)");
+                            std::to_string(views.size()) + " buffer views)" + note);
     const tinygltf::BufferView& v = views[std::size_t(viewIndex)];
     const std::string viewName = at("bufferViews", std::size_t(viewIndex));
     if (v.buffer < 0 || std::size_t(v.buffer) >= c.model.buffers.size())
-        c.fail(viewName, "buffer " + std::to_string(v.buffer) + " does not exist");
+        c.fail(viewName, "buffer " + std::to_string(v.buffer) + " does not exist" + note);
     const std::size_t bufferSize = c.model.buffers[std::size_t(v.buffer)].data.size();
     if (v.byteOffset > bufferSize || v.byteLength > bufferSize - v.byteOffset)
         c.fail(viewName, "bytes " + std::to_string(v.byteOffset) + ".." +
                              std::to_string(v.byteOffset + v.byteLength) + " lie outside its buffer of " +
-                             std::to_string(bufferSize) + " bytes");
+                             std::to_string(bufferSize) + " bytes" + note);
+    // 4..252 and a multiple of 4 is checked on the JSON (checkJson); here, against the element.
     const std::size_t stride = v.byteStride ? v.byteStride : elementBytes;
-    if (v.byteStride && (v.byteStride < elementBytes || v.byteStride > 252))
-        c.fail(viewName, "byteStride " + std::to_string(v.byteStride) + " is not in " +
-                             std::to_string(elementBytes) + "..252 for elements of " +
-                             std::to_string(elementBytes) + " bytes");
+    if (v.byteStride > 252)
+        c.fail(viewName + ".byteStride", std::to_string(v.byteStride) + " is outside 4..252" + note);
+    if (v.byteStride && v.byteStride < elementBytes)
+        c.fail(viewName + ".byteStride", std::to_string(v.byteStride) + " is less than the " +
+                                             std::to_string(elementBytes) + " bytes of each element of " +
+                                             element + note);
     if (count > 0 && (offset > v.byteLength || (count - 1) > (v.byteLength - offset) / stride ||
                       offset + (count - 1) * stride + elementBytes > v.byteLength))
         c.fail(element, std::to_string(count) + " elements of " + std::to_string(elementBytes) +
                             " bytes from offset " + std::to_string(offset) + " (stride " +
                             std::to_string(stride) + ") run past the " + std::to_string(v.byteLength) +
-                            " bytes of " + viewName);
+                            " bytes of " + viewName + note);
     return {c.model.buffers[std::size_t(v.buffer)].data.data() + v.byteOffset + offset, stride};
 }
 
-// An accessor as floats (count × components), sparse values applied.
+// An accessor as floats (count × components), sparse values applied. `element` is what reads it
+// (meshes[0].primitives[1].attributes.POSITION): errors in the accessor name both.
 std::vector<float> readAccessor(const Context& c, int index, const std::string& element,
                                 std::initializer_list<int> types, std::size_t* countOut = nullptr) {
     const auto& accessors = c.model.accessors;
@@ -174,19 +213,21 @@ std::vector<float> readAccessor(const Context& c, int index, const std::string& 
                             std::to_string(accessors.size()) + " accessors)");
     const tinygltf::Accessor& a = accessors[std::size_t(index)];
     const std::string name = at("accessors", std::size_t(index));
+    const std::string note = " (used by " + element + ")";
     const int bytes = componentBytes(a.componentType), n = componentsOf(a.type);
     if (!bytes)
-        c.fail(name, "componentType " + std::to_string(a.componentType) + " is not a glTF component type");
+        c.fail(name,
+               "componentType " + std::to_string(a.componentType) + " is not a glTF component type" + note);
     if (!n || std::find(types.begin(), types.end(), a.type) == types.end())
-        c.fail(element, "accessor " + std::to_string(index) + " has type " + std::to_string(a.type) +
+        c.fail(element, "accessor " + std::to_string(index) + " has type " + typeName(a.type) +
                             ", which this attribute cannot take");
     if (a.count == 0 || a.count > (std::size_t(1) << 28))
-        c.fail(name, "count " + std::to_string(a.count) + " is out of range");
+        c.fail(name, "count " + std::to_string(a.count) + " is out of range" + note);
     // The view is checked before anything is allocated: the count must fit in the file's bytes.
     View v;
     if (a.bufferView >= 0)
-        v = checkedView(c, a.bufferView, a.byteOffset, a.count, std::size_t(bytes * n), name);
-    c.charge(a.count, std::size_t(n) * sizeof(float), name);
+        v = checkedView(c, a.bufferView, a.byteOffset, a.count, std::size_t(bytes * n), name, note);
+    c.charge(a.count, std::size_t(n) * sizeof(float), name, note);
     std::vector<float> out(a.count * std::size_t(n), 0.0f);
     if (a.bufferView >= 0) {
         for (std::size_t i = 0; i < a.count; ++i)
@@ -197,22 +238,22 @@ std::vector<float> readAccessor(const Context& c, int index, const std::string& 
     if (a.sparse.isSparse) {
         const auto sc = std::size_t(std::max(a.sparse.count, 0));
         if (sc == 0 || sc > a.count)
-            c.fail(name + ".sparse", "count " + std::to_string(a.sparse.count) + " is out of range");
+            c.fail(name + ".sparse", "count " + std::to_string(a.sparse.count) + " is out of range" + note);
         const int ib = componentBytes(a.sparse.indices.componentType);
         if (ib == 0 || a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
             a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
             a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)
-            c.fail(name + ".sparse.indices", "componentType must be an unsigned integer type");
+            c.fail(name + ".sparse.indices", "componentType must be an unsigned integer type" + note);
         const View iv = checkedView(c, a.sparse.indices.bufferView, std::size_t(a.sparse.indices.byteOffset),
-                                    sc, std::size_t(ib), name + ".sparse.indices");
+                                    sc, std::size_t(ib), name + ".sparse.indices", note);
         const View vv = checkedView(c, a.sparse.values.bufferView, std::size_t(a.sparse.values.byteOffset),
-                                    sc, std::size_t(bytes * n), name + ".sparse.values");
+                                    sc, std::size_t(bytes * n), name + ".sparse.values", note);
         for (std::size_t s = 0; s < sc; ++s) {
             const auto target =
                 std::size_t(component(iv.data + s * std::size_t(ib), a.sparse.indices.componentType, false));
             if (target >= a.count)
-                c.fail(name + ".sparse.indices",
-                       "index " + std::to_string(target) + " is not below count " + std::to_string(a.count));
+                c.fail(name + ".sparse.indices", "index " + std::to_string(target) + " is not below count " +
+                                                     std::to_string(a.count) + note);
             for (int k = 0; k < n; ++k)
                 out[target * std::size_t(n) + std::size_t(k)] =
                     component(vv.data + s * std::size_t(bytes * n) + std::size_t(k * bytes), a.componentType,
@@ -500,6 +541,115 @@ tinygltf::FsCallbacks fsCallbacks(FsData* data) {
     return fs;
 }
 
+using Json = nlohmann::json;
+
+// A value from the file as a message shows it: its JSON text, cut short.
+std::string shown(const Json& v) {
+    std::string text = v.dump(-1, ' ', true, Json::error_handler_t::replace);
+    return text.size() > 40 ? text.substr(0, 37) + "..." : text;
+}
+
+// glTF's "MAJOR.MINOR" (the schema's ^[0-9]+\.[0-9]+$), numbers past 10^9 held at 10^9; nothing
+// when `text` is not of that form.
+std::optional<std::pair<std::uint64_t, std::uint64_t>> versionOf(const std::string& text) {
+    const auto dot = text.find('.');
+    auto number = [&](std::size_t from, std::size_t to) -> std::optional<std::uint64_t> {
+        if (from >= to) return std::nullopt;
+        std::uint64_t n = 0;
+        for (std::size_t i = from; i < to; ++i) {
+            if (text[i] < '0' || text[i] > '9') return std::nullopt;
+            n = std::min<std::uint64_t>(n * 10 + std::uint64_t(text[i] - '0'), 1000000000);
+        }
+        return n;
+    };
+    if (dot == std::string::npos) return std::nullopt;
+    const auto major = number(0, dot), minor = number(dot + 1, text.size());
+    if (!major || !minor) return std::nullopt;
+    return std::pair{*major, *minor};
+}
+
+// Checks made on the JSON before tinygltf reads it. tinygltf 2.7 does not look at asset.version;
+// it drops a byteStride that is not an unsigned integer (the view then reads as tightly packed)
+// and refuses other bad strides and a primitive's missing indices accessor without naming the
+// element; it takes a negative `indices` for none. Text that is not a JSON object is left to it.
+void checkJson(const unsigned char* text, std::size_t size, const std::string& path) {
+    const Refusal fail{path};
+    // Only the members checked here are kept (not the buffers' and images' data: URIs).
+    const auto keep = [](int depth, Json::parse_event_t event, Json& parsed) {
+        if (event != Json::parse_event_t::key || depth != 1) return true;
+        const auto& key = parsed.get_ref<const std::string&>();
+        return key == "asset" || key == "bufferViews" || key == "meshes" || key == "accessors";
+    };
+    const Json doc = Json::parse(text, text + size, keep, false);
+    if (!doc.is_object()) return;
+
+    // asset.version "2.x"; asset.minVersion, when given, no newer than 2.0.
+    const auto asset = doc.find("asset");
+    if (asset == doc.end() || !asset->is_object())
+        fail("asset", "is missing or not an object (a glTF 2.0 file has \"asset\": {\"version\": \"2.0\"})");
+    auto version = [&](const char* key) -> std::optional<std::pair<std::uint64_t, std::uint64_t>> {
+        const auto v = asset->find(key);
+        const std::string element = std::string("asset.") + key;
+        if (v == asset->end()) return std::nullopt;
+        if (!v->is_string()) fail(element, shown(*v) + " is not a string such as \"2.0\"");
+        const auto parsed = versionOf(v->get_ref<const std::string&>());
+        if (!parsed) fail(element, shown(*v) + " is not of the form MAJOR.MINOR (such as \"2.0\")");
+        return parsed;
+    };
+    const auto v = version("version");
+    if (!v) fail("asset.version", "is missing (a glTF 2.0 file says \"2.0\")");
+    if (v->first != 2)
+        fail("asset.version", shown(asset->at("version")) + " is not supported: this loader reads glTF 2.x");
+    if (const auto min = version("minVersion"); min && *min > std::pair<std::uint64_t, std::uint64_t>{2, 0})
+        fail("asset.minVersion", asset->at("minVersion").get_ref<const std::string&>().substr(0, 40) +
+                                     " is newer than the 2.0 this loader reads");
+
+    // bufferViews[i].byteStride: an integer in 4..252, a multiple of 4.
+    const auto views = doc.find("bufferViews");
+    const std::size_t viewCount = views != doc.end() && views->is_array() ? views->size() : 0;
+    for (std::size_t i = 0; i < viewCount; ++i) {
+        const Json& view = (*views)[i];
+        if (!view.is_object() || !view.contains("byteStride")) continue;
+        const Json& stride = view["byteStride"];
+        const std::string element = at("bufferViews", i) + ".byteStride";
+        if (!stride.is_number_integer()) fail(element, shown(stride) + " is not an integer");
+        if (!stride.is_number_unsigned() || stride.get<std::uint64_t>() < 4 ||
+            stride.get<std::uint64_t>() > 252)
+            fail(element, shown(stride) + " is outside 4..252");
+        if (stride.get<std::uint64_t>() % 4) fail(element, shown(stride) + " is not a multiple of 4");
+    }
+
+    // meshes[i].primitives[j].indices: an accessor that exists and has a buffer view.
+    const auto accessors = doc.find("accessors");
+    const std::size_t accessorCount = accessors != doc.end() && accessors->is_array() ? accessors->size() : 0;
+    const auto meshes = doc.find("meshes");
+    if (meshes == doc.end() || !meshes->is_array()) return;
+    for (std::size_t i = 0; i < meshes->size(); ++i) {
+        const Json& mesh = (*meshes)[i];
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+        for (std::size_t j = 0; j < mesh["primitives"].size(); ++j) {
+            const Json& primitive = mesh["primitives"][j];
+            if (!primitive.is_object() || !primitive.contains("indices")) continue;
+            const Json& indices = primitive["indices"];
+            const std::string element = at("meshes", i) + "." + at("primitives", j) + ".indices";
+            if (!indices.is_number_unsigned()) fail(element, shown(indices) + " is not an accessor index");
+            const auto a = indices.get<std::uint64_t>();
+            if (a >= accessorCount)
+                fail(element, "accessor " + std::to_string(a) + " does not exist (" +
+                                  std::to_string(accessorCount) + " accessors)");
+            const Json& accessor = (*accessors)[a];
+            if (!accessor.is_object()) continue;
+            const std::string name = at("accessors", std::size_t(a));
+            if (!accessor.contains("bufferView"))
+                fail(element, name + " has no bufferView (indices without one are not supported)");
+            const Json& view = accessor["bufferView"];
+            if (!view.is_number_unsigned() || view.get<std::uint64_t>() >= viewCount)
+                fail(element, name + ".bufferView " + shown(view) + " does not exist (" +
+                                  std::to_string(viewCount) + " buffer views)");
+        }
+    }
+}
+
 // Both entry points: `baseDir` is null for bytes from memory.
 std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string& path,
                             const std::string& rootName, const std::filesystem::path* baseDir,
@@ -517,6 +667,7 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
         jsonLength = std::min<std::size_t>(chunk, bytes.size() - 20);
     }
     if (jsonDepth(data + jsonBegin, jsonLength) > 256) throw refuse("JSON is nested more than 256 deep");
+    checkJson(data + jsonBegin, jsonLength, path);
 
     Budget budget{options.memoryLimit};
     FsData fsData{baseDir != nullptr, options.memoryLimit};
@@ -655,8 +806,11 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
                     c.fail(name + ".indices", "must be an accessor of unsigned integers");
                 for (float v : readAccessor(c, p.indices, name + ".indices", {TINYGLTF_TYPE_SCALAR})) {
                     if (v >= float(n))
-                        c.fail(name + ".indices", "index " + std::to_string(std::uint64_t(v)) +
-                                                      " is not below the " + std::to_string(n) + " vertices");
+                        c.fail(name + ".indices", "index " + std::to_string(std::uint64_t(v)) + " (entry " +
+                                                      std::to_string(indices.size()) + " of " +
+                                                      at("accessors", std::size_t(p.indices)) +
+                                                      ") is out of range for " + std::to_string(n) +
+                                                      " vertices");
                     indices.push_back(std::uint32_t(v));
                 }
             }
