@@ -2,6 +2,8 @@
 // disc, the blue noon and red sunset, geometry hiding the sky, the fog taking the horizon colour.
 #include "TestUtil.h"
 
+#include <sstream>
+
 #include <fog/FogNode.h>
 #include <sgfx/Group.h>
 #include <sgfx/Material.h>
@@ -18,11 +20,11 @@ using namespace sgfx::test;
 namespace {
 constexpr int kSize = 64;
 
-std::unique_ptr<Viewer> skyViewer(glm::vec3 look) {
-    auto v = Viewer::createHeadless(kSize, kSize);
+std::unique_ptr<Viewer> skyViewer(glm::vec3 look, int size = kSize, float fovDegrees = 60.0f) {
+    auto v = Viewer::createHeadless(size, size);
     v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
     auto& cam = *v->camera();
-    cam.setPerspective(60.0f, 0.1f, 1000.0f);
+    cam.setPerspective(fovDegrees, 0.1f, 1000.0f);
     cam.setLookAt({0, 0, 2}, glm::vec3(0, 0, 2) + look,
                   std::abs(look.z) > 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1));
     cam.clearColor = {0, 0, 0, 1};
@@ -30,17 +32,20 @@ std::unique_ptr<Viewer> skyViewer(glm::vec3 look) {
 }
 
 // Pixel (x, y) (top row first) and its view ray.
-glm::vec3 pixel(Viewer& v, int x, int y) {
-    const FloatImage img = v.renderer().readPixelsLinear();
-    const float* p = &img.rgba[(std::size_t(y) * kSize + x) * 4];
+glm::vec3 pixel(const FloatImage& img, int x, int y) {
+    const float* p = &img.rgba[(std::size_t(y) * std::size_t(img.width) + std::size_t(x)) * 4];
     return {p[0], p[1], p[2]};
+}
+glm::vec3 pixel(Viewer& v, int x, int y) {
+    return pixel(v.renderer().readPixelsLinear(), x, y);
 }
 glm::vec3 rayOf(Viewer& v, int x, int y) {
     const Camera& c = *v.camera();
     const glm::mat4 inv = glm::inverse(c.projectionMatrix * c.viewMatrix);
-    const glm::vec4 ndc((x + 0.5f) / kSize * 2 - 1, 1 - (y + 0.5f) / kSize * 2, 1, 1);
-    const glm::vec4 w = inv * ndc;
-    return glm::normalize(glm::vec3(w) / w.w - glm::vec3(0, 0, 2));
+    const float w = float(c.viewport.width), h = float(c.viewport.height);
+    const glm::vec4 ndc((x + 0.5f) / w * 2 - 1, 1 - (y + 0.5f) / h * 2, 1, 1);
+    const glm::vec4 p = inv * ndc;
+    return glm::normalize(glm::vec3(p) / p.w - glm::vec3(0, 0, 2));
 }
 } // namespace
 
@@ -147,4 +152,52 @@ TEST(Sky, BadParametersAreRefused) {
     p.atmosphere.mieG = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(sky->setParameters(p), std::invalid_argument);
     EXPECT_EQ(sky->parameters().steps, 16);
+}
+
+TEST(Sky, EveryPixelIsFiniteLookingAndLitFromAnyPole) {
+    // Straight down the horizon's azimuth is undefined: normalising (dir.xy, 0) gave NaN, which
+    // the `tEnd > 0` test turned into black (CPU mirror and per-pixel shader alike), and the
+    // table was sampled at NaN coordinates.
+    const sky::Atmosphere a;
+    for (const glm::vec3 sun : {glm::vec3(0, 0, 1), glm::vec3(0, 1, 0)}) {
+        const glm::vec3 down = sky::skyRadiance(a, {0, 0, -1}, sun, 20.0f, 2.0f);
+        const glm::vec3 east = sky::skyRadiance(a, {1, 0, 0}, sun, 20.0f, 2.0f);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_TRUE(std::isfinite(down[c]));
+            EXPECT_EQ(down[c], east[c]) << "straight down shows the horizon towards +x";
+        }
+    }
+    // An odd viewport puts the middle pixel's ray on the view axis: straight up or straight down
+    // exactly, where the horizon's azimuth is undefined and |level| may round above 1.
+    constexpr int kOdd = 33;
+    const glm::vec3 poles[] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}};
+    int checked = 0;
+    for (const bool table : {false, true})
+        for (const glm::vec3 look : poles)
+            for (const glm::vec3 sun : {glm::vec3(0, 0, 1), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0)}) {
+                SkyParameters p;
+                p.sunDirection = sun;
+                p.sunAngularRadius = 0.05f; // the disc covers the middle pixel when looking at the sun
+                p.lookupTable = table;
+                auto v = skyViewer(look, kOdd);
+                v->setSceneData(SkyNode::create(p));
+                v->frame();
+                const FloatImage img = v->renderer().readPixelsLinear();
+                int bad = 0, black = 0;
+                for (std::size_t i = 0; i < img.rgba.size(); ++i) {
+                    bad += !std::isfinite(img.rgba[i]);
+                    black += i % 4 < 3 && !(img.rgba[i] > 0.0f);
+                }
+                std::ostringstream where;
+                where << (table ? "table" : "direct") << ", looking " << look.x << "," << look.y << ","
+                      << look.z << ", sun " << sun.x << "," << sun.y << "," << sun.z;
+                EXPECT_EQ(bad, 0) << where.str();
+                // While the sun is up every direction has some sky light (below the horizon, the
+                // horizon's), straight down too.
+                if (sun.z >= 0.0f) {
+                    EXPECT_EQ(black, 0) << where.str();
+                }
+                checked += int(img.rgba.size());
+            }
+    EXPECT_EQ(checked, 18 * kOdd * kOdd * 4);
 }

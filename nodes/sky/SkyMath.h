@@ -33,13 +33,21 @@ inline glm::vec2 sphereHit(glm::vec3 o, glm::vec3 d, float r) {
     return {-b - s, -b + s};
 }
 
+/// The direction whose sky a view ray `dir` (normalised) shows. There is no ground model: below the
+/// horizon the sky shows the horizon at the ray's azimuth, and straight down, where that azimuth
+/// is undefined, the horizon towards +x.
+inline glm::vec3 skyDirection(glm::vec3 dir) {
+    if (dir.z >= 0.0f) return dir;
+    const float level = std::sqrt(dir.x * dir.x + dir.y * dir.y);
+    return level > 1e-6f ? glm::vec3(dir.x / level, dir.y / level, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
+}
+
 /// Radiance of the sky seen from `altitude` metres along `dir` (world, z up, normalised), with the
 /// sun towards `sun` (normalised) of irradiance `sunIntensity`; `steps` and `lightSteps` midpoint
 /// steps. The sun's disc is left out (the shader adds it).
 inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, float sunIntensity,
                              float altitude, int steps = 16, int lightSteps = 8) {
-    // No ground model: below the horizon the sky shows the horizon's colour.
-    dir = glm::normalize(glm::vec3(dir.x, dir.y, std::max(dir.z, 0.0f)));
+    dir = skyDirection(glm::normalize(dir));
     const glm::vec3 o(0.0f, 0.0f, a.planetRadius + std::max(altitude, 1.0f));
     float tEnd = sphereHit(o, dir, a.atmosphereRadius).y;
     const glm::vec2 ground = sphereHit(o, dir, a.planetRadius);

@@ -24,11 +24,19 @@ vec2 sphereHit(vec3 o, vec3 d, float r) {
     return vec2(-b - s, -b + s);
 }
 
+// The direction whose sky the view ray `dir` (normalised) shows (SkyMath.h: skyDirection): no
+// ground model, so below the horizon the horizon at the ray's azimuth; straight down, where that
+// is undefined, the horizon towards +x (normalising vec3(dir.xy, 0) there would give NaN).
+vec3 skyDirection(vec3 dir) {
+    if (dir.z >= 0.0) return dir;
+    float level = length(dir.xy);
+    return level > 1e-6 ? vec3(dir.xy / level, 0.0) : vec3(1.0, 0.0, 0.0);
+}
+
 // Returns the in-scattered radiance; `sunTransmittance` is what reaches the eye straight from
 // the sun along `dir` (0 when the ground is in the way).
 vec3 skyRadiance(vec3 dir, out vec3 sunTransmittance) {
-    // No ground model: below the horizon the sky shows the horizon's colour.
-    dir = normalize(vec3(dir.xy, max(dir.z, 0.0)));
+    dir = skyDirection(dir);
     vec3 o = vec3(0.0, 0.0, u_planetRadius + max(u_altitude, 1.0));
     float tEnd = sphereHit(o, dir, u_atmosphereRadius).y;
     vec2 ground = sphereHit(o, dir, u_planetRadius);
