@@ -33,42 +33,60 @@ inline glm::vec2 sphereHit(glm::vec3 o, glm::vec3 d, float r) {
     return {-b - s, -b + s};
 }
 
+/// The direction whose sky a view ray `dir` (normalised) shows. There is no ground model: below the
+/// horizon the sky shows the horizon at the ray's azimuth, and straight down, where that azimuth
+/// is undefined, the horizon towards +x.
+inline glm::vec3 skyDirection(glm::vec3 dir) {
+    if (dir.z >= 0.0f) return dir;
+    const float level = std::sqrt(dir.x * dir.x + dir.y * dir.y);
+    return level > 1e-6f ? glm::vec3(dir.x / level, dir.y / level, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
+}
+
+/// Step i of n of a march along a ray of `length`: (t of its sample, its length, the distance
+/// from its start to the sample). The steps crowd towards the ray's start, where the air is
+/// densest and an upward ray's density falls fastest: t = length·u² with u at the midpoints of n
+/// equal parts of [0, 1] (the midpoint rule in u), so step i spans length·[i², (i + 1)²]/n².
+inline glm::vec3 marchStep(float length, int i, int n) {
+    const float scale = length / (float(n) * float(n));
+    const float k = float(i);
+    return {scale * (k + 0.5f) * (k + 0.5f), scale * (2.0f * k + 1.0f), scale * (k + 0.25f)};
+}
+
 /// Radiance of the sky seen from `altitude` metres along `dir` (world, z up, normalised), with the
-/// sun towards `sun` (normalised) of irradiance `sunIntensity`; `steps` and `lightSteps` midpoint
-/// steps. The sun's disc is left out (the shader adds it).
+/// sun towards `sun` (normalised) of irradiance `sunIntensity`; `steps` along the view ray and
+/// `lightSteps` towards the sun (marchStep). The sun's disc is left out (the shader adds it).
 inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, float sunIntensity,
                              float altitude, int steps = 16, int lightSteps = 8) {
-    // No ground model: below the horizon the sky shows the horizon's colour.
-    dir = glm::normalize(glm::vec3(dir.x, dir.y, std::max(dir.z, 0.0f)));
+    dir = skyDirection(glm::normalize(dir));
     const glm::vec3 o(0.0f, 0.0f, a.planetRadius + std::max(altitude, 1.0f));
     float tEnd = sphereHit(o, dir, a.atmosphereRadius).y;
     const glm::vec2 ground = sphereHit(o, dir, a.planetRadius);
     if (ground.x > 0.0f) tEnd = ground.x;
     if (!(tEnd > 0.0f)) return glm::vec3(0.0f);
-    const float ds = tEnd / float(steps);
-    float odR = 0.0f, odM = 0.0f;
+    float odR = 0.0f, odM = 0.0f; // column densities from the eye to the current step's start
     glm::vec3 sumR(0.0f), sumM(0.0f);
     for (int i = 0; i < steps; ++i) {
-        const glm::vec3 p = o + dir * ((float(i) + 0.5f) * ds);
+        const glm::vec3 s = marchStep(tEnd, i, steps);
+        const glm::vec3 p = o + dir * s.x;
         const float h = glm::length(p) - a.planetRadius;
-        const float hr = std::exp(-h / a.rayleighHeight) * ds;
-        const float hm = std::exp(-h / a.mieHeight) * ds;
-        odR += hr;
-        odM += hm;
+        const float rhoR = std::exp(-h / a.rayleighHeight), rhoM = std::exp(-h / a.mieHeight);
+        // From the eye to the sample: the steps before it and its own start.
+        const float toR = odR + rhoR * s.z, toM = odM + rhoM * s.z;
+        odR += rhoR * s.y;
+        odM += rhoM * s.y;
         if (sphereHit(p, sun, a.planetRadius).x > 0.0f) continue; // in the planet's shadow
         const float tl = sphereHit(p, sun, a.atmosphereRadius).y;
-        const float dl = tl / float(lightSteps);
         float odRl = 0.0f, odMl = 0.0f;
         for (int j = 0; j < lightSteps; ++j) {
-            const glm::vec3 q = p + sun * ((float(j) + 0.5f) * dl);
-            const float hq = glm::length(q) - a.planetRadius;
-            odRl += std::exp(-hq / a.rayleighHeight) * dl;
-            odMl += std::exp(-hq / a.mieHeight) * dl;
+            const glm::vec3 l = marchStep(tl, j, lightSteps);
+            const float hq = glm::length(p + sun * l.x) - a.planetRadius;
+            odRl += std::exp(-hq / a.rayleighHeight) * l.y;
+            odMl += std::exp(-hq / a.mieHeight) * l.y;
         }
-        const glm::vec3 tau = a.rayleigh * (odR + odRl) + glm::vec3(a.mie * a.mieExtinction * (odM + odMl));
+        const glm::vec3 tau = a.rayleigh * (toR + odRl) + glm::vec3(a.mie * a.mieExtinction * (toM + odMl));
         const glm::vec3 att(std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z));
-        sumR += att * hr;
-        sumM += att * hm;
+        sumR += att * (rhoR * s.y);
+        sumM += att * (rhoM * s.y);
     }
     const float mu = glm::dot(dir, sun);
     return sunIntensity * (sumR * a.rayleigh * volume::rayleighPhase(mu) +
@@ -79,12 +97,13 @@ inline glm::vec3 skyRadiance(const Atmosphere& a, glm::vec3 dir, glm::vec3 sun, 
 inline glm::vec3 sunTransmittance(const Atmosphere& a, glm::vec3 sun, float altitude, int steps = 16) {
     const glm::vec3 o(0.0f, 0.0f, a.planetRadius + std::max(altitude, 1.0f));
     if (sphereHit(o, sun, a.planetRadius).x > 0.0f) return glm::vec3(0.0f);
-    const float ds = sphereHit(o, sun, a.atmosphereRadius).y / float(steps);
+    const float length = sphereHit(o, sun, a.atmosphereRadius).y;
     float odR = 0.0f, odM = 0.0f;
     for (int i = 0; i < steps; ++i) {
-        const float h = glm::length(o + sun * ((float(i) + 0.5f) * ds)) - a.planetRadius;
-        odR += std::exp(-h / a.rayleighHeight) * ds;
-        odM += std::exp(-h / a.mieHeight) * ds;
+        const glm::vec3 s = marchStep(length, i, steps);
+        const float h = glm::length(o + sun * s.x) - a.planetRadius;
+        odR += std::exp(-h / a.rayleighHeight) * s.y;
+        odM += std::exp(-h / a.mieHeight) * s.y;
     }
     const glm::vec3 tau = a.rayleigh * odR + glm::vec3(a.mie * a.mieExtinction * odM);
     return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};

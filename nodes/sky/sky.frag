@@ -20,8 +20,10 @@ void main() {
     vec4 w = sgfx_invViewProjection * vec4(v_uv * 2.0 - 1.0, 1.0, 1.0);
     vec3 dir = normalize(w.xyz / w.w - sgfx_eye.xyz);
 #ifdef SGFX_SKY_LUT
-    vec3 level = normalize(vec3(dir.xy, max(dir.z, 0.0)));
-    vec2 uv = vec2(atan(level.y, level.x) / 6.283185307179586 + 0.5, sqrt(asin(level.z) / 1.5707963267948966));
+    // SkyMath.h: lutCoordinates. A normalised z may round above 1, outside asin's domain.
+    vec3 level = skyDirection(dir);
+    float elevation = asin(clamp(level.z, 0.0, 1.0));
+    vec2 uv = vec2(atan(level.y, level.x) / 6.283185307179586 + 0.5, sqrt(elevation / 1.5707963267948966));
     vec3 c = texture(u_skyLut, uv).rgb;
     vec3 sunT = dir.z >= 0.0 ? u_sunTransmittance : vec3(0.0);
 #else
