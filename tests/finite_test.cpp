@@ -7,8 +7,10 @@
 #include <particles/ParticleSystemNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
+#include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -139,4 +141,62 @@ TEST(Finite, AParticleAtTheEyeGivesFinitePixels) {
             const float* mid = &img.rgba[(std::size_t(kSize / 2) * kSize + kSize / 2) * 4];
             EXPECT_GT(std::abs(mid[0] - 0.2f) + std::abs(mid[2] - 0.4f), 0.05f) << "path " << int(path);
         }
+}
+
+TEST(Finite, FlatNormalsWhoseDerivativesUnderflowGiveFinitePixels) {
+    // A quad without normals seen through an orthographic view 1e-19 m across: the screen-space
+    // derivatives of its position are about 1e-21 m a pixel and their cross product underflows
+    // to zero (denormals flush on llvmpipe), which is what a sliver's parallel derivatives give:
+    // normalising it is NaN. Drawn with the built-in material (its flat path and its AO G-buffer
+    // variant) and with an application's program (AO's flat G-buffer shader), under AO.
+    static const char* foreignFrag = R"(#version 450 core
+#ifdef SGFX_AMBIENT_OCCLUSION
+float sgfx_ambientOcclusion();
+#endif
+out vec4 fragOut;
+void main() {
+    float k = 0.0;
+#ifdef SGFX_AMBIENT_OCCLUSION
+    k = sgfx_ambientOcclusion();
+#endif
+    fragOut = vec4(vec3(1.0 - k), 1.0);
+}
+)";
+    auto render = [&](bool foreign, float half) {
+        auto g = Geometry::create();
+        g->positions = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0}, {-half, half, 0}};
+        g->indices = {0, 1, 2, 0, 2, 3};
+        if (foreign)
+            g->getOrCreateStateSet().program.set(
+                ShaderProgram::create("app_flat", kForeignVert, foreignFrag));
+        else
+            g->getOrCreateStateSet().material.set(Material::create());
+        g->getOrCreateStateSet().cullFace.set(CullFace::None);
+        auto root = Group::create();
+        root->addChild(Light::create(LightType::Ambient));
+        auto sun = Light::create(LightType::Directional); // the flat normal enters the lighting
+        sun->direction = {-0.3f, -0.2f, -0.9f};
+        root->addChild(sun);
+        auto ao = AmbientOcclusionNode::create();
+        ao->addChild(g);
+        root->addChild(ao);
+        auto v = floatViewer({0.0f, -0.5f, 10.0f}, {0, 0, 0});
+        v->camera()->projectionMatrix = glm::ortho(-half, half, -half, half, 0.1f, 100.0f);
+        v->setSceneData(root);
+        v->frame();
+        EXPECT_EQ(nonFinitePixels(*v), 0)
+            << (foreign ? "foreign program" : "built-in material") << ", view " << half << " m";
+        const FloatImage img = v->renderer().readPixelsLinear();
+        const float* c = &img.rgba[(std::size_t(kSize / 2) * kSize + kSize / 2) * 4];
+        return glm::vec3(c[0], c[1], c[2]);
+    };
+    // The microscopic quad looks like the same quad 2 mm across (whose flat normal is exact):
+    // the stand-in normal faces the eye, 3° off the quad's. A NaN normal shows as black rather
+    // than as NaN on llvmpipe (its max() drops the NaN of N·L), so the colours are compared.
+    for (const bool foreign : {false, true}) {
+        const glm::vec3 tiny = render(foreign, 1e-19f), normal = render(foreign, 1e-3f);
+        for (int ch = 0; ch < 3; ++ch)
+            EXPECT_NEAR(tiny[ch], normal[ch], 0.03f * normal[ch] + 1e-3f)
+                << (foreign ? "foreign program" : "built-in material") << " channel " << ch;
+    }
 }

@@ -776,3 +776,38 @@ void main() { fragOut = appColor; }
     EXPECT_LE(channelError(img, kSize / 2, kSize / 2, over({0.9, 0.6, 0.1}, 0.4, kBackground)), 2);
     EXPECT_LE(channelError(img, 2, 2, kBackground), 1);
 }
+
+TEST(WeightedBlendedRender, WeightsFollowThePapersEquationsNearAndFar) {
+    // Two panes 0.5 m and 9 m from the eye: their weights differ by two orders of magnitude under
+    // equation 7, so the composite leans to the near (red) pane by how much the equation says.
+    // The expected pixel is computed here from McGuire & Bavoil 2013, equations 6–9, written out
+    // (not through OitMath.h), with the paper's clamp to [1e-2, 3e3].
+    auto paperWeight = [](int eq, double alpha, double z) {
+        z = std::abs(z);
+        double w = 1.0;
+        if (eq == 7) w = 10.0 / (1e-5 + (z / 5) * (z / 5) + std::pow(z / 200, 6.0));
+        if (eq == 8) w = 10.0 / (1e-5 + (z / 10) * (z / 10) * (z / 10) + std::pow(z / 200, 6.0));
+        if (eq == 9) w = 0.03 / (1e-5 + std::pow(z / 200, 4.0));
+        return eq == 0 ? alpha : alpha * std::clamp(w, 1e-2, 3e3);
+    };
+    const glm::dvec3 near(0.9, 0.1, 0.1), far(0.1, 0.2, 0.9);
+    const double alpha = 0.5, zNear = 0.5, zFar = 9.0;
+    for (auto [w, eq] : {std::pair{OitWeight::Constant, 0}, std::pair{OitWeight::Depth7, 7},
+                         std::pair{OitWeight::Depth8, 8}, std::pair{OitWeight::Depth9, 9}}) {
+        auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
+        OitParameters p;
+        p.weight = w;
+        bin->setOitParameters(p);
+        bin->addChild(pane({0, 0, float(10.0 - zFar)}, glm::vec3(far), float(alpha)));
+        bin->addChild(pane({0, 0, float(10.0 - zNear)}, glm::vec3(near), float(alpha)));
+        auto v = topViewer();
+        const Image img = render(*v, bin);
+        const double wn = paperWeight(eq, alpha, zNear), wf = paperWeight(eq, alpha, zFar);
+        const double reveal = (1 - alpha) * (1 - alpha);
+        const glm::dvec3 expected =
+            (near * alpha * wn + far * alpha * wf) / (alpha * wn + alpha * wf) * (1 - reveal) +
+            kBackground * reveal;
+        EXPECT_LE(channelError(img, kSize / 2, kSize / 2, expected), 2)
+            << "equation " << eq << ": near weight " << wn << ", far weight " << wf;
+    }
+}
