@@ -90,6 +90,21 @@ void main() {
 }
 )";
 
+// An application's fragment shader that opts into ambient occlusion: it shows 1 − k.
+inline const char* const kForeignAoFrag = R"(#version 450 core
+#ifdef SGFX_AMBIENT_OCCLUSION
+float sgfx_ambientOcclusion();
+#endif
+out vec4 fragOut;
+void main() {
+    float k = 0.0;
+#ifdef SGFX_AMBIENT_OCCLUSION
+    k = sgfx_ambientOcclusion();
+#endif
+    fragOut = vec4(vec3(1.0 - k), 1.0);
+}
+)";
+
 // Number of colour channels (RGB) of two equally sized images that differ by more than `tolerance`.
 inline int channelsDiffering(const Image& a, const Image& b, int tolerance = 1) {
     int n = 0;

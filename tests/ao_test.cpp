@@ -315,20 +315,7 @@ TEST(AmbientOcclusion, BlendedSurfacesAreNotOccluded) {
 }
 
 TEST(AmbientOcclusion, ForeignShadersOptIn) {
-    static const char* frag = R"(#version 450 core
-#ifdef SGFX_AMBIENT_OCCLUSION
-float sgfx_ambientOcclusion();
-#endif
-out vec4 fragOut;
-void main() {
-    float k = 0.0;
-#ifdef SGFX_AMBIENT_OCCLUSION
-    k = sgfx_ambientOcclusion();
-#endif
-    fragOut = vec4(vec3(1.0 - k), 1.0);
-}
-)";
-    auto program = ShaderProgram::create("app_ao", kForeignVert, frag);
+    auto program = ShaderProgram::create("app_ao", kForeignVert, kForeignAoFrag);
     auto scene = Group::create();
     for (int i = 0; i < 2; ++i) {
         auto q = shapes::quad(20, 20);

@@ -149,26 +149,13 @@ TEST(Finite, FlatNormalsWhoseDerivativesUnderflowGiveFinitePixels) {
     // to zero (denormals flush on llvmpipe), which is what a sliver's parallel derivatives give:
     // normalising it is NaN. Drawn with the built-in material (its flat path and its AO G-buffer
     // variant) and with an application's program (AO's flat G-buffer shader), under AO.
-    static const char* foreignFrag = R"(#version 450 core
-#ifdef SGFX_AMBIENT_OCCLUSION
-float sgfx_ambientOcclusion();
-#endif
-out vec4 fragOut;
-void main() {
-    float k = 0.0;
-#ifdef SGFX_AMBIENT_OCCLUSION
-    k = sgfx_ambientOcclusion();
-#endif
-    fragOut = vec4(vec3(1.0 - k), 1.0);
-}
-)";
     auto render = [&](bool foreign, float half) {
         auto g = Geometry::create();
         g->positions = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0}, {-half, half, 0}};
         g->indices = {0, 1, 2, 0, 2, 3};
         if (foreign)
             g->getOrCreateStateSet().program.set(
-                ShaderProgram::create("app_flat", kForeignVert, foreignFrag));
+                ShaderProgram::create("app_flat", kForeignVert, kForeignAoFrag));
         else
             g->getOrCreateStateSet().material.set(Material::create());
         g->getOrCreateStateSet().cullFace.set(CullFace::None);

@@ -75,6 +75,14 @@ VolumeParameters homogeneous(float ka, glm::vec3 ke = glm::vec3(0.0f)) {
     return p;
 }
 
+// The volume alone in floatViewer's view, read back linear.
+FloatImage renderAlone(const VolumeParameters& p, VolumeGrid grid) {
+    auto v = floatViewer();
+    v->setSceneData(VolumeNode::create(p, std::move(grid)));
+    v->frame();
+    return v->renderer().readPixelsLinear();
+}
+
 } // namespace
 
 TEST(VolumeMath, PhaseFunctionsIntegrateToOneOverTheSphere) {
@@ -208,13 +216,10 @@ TEST(Volume, EmptySpaceSkippingSkipsSamplesAndKeepsTheImage) {
     // skipping must take measurably fewer density samples (counted per pixel by the march's
     // diagnostic output) and give the same image.
     auto render = [](bool skip, bool count) {
-        auto v = floatViewer();
         VolumeParameters p = homogeneous(1.2f, glm::vec3(0.6f, 0.4f, 0.2f));
         p.emptySpaceSkipping = skip;
         p.debugSampleCount = count;
-        v->setSceneData(VolumeNode::create(p, VolumeGrid::sphere(64, 0.25f, 0.05f)));
-        v->frame();
-        return v->renderer().readPixelsLinear();
+        return renderAlone(p, VolumeGrid::sphere(64, 0.25f, 0.05f));
     };
     const FloatImage a = render(false, false), b = render(true, false);
     double maxDiff = 0;
@@ -240,13 +245,10 @@ TEST(Volume, JitterTurnsBandingIntoNoise) {
     // pixel starts at its own random offset and the error changes from pixel to pixel. Measured
     // as the correlation of the errors of horizontally adjacent pixels over the ball.
     auto render = [](int steps, bool jitter) {
-        auto v = floatViewer();
         VolumeParameters p = homogeneous(2.0f, glm::vec3(1.0f, 0.7f, 0.4f));
         p.steps = steps;
         p.jitter = jitter;
-        v->setSceneData(VolumeNode::create(p, VolumeGrid::sphere(64, 0.4f, 0.01f)));
-        v->frame();
-        return v->renderer().readPixelsLinear();
+        return renderAlone(p, VolumeGrid::sphere(64, 0.4f, 0.01f));
     };
     const FloatImage reference = render(256, false);
     auto neighbourCorrelation = [&](const FloatImage& img, double& rms) {
