@@ -16,9 +16,7 @@ out vec4 v_color;
 void main() {
     float age = a_state.x;
     vec3 sgfx_worldPos = a_state.yzw;
-    vec3 toEye = sgfx_eye.xyz - sgfx_worldPos; // N of the seed's sprite; at the eye, the view's back axis
-    vec3 sgfx_worldNormal =
-        dot(toEye, toEye) > 1e-12 ? normalize(toEye) : vec3(sgfx_view[0][2], sgfx_view[1][2], sgfx_view[2][2]);
+    vec3 sgfx_worldNormal = particleTowardsEye(sgfx_worldPos); // N of the seed's sprite
     vec4 sgfx_viewPos = sgfx_view * vec4(sgfx_worldPos, 1.0);
     // @sgfx:vertex
     float life = particleLife(age);

@@ -47,16 +47,20 @@ mat3 rotationX(float a) { return mat3(1, 0, 0, 0, cos(a), sin(a), 0, -sin(a), co
 mat3 rotationY(float a) { return mat3(cos(a), 0, -sin(a), 0, 1, 0, sin(a), 0, cos(a)); }
 mat3 rotationZ(float a) { return mat3(cos(a), sin(a), 0, -sin(a), cos(a), 0, 0, 0, 1); }
 
+// The seed's sprite normal N: towards the eye. A particle at the eye has no direction to it, so
+// the view's own back axis stands in rather than normalising a zero vector.
+vec3 particleTowardsEye(vec3 position) {
+    vec3 toEye = sgfx_eye.xyz - position;
+    return dot(toEye, toEye) > 1e-12 ? normalize(toEye) : vec3(sgfx_view[0][2], sgfx_view[1][2], sgfx_view[2][2]);
+}
+
 // The frame a particle's corners are given in: for the sprite the seed's A, B, N (N towards the
 // eye, A = Y×N/|Y×N|, B = N×A); otherwise MR = Mx(α)·My(β)·Mz(γ), α = r0x + (|rx| − krot), ...
 mat3 particleFrame(vec3 position, vec3 angles0, vec3 angles) {
 #if SGFX_PARTICLE_SHAPE == 0
-    // A particle at the eye has no direction to it, and one straight above it none across: there
-    // the view's own axes stand in rather than normalising a zero vector.
-    vec3 toEye = sgfx_eye.xyz - position;
-    vec3 N = dot(toEye, toEye) > 1e-12 ? normalize(toEye) : vec3(sgfx_view[0][2], sgfx_view[1][2], sgfx_view[2][2]);
+    vec3 N = particleTowardsEye(position);
     vec3 Y = vec3(sgfx_view[0][1], sgfx_view[1][1], sgfx_view[2][1]); // view Y in world
-    vec3 across = cross(Y, N);
+    vec3 across = cross(Y, N); // zero for a particle straight above the eye: the view's X stands in
     vec3 A = dot(across, across) > 1e-12 ? normalize(across) : vec3(sgfx_view[0][0], sgfx_view[1][0], sgfx_view[2][0]);
     vec3 B = cross(N, A); // unit: N ⟂ A
     return mat3(A, B, N);
