@@ -2,11 +2,10 @@
 #include "fog/FogMath.h"
 
 #include "ParameterChecks.h"
-#include "TargetCache.h"
 
+#include <sgfx/FrameSetup.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/gl/Objects.h>
-
-#include <glad/gl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -30,11 +29,6 @@ void checkRange(const char* name, float v, double lo, double hi) {
 
 std::string text(std::string_view file) {
     return nodes::shaderText(file);
-}
-
-const std::string& unitDefine() {
-    static const std::string d = "#define SGFX_FOG_DEPTH_UNIT " + std::to_string(kEffectTextureUnit);
-    return d;
 }
 
 ShaderSnippet snippetOf(std::string name, std::string defines, std::string fragmentDecl,
@@ -86,117 +80,96 @@ void FogParameters::validate() const {
         refuse("skyDistance = " + number(skyDistance) + " must be in (0, 1e10] metres");
 }
 
-// Seed §2's T_depth: depth of every item of the view (opaque and transparent), into a texture
-// the materials read at kEffectTextureUnit. One per view, shared by nested split-fog nodes.
-class FogNode::DepthPrePass : public RenderPass {
-public:
-    std::string_view name() const override { return "fog depth pre-pass"; }
-    PassStage stage() const override { return PassStage::PrePass; }
-    void execute(Renderer& r) override {
-        const gl::RenderTarget& view = r.currentTarget();
-        Target& t = targetFor(view.width, view.height, r.frame().frameNumber);
-        r.bindTexture(kEffectTextureUnit, 0); // not sampled while it is being written
-        glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
-        glViewport(0, 0, t.width, t.height);
-        glDepthMask(GL_TRUE);
-        glClearDepth(1.0);
-        glClear(GL_DEPTH_BUFFER_BIT);
-        gl::Program& depthOnly = r.depthOnlyProgram();
-        r.drawItems(r.queue().opaque, &depthOnly, DrawMode::DepthOnly);
-        r.drawItems(r.queue().transparent, &depthOnly, DrawMode::DepthOnly);
-        r.drawItems(r.queue().claimed, &depthOnly, DrawMode::DepthOnly);
-        r.bindTexture(kEffectTextureUnit, t.depth.get());
-    }
+namespace {
 
-private:
-    struct Target {
-        gl::FramebufferObject fbo;
-        gl::TextureObject depth;
-        int width = 0, height = 0;
-        std::uint64_t lastUse = 0;
-    };
-
-    // One target per view size, so a render-to-texture view and the main view do not reallocate
-    // each other's every frame; the least recently used of more than four goes.
-    Target& targetFor(int width, int height, std::uint64_t frame) {
-        return targets_.get(
-            frame, [&](const Target& t) { return t.width == width && t.height == height; },
-            [&](Target& t) { init(t, width, height); });
-    }
-
-    static void init(Target& t, int width, int height) {
-        t.fbo = gl::createFramebuffer();
-        t.depth = gl::createTexture2D(GL_DEPTH_COMPONENT32F, width, height);
-        glNamedFramebufferTexture(t.fbo.get(), GL_DEPTH_ATTACHMENT, t.depth.get(), 0);
-        glNamedFramebufferDrawBuffer(t.fbo.get(), GL_NONE);
-        glNamedFramebufferReadBuffer(t.fbo.get(), GL_NONE);
-        if (glCheckNamedFramebufferStatus(t.fbo.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            throw std::runtime_error("sgfx: fog depth pre-pass: framebuffer incomplete at " +
-                                     std::to_string(width) + "x" + std::to_string(height));
-        t.width = width; // only a complete target is ever matched
-        t.height = height;
-    }
-
-public:
-    void releaseGLObjects() { targets_.clear(); }
-
-private:
-    nodes::TargetCache<Target> targets_;
-};
-
-// Seed §1's post-process (every pixel) or the forward modes' sky (uncovered pixels only).
-class FogNode::FullscreenPass : public RenderPass {
-public:
-    explicit FullscreenPass(bool post)
-        : post_(post) {}
-    std::string_view name() const override { return post_ ? "fog post-process" : "fog sky"; }
-    PassStage stage() const override { return post_ ? PassStage::Post : PassStage::AfterOpaque; }
-    FogParameters parameters;
-
-    void execute(Renderer& r) override {
-        const gl::RenderTarget& view = r.currentTarget();
-        gl::Program& program = r.composer().program(base(), std::array{&decl()}, 0);
-        if (post_) {
-            // Sampling the depth texture while it is attached to the draw framebuffer is a
-            // feedback loop: draw into a framebuffer that has the colour texture alone.
-            if (!fbo_) fbo_ = gl::createFramebuffer();
-            glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, view.color.get(), 0);
-            glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
-            r.bindTexture(kEffectTextureUnit, view.depth.get());
-        } else {
-            glBindFramebuffer(GL_FRAMEBUFFER, view.fbo.get());
-        }
-        glViewport(0, 0, view.width, view.height);
-        glEnable(GL_FRAMEBUFFER_SRGB);
-        r.setBlend(BlendMode::Alpha);
-        glUseProgram(program.get());
-        setUniforms(program, parameters, r.frame().eye);
-        r.drawFullscreen(program, post_
-                                      ? DepthState{.test = false, .write = false, .func = CompareFunc::Always}
-                                      : DepthState{.test = true, .write = false, .func = CompareFunc::Equal});
-        if (post_) r.bindTexture(kEffectTextureUnit, 0);
-    }
-    void releaseGLObjects() { fbo_.reset(); }
-
-private:
-    const BaseShader& base() const {
-        static const BaseShader sky{"fog_sky", "blit.vert",
-                                    fullscreenVertexWith("#define SGFX_FULLSCREEN_FAR"),
-                                    "fog_fullscreen.frag", text("fog_fullscreen.frag")};
-        static const BaseShader post{"fog_post", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
+const BaseShader& fullscreenBase(bool post) {
+    static const BaseShader sky{"fog_sky", "blit.vert", fullscreenVertexWith("#define SGFX_FULLSCREEN_FAR"),
+                                "fog_fullscreen.frag", text("fog_fullscreen.frag")};
+    static const BaseShader postBase{"fog_post", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
                                      "fog_fullscreen.frag", text("fog_fullscreen.frag")};
-        return post_ ? post : sky;
+    return post ? postBase : sky;
+}
+
+const ShaderSnippet& fullscreenDecl(bool post) {
+    static const ShaderSnippet sky = snippetOf("fog_fullscreen", "", text("fog_optical_depth.glsl"));
+    static const ShaderSnippet postDecl =
+        snippetOf("fog_fullscreen_post", "#define SGFX_FOG_POST", text("fog_optical_depth.glsl"));
+    return post ? postDecl : sky;
+}
+
+// The resource the split materials sample: the depth of the nearest surface of every item.
+constexpr std::string_view kNearestDepth = "fog.nearestDepth";
+
+} // namespace
+
+// Seed §1's post-process: every pixel, from the resolved view depth, onto the view colour.
+void FogNode::addPostPass(FrameSetup& f) const {
+    struct Data {
+        ResourceId depth, colour;
+    };
+    f.addPass<Data>(
+        "fog post-process", PassPhase::AfterResolve,
+        [](PassBuilder& b, Data& d) {
+            d.depth = b.sample(b.get(resources::ViewDepth), "sgfx_fogSceneDepth");
+            d.colour = b.write(resources::ViewColour); // a colour-only target: no depth feedback loop
+        },
+        [p = parameters_](PassCommands& c, const Data& d) {
+            gl::Program& program = c.program(fullscreenBase(true), std::array{&fullscreenDecl(true)});
+            c.target({d.colour});
+            c.bind(program, "sgfx_fogSceneDepth", d.depth);
+            setUniforms(program, p, c.frame().eye);
+            c.fullscreen(program, {.blend = BlendMode::Alpha});
+        });
+}
+
+// The forward modes' sky: pixels still at the far plane after the opaque items.
+void FogNode::addSkyPass(FrameSetup& f) const {
+    struct Data {
+        ResourceId colour, depth;
+    };
+    f.addPass<Data>(
+        "fog sky", PassPhase::AfterOpaque,
+        [](PassBuilder& b, Data& d) {
+            d.depth = b.depthTest(b.get(resources::DrawDepth));
+            d.colour = b.write(resources::DrawColour);
+        },
+        [p = parameters_](PassCommands& c, const Data& d) {
+            gl::Program& program = c.program(fullscreenBase(false), std::array{&fullscreenDecl(false)});
+            c.target({d.colour}, d.depth);
+            setUniforms(program, p, c.frame().eye);
+            c.fullscreen(program, {.blend = BlendMode::Alpha,
+                                   .depth = {.test = true, .write = false, .func = CompareFunc::Equal}});
+        });
+}
+
+// Seed §2's T_depth is the nearest surface of every item, blended ones included (glass is fogged
+// on [O, Pn]): the shared opaque scene depth, plus the blended items' depth drawn over a copy of
+// it when there are any.
+void FogNode::addNearestDepth(FrameSetup& f) const {
+    f.requestSceneDepth({.when = PassPhase::BeforeMain});
+    const RenderQueue& q = f.queue();
+    if (q.transparent.empty() && q.claimed.empty()) {
+        f.addPass("fog: nearest depth", PassPhase::BeforeMain,
+                  [](PassBuilder& b) { b.publish(std::string(kNearestDepth), b.get(resources::SceneDepth)); }, {});
+        return;
     }
-    const ShaderSnippet& decl() const {
-        static const ShaderSnippet sky =
-            snippetOf("fog_fullscreen", unitDefine(), text("fog_optical_depth.glsl"));
-        static const ShaderSnippet post = snippetOf(
-            "fog_fullscreen_post", unitDefine() + "\n#define SGFX_FOG_POST", text("fog_optical_depth.glsl"));
-        return post_ ? post : sky;
-    }
-    bool post_;
-    gl::FramebufferObject fbo_;
-};
+    struct Data {
+        ResourceId from, to;
+    };
+    f.addPass<Data>(
+        "fog: blended depth", PassPhase::BeforeMain,
+        [](PassBuilder& b, Data& d) {
+            d.from = b.sample(b.get(resources::SceneDepth), "copy");
+            d.to = b.depth(b.create(std::string(kNearestDepth), {.format = format::Depth32F}), false);
+            b.publish(std::string(kNearestDepth), d.to);
+        },
+        [](PassCommands& c, const Data& d) {
+            c.copyDepth(d.from, d.to);
+            c.target({}, d.to);
+            c.drawQueue(c.queue().transparent, DrawMode::DepthOnly);
+            c.drawQueue(c.queue().claimed, DrawMode::DepthOnly);
+        });
+}
 
 std::shared_ptr<FogNode> FogNode::create(const FogParameters& parameters, FogMode mode) {
     auto n = std::make_shared<FogNode>();
@@ -205,21 +178,12 @@ std::shared_ptr<FogNode> FogNode::create(const FogParameters& parameters, FogMod
     return n;
 }
 
-FogNode::FogNode()
-    : depthPass_(std::make_shared<DepthPrePass>())
-    , skyPass_(std::make_shared<FullscreenPass>(false))
-    , postPass_(std::make_shared<FullscreenPass>(true)) {
+FogNode::FogNode() {
     // Fog covers the sky too: it must be planned when nothing under it is in view.
     setCullingActive(false);
 }
 
 FogNode::~FogNode() = default;
-
-void FogNode::releaseGLObjects() {
-    depthPass_->releaseGLObjects();
-    skyPass_->releaseGLObjects();
-    postPass_->releaseGLObjects();
-}
 
 void FogNode::setParameters(const FogParameters& p) {
     p.validate();
@@ -236,9 +200,12 @@ void FogNode::setMode(FogMode m) {
 const ShaderSnippet& FogNode::snippet() const {
     static const ShaderSnippet forward =
         snippetOf("fog", "", text("fog_optical_depth.glsl"), text("fog_forward.glsl"));
-    static const ShaderSnippet split =
-        snippetOf("fog_split", unitDefine(), text("fog_optical_depth.glsl") + text("fog_split_decl.glsl"),
-                  text("fog_split.glsl"));
+    static const ShaderSnippet split = [] {
+        ShaderSnippet sn = snippetOf("fog_split", "", text("fog_optical_depth.glsl") + text("fog_split_decl.glsl"),
+                                     text("fog_split.glsl"));
+        sn.samplers = {{"sgfx_fogNearestDepth", std::string(kNearestDepth)}};
+        return sn;
+    }();
     static const ShaderSnippet post = snippetOf("fog_post", "", ""); // the pass does it all
     switch (mode_) {
     case FogMode::ForwardSplit:
@@ -251,19 +218,14 @@ const ShaderSnippet& FogNode::snippet() const {
     return forward;
 }
 
-void FogNode::planFrame(FramePlan& plan) const {
+void FogNode::setupFrame(FrameSetup& f) const {
     // Cull visits outer nodes first: the outermost fog owns the view-wide passes.
     if (mode_ == FogMode::PostProcess) {
-        if (plan.has(postPass_->name())) return;
-        postPass_->parameters = parameters_;
-        plan.add(postPass_);
+        if (f.once("fog post-process")) addPostPass(f);
         return;
     }
-    if (mode_ == FogMode::ForwardSplit && !plan.has(depthPass_->name())) plan.add(depthPass_);
-    if (parameters_.sky != FogSky::Off && !plan.has(skyPass_->name())) {
-        skyPass_->parameters = parameters_;
-        plan.add(skyPass_);
-    }
+    if (mode_ == FogMode::ForwardSplit && f.once("fog: nearest depth")) addNearestDepth(f);
+    if (parameters_.sky != FogSky::Off && f.once("fog sky")) addSkyPass(f);
 }
 
 void FogNode::applyUniforms(gl::Program& program, const DrawContext& context) const {

@@ -68,9 +68,8 @@ public:
     std::string_view kind() const override { return "fog"; }
     int order() const override { return 500; } // after lighting effects, before diagnostics
     const ShaderSnippet& snippet() const override;
-    void planFrame(FramePlan& plan) const override;
+    void setupFrame(FrameSetup& frame) const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
-    void releaseGLObjects() override;
 
     /// Both throw std::invalid_argument with the reason and keep the previous value.
     void setParameters(const FogParameters& parameters);
@@ -83,12 +82,11 @@ public:
     static void setUniforms(gl::Program& program, const FogParameters& parameters, const glm::vec3& eye);
 
 private:
-    class DepthPrePass;
-    class FullscreenPass;
+    void addPostPass(FrameSetup& frame) const;
+    void addSkyPass(FrameSetup& frame) const;
+    void addNearestDepth(FrameSetup& frame) const;
     FogParameters parameters_;
     FogMode mode_ = FogMode::Forward;
-    std::shared_ptr<DepthPrePass> depthPass_;
-    std::shared_ptr<FullscreenPass> skyPass_, postPass_;
 };
 
 } // namespace sgfx

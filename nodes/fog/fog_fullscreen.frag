@@ -9,7 +9,7 @@ layout(location = 0) out vec4 sgfx_fragColor;
 // @sgfx:fragment_decl
 
 #ifdef SGFX_FOG_POST
-layout(binding = SGFX_FOG_DEPTH_UNIT) uniform sampler2D sgfx_fogSceneDepth;
+uniform sampler2D sgfx_fogSceneDepth;
 #endif
 
 void main() {

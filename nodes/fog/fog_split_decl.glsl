@@ -1,5 +1,5 @@
 // Seed §2: depth of the nearest surface of the view, from the fog's depth pre-pass.
-layout(binding = SGFX_FOG_DEPTH_UNIT) uniform sampler2D sgfx_fogNearestDepth;
+uniform sampler2D sgfx_fogNearestDepth;
 
 // World position of a window position and depth (seed eq. 2).
 vec3 sgfx_fogWorldAt(vec2 fragXY, float depth) {

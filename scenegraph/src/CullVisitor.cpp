@@ -228,7 +228,10 @@ void CullVisitor::apply(EffectNode& e) {
     std::stable_sort(set.begin(), set.end(),
                      [](const EffectNode* a, const EffectNode* b) { return a->order() < b->order(); });
     effectSet_.push_back(queue_.internEffectSet(std::move(set)));
-    if (plan_ && planned_.insert(&e).second) e.planFrame(*plan_);
+    if (plan_ && planned_.insert(&e).second) {
+        plan_->effects.push_back(&e);
+        e.planFrame(*plan_);
+    }
     traverseWithState(e);
     effectSet_.pop_back();
     planeMask_.pop_back();
@@ -273,7 +276,10 @@ void CullVisitor::apply(Drawable& d) {
         item.sequence = sequence_++;
         item.programKey = (std::uint64_t(reinterpret_cast<std::uintptr_t>(&d.baseShader()) | 1u) << 8) ^
                           (std::uint64_t(item.features) << 32);
-        if (plan_ && plannedDrawables_.insert(&d).second) d.planFrame(*plan_);
+        if (plan_ && plannedDrawables_.insert(&d).second) {
+        plan_->drawables.push_back(&d);
+        d.planFrame(*plan_);
+    }
         queue_.opaque.push_back(item);
         popState(d);
         return;
@@ -297,7 +303,10 @@ void CullVisitor::apply(Drawable& d) {
     const std::uint32_t features = d.features(*state) |
                                    ShaderComposer::blendFeatures(transparent, state->blendMode()) |
                                    (transparent ? std::uint32_t(FeatureBlend) : 0u);
-    if (plan_ && plannedDrawables_.insert(&d).second) d.planFrame(*plan_);
+    if (plan_ && plannedDrawables_.insert(&d).second) {
+        plan_->drawables.push_back(&d);
+        d.planFrame(*plan_);
+    }
     // Tagged so a drawable's base shader never shares a key with a foreign program.
     queueItem(nullptr, &d, features, *state, vs, reinterpret_cast<std::uintptr_t>(&d.baseShader()) | 1u,
               false);

@@ -7,6 +7,7 @@ namespace sgfx {
 
 struct BaseShader;
 class FramePlan;
+class FrameSetup;
 class Renderer;
 class UpdateVisitor;
 struct RenderItem;
@@ -33,6 +34,8 @@ public:
     /// the near/far planes and the transparent sort.
     virtual BoundingSphere worldBound(const glm::mat4& model) const { return bound().transformed(model); }
     /// Once per frame and view while visible: passes it needs (simulation, depth copies).
+    /// See EffectNode::setupFrame.
+    virtual void setupFrame(FrameSetup&) const {}
     virtual void planFrame(FramePlan&) const {}
     /// The update traversal (Viewer::frame): clocks, emitters.
     virtual void update(UpdateVisitor&) {}

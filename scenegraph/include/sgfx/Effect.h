@@ -4,6 +4,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace sgfx {
 
@@ -11,7 +12,16 @@ namespace gl {
 class Program;
 }
 class FramePlan;
+class FrameSetup;
 struct DrawContext;
+
+/// A sampler of a snippet that reads a frame resource (the fog's nearest depth, the occlusion
+/// map): the renderer binds the resource published under `resource` to the uniform `uniform` on a
+/// unit it chooses, and the main pass's frame-graph node reads the resource.
+struct SnippetSampler {
+    std::string uniform;  ///< `uniform sampler2D <uniform>;` in the snippet's declarations
+    std::string resource; ///< blackboard name (see FrameSetup.h)
+};
 
 /// GLSL an effect contributes at the material's hook points. Every field may be empty.
 ///  vertexDecl/fragmentDecl: uniforms, varyings, functions (file scope)
@@ -28,6 +38,7 @@ struct ShaderSnippet {
     std::string fragmentDecl;
     std::string ambientCode;
     std::string colorCode;
+    std::vector<SnippetSampler> samplers;
 };
 
 /// A Group whose subtree gets an effect. The core knows effects only through this interface.
@@ -40,7 +51,11 @@ public:
     /// Lower runs first at a hook (e.g. AO before fog).
     virtual int order() const { return 0; }
     virtual const ShaderSnippet& snippet() const = 0;
-    /// Called once per frame while the node is visible, to request pre-/post-passes.
+    /// Called once per view and frame while the node is visible: declares the passes the effect
+    /// adds and what they read and write (see FrameSetup.h). No GL, no change to the node.
+    virtual void setupFrame(FrameSetup&) const {}
+    /// The older form of setupFrame: whole passes that manage their own GL (deprecated; passes
+    /// added here run as frame-graph passes that are never culled).
     virtual void planFrame(FramePlan&) const {}
     /// Sets this effect's uniforms on a program that contains its snippet.
     virtual void applyUniforms(gl::Program&, const DrawContext&) const {}

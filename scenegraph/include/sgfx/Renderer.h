@@ -14,6 +14,8 @@
 namespace sgfx {
 
 class Camera;
+class Drawable;
+class EffectNode;
 class GraphicsContext;
 class Renderer;
 namespace gl {
@@ -76,8 +78,16 @@ public:
     /// Whether a pass with this name is already planned: effects whose passes must run once per
     /// view (a shared pre-pass, a full-screen pass) check it, so the outermost node's pass wins.
     bool has(std::string_view name) const;
-    void clear() { passes.clear(); }
+    void clear() {
+        passes.clear();
+        effects.clear();
+        drawables.clear();
+    }
     std::vector<std::shared_ptr<RenderPass>> passes;
+    /// The visible effects and drawables, each once, in cull order (outer first): the renderer
+    /// calls their setupFrame for the view.
+    std::vector<const EffectNode*> effects;
+    std::vector<const Drawable*> drawables;
 };
 
 /// What the last frame drew and how long the CPU and (with timePasses) the GPU took.

@@ -1,0 +1,139 @@
+#pragma once
+// What an effect sees while a view's frame is set up (EffectNode::setupFrame): it requests the
+// scene's depth (and normals), declares passes with what they read and write, and names the
+// resources its material snippet samples. Nothing here touches GL or changes a node; the
+// renderer builds the view's FrameGraph from these declarations, culls what nobody reads, makes
+// the textures and binds every sampler to a unit it chooses.
+#include "sgfx/FrameGraph.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <utility>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sgfx {
+
+class RenderQueue;
+
+/// Where a pass runs in the view's frame. Compute and BeforeMain come before the main pass;
+/// AfterOpaque between its opaque and transparent items (the background is final); Transparent
+/// for passes that draw blended items themselves (RenderQueue::claimed) before the sorted
+/// transparent items; AfterResolve on the view's single-sample colour, before anti-aliasing.
+enum class PassPhase : std::uint8_t { Compute, BeforeMain, AfterOpaque, Transparent, AfterResolve };
+std::string_view phaseName(PassPhase phase);
+
+/// What an effect needs of the opaque scene's depth, and by when. Every request of a view is
+/// served by one producer: a pre-pass over the opaque items when any request is BeforeMain (with
+/// the G-buffer outputs when any request asks for them), else one copy of the main pass's depth
+/// after the opaque items.
+struct SceneDepthRequest {
+    bool normals = false;     ///< "scene.normals": view-space normal (RGBA16F, xyz)
+    bool linearDepth = false; ///< "scene.linearDepth": view-space distance along -Z (R32F)
+    bool positions = false;   ///< "scene.positions": view-space position (RGBA16F)
+    PassPhase when = PassPhase::BeforeMain;
+};
+
+/// Blackboard names of the resources every view has.
+namespace resources {
+inline constexpr std::string_view SceneDepth = "scene.depth"; ///< D32F, draw size, one sample
+inline constexpr std::string_view SceneNormals = "scene.normals";
+inline constexpr std::string_view SceneLinearDepth = "scene.linearDepth";
+inline constexpr std::string_view ScenePositions = "scene.positions";
+inline constexpr std::string_view DrawColour = "draw.colour"; ///< what the main pass draws into
+inline constexpr std::string_view DrawDepth = "draw.depth";
+inline constexpr std::string_view ViewColour = "view.colour"; ///< the view's single-sample target
+inline constexpr std::string_view ViewDepth = "view.depth";
+} // namespace resources
+
+/// A pass's setup: FrameGraph::Builder plus the view's named resources. Writing the draw or view
+/// surfaces through it keeps their current versions for the passes declared after it.
+class PassBuilder {
+public:
+    PassBuilder(FrameGraph::Builder& builder, Blackboard& board)
+        : b_(builder)
+        , board_(board) {}
+    /// The resource published under `name` (throws naming it when nothing was).
+    ResourceId get(std::string_view name) const { return board_.get(name); }
+    bool has(std::string_view name) const { return board_.has(name); }
+    ResourceId create(std::string name, const TextureDesc& desc) { return b_.create(std::move(name), desc); }
+    ResourceId sample(ResourceId id, std::string_view sampler = {}) { return b_.sample(id, sampler); }
+    ResourceId sample(std::string_view name) { return b_.sample(get(name), name); }
+    ResourceId colour(ResourceId id, int attachment = 0, bool keep = true) { return b_.colour(id, attachment, keep); }
+    ResourceId depth(ResourceId id, bool keep = true) { return b_.depth(id, keep); }
+    ResourceId depthTest(ResourceId id) { return b_.depthTest(id); }
+    /// Writes the named surface (draw.colour, view.depth...) and publishes its new version.
+    ResourceId write(std::string_view name, bool keep = true);
+    /// Publishes a resource for later passes and for material samplers (ShaderSnippet::samplers).
+    void publish(std::string name, ResourceId id) { board_.put(std::move(name), id); }
+    void sideEffect() { b_.sideEffect(); }
+
+private:
+    FrameGraph::Builder& b_;
+    Blackboard& board_;
+};
+
+/// The view a frame is being set up for.
+struct ViewInfo {
+    glm::ivec2 drawSize{0}; ///< the target the scene is drawn into (multisample or supersampled)
+    glm::ivec2 viewSize{0}; ///< the view's own single-sample target
+    int samples = 1;        ///< of the draw target
+    std::uint64_t frameNumber = 0;
+    int depth = 0; ///< 0: the main view; 1..: nested render-to-texture cameras
+};
+
+/// One view's frame being set up (see the file comment).
+class FrameSetup {
+public:
+    using Setup = std::function<void(PassBuilder&)>;
+    struct DeclaredPass {
+        std::string name;
+        PassPhase phase;
+        Setup setup;
+        FrameGraph::Execute execute;
+    };
+
+    FrameSetup(const ViewInfo& view, const RenderQueue& queue)
+        : view_(view)
+        , queue_(queue) {}
+    const ViewInfo& view() const { return view_; }
+    const RenderQueue& queue() const { return queue_; }
+    /// True the first time `key` is asked this frame: nested nodes of one kind call it so that
+    /// the outermost node's view-wide pass wins (cull visits outer nodes first).
+    bool once(std::string_view key) { return once_.emplace(key).second; }
+    void requestSceneDepth(const SceneDepthRequest& request);
+    /// Declares a pass. Passes run by phase, and in the order they were added within a phase;
+    /// `setup` runs when the renderer builds the graph, `execute` when the pass is not culled.
+    void addPass(std::string name, PassPhase phase, Setup setup, FrameGraph::Execute execute);
+    /// The same with data the setup fills (resource ids) and the execute reads, as Filament's
+    /// addPass<Data>: the execute gets what its own setup declared.
+    template <class Data, class SetupFn, class ExecuteFn>
+    void addPass(std::string name, PassPhase phase, SetupFn setup, ExecuteFn execute) {
+        auto data = std::make_shared<Data>();
+        addPass(
+            std::move(name), phase, [data, setup](PassBuilder& b) { setup(b, *data); },
+            [data, execute](PassCommands& c) { execute(c, std::as_const(*data)); });
+    }
+
+    // ---- for the renderer
+    const std::vector<DeclaredPass>& passes() const { return passes_; }
+    /// The merged scene-depth request; `any` is false when nobody asked.
+    struct DepthNeeds {
+        bool any = false, beforeMain = false, normals = false, linearDepth = false, positions = false;
+    };
+    const DepthNeeds& depthNeeds() const { return depth_; }
+
+private:
+    ViewInfo view_;
+    const RenderQueue& queue_;
+    std::set<std::string, std::less<>> once_;
+    std::vector<DeclaredPass> passes_;
+    DepthNeeds depth_;
+};
+
+} // namespace sgfx

@@ -1,0 +1,72 @@
+#pragma once
+// Everything a frame-graph pass may do to the GPU. Each command goes through the renderer's state
+// cache, so a pass never calls GL itself and never has to reset the cache; texture units are
+// chosen here, so no effect knows a unit number.
+#include "sgfx/FrameGraph.h"
+#include "sgfx/RenderQueue.h"
+#include "sgfx/ShaderComposer.h"
+#include "sgfx/StateSet.h"
+
+#include <glm/glm.hpp>
+
+#include <initializer_list>
+#include <span>
+#include <string_view>
+
+namespace sgfx {
+
+class Renderer;
+struct FrameData;
+enum class DrawMode : std::uint8_t;
+namespace gl {
+class Program;
+}
+
+/// Blend and depth state of a full-screen draw (no culling, depth off by default).
+struct FullscreenState {
+    BlendMode blend = BlendMode::Off;
+    DepthState depth{.test = false, .write = false, .func = CompareFunc::Always};
+};
+
+class PassCommands {
+public:
+    PassCommands(Renderer& renderer, const FrameGraph& graph, std::string_view pass)
+        : renderer_(renderer)
+        , graph_(graph)
+        , pass_(pass) {}
+
+    const FrameData& frame() const;
+    const RenderQueue& queue() const;
+    std::string_view pass() const { return pass_; }
+    /// The pixel size of a resource of this frame.
+    glm::ivec2 size(ResourceId id) const;
+
+    /// A composed program (cached by the composer).
+    gl::Program& program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets = {},
+                         std::uint32_t features = 0);
+    /// Draws into these attachments (colour 0.. in order, then depth; an invalid id is skipped);
+    /// the viewport covers them. sRGB targets are encoded on write.
+    void target(std::initializer_list<ResourceId> colour, ResourceId depth = {});
+    void clearColour(const glm::vec4& value, int attachment = 0);
+    void clearDepth(float value = 1.0f);
+    /// Binds the resource to `program`'s sampler uniform `sampler` on a unit chosen per pass.
+    void bind(gl::Program& program, std::string_view sampler, ResourceId id);
+    /// The same for a texture the pass's node owns (a lookup table, a noise texture).
+    void bindTexture(gl::Program& program, std::string_view sampler, unsigned texture);
+    /// One full-screen triangle (vertex stage: ShaderComposer::fullscreenVertex()).
+    void fullscreen(gl::Program& program, const FullscreenState& state = {});
+    /// Draws queue items as the main pass would (Main), or their depth (DepthOnly) or G-buffer
+    /// outputs (GBuffer); counted in FrameStats::geometryPasses.
+    void drawQueue(std::span<const RenderItem> items, DrawMode mode);
+    /// Copies depth `from` into `to` (a multisample source is resolved, one sample per pixel).
+    void copyDepth(ResourceId from, ResourceId to);
+
+private:
+    unsigned nextUnit();
+    Renderer& renderer_;
+    const FrameGraph& graph_;
+    std::string_view pass_;
+    unsigned units_ = 0;
+};
+
+} // namespace sgfx

@@ -1,0 +1,58 @@
+#include "sgfx/FrameSetup.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace sgfx {
+
+std::string_view phaseName(PassPhase phase) {
+    switch (phase) {
+    case PassPhase::Compute:
+        return "compute";
+    case PassPhase::BeforeMain:
+        return "before main";
+    case PassPhase::AfterOpaque:
+        return "after opaque";
+    case PassPhase::Transparent:
+        return "transparent";
+    case PassPhase::AfterResolve:
+        return "after resolve";
+    }
+    return "?";
+}
+
+ResourceId PassBuilder::write(std::string_view name, bool keep) {
+    const ResourceId old = board_.get(name);
+    const bool depth = name == resources::DrawDepth || name == resources::ViewDepth;
+    const ResourceId next = depth ? b_.depth(old, keep) : b_.colour(old, 0, keep);
+    // Without multisampling or supersampling the draw and view surfaces are one resource under
+    // two names: both follow the write.
+    std::vector<std::string> same;
+    for (const auto& [n, id] : board_.entries())
+        if (id == old) same.push_back(n);
+    for (std::string& n : same)
+        board_.put(std::move(n), next);
+    return next;
+}
+
+void FrameSetup::requestSceneDepth(const SceneDepthRequest& r) {
+    if (r.when != PassPhase::BeforeMain && r.when != PassPhase::AfterOpaque)
+        throw std::invalid_argument("sgfx: the scene depth is made before the main pass or after its opaque "
+                                    "items; a request for phase '" +
+                                    std::string(phaseName(r.when)) + "' cannot be served");
+    depth_.any = true;
+    depth_.beforeMain = depth_.beforeMain || r.when == PassPhase::BeforeMain || r.normals || r.linearDepth ||
+                        r.positions; // G-buffer outputs only come from the pre-pass
+    depth_.normals = depth_.normals || r.normals;
+    depth_.linearDepth = depth_.linearDepth || r.linearDepth;
+    depth_.positions = depth_.positions || r.positions;
+}
+
+void FrameSetup::addPass(std::string name, PassPhase phase, Setup setup, FrameGraph::Execute execute) {
+    if (std::uint8_t(phase) > std::uint8_t(PassPhase::AfterResolve))
+        throw std::invalid_argument("sgfx: pass '" + name + "' has an invalid PassPhase " +
+                                    std::to_string(int(phase)));
+    passes_.push_back({std::move(name), phase, std::move(setup), std::move(execute)});
+}
+
+} // namespace sgfx

@@ -1,0 +1,131 @@
+#include "sgfx/PassCommands.h"
+
+#include "render/RendererImpl.h"
+#include "sgfx/gl/Objects.h"
+
+#include <glad/gl.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace sgfx {
+
+namespace {
+
+unsigned aliveTexture(const FrameGraph& graph, ResourceId id, std::string_view pass) {
+    const unsigned t = graph.texture(id);
+    if (!t)
+        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass) + "' uses '" +
+                               graph.resourceName(id) + "', which it did not declare or which is not alive");
+    return t;
+}
+
+} // namespace
+
+const FrameData& PassCommands::frame() const {
+    return renderer_.frame();
+}
+
+const RenderQueue& PassCommands::queue() const {
+    return renderer_.queue();
+}
+
+glm::ivec2 PassCommands::size(ResourceId id) const {
+    const ResolvedDesc& d = graph_.resolved(id);
+    return {d.width, d.height};
+}
+
+gl::Program& PassCommands::program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
+                                   std::uint32_t features) {
+    return renderer_.composer().program(base, snippets, features);
+}
+
+void PassCommands::target(std::initializer_list<ResourceId> colour, ResourceId depth) {
+    std::vector<std::pair<unsigned, unsigned>> attachments;
+    glm::ivec2 extent{0};
+    bool srgb = false;
+    unsigned point = GL_COLOR_ATTACHMENT0;
+    for (const ResourceId id : colour) {
+        if (id.valid()) {
+            attachments.emplace_back(point, aliveTexture(graph_, id, pass_));
+            extent = size(id);
+            srgb = srgb || graph_.resolved(id).format == format::Srgb8Alpha8;
+        }
+        ++point;
+    }
+    if (depth.valid()) {
+        attachments.emplace_back(GL_DEPTH_ATTACHMENT, aliveTexture(graph_, depth, pass_));
+        if (extent == glm::ivec2(0)) extent = size(depth);
+    }
+    if (attachments.empty())
+        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass_) + "' sets a target without attachments");
+    Renderer::Impl& s = *renderer_.impl_;
+    // The view's own target already has a framebuffer for exactly these attachments.
+    const gl::RenderTarget& view = *s.current;
+    const bool own = attachments.size() == 2 && attachments[0].second == view.color.get() &&
+                     attachments[1].second == view.depth.get() && attachments[0].first == GL_COLOR_ATTACHMENT0;
+    const unsigned fbo = own ? view.fbo.get() : s.pool.framebuffer(attachments, pass_);
+    s.cache.bindFramebuffer(fbo, extent, srgb);
+    s.cache.setColourMask(true);
+}
+
+void PassCommands::clearColour(const glm::vec4& value, int attachment) {
+    Renderer::Impl& s = *renderer_.impl_;
+    s.cache.setColourMask(true);
+    glClearNamedFramebufferfv(s.cache.framebuffer(), GL_COLOR, attachment, &value[0]);
+}
+
+void PassCommands::clearDepth(float value) {
+    Renderer::Impl& s = *renderer_.impl_;
+    s.cache.setDepth(DepthState{}); // depth writes on: a clear obeys the depth mask
+    glClearNamedFramebufferfv(s.cache.framebuffer(), GL_DEPTH, 0, &value);
+}
+
+unsigned PassCommands::nextUnit() {
+    if (units_ >= gl::StateCache::kUnits)
+        throw std::runtime_error("sgfx: frame graph pass '" + std::string(pass_) + "' binds more than " +
+                                 std::to_string(gl::StateCache::kUnits) + " textures");
+    return units_++;
+}
+
+void PassCommands::bind(gl::Program& program, std::string_view sampler, ResourceId id) {
+    bindTexture(program, sampler, aliveTexture(graph_, id, pass_));
+}
+
+void PassCommands::bindTexture(gl::Program& program, std::string_view sampler, unsigned texture) {
+    const unsigned unit = nextUnit();
+    renderer_.impl_->cache.bindTexture(unit, texture);
+    program.set(sampler, int(unit));
+}
+
+void PassCommands::fullscreen(gl::Program& program, const FullscreenState& state) {
+    renderer_.impl_->cache.setBlend(state.blend);
+    renderer_.drawFullscreen(program, state.depth);
+}
+
+void PassCommands::drawQueue(std::span<const RenderItem> items, DrawMode mode) {
+    if (items.empty()) return;
+    if (items.data() == renderer_.queue().opaque.data()) ++renderer_.stats_.geometryPasses;
+    switch (mode) {
+    case DrawMode::DepthOnly:
+        renderer_.drawItems(items, &renderer_.depthOnlyProgram(), mode);
+        break;
+    case DrawMode::GBuffer:
+        renderer_.drawItems(items, &renderer_.gbufferProgram(), mode);
+        break;
+    case DrawMode::Main:
+    case DrawMode::PassBlend:
+        renderer_.drawItems(items, nullptr, mode);
+        break;
+    }
+}
+
+void PassCommands::copyDepth(ResourceId from, ResourceId to) {
+    Renderer::Impl& s = *renderer_.impl_;
+    const unsigned src = s.pool.framebuffer({{GL_DEPTH_ATTACHMENT, aliveTexture(graph_, from, pass_)}}, pass_);
+    const unsigned dst = s.pool.framebuffer({{GL_DEPTH_ATTACHMENT, aliveTexture(graph_, to, pass_)}}, pass_);
+    const glm::ivec2 a = size(from), b = size(to);
+    glBlitNamedFramebuffer(src, dst, 0, 0, a.x, a.y, 0, 0, b.x, b.y, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+}
+
+} // namespace sgfx
