@@ -275,6 +275,8 @@ struct Renderer::Impl {
     const Camera* camera = nullptr;                           // the view being drawn
     std::unordered_map<const Camera*, aa::ViewState> aaViews; // per camera, dropped with it
     std::vector<std::string> warnings;
+    // SGFX_GL_ERRORS at construction: the policy while RendererOptions::glErrors is unset.
+    RendererOptions::GlErrorPolicy glErrorsDefault = RendererOptions::GlErrorPolicy::Collect;
     std::uint64_t frames = 0;
     // RendererOptions::timePasses: queries of this frame, read at its end.
     std::vector<std::pair<std::string, gl::QueryObject>> timers;
@@ -373,6 +375,12 @@ Renderer::Renderer(GraphicsContext& context, Options options)
     , options_(options)
     , impl_(std::make_unique<Impl>()) {
     context_.makeCurrent();
+    // The error policy is read from the environment once, here, never on the frame path.
+    const char* env = std::getenv("SGFX_GL_ERRORS");
+    impl_->glErrorsDefault = env && std::string_view(env) == "throw"
+                                 ? RendererOptions::GlErrorPolicy::Throw
+                                 : RendererOptions::GlErrorPolicy::Collect;
+    if (!options_.glErrors) options_.glErrors = impl_->glErrorsDefault;
     impl_->stateChanges = &stats_.stateChanges;
     impl_->frameUbo = gl::createBuffer();
     impl_->emptyVao = gl::createVertexArray();
@@ -492,12 +500,7 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
         stats_.passTimes.push_back({name, double(ns) * 1e-6});
     }
     impl_->timers.clear();
-    if (!options_.glErrors) {
-        const char* env = std::getenv("SGFX_GL_ERRORS");
-        options_.glErrors = env && std::string_view(env) == "throw" ? RendererOptions::GlErrorPolicy::Throw
-                                                                    : RendererOptions::GlErrorPolicy::Collect;
-    }
-    if (*options_.glErrors == RendererOptions::GlErrorPolicy::Throw) {
+    if (options_.glErrors.value_or(impl_->glErrorsDefault) == RendererOptions::GlErrorPolicy::Throw) {
         const std::vector<std::string> errors = takeGlErrors();
         if (!errors.empty()) {
             std::string what = "sgfx: GL errors in frame " + std::to_string(frameNumber) + ":";
@@ -742,7 +745,6 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         // Repeated meshes: neighbours in the sorted list that differ only in their matrix are
         // drawn as one instanced batch (the trees and buildings of a simulator scene).
         run = batchLength(items.subspan(i));
-        if (getenv("SGFX_DBG") && s.frames == 5) fprintf(stderr, "DRAW %s run %zu %s\n", item.node().name.c_str(), run, item.geometry ? item.geometry->name.c_str() : "drawable");
         const std::uint32_t extra = run > 1 ? FeatureBatched : 0u;
         bool programChanged = false;
         if (item.drawable) {

@@ -115,7 +115,7 @@ struct RendererOptions {
     /// GL errors and high-severity debug messages are collected for takeGlErrors() (Collect), or
     /// make render() throw at the end of the frame with every message and its call site (Throw).
     /// Unset: Throw when the environment has SGFX_GL_ERRORS=throw (the test suite sets it),
-    /// otherwise Collect.
+    /// otherwise Collect; the environment is read once, by the constructor, which sets it.
     enum class GlErrorPolicy : std::uint8_t { Collect, Throw };
     std::optional<GlErrorPolicy> glErrors;
     /// Time every pass on the GPU (FrameStats::passTimes); the results are waited for at the end
