@@ -199,13 +199,13 @@ public:
     void warn(std::string message);
 
 private:
+    // Defined in scenegraph/src/render/: the private state (RendererImpl.h), one drawItems call
+    // (DrawList.cpp), one view of a frame (ViewRenderer.cpp).
     struct Impl;
+    class DrawList;
+    class View;
     void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
-    void copyToTexture(const gl::RenderTarget& from, const Texture& to);
     void runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& target);
-    /// Items at the front of `items` that one instanced draw can take (1: draw it alone).
-    std::size_t batchLength(std::span<const RenderItem> items) const;
-    void drawBatch(const gl::GeometryBuffers& b, std::size_t count, std::size_t base, gl::Program& program);
     GraphicsContext& context_;
     Options options_;
     std::uint32_t viewFeatures_ = 0; ///< variant bits that hold for the whole view (lights, depth test)
