@@ -125,7 +125,7 @@ struct RendererOptions {
     /// GL errors and high-severity debug messages are collected for takeGlErrors() (Collect), or
     /// make render() throw at the end of the frame with every message and its call site (Throw).
     /// Unset: Throw when the environment has SGFX_GL_ERRORS=throw (the test suite sets it),
-    /// otherwise Collect.
+    /// otherwise Collect; the environment is read once, by the constructor, which sets it.
     enum class GlErrorPolicy : std::uint8_t { Collect, Throw };
     std::optional<GlErrorPolicy> glErrors;
     /// Time every pass on the GPU (FrameStats::passTimes); the results are waited for at the end
@@ -209,13 +209,13 @@ public:
     void warn(std::string message);
 
 private:
+    // Defined in scenegraph/src/render/: the private state (RendererImpl.h), one drawItems call
+    // (DrawList.cpp), one view of a frame (ViewRenderer.cpp).
     struct Impl;
+    class DrawList;
+    class View;
     void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
-    void copyToTexture(const gl::RenderTarget& from, const Texture& to);
     void runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& target);
-    /// Items at the front of `items` that one instanced draw can take (1: draw it alone).
-    std::size_t batchLength(std::span<const RenderItem> items) const;
-    void drawBatch(const gl::GeometryBuffers& b, std::size_t count, std::size_t base, gl::Program& program);
     GraphicsContext& context_;
     Options options_;
     std::uint32_t viewFeatures_ = 0; ///< variant bits that hold for the whole view (lights, depth test)

@@ -1,0 +1,466 @@
+// Drawing a list of render items (Renderer::drawItems): per item its program, its state, its
+// material and its faces through the state cache, then the draw itself (alone, as part of an
+// automatic instance batch, with its triangles sorted back to front, or by its Drawable).
+// Full-screen draws (Renderer::drawFullscreen) too.
+#include "render/GpuUpload.h"
+#include "render/RendererImpl.h"
+#include "sgfx/Drawable.h"
+#include "sgfx/Effect.h"
+#include "sgfx/Geometry.h"
+#include "sgfx/Material.h"
+#include "sgfx/TriangleSort.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sgfx {
+
+namespace {
+
+enum Unit : unsigned {
+    BaseUnit = 0,
+    AlphaUnit = 1,
+    NormalUnit = 2,
+    MetalRoughUnit = 3,
+    OcclusionUnit = 4,
+    EmissiveUnit = 5,
+    FirstUserUnit = 6
+};
+
+// Variant bits that only matter for shading: G-buffer variants leave them out.
+constexpr std::uint32_t kLightingFeatures = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
+                                            FeatureVertexLighting | FeatureLightCountMask |
+                                            FeaturePointLights;
+
+// Enum values outside their range (a cast from bad data) would index GL tables out of bounds.
+void validateEnums(const ResolvedState& st, const RenderItem& item) {
+    const Node& n = item.node();
+    auto bad = [&](const char* what, int v) {
+        throw std::invalid_argument("sgfx: state of '" +
+                                    (n.name.empty() ? std::string("<unnamed>") : n.name) +
+                                    "' has an invalid " + what + " value " + std::to_string(v));
+    };
+    if (st.blend.value && std::uint8_t(*st.blend.value) > std::uint8_t(BlendMode::Multiply))
+        bad("BlendMode", int(*st.blend.value));
+    if (st.cullFace.value && std::uint8_t(*st.cullFace.value) > std::uint8_t(CullFace::Front))
+        bad("CullFace", int(*st.cullFace.value));
+    if (st.depth.value && std::uint8_t(st.depth.value->func) > std::uint8_t(CompareFunc::Always))
+        bad("CompareFunc", int(st.depth.value->func));
+    if (item.geometry && std::uint8_t(item.geometry->mode) > std::uint8_t(PrimitiveMode::TriangleFan))
+        bad("PrimitiveMode", int(item.geometry->mode));
+}
+
+} // namespace
+
+/// One call of Renderer::drawItems: what the list last set (program, state, material, effect
+/// set), so each item changes only what differs from the item before it.
+class Renderer::DrawList {
+public:
+    DrawList(Renderer& renderer, gl::Program* overrideProgram, DrawMode drawMode)
+        : r(renderer)
+        , s(*renderer.impl_)
+        , override(overrideProgram)
+        , mode(drawMode)
+        , depthOnly(drawMode == DrawMode::DepthOnly || drawMode == DrawMode::GBuffer)
+        , program(overrideProgram) {}
+
+    void draw(std::span<const RenderItem> items);
+
+private:
+    void begin(std::span<const RenderItem> items);
+    void finish();
+    /// Items at the front of `items` that one instanced draw can take (1: draw it alone).
+    std::size_t batchLength(std::span<const RenderItem> items) const;
+    void submitIfDue();
+    /// The item's program, made current; true when the program changed (the cached state,
+    /// material and effect set are then unknown).
+    bool selectProgram(const RenderItem& item, std::uint32_t extra);
+    bool selectDrawableProgram(const RenderItem& item);
+    bool selectComposedProgram(const RenderItem& item, std::uint32_t extra);
+    bool selectDepthProgram(const RenderItem& item, std::uint32_t extra);
+    void applyEffects(const RenderItem& item);
+    void applyItemState(const RenderItem& item);
+    void applyMaterial(const RenderItem& item);
+    void setMaterialUniforms(const Material& m, const RenderItem& item);
+    void bindMaterialTextures(const Material& m);
+    void applyFaces(const RenderItem& item);
+    void drawDrawable(const RenderItem& item);
+    void drawGeometry(const RenderItem& item, std::size_t run);
+    void drawBatch(const gl::GeometryBuffers& b, std::size_t count);
+    void drawSortedTriangles(const RenderItem& item, const gl::GeometryBuffers& b,
+                             const TransparencyDetails& details);
+    static void issueDraw(const gl::GeometryBuffers& b);
+
+    Renderer& r;
+    Impl& s;
+    gl::Program* const override;
+    const DrawMode mode;
+    // Geometry-only passes: no effects, no blending, depth test and write for every item.
+    const bool depthOnly;
+    gl::Program* program;
+    std::uint64_t programKey = ~0ull;
+    const ResolvedState* state = nullptr;
+    const Material* material = nullptr;
+    std::uint32_t effectSet = ~0u;
+    std::uint32_t programExtra = 0; // FeatureBatched when the current program draws batches
+    bool batchesBound = true;       // the batch matrices are bound at kBatchBinding
+    std::size_t batchBase = 0;      // the next batch's first matrix
+    std::vector<const ShaderSnippet*> snippets;
+};
+
+void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* override, DrawMode mode) {
+    if (std::uint8_t(mode) > std::uint8_t(DrawMode::GBuffer))
+        throw std::invalid_argument("sgfx: Renderer::drawItems: invalid DrawMode " +
+                                    std::to_string(int(mode)));
+    DrawList(*this, override, mode).draw(items);
+}
+
+void Renderer::DrawList::draw(std::span<const RenderItem> items) {
+    begin(items);
+    for (std::size_t i = 0, run = 1; i < items.size(); i += run) {
+        submitIfDue();
+        const RenderItem& item = items[i];
+        s.log.item = &item;
+        // Repeated meshes: neighbours in the sorted list that differ only in their matrix are
+        // drawn as one instanced batch (the trees and buildings of a simulator scene).
+        run = batchLength(items.subspan(i));
+        const std::uint32_t extra = run > 1 ? FeatureBatched : 0u;
+        if (selectProgram(item, extra)) {
+            state = nullptr;
+            material = nullptr;
+            effectSet = ~0u;
+        }
+        applyEffects(item);
+        applyItemState(item);
+        applyMaterial(item);
+        applyFaces(item);
+        if (item.drawable)
+            drawDrawable(item);
+        else
+            drawGeometry(item, run);
+    }
+    finish();
+}
+
+void Renderer::DrawList::begin(std::span<const RenderItem> items) {
+    if (depthOnly) {
+        if (mode == DrawMode::DepthOnly) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        s.cache.setBlend(BlendMode::Off);
+        s.cache.setDepth(DepthState{});
+    }
+    // The model matrices of every batch of this list, uploaded at once (one buffer write per
+    // list: writing per batch, or changing vertex layouts per batch, stalls llvmpipe).
+    s.batchScratch.clear();
+    for (std::size_t i = 0, run = 1; i < items.size(); i += run)
+        if ((run = batchLength(items.subspan(i))) > 1)
+            for (const RenderItem& it : items.subspan(i, run))
+                s.batchScratch.push_back(it.model);
+    batchesBound = s.batchScratch.empty();
+    if (!s.batchScratch.empty()) {
+        if (!s.batchModels) s.batchModels = gl::createBuffer();
+        glNamedBufferData(s.batchModels.get(), GLsizeiptr(s.batchScratch.size() * sizeof(glm::mat4)),
+                          s.batchScratch.data(), GL_STREAM_DRAW);
+    }
+}
+
+void Renderer::DrawList::finish() {
+    glBindVertexArray(0);
+    // Leave no buffer bound to the batch binding: Mesa leaks a buffer still bound to an indexed
+    // storage binding when the context is destroyed (LeakSanitizer).
+    if (!s.batchScratch.empty()) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBatchBinding, 0);
+    if (mode == DrawMode::DepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    s.log.item = nullptr;
+    s.log.program = nullptr;
+}
+
+std::size_t Renderer::DrawList::batchLength(std::span<const RenderItem> items) const {
+    const RendererOptions& options = r.options_;
+    const RenderItem& first = items.front();
+    // Built-in materials only (a program of the user's does not read instance matrices); blended
+    // items keep their one-by-one path (triangle sorting).
+    if (!options.autoInstancing || first.drawable || first.program() || !first.geometry->instances.empty() ||
+        (first.features & FeatureBlend))
+        return 1;
+    std::size_t n = 1;
+    while (n < items.size()) {
+        const RenderItem& it = items[n];
+        if (it.geometry != first.geometry || it.state != first.state || it.effectSet != first.effectSet ||
+            it.faces != first.faces || it.programKey != first.programKey || it.features != first.features)
+            break;
+        ++n;
+    }
+    return n >= options.minInstanceBatch ? n : 1;
+}
+
+void Renderer::DrawList::submitIfDue() {
+    const std::uint64_t every = r.options_.submitTriangles;
+    if (every && r.stats_.triangles - s.submittedTriangles >= every) {
+        glFlush(); // llvmpipe's threads rasterise what is binned while this thread goes on
+        s.submittedTriangles = r.stats_.triangles;
+    }
+}
+
+bool Renderer::DrawList::selectProgram(const RenderItem& item, std::uint32_t extra) {
+    bool programChanged = false;
+    if (item.drawable)
+        programChanged = selectDrawableProgram(item);
+    else if (!override && (item.programKey != programKey || extra != programExtra))
+        programChanged = selectComposedProgram(item, extra);
+    else if (depthOnly && override)
+        programChanged = selectDepthProgram(item, extra);
+    s.log.program = program;
+    if (s.cache.useProgram(program->get())) {
+        ++r.stats_.programChanges;
+        programChanged = true;
+    }
+    return programChanged;
+}
+
+// A Drawable's own base shader: composed with the effects in the main pass; in depth and G-buffer
+// passes its plain or G-buffer variant.
+bool Renderer::DrawList::selectDrawableProgram(const RenderItem& item) {
+    const std::uint64_t key = depthOnly ? item.programKey ^ (std::uint64_t(mode) << 60) : item.programKey;
+    if (key == programKey) return false;
+    snippets.clear();
+    if (!depthOnly)
+        for (const EffectNode* e : r.current_->effectSets[item.effectSet].effects)
+            snippets.push_back(&e->snippet());
+    const std::uint32_t features = mode == DrawMode::GBuffer
+                                       ? (item.features & ~kLightingFeatures) | FeatureGBuffer
+                                   : mode == DrawMode::DepthOnly ? item.features & ~FeatureBlend
+                                                                 : item.features | r.viewFeatures_;
+    program = &r.composer_.program(item.drawable->baseShader(), snippets, features | FeatureWorldPosition);
+    programKey = key;
+    return true;
+}
+
+// A built-in material's variant (or a foreign program's wrap) composed with the item's effects.
+bool Renderer::DrawList::selectComposedProgram(const RenderItem& item, std::uint32_t extra) {
+    const EffectSet& set = r.current_->effectSets[item.effectSet];
+    snippets.clear();
+    for (const EffectNode* e : set.effects)
+        snippets.push_back(&e->snippet());
+    const std::uint32_t features =
+        item.program()
+            ? (snippets.empty() ? 0u : item.features) // a foreign wrap uses the blend bits
+            : ShaderComposer::withWorldPosition(
+                  item.features | r.viewFeatures_ | extra,
+                  std::any_of(snippets.begin(), snippets.end(), [](const ShaderSnippet* sn) {
+                      return !sn->vertexCode.empty() || !sn->ambientCode.empty() || !sn->colorCode.empty();
+                  }));
+    program = &r.composer_.program(item.program(), snippets, features);
+    programKey = item.programKey;
+    programExtra = extra;
+    return true;
+}
+
+// Depth and G-buffer passes with an override program: alpha-masked and instanced built-in
+// materials keep their cut-outs and instances in depth passes (their own variant, no effects, with
+// colour writes off); everything else takes the override. G-buffer passes: every built-in
+// material's G-buffer variant (normal maps, cut-outs).
+bool Renderer::DrawList::selectDepthProgram(const RenderItem& item, std::uint32_t extra) {
+    const bool builtin = !item.program();
+    const bool own = builtin && (mode == DrawMode::GBuffer || extra ||
+                                 (item.features & (FeatureAlphaMask | FeatureInstanced)));
+    const std::uint32_t features =
+        mode == DrawMode::GBuffer
+            ? (item.features & ~kLightingFeatures) | extra | FeatureGBuffer | FeatureWorldPosition
+            : ShaderComposer::withWorldPosition((item.features & ~FeatureBlend) | extra | r.viewFeatures_,
+                                                false);
+    const std::uint64_t key = own ? features : ~0ull;
+    if (key == programKey) return false;
+    program = own ? &r.composer_.program(nullptr, {}, features) : override;
+    programKey = key;
+    return true;
+}
+
+void Renderer::DrawList::applyEffects(const RenderItem& item) {
+    if (depthOnly || item.effectSet == effectSet) return;
+    effectSet = item.effectSet;
+    const DrawContext ctx{r.frame_, item};
+    for (const EffectNode* e : r.current_->effectSets[effectSet].effects)
+        e->applyUniforms(*program, ctx);
+}
+
+// The StateSet's blend and depth (main pass), user textures and uniforms.
+void Renderer::DrawList::applyItemState(const RenderItem& item) {
+    if (item.state == state) return;
+    state = item.state;
+    validateEnums(*state, item);
+    if (mode == DrawMode::Main) {
+        s.cache.setBlend(state->blendMode());
+        DepthState d = state->depth.value.value_or(DepthState{});
+        // Blended surfaces do not hide what is drawn after them, unless asked to.
+        if (item.features & FeatureBlend)
+            d.write = d.write && state->transparency.value && state->transparency.value->writeDepth;
+        s.cache.setDepth(d);
+    }
+    unsigned unit = FirstUserUnit;
+    for (const auto& [name, tex] : state->textures) {
+        if (!tex.value || !*tex.value || unit >= kEffectTextureUnit) continue;
+        s.cache.bindTexture(unit, render::textureFor(**tex.value));
+        program->set(name, int(unit++));
+    }
+    for (const auto& [name, value] : state->uniforms)
+        if (value.value) program->set(name, *value.value);
+}
+
+void Renderer::DrawList::applyMaterial(const RenderItem& item) {
+    const Material* m = state->material.value ? state->material.value->get() : nullptr;
+    if (m == material) return;
+    material = m;
+    if (m) {
+        m->validate(); // NaN or negative colours would reach pixels
+        setMaterialUniforms(*m, item);
+        bindMaterialTextures(*m);
+    }
+    ++r.stats_.stateChanges;
+}
+
+void Renderer::DrawList::setMaterialUniforms(const Material& m, const RenderItem& item) {
+    program->set("sgfx_matAmbient", m.ambient);
+    program->set("sgfx_matDiffuse", m.diffuse);
+    program->set("sgfx_matSpecular", m.specular);
+    program->set("sgfx_matShininess", m.shininess);
+    program->set("sgfx_matEmissive", m.emissive);
+    program->set("sgfx_alphaCutoff", m.alphaCutoff.value_or(0.0f));
+    if (m.model == ShadingModel::MetallicRoughness) {
+        program->set("sgfx_matMetallicRoughness", glm::vec2(m.metallic, m.roughness));
+        // The Gouraud option's specular lobe: the Blinn-Phong exponent of the same width.
+        const float a = std::max(m.roughness * m.roughness, 0.03f);
+        program->set("sgfx_matShininess", std::min(2.0f / (a * a) - 2.0f, 4096.0f));
+    }
+    program->set("sgfx_normalScale", m.normalScale);
+    program->set("sgfx_occlusionStrength", m.occlusionStrength);
+    if (item.features & FeatureUvTransform)
+        for (std::size_t k = 0; k < kMaterialMapCount; ++k) {
+            const std::string index = "[" + std::to_string(k) + "]";
+            program->set("sgfx_uvTransform" + index, m.mappings[k].matrix());
+            program->set("sgfx_uvSet" + index, m.mappings[k].texCoord);
+        }
+}
+
+void Renderer::DrawList::bindMaterialTextures(const Material& m) {
+    using render::textureFor;
+    if (m.baseColorTexture) s.cache.bindTexture(BaseUnit, textureFor(*m.baseColorTexture));
+    if (m.alphaTexture) s.cache.bindTexture(AlphaUnit, textureFor(*m.alphaTexture));
+    if (m.normalTexture) s.cache.bindTexture(NormalUnit, textureFor(*m.normalTexture));
+    if (m.metallicRoughnessTexture)
+        s.cache.bindTexture(MetalRoughUnit, textureFor(*m.metallicRoughnessTexture));
+    if (m.occlusionTexture) s.cache.bindTexture(OcclusionUnit, textureFor(*m.occlusionTexture));
+    if (m.emissiveTexture) s.cache.bindTexture(EmissiveUnit, textureFor(*m.emissiveTexture));
+}
+
+void Renderer::DrawList::applyFaces(const RenderItem& item) {
+    switch (item.faces) {
+    case RenderItem::Faces::Back:
+        s.cache.setCull(CullFace::Front);
+        break;
+    case RenderItem::Faces::Front:
+        s.cache.setCull(CullFace::Back);
+        break;
+    case RenderItem::Faces::AsState:
+        s.cache.setCull(state->cullFace.value.value_or(CullFace::Back));
+        break;
+    }
+}
+
+void Renderer::DrawList::drawDrawable(const RenderItem& item) {
+    program->set("sgfx_model", item.model);
+    item.drawable->draw(r, *program, item); // binds its own vertex arrays and units
+    batchesBound = false;                   // and maybe buffers
+    ++r.stats_.drawCalls;
+    r.stats_.triangles += item.drawable->triangleCount();
+}
+
+void Renderer::DrawList::drawGeometry(const RenderItem& item, std::size_t run) {
+    const Geometry& g = *item.geometry;
+    gl::GeometryBuffers& b = render::buffersFor(g);
+    if (run > 1) {
+        if (!batchesBound) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBatchBinding, s.batchModels.get());
+            batchesBound = true;
+        }
+        drawBatch(b, run);
+        batchBase += run;
+        r.stats_.triangles += g.triangleCount() * run;
+        return;
+    }
+    program->set("sgfx_model", item.model);
+    program->set("sgfx_normalMatrix", glm::mat3(glm::transpose(glm::inverse(item.model))));
+    glBindVertexArray(b.vao.get());
+    const TransparencyDetails* details = state->transparency.value ? &*state->transparency.value : nullptr;
+    if (details && details->sortTriangles && (item.features & FeatureBlend) && !depthOnly &&
+        g.triangleCount() > 0 && g.instances.empty())
+        drawSortedTriangles(item, b, *details);
+    else
+        issueDraw(b);
+    ++r.stats_.drawCalls;
+    r.stats_.triangles += g.triangleCount();
+}
+
+void Renderer::DrawList::drawBatch(const gl::GeometryBuffers& b, std::size_t count) {
+    program->set("sgfx_batchBase", int(batchBase));
+    glBindVertexArray(b.vao.get());
+    if (b.indexed)
+        glDrawElementsInstanced(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr, GLsizei(count));
+    else
+        glDrawArraysInstanced(b.mode, 0, GLsizei(b.count), GLsizei(count));
+    ++r.stats_.drawCalls;
+    ++r.stats_.instanceBatches;
+}
+
+// A self-overlapping mesh: its triangles back to front, from an index buffer of this view.
+void Renderer::DrawList::drawSortedTriangles(const RenderItem& item, const gl::GeometryBuffers& b,
+                                             const TransparencyDetails& details) {
+    const Geometry& g = *item.geometry;
+    Impl::SortedMesh& mesh = s.sortedMeshes[{&g, s.camera}];
+    if (!mesh.sort || mesh.revision != g.revision() || mesh.owner.expired()) {
+        mesh.owner = g.weak_from_this();
+        mesh.revision = g.revision();
+        mesh.sort = std::make_unique<TriangleDepthSort>(g);
+        mesh.indices = gl::createBuffer();
+        glNamedBufferData(mesh.indices.get(), GLsizeiptr(mesh.sort->indices().size_bytes()), nullptr,
+                          GL_STREAM_DRAW);
+    }
+    mesh.lastUse = s.frames;
+    if (mesh.sort->update(r.frame_.view * item.model, details.resortAngle)) {
+        glNamedBufferSubData(mesh.indices.get(), 0, GLsizeiptr(mesh.sort->indices().size_bytes()),
+                             mesh.sort->indices().data());
+        ++r.stats_.triangleSorts;
+    }
+    glVertexArrayElementBuffer(b.vao.get(), mesh.indices.get());
+    glDrawElements(GL_TRIANGLES, GLsizei(mesh.sort->indices().size()), GL_UNSIGNED_INT, nullptr);
+    glVertexArrayElementBuffer(b.vao.get(), b.indexed ? b.indices.get() : 0);
+}
+
+void Renderer::DrawList::issueDraw(const gl::GeometryBuffers& b) {
+    if (b.instances) {
+        if (b.indexed)
+            glDrawElementsInstanced(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr, GLsizei(b.instances));
+        else
+            glDrawArraysInstanced(b.mode, 0, GLsizei(b.count), GLsizei(b.instances));
+    } else if (b.indexed) {
+        glDrawElements(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr);
+    } else {
+        glDrawArrays(b.mode, 0, GLsizei(b.count));
+    }
+}
+
+void Renderer::drawFullscreen(gl::Program& program, const DepthState& depth) {
+    Impl& s = *impl_;
+    s.cache.setDepth(depth);
+    s.cache.setCull(CullFace::None);
+    if (s.cache.useProgram(program.get())) ++stats_.programChanges;
+    glBindVertexArray(s.emptyVao.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    ++stats_.drawCalls;
+}
+
+} // namespace sgfx

@@ -1,0 +1,80 @@
+#pragma once
+// Renderer::Impl, the renderer's private state, shared by the files of scenegraph/src/render/:
+//   Renderer.cpp        construction, small accessors
+//   StateCache.*        the redundant-state filter (program, blend, cull, depth, texture units)
+//   GpuUpload.*         geometry, texture and render-target uploads, GL enum mappings
+//   DrawList.cpp        drawing a list of render items (Renderer::drawItems), full-screen draws
+//   ViewRenderer.cpp    a frame: cull, sub-cameras, frame block, passes, main pass, resolve
+//   Diagnostics.*       GL error sites, debug output, pass timers, warnings
+//   Readback.cpp        reading the scene target back, presenting it to a window
+#include "AntiAliasing.h"
+#include "render/Diagnostics.h"
+#include "render/StateCache.h"
+#include "sgfx/Renderer.h"
+#include "sgfx/TriangleSort.h"
+#include "sgfx/gl/Objects.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace sgfx {
+
+namespace render {
+// std140 mirror of shaders/frame_block.glsl.
+struct FrameBlock {
+    glm::mat4 view, projection, viewProjection, invViewProjection;
+    glm::vec4 eye, viewport, ambientLight, time;
+    glm::ivec4 lightCount;
+    glm::vec4 lightVector[8];
+    glm::vec4 lightColor[8];
+};
+constexpr int kMaxLights = 8;
+} // namespace render
+
+struct Renderer::Impl {
+    explicit Impl(std::size_t& stateChanges)
+        : cache(stateChanges) {}
+
+    gl::RenderTarget scene;
+    struct CameraTarget {
+        std::weak_ptr<Node> owner;
+        gl::RenderTarget target;
+    };
+    std::unordered_map<const Camera*, CameraTarget> cameraTargets;
+    // Per-triangle back-to-front orders, one per (mesh, view); dropped when the mesh dies, is
+    // edited, or was not drawn for a while.
+    struct SortedMesh {
+        std::weak_ptr<const Node> owner;
+        std::uint64_t revision = 0;
+        std::uint64_t lastUse = 0;
+        std::unique_ptr<TriangleDepthSort> sort;
+        gl::BufferObject indices;
+    };
+    std::map<std::pair<const Geometry*, const Camera*>, SortedMesh> sortedMeshes;
+    const Camera* camera = nullptr;                           // the view being drawn
+    std::unordered_map<const Camera*, aa::ViewState> aaViews; // per camera, dropped with it
+    std::vector<std::string> warnings;
+    // SGFX_GL_ERRORS at construction: the policy while RendererOptions::glErrors is unset.
+    RendererOptions::GlErrorPolicy glErrorsDefault = RendererOptions::GlErrorPolicy::Collect;
+    std::uint64_t frames = 0;
+    render::PassTimers timers;          // RendererOptions::timePasses: queries of this frame
+    gl::RenderTarget* current = &scene; // target of the view being drawn
+    gl::BufferObject frameUbo;
+    // Model matrices of automatic instance batches (Renderer::DrawList), a shader storage
+    // buffer at kBatchBinding.
+    gl::BufferObject batchModels;
+    std::vector<glm::mat4> batchScratch;
+    std::uint64_t submittedTriangles = 0; // FrameStats::triangles at the last glFlush
+    gl::VertexArrayObject emptyVao;       // full-screen passes take their vertices from gl_VertexID
+    render::DebugLog log;
+    gl::StateCache cache; // every real change is counted as a state change
+};
+
+} // namespace sgfx

@@ -1,0 +1,84 @@
+#include "render/StateCache.h"
+
+#include "render/GpuUpload.h"
+
+#include <glad/gl.h>
+
+namespace sgfx::gl {
+
+bool StateCache::useProgram(unsigned program) {
+    if (program == program_) return false;
+    glUseProgram(program);
+    program_ = program;
+    ++*stateChanges_;
+    return true;
+}
+
+void StateCache::bindTexture(unsigned unit, unsigned texture) {
+    if (units_[unit] == texture) return;
+    glBindTextureUnit(unit, texture);
+    units_[unit] = texture;
+    ++*stateChanges_;
+}
+
+void StateCache::setBlend(BlendMode m) {
+    if (blend_ == int(m)) return;
+    blend_ = int(m);
+    ++*stateChanges_;
+    if (m == BlendMode::Off) {
+        glDisable(GL_BLEND);
+        return;
+    }
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    switch (m) {
+    case BlendMode::Alpha:
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+        break;
+    case BlendMode::Premultiplied:
+        glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+        break;
+    case BlendMode::Additive:
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE);
+        break;
+    case BlendMode::Multiply:
+        glBlendFunc(GL_DST_COLOR, GL_ZERO);
+        break;
+    case BlendMode::Off:
+        break;
+    }
+}
+
+void StateCache::setCull(CullFace c) {
+    if (cull_ == int(c)) return;
+    cull_ = int(c);
+    ++*stateChanges_;
+    if (c == CullFace::None) {
+        glDisable(GL_CULL_FACE);
+        return;
+    }
+    glEnable(GL_CULL_FACE);
+    glCullFace(c == CullFace::Back ? GL_BACK : GL_FRONT);
+}
+
+void StateCache::setDepth(const DepthState& d) {
+    if (depthKnown_ && depth_ == d) return;
+    depth_ = d;
+    depthKnown_ = true;
+    ++*stateChanges_;
+    if (d.test)
+        glEnable(GL_DEPTH_TEST);
+    else
+        glDisable(GL_DEPTH_TEST);
+    glDepthMask(d.write ? GL_TRUE : GL_FALSE);
+    glDepthFunc(render::glCompare(d.func));
+}
+
+void StateCache::invalidate() {
+    program_ = 0;
+    blend_ = cull_ = -1;
+    depthKnown_ = false;
+    units_.fill(0);
+}
+
+} // namespace sgfx::gl

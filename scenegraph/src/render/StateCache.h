@@ -1,0 +1,41 @@
+#pragma once
+// The renderer's redundant-state filter (private to the renderer): the program, blend, cull and
+// depth state and the texture units it last set, so an unchanged value costs no GL call. Every real
+// change is counted as a state change (FrameStats::stateChanges).
+#include "sgfx/StateSet.h"
+
+#include <array>
+#include <cstddef>
+
+namespace sgfx::gl {
+
+class StateCache {
+public:
+    static constexpr std::size_t kUnits = 16; ///< texture units tracked (0..15)
+
+    /// Where real changes are counted (the renderer's FrameStats::stateChanges).
+    explicit StateCache(std::size_t& stateChanges)
+        : stateChanges_(&stateChanges) {}
+
+    /// glUseProgram unless `program` is current; true when it changed (counted).
+    bool useProgram(unsigned program);
+    void bindTexture(unsigned unit, unsigned texture);
+    void setBlend(BlendMode mode);
+    void setCull(CullFace face);
+    void setDepth(const DepthState& depth);
+    /// The depth state was set behind the cache (glDepthMask before a clear).
+    void forgetDepth() { depthKnown_ = false; }
+    /// Forgets everything: GL state was changed behind the cache (a pass, another library).
+    void invalidate();
+
+private:
+    unsigned program_ = 0;
+    int blend_ = -1;
+    int cull_ = -1;
+    DepthState depth_{};
+    bool depthKnown_ = false;
+    std::array<unsigned, kUnits> units_{};
+    std::size_t* stateChanges_;
+};
+
+} // namespace sgfx::gl
