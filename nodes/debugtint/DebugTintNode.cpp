@@ -23,7 +23,8 @@ const ShaderSnippet& DebugTintNode::snippet() const {
                                  .fragmentDecl =
                                      std::string(nodes::shaders::embedded("debug_tint_decl.glsl")),
                                  .ambientCode = {},
-                                 .colorCode = std::string(nodes::shaders::embedded("debug_tint_color.glsl"))};
+                                 .colorCode = std::string(nodes::shaders::embedded("debug_tint_color.glsl")),
+                                 .samplers = {}};
     return s;
 }
 

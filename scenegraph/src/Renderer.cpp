@@ -79,4 +79,8 @@ gl::Program& Renderer::depthOnlyProgram() {
     return composer_.program(base, {}, 0);
 }
 
+std::size_t Renderer::renderTargetBytes() const {
+    return impl_->pool.bytesHeld();
+}
+
 } // namespace sgfx

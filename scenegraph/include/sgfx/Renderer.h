@@ -108,6 +108,9 @@ struct FrameStats {
     };
     std::vector<PassTime> passTimes;
     std::uint64_t fragments = 0; ///< with RendererOptions::countFragments
+    /// Passes that drew the opaque items (the scene's geometry), over every view: the main pass,
+    /// plus the scene-depth pre-pass when an effect needs the depth before the main pass.
+    std::size_t geometryPasses = 0;
     double cullMs = 0.0, drawMs = 0.0;
 };
 
@@ -200,6 +203,13 @@ public:
     GraphicsContext& context() { return context_; }
     Options& options() { return options_; }
 
+    /// The last frame's graphs (one cluster per view: passes with their GPU time when
+    /// RendererOptions::timePasses is on, resources with format and size, read and write edges)
+    /// in Graphviz DOT; culled passes are dashed.
+    const std::string& lastFrameGraphDot() const { return dot_; }
+    /// Bytes of GPU memory the frame-graph textures hold now (every view, in use or pooled).
+    std::size_t renderTargetBytes() const;
+
     /// GL errors and high-severity KHR_debug messages seen since the last call.
     std::vector<std::string> takeGlErrors();
     /// Settings the renderer had to change (an MSAA sample count above the driver's limit), each
@@ -214,8 +224,8 @@ private:
     struct Impl;
     class DrawList;
     class View;
+    friend class PassCommands;
     void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
-    void runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& target);
     GraphicsContext& context_;
     Options options_;
     std::uint32_t viewFeatures_ = 0; ///< variant bits that hold for the whole view (lights, depth test)
@@ -225,6 +235,8 @@ private:
     FrameData frame_;
     FrameStats stats_;
     const RenderQueue* current_ = &queue_; ///< the queue being drawn (sub-cameras have their own)
+    std::string dot_;           ///< lastFrameGraphDot()
+    std::size_t viewsDrawn_ = 0; ///< this frame's views so far (names the graph's clusters)
     std::unique_ptr<Impl> impl_;
 };
 

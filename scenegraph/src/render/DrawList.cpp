@@ -148,8 +148,8 @@ void Renderer::DrawList::draw(std::span<const RenderItem> items) {
 }
 
 void Renderer::DrawList::begin(std::span<const RenderItem> items) {
+    s.cache.setColourMask(mode != DrawMode::DepthOnly);
     if (depthOnly) {
-        if (mode == DrawMode::DepthOnly) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         s.cache.setBlend(BlendMode::Off);
         s.cache.setDepth(DepthState{});
     }
@@ -173,7 +173,7 @@ void Renderer::DrawList::finish() {
     // Leave no buffer bound to the batch binding: Mesa leaks a buffer still bound to an indexed
     // storage binding when the context is destroyed (LeakSanitizer).
     if (!s.batchScratch.empty()) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBatchBinding, 0);
-    if (mode == DrawMode::DepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    s.cache.setColourMask(true);
     s.log.item = nullptr;
     s.log.program = nullptr;
 }
@@ -283,8 +283,19 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
     if (depthOnly || item.effectSet == effectSet) return;
     effectSet = item.effectSet;
     const DrawContext ctx{r.frame_, item};
-    for (const EffectNode* e : r.current_->effectSets[effectSet].effects)
+    unsigned unit = kEffectTextureUnit;
+    for (const EffectNode* e : r.current_->effectSets[effectSet].effects) {
         e->applyUniforms(*program, ctx);
+        // Frame resources the snippet samples, on units the renderer picks in snippet order.
+        for (const SnippetSampler& sampler : e->snippet().samplers) {
+            if (unit >= gl::StateCache::kUnits)
+                throw std::runtime_error("sgfx: the effects above '" + item.node().name + "' sample more than " +
+                                         std::to_string(gl::StateCache::kUnits - kEffectTextureUnit) +
+                                         " frame resources");
+            s.cache.bindTexture(unit, s.graph ? s.graph->texture(s.graph->blackboard.get(sampler.resource)) : 0);
+            program->set(sampler.uniform, int(unit++));
+        }
+    }
 }
 
 // The StateSet's blend and depth (main pass), user textures and uniforms.

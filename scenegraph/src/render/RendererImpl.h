@@ -9,6 +9,7 @@
 //   Readback.cpp        reading the scene target back, presenting it to a window
 #include "AntiAliasing.h"
 #include "render/Diagnostics.h"
+#include "render/ResourcePool.h"
 #include "render/StateCache.h"
 #include "sgfx/Renderer.h"
 #include "sgfx/TriangleSort.h"
@@ -75,6 +76,8 @@ struct Renderer::Impl {
     gl::VertexArrayObject emptyVao;       // full-screen passes take their vertices from gl_VertexID
     render::DebugLog log;
     gl::StateCache cache; // every real change is counted as a state change
+    render::ResourcePool pool;        // frame-graph textures and their framebuffers
+    const FrameGraph* graph = nullptr; // the graph being executed (material samplers read it)
 };
 
 } // namespace sgfx

@@ -74,7 +74,36 @@ void StateCache::setDepth(const DepthState& d) {
     glDepthFunc(render::glCompare(d.func));
 }
 
+void StateCache::bindFramebuffer(unsigned fbo, glm::ivec2 size, bool srgb) {
+    if (fbo != framebuffer_) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        framebuffer_ = fbo;
+        ++*stateChanges_;
+    }
+    if (size != viewport_) {
+        glViewport(0, 0, size.x, size.y);
+        viewport_ = size;
+    }
+    if (int(srgb) != srgb_) {
+        if (srgb)
+            glEnable(GL_FRAMEBUFFER_SRGB);
+        else
+            glDisable(GL_FRAMEBUFFER_SRGB);
+        srgb_ = int(srgb);
+    }
+}
+
+void StateCache::setColourMask(bool on) {
+    if (int(on) == colourMask_) return;
+    const GLboolean v = on ? GL_TRUE : GL_FALSE;
+    glColorMask(v, v, v, v);
+    colourMask_ = int(on);
+}
+
 void StateCache::invalidate() {
+    framebuffer_ = ~0u;
+    viewport_ = glm::ivec2(-1);
+    srgb_ = colourMask_ = -1;
     program_ = 0;
     blend_ = cull_ = -1;
     depthKnown_ = false;

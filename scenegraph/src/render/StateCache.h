@@ -4,6 +4,8 @@
 // change is counted as a state change (FrameStats::stateChanges).
 #include "sgfx/StateSet.h"
 
+#include <glm/glm.hpp>
+
 #include <array>
 #include <cstddef>
 
@@ -23,6 +25,11 @@ public:
     void setBlend(BlendMode mode);
     void setCull(CullFace face);
     void setDepth(const DepthState& depth);
+    /// Draws into `fbo` over (0, 0, size); sRGB encoding on write for sRGB targets.
+    void bindFramebuffer(unsigned fbo, glm::ivec2 size, bool srgb = true);
+    unsigned framebuffer() const { return framebuffer_; }
+    glm::ivec2 viewport() const { return viewport_; }
+    void setColourMask(bool on);
     /// The depth state was set behind the cache (glDepthMask before a clear).
     void forgetDepth() { depthKnown_ = false; }
     /// Forgets everything: GL state was changed behind the cache (a pass, another library).
@@ -35,6 +42,9 @@ private:
     DepthState depth_{};
     bool depthKnown_ = false;
     std::array<unsigned, kUnits> units_{};
+    unsigned framebuffer_ = ~0u;
+    glm::ivec2 viewport_{-1};
+    int srgb_ = -1, colourMask_ = -1;
     std::size_t* stateChanges_;
 };
 

@@ -5,7 +5,11 @@
 #include "render/RendererImpl.h"
 #include "sgfx/Camera.h"
 #include "sgfx/CullVisitor.h"
+#include "sgfx/Drawable.h"
+#include "sgfx/Effect.h"
+#include "sgfx/FrameSetup.h"
 #include "sgfx/GraphicsContext.h"
+#include "sgfx/PassCommands.h"
 
 #include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -14,7 +18,9 @@
 #include <chrono>
 #include <cstddef>
 #include <stdexcept>
+#include <map>
 #include <string>
+#include <utility>
 
 namespace sgfx {
 
@@ -42,11 +48,22 @@ public:
     void renderSubCameras(int depth);
     void beginProjection();
     void uploadFrameBlock();
-    void mainPass();
-    void resolveAndPost();
+    void buildGraph(int depth);
+    void executeGraph();
 
 private:
+    void declare(const FrameSetup& setup, PassPhase phase, PassStage legacy);
+    void declareSceneDepth(const FrameSetup::DepthNeeds& needs);
+    void declareMain(bool opaque);
+    void declareResolve();
+    void declarePostAa();
+    std::vector<std::pair<std::string, std::string>> snippetSamplers() const;
+    void legacyState(bool invalidate, const gl::RenderTarget& target);
+    void runLegacy(RenderPass& pass);
+    void drawOpaque();
+    void drawTransparent();
     void clearTarget();
+    void resolve();
 
     using clock = std::chrono::steady_clock;
     Renderer& r_;
@@ -59,6 +76,8 @@ private:
     float computedNear_ = 0.0f, computedFar_ = 0.0f; // the cull's depth range of what it kept
     aa::ViewState* aa_ = nullptr;
     gl::RenderTarget* draw_ = nullptr; // where the view is drawn (target_, or a larger/multisample one)
+    FrameGraph graph_;
+    gl::QueryObject fragments_; // RendererOptions::countFragments, over the main pass
 };
 
 void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
@@ -77,7 +96,10 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
         return e.second.owner.expired() || impl_->frames - e.second.lastUse > 600;
     });
     impl_->timers.clear();
+    dot_ = "digraph frame {\n  rankdir=LR;\n  node [fontname=\"Helvetica\", fontsize=10];\n";
+    viewsDrawn_ = 0;
     renderView(camera, impl_->scene, queue_, plan_, 0);
+    dot_ += "}\n";
     impl_->log.stage = "outside a frame";
     impl_->timers.collect(stats_.passTimes);
     if (options_.glErrors.value_or(impl_->glErrorsDefault) == RendererOptions::GlErrorPolicy::Throw) {
@@ -100,8 +122,8 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     view.renderSubCameras(depth);
     view.beginProjection();
     view.uploadFrameBlock();
-    view.mainPass();
-    view.resolveAndPost();
+    view.buildGraph(depth);
+    view.executeGraph();
 }
 
 void Renderer::View::cull() {
@@ -202,44 +224,245 @@ void Renderer::View::uploadFrameBlock() {
     s_.camera = &camera_;
 }
 
-// The compute and pre-passes, then the main pass: linear shading, sRGB-encoded once by the
-// framebuffer on write; the opaque items, the passes between them and the transparent ones.
-void Renderer::View::mainPass() {
-    gl::RenderTarget& draw = *draw_;
-    r_.runPasses(plan_, PassStage::Compute, draw);
-    r_.runPasses(plan_, PassStage::PrePass, draw);
+// ---- the view's frame graph
 
-    clearTarget();
-    gl::QueryObject fragments;
-    if (r_.options_.countFragments) {
-        fragments = gl::createQuery(GL_SAMPLES_PASSED);
-        glBeginQuery(GL_SAMPLES_PASSED, fragments.get());
+namespace {
+
+// The draw (or view) target's textures as graph resources.
+void importTarget(FrameGraph& g, const gl::RenderTarget& t, std::string_view colour, std::string_view depth) {
+    const SizeRule size = SizeRule::fixedSize(t.width, t.height);
+    g.blackboard.put(std::string(colour),
+                     g.import(std::string(colour), {t.colorFormat, size, t.samples}, t.color.get()));
+    g.blackboard.put(std::string(depth),
+                     g.import(std::string(depth), {format::Depth32F, size, t.samples}, t.depth.get()));
+}
+
+} // namespace
+
+// What the visible effects declare, interleaved with the renderer's own passes in frame order.
+void Renderer::View::buildGraph(int depth) {
+    const ViewInfo info{{draw_->width, draw_->height}, {target_.width, target_.height}, draw_->samples,
+                        r_.frame_.frameNumber, depth};
+    FrameSetup setup(info, queue_);
+    for (const EffectNode* e : plan_.effects)
+        e->setupFrame(setup);
+    for (const Drawable* d : plan_.drawables)
+        d->setupFrame(setup);
+    importTarget(graph_, *draw_, resources::DrawColour, resources::DrawDepth);
+    if (draw_ != &target_) {
+        importTarget(graph_, target_, resources::ViewColour, resources::ViewDepth);
+    } else {
+        graph_.blackboard.put(std::string(resources::ViewColour), graph_.blackboard.get(resources::DrawColour));
+        graph_.blackboard.put(std::string(resources::ViewDepth), graph_.blackboard.get(resources::DrawDepth));
     }
-    s_.log.stage = "main pass";
+    declare(setup, PassPhase::Compute, PassStage::Compute);
+    if (setup.depthNeeds().beforeMain) declareSceneDepth(setup.depthNeeds());
+    declare(setup, PassPhase::BeforeMain, PassStage::PrePass);
+    declareMain(true);
+    if (setup.depthNeeds().any && !setup.depthNeeds().beforeMain) declareSceneDepth(setup.depthNeeds());
+    declare(setup, PassPhase::AfterOpaque, PassStage::AfterOpaque);
+    declare(setup, PassPhase::Transparent, PassStage::Transparent);
+    declareMain(false);
+    if (draw_ != &target_) declareResolve();
+    declare(setup, PassPhase::AfterResolve, PassStage::Post);
+    declarePostAa();
+    graph_.present(graph_.blackboard.get(resources::ViewColour));
+    graph_.compile(info.drawSize, info.viewSize);
+}
+
+// The effects' passes of one phase: first the older RenderPass ones (never culled, they manage
+// their own GL), then those declared through setupFrame.
+void Renderer::View::declare(const FrameSetup& setup, PassPhase phase, PassStage legacy) {
+    for (const std::shared_ptr<RenderPass>& p : plan_.passes) {
+        if (p->stage() != legacy) continue;
+        const bool drawsOnView = legacy != PassStage::Compute && legacy != PassStage::PrePass;
+        graph_.addPass(
+            std::string(p->name()),
+            [&](FrameGraph::Builder& b) {
+                b.sideEffect();
+                if (!drawsOnView) return;
+                PassBuilder pb(b, graph_.blackboard);
+                pb.write(legacy == PassStage::Post ? resources::ViewColour : resources::DrawColour);
+            },
+            [this, p](PassCommands&) { runLegacy(*p); }, "legacy");
+    }
+    for (const FrameSetup::DeclaredPass& p : setup.passes()) {
+        if (p.phase != phase) continue;
+        graph_.addPass(
+            p.name,
+            [&](FrameGraph::Builder& b) {
+                PassBuilder pb(b, graph_.blackboard);
+                if (p.setup) p.setup(pb);
+            },
+            p.execute, std::string(phaseName(phase)));
+    }
+}
+
+// One depth of the opaque scene for every effect of the view: a pre-pass before the main pass, or
+// a copy of the main pass's depth after its opaque items.
+void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
+    const TextureDesc desc{.format = format::Depth32F};
+    if (needs.beforeMain) {
+        graph_.addPass(
+            "scene depth",
+            [&](FrameGraph::Builder& b) {
+                PassBuilder pb(b, graph_.blackboard);
+                pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
+            },
+            [this](PassCommands& c) {
+                c.target({}, graph_.blackboard.get(resources::SceneDepth));
+                c.clearDepth();
+                c.drawQueue(queue_.opaque, DrawMode::DepthOnly);
+            },
+            "before main");
+        return;
+    }
+    graph_.addPass(
+        "scene depth copy",
+        [&](FrameGraph::Builder& b) {
+            PassBuilder pb(b, graph_.blackboard);
+            pb.sample(resources::DrawDepth);
+            pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
+        },
+        [this](PassCommands& c) {
+            c.copyDepth(graph_.blackboard.get(resources::DrawDepth), graph_.blackboard.get(resources::SceneDepth));
+        },
+        "after opaque");
+}
+
+// The main pass's opaque or transparent items: they read what their effects' snippets sample.
+void Renderer::View::declareMain(bool opaque) {
+    graph_.addPass(
+        opaque ? "main: opaque" : "main: transparent",
+        [&](FrameGraph::Builder& b) {
+            PassBuilder pb(b, graph_.blackboard);
+            for (const auto& [uniform, resource] : snippetSamplers())
+                pb.sample(pb.get(resource), uniform);
+            pb.write(resources::DrawColour, !(opaque && camera_.clearColorEnabled));
+            if (opaque)
+                pb.write(resources::DrawDepth, !camera_.clearDepthEnabled);
+            else
+                pb.depthTest(pb.get(resources::DrawDepth));
+        },
+        [this, opaque](PassCommands&) {
+            if (opaque)
+                drawOpaque();
+            else
+                drawTransparent();
+        },
+        "main");
+}
+
+std::vector<std::pair<std::string, std::string>> Renderer::View::snippetSamplers() const {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const EffectSet& set : queue_.effectSets)
+        for (const EffectNode* e : set.effects)
+            for (const SnippetSampler& s : e->snippet().samplers) {
+                if (!graph_.blackboard.has(s.resource))
+                    throw std::logic_error("sgfx: effect '" + std::string(e->kind()) + "' samples '" + s.resource +
+                                           "', which no pass of the frame makes");
+                if (std::find(out.begin(), out.end(), std::pair(s.uniform, s.resource)) == out.end())
+                    out.emplace_back(s.uniform, s.resource);
+            }
+    return out;
+}
+
+void Renderer::View::declareResolve() {
+    graph_.addPass(
+        "aa resolve",
+        [&](FrameGraph::Builder& b) {
+            PassBuilder pb(b, graph_.blackboard);
+            pb.sample(resources::DrawColour);
+            pb.sample(resources::DrawDepth);
+            pb.write(resources::ViewColour, false);
+            pb.write(resources::ViewDepth, false);
+        },
+        [this](PassCommands&) { resolve(); }, "resolve");
+}
+
+void Renderer::View::declarePostAa() {
+    const aa::ViewState& aa = *aa_;
+    if (aa.settings.mode != AntiAliasing::Mode::Fxaa && aa.settings.mode != AntiAliasing::Mode::Taa) return;
+    graph_.addPass(
+        aa.settings.mode == AntiAliasing::Mode::Fxaa ? "aa fxaa" : "aa taa",
+        [&](FrameGraph::Builder& b) {
+            PassBuilder pb(b, graph_.blackboard);
+            pb.sample(resources::ViewDepth);
+            pb.write(resources::ViewColour);
+            b.sideEffect(); // TAA keeps its history
+        },
+        [this](PassCommands&) {
+            legacyState(true, *s_.current);
+            aa::finish(r_, *aa_, target_);
+        },
+        "post");
+}
+
+// Runs the live passes, each timed and named for GL error sites.
+void Renderer::View::executeGraph() {
+    s_.pool.beginFrame(s_.frames);
+    const FrameGraph* outer = std::exchange(s_.graph, &graph_);
     const bool timing = r_.options_.timePasses;
-    s_.timers.begin(timing, "main: opaque");
+    graph_.execute(s_.pool, [&](std::string_view name, const FrameGraph::Execute& execute) {
+        s_.log.stage = name;
+        s_.timers.begin(timing, std::string(name));
+        if (execute) {
+            PassCommands commands(r_, graph_, name);
+            execute(commands);
+        }
+        s_.timers.end(timing);
+    });
+    s_.graph = outer;
+    const aa::ViewState& aa = *aa_;
+    if (aa.settings.mode != AntiAliasing::Mode::Fxaa && aa.settings.mode != AntiAliasing::Mode::Taa)
+        aa::finish(r_, *aa_, target_);
+    const std::string cluster =
+        camera_.name.empty() ? "view " + std::to_string(r_.viewsDrawn_) : camera_.name;
+    ++r_.viewsDrawn_;
+    r_.dot_ += graph_.dotCluster(cluster, {});
+    r_.current_ = &r_.queue_;
+    s_.current = &s_.scene;
+}
+
+// Back to the view's target, whatever an older pass or AA step bound; `invalidate` when GL state
+// was changed behind the cache.
+void Renderer::View::legacyState(bool invalidate, const gl::RenderTarget& t) {
+    if (invalidate) s_.cache.invalidate();
+    s_.cache.bindFramebuffer(t.fbo.get(), {t.width, t.height}, true);
+    s_.cache.setColourMask(true);
+}
+
+void Renderer::View::runLegacy(RenderPass& p) {
+    gl::RenderTarget& t = *s_.current;
+    legacyState(false, t);
+    p.execute(r_);
+    legacyState(true, t);
+}
+
+void Renderer::View::drawOpaque() {
+    clearTarget();
+    if (r_.options_.countFragments) {
+        fragments_ = gl::createQuery(GL_SAMPLES_PASSED);
+        glBeginQuery(GL_SAMPLES_PASSED, fragments_.get());
+    }
+    if (!queue_.opaque.empty()) ++r_.stats_.geometryPasses;
     r_.drawItems(queue_.opaque);
-    s_.timers.end(timing);
-    r_.runPasses(plan_, PassStage::AfterOpaque, draw);
-    r_.runPasses(plan_, PassStage::Transparent, draw);
-    s_.log.stage = "main pass";
-    s_.timers.begin(timing, "main: transparent");
+}
+
+void Renderer::View::drawTransparent() {
     r_.drawItems(queue_.transparent);
-    s_.timers.end(timing);
-    if (fragments) {
+    if (fragments_) {
         glEndQuery(GL_SAMPLES_PASSED);
         GLuint64 n = 0;
-        glGetQueryObjectui64v(fragments.get(), GL_QUERY_RESULT, &n);
+        glGetQueryObjectui64v(fragments_.get(), GL_QUERY_RESULT, &n);
         r_.stats_.fragments += n;
     }
 }
 
 void Renderer::View::clearTarget() {
-    glBindFramebuffer(GL_FRAMEBUFFER, draw_->fbo.get());
-    glViewport(0, 0, draw_->width, draw_->height);
-    glEnable(GL_FRAMEBUFFER_SRGB);
-    glDepthMask(GL_TRUE);
-    s_.cache.forgetDepth();
+    s_.cache.bindFramebuffer(draw_->fbo.get(), {draw_->width, draw_->height}, true);
+    s_.cache.setColourMask(true);
+    s_.cache.setDepth(DepthState{}); // depth writes on: a clear obeys the depth mask
     const glm::vec4 cc = camera_.clearColor;
     glClearColor(cc.r, cc.g, cc.b, cc.a);
     const GLbitfield mask = (camera_.clearColorEnabled ? GL_COLOR_BUFFER_BIT : 0u) |
@@ -247,49 +470,15 @@ void Renderer::View::clearTarget() {
     if (mask) glClear(mask);
 }
 
-// Down to the view's own single-sample target; the post passes read its colour and depth; then
-// FXAA or TAA.
-void Renderer::View::resolveAndPost() {
-    const RendererOptions& options = r_.options_; // read at each step: a pass may change it
-    aa::ViewState& aa = *aa_;
-    if (draw_ != &target_) {
-        s_.log.stage = "anti-aliasing resolve";
-        s_.timers.begin(options.timePasses, "aa resolve");
-        aa::resolve(r_, aa, *draw_, target_);
-        s_.timers.end(options.timePasses);
-        s_.current = &target_;
-        r_.frame_.width = target_.width;
-        r_.frame_.height = target_.height;
-        const glm::vec4 viewport(0.0f, 0.0f, float(target_.width), float(target_.height));
-        glNamedBufferSubData(s_.frameUbo.get(), offsetof(render::FrameBlock, viewport), sizeof viewport,
-                             &viewport);
-    }
-    r_.runPasses(plan_, PassStage::Post, target_);
-    s_.log.stage = "anti-aliasing";
-    const bool postAa =
-        aa.settings.mode == AntiAliasing::Mode::Fxaa || aa.settings.mode == AntiAliasing::Mode::Taa;
-    s_.timers.begin(options.timePasses && postAa,
-                    aa.settings.mode == AntiAliasing::Mode::Fxaa ? "aa fxaa" : "aa taa");
-    aa::finish(r_, aa, target_);
-    s_.timers.end(options.timePasses && postAa);
-    r_.current_ = &r_.queue_;
-    s_.current = &s_.scene;
-}
-
-void Renderer::runPasses(FramePlan& plan, PassStage stage, gl::RenderTarget& target) {
-    for (auto& p : plan.passes) {
-        if (p->stage() != stage) continue;
-        impl_->log.stage = p->name();
-        impl_->timers.begin(options_.timePasses, std::string(p->name()));
-        p->execute(*this);
-        impl_->timers.end(options_.timePasses);
-        impl_->cache.invalidate(); // the pass may have changed GL state behind the cache
-        // Back to the view's target and sRGB encoding, whatever the pass bound.
-        glBindFramebuffer(GL_FRAMEBUFFER, target.fbo.get());
-        glViewport(0, 0, target.width, target.height);
-        glEnable(GL_FRAMEBUFFER_SRGB);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    }
+// Down to the view's own single-sample target; later passes read its colour and depth.
+void Renderer::View::resolve() {
+    aa::resolve(r_, *aa_, *draw_, target_);
+    s_.current = &target_;
+    legacyState(true, target_);
+    r_.frame_.width = target_.width;
+    r_.frame_.height = target_.height;
+    const glm::vec4 viewport(0.0f, 0.0f, float(target_.width), float(target_.height));
+    glNamedBufferSubData(s_.frameUbo.get(), offsetof(render::FrameBlock, viewport), sizeof viewport, &viewport);
 }
 
 } // namespace sgfx
