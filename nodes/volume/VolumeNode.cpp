@@ -243,6 +243,13 @@ struct VolumeNode::Gpu {
     gl::BufferObject sliceVertices;
     gl::VertexArrayObject sliceVao;
     std::size_t sliceCapacity = 0;
+
+    /// The density, its block maxima and the transfer ramp (null: none) as textures.
+    void uploadGrid(const VolumeGrid& grid, const Image* ramp);
+    /// View-aligned slices through the box, blended back to front (VolumeMethod::Slicing).
+    void drawSlices(Renderer& r, gl::Program& program, const glm::mat4& model, const VolumeParameters& p);
+    /// The march at half resolution, then upsampled onto the view by depth.
+    void drawHalf(Renderer& r, gl::Program& program);
 };
 
 namespace {
@@ -386,64 +393,32 @@ void VolumeNode::releaseGLObjects() {
     depthCopy_->releaseGLObjects();
 }
 
-void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {
-    if (!gpu_) {
-        gpu_ = std::make_unique<Gpu>();
-        gpu_->vao = gl::createVertexArray();
-    }
-    Gpu& g = *gpu_;
-    if (gridDirty_) {
-        // The density (linear filtering, clamped to its edges) and a coarse grid of its maxima,
-        // dilated by a voxel so trilinear filtering never reaches into a skipped cell.
-        const glm::ivec3 n = grid_.size;
-        static const GLenum formats[] = {GL_R8, GL_R16F, GL_R32F};
-        g.density = gl::createTexture(GL_TEXTURE_3D);
-        glTextureStorage3D(g.density.get(), 1, formats[int(grid_.format)], n.x, n.y, n.z);
-        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glTextureSubImage3D(g.density.get(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT,
-                            grid_.values.data());
-        for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-            glTextureParameteri(g.density.get(), p, GL_CLAMP_TO_EDGE);
-        glTextureParameteri(g.density.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTextureParameteri(g.density.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        g.maxSize = (n + kMaxBlock - 1) / kMaxBlock;
-        std::vector<float> maxima(std::size_t(g.maxSize.x) * g.maxSize.y * g.maxSize.z, 0.0f);
-        for (int z = 0; z < n.z; ++z)
-            for (int y = 0; y < n.y; ++y)
-                for (int x = 0; x < n.x; ++x) {
-                    const float v = grid_.values[(std::size_t(z) * n.y + y) * n.x + x];
-                    if (v <= 0.0f) continue;
-                    for (int dz = -1; dz <= 1; ++dz)
-                        for (int dy = -1; dy <= 1; ++dy)
-                            for (int dx = -1; dx <= 1; ++dx) {
-                                const glm::ivec3 c =
-                                    glm::clamp(glm::ivec3(x + dx, y + dy, z + dz), glm::ivec3(0), n - 1) /
-                                    kMaxBlock;
-                                float& m = maxima[(std::size_t(c.z) * g.maxSize.y + c.y) * g.maxSize.x + c.x];
-                                m = std::max(m, v);
-                            }
-                }
-        g.densityMax = gl::createTexture(GL_TEXTURE_3D);
-        glTextureStorage3D(g.densityMax.get(), 1, GL_R32F, g.maxSize.x, g.maxSize.y, g.maxSize.z);
-        glTextureSubImage3D(g.densityMax.get(), 0, 0, 0, 0, g.maxSize.x, g.maxSize.y, g.maxSize.z, GL_RED,
-                            GL_FLOAT, maxima.data());
-        glTextureParameteri(g.densityMax.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(g.densityMax.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        g.transfer = {};
-        if (transfer_) {
-            const Image& img = *transfer_;
-            std::vector<unsigned char> rgba(std::size_t(img.width) * 4, 255);
-            for (int x = 0; x < img.width; ++x)
-                for (int c = 0; c < std::min(img.channels, 3); ++c)
-                    rgba[std::size_t(x) * 4 + std::size_t(c)] = img.pixel(x, 0)[img.channels == 1 ? 0 : c];
-            g.transfer = gl::createTexture2D(GL_SRGB8_ALPHA8, img.width, 1, GL_LINEAR);
-            glTextureSubImage2D(g.transfer.get(), 0, 0, 0, img.width, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                                rgba.data());
-        }
-        gridDirty_ = false;
-    }
-    const VolumeParameters& p = parameters_;
-    program.set("u_worldToBox", glm::inverse(item.model));
+namespace {
+// A coarse grid (kMaxBlock voxels per cell) of the density's maxima, dilated by a voxel so
+// trilinear filtering never reaches into a skipped cell.
+std::vector<float> blockMaxima(const VolumeGrid& grid, glm::ivec3 maxSize) {
+    const glm::ivec3 n = grid.size;
+    std::vector<float> maxima(std::size_t(maxSize.x) * maxSize.y * maxSize.z, 0.0f);
+    for (int z = 0; z < n.z; ++z)
+        for (int y = 0; y < n.y; ++y)
+            for (int x = 0; x < n.x; ++x) {
+                const float v = grid.values[(std::size_t(z) * n.y + y) * n.x + x];
+                if (v <= 0.0f) continue;
+                for (int dz = -1; dz <= 1; ++dz)
+                    for (int dy = -1; dy <= 1; ++dy)
+                        for (int dx = -1; dx <= 1; ++dx) {
+                            const glm::ivec3 c =
+                                glm::clamp(glm::ivec3(x + dx, y + dy, z + dz), glm::ivec3(0), n - 1) /
+                                kMaxBlock;
+                            float& m = maxima[(std::size_t(c.z) * maxSize.y + c.y) * maxSize.x + c.x];
+                            m = std::max(m, v);
+                        }
+            }
+    return maxima;
+}
+
+void setMarchUniforms(gl::Program& program, const VolumeParameters& p, const glm::mat4& model, bool skip) {
+    program.set("u_worldToBox", glm::inverse(model));
     program.set("u_boxSize", p.size);
     program.set("u_absorption", p.absorption);
     program.set("u_scattering", p.scattering);
@@ -460,56 +435,77 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     program.set("u_threshold", p.earlyTermination);
     program.set("u_integration", int(p.integration));
     program.set("u_jitter", p.jitter ? 1 : 0);
-    program.set("u_skip", p.emptySpaceSkipping && function_.empty() ? 1 : 0);
+    program.set("u_skip", skip ? 1 : 0);
     program.set("u_countSamples", p.debugSampleCount ? 1 : 0);
-    glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y,
-                       g.maxSize.z);
-    program.set("u_useTransfer", g.transfer ? 1 : 0);
-    const unsigned depth = depthCopy_->current();
-    program.set("u_hasSceneDepth", depth ? 1 : 0);
-    r.bindTexture(kDepthUnit, depth);
-    glBindTextureUnit(kDensityUnit, g.density.get());
-    glBindTextureUnit(kDensityUnit + 1, g.densityMax.get());
-    glBindTextureUnit(kDensityUnit + 2, g.transfer.get());
-    if (p.method == VolumeMethod::Slicing) {
-        const glm::mat4& view = r.frame().view;
-        const glm::vec3 forward = -glm::vec3(view[0][2], view[1][2], view[2][2]);
-        float spacing = 0.0f;
-        const std::vector<glm::vec3> tris = slicePolygons(item.model, p.size, forward, p.slices, spacing);
-        if (tris.empty()) return;
-        if (!g.sliceVao || g.sliceCapacity < tris.size()) {
-            g.sliceCapacity = tris.size();
-            g.sliceVertices = gl::createBuffer();
-            glNamedBufferData(g.sliceVertices.get(), GLsizeiptr(tris.size() * sizeof(glm::vec3)), nullptr,
-                              GL_STREAM_DRAW);
-            g.sliceVao = gl::createVertexArray();
-            glVertexArrayVertexBuffer(g.sliceVao.get(), 0, g.sliceVertices.get(), 0, sizeof(glm::vec3));
-            glVertexArrayAttribFormat(g.sliceVao.get(), 0, 3, GL_FLOAT, GL_FALSE, 0);
-            glVertexArrayAttribBinding(g.sliceVao.get(), 0, 0);
-            glEnableVertexArrayAttrib(g.sliceVao.get(), 0);
-        }
-        glNamedBufferSubData(g.sliceVertices.get(), 0, GLsizeiptr(tris.size() * sizeof(glm::vec3)),
-                             tris.data());
-        program.set("u_sliceNormal", forward);
-        program.set("u_spacing", spacing);
-        glDisable(GL_CULL_FACE); // slices face either way; the renderer's cull state is restored below
-        glBindVertexArray(g.sliceVao.get());
-        glDrawArrays(GL_TRIANGLES, 0, GLsizei(tris.size()));
-        glEnable(GL_CULL_FACE);
-        return;
+}
+} // namespace
+
+void VolumeNode::Gpu::uploadGrid(const VolumeGrid& grid, const Image* ramp) {
+    // The density (linear filtering, clamped to its edges) and a coarse grid of its maxima.
+    const glm::ivec3 n = grid.size;
+    static const GLenum formats[] = {GL_R8, GL_R16F, GL_R32F};
+    density = gl::createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(density.get(), 1, formats[int(grid.format)], n.x, n.y, n.z);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage3D(density.get(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT, grid.values.data());
+    for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(density.get(), p, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(density.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(density.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    maxSize = (n + kMaxBlock - 1) / kMaxBlock;
+    const std::vector<float> maxima = blockMaxima(grid, maxSize);
+    densityMax = gl::createTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(densityMax.get(), 1, GL_R32F, maxSize.x, maxSize.y, maxSize.z);
+    glTextureSubImage3D(densityMax.get(), 0, 0, 0, 0, maxSize.x, maxSize.y, maxSize.z, GL_RED, GL_FLOAT,
+                        maxima.data());
+    glTextureParameteri(densityMax.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(densityMax.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    transfer = {};
+    if (ramp) {
+        const Image& img = *ramp;
+        std::vector<unsigned char> rgba(std::size_t(img.width) * 4, 255);
+        for (int x = 0; x < img.width; ++x)
+            for (int c = 0; c < std::min(img.channels, 3); ++c)
+                rgba[std::size_t(x) * 4 + std::size_t(c)] = img.pixel(x, 0)[img.channels == 1 ? 0 : c];
+        transfer = gl::createTexture2D(GL_SRGB8_ALPHA8, img.width, 1, GL_LINEAR);
+        glTextureSubImage2D(transfer.get(), 0, 0, 0, img.width, 1, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     }
-    glBindVertexArray(g.vao.get());
-    if (!p.halfResolution || !depth) {
-        program.set("u_pixelScale", 1);
-        glDrawArrays(GL_TRIANGLES, 0, 36);
-        return;
+}
+
+void VolumeNode::Gpu::drawSlices(Renderer& r, gl::Program& program, const glm::mat4& model,
+                                 const VolumeParameters& p) {
+    const glm::mat4& view = r.frame().view;
+    const glm::vec3 forward = -glm::vec3(view[0][2], view[1][2], view[2][2]);
+    float spacing = 0.0f;
+    const std::vector<glm::vec3> tris = slicePolygons(model, p.size, forward, p.slices, spacing);
+    if (tris.empty()) return;
+    if (!sliceVao || sliceCapacity < tris.size()) {
+        sliceCapacity = tris.size();
+        sliceVertices = gl::createBuffer();
+        glNamedBufferData(sliceVertices.get(), GLsizeiptr(tris.size() * sizeof(glm::vec3)), nullptr,
+                          GL_STREAM_DRAW);
+        sliceVao = gl::createVertexArray();
+        glVertexArrayVertexBuffer(sliceVao.get(), 0, sliceVertices.get(), 0, sizeof(glm::vec3));
+        glVertexArrayAttribFormat(sliceVao.get(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(sliceVao.get(), 0, 0);
+        glEnableVertexArrayAttrib(sliceVao.get(), 0);
     }
+    glNamedBufferSubData(sliceVertices.get(), 0, GLsizeiptr(tris.size() * sizeof(glm::vec3)), tris.data());
+    program.set("u_sliceNormal", forward);
+    program.set("u_spacing", spacing);
+    glDisable(GL_CULL_FACE); // slices face either way; the renderer's cull state is restored below
+    glBindVertexArray(sliceVao.get());
+    glDrawArrays(GL_TRIANGLES, 0, GLsizei(tris.size()));
+    glEnable(GL_CULL_FACE);
+}
+
+void VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program) {
     // Half resolution: march into a half-size target, then upsample onto the view by depth.
     const gl::RenderTarget& view = r.currentTarget();
     const int w = std::max(1, view.width / 2), h = std::max(1, view.height / 2);
-    Gpu::Half& half = g.half.get(
-        r.frame().frameNumber, [&](const Gpu::Half& e) { return e.width == w && e.height == h; },
-        [&](Gpu::Half& e) {
+    Half& target = half.get(
+        r.frame().frameNumber, [&](const Half& e) { return e.width == w && e.height == h; },
+        [&](Half& e) {
             e.width = w;
             e.height = h;
             e.color = gl::createTexture2D(GL_RGBA16F, w, h);
@@ -523,7 +519,7 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     GLint previous = 0, viewport[4] = {0, 0, 0, 0};
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
     glGetIntegerv(GL_VIEWPORT, viewport);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, half.fbo.get());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.fbo.get());
     glViewport(0, 0, w, h);
     const float zero[4] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, zero);
@@ -539,9 +535,43 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     static const BaseShader upsample{"volume_upsample", "blit.vert",
                                      std::string(ShaderComposer::fullscreenVertex()), "volume_upsample.frag",
                                      nodes::afterVersion(nodes::shaderText("volume_upsample.frag"), units)};
-    glBindTextureUnit(kDensityUnit, half.color.get());
-    glBindTextureUnit(kDensityUnit + 1, half.depth.get());
+    glBindTextureUnit(kDensityUnit, target.color.get());
+    glBindTextureUnit(kDensityUnit + 1, target.depth.get());
     r.drawFullscreen(r.composer().program(upsample, {}, 0));
+}
+
+void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {
+    if (!gpu_) {
+        gpu_ = std::make_unique<Gpu>();
+        gpu_->vao = gl::createVertexArray();
+    }
+    Gpu& g = *gpu_;
+    if (gridDirty_) {
+        g.uploadGrid(grid_, transfer_.get());
+        gridDirty_ = false;
+    }
+    const VolumeParameters& p = parameters_;
+    setMarchUniforms(program, p, item.model, p.emptySpaceSkipping && function_.empty());
+    glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y,
+                       g.maxSize.z);
+    program.set("u_useTransfer", g.transfer ? 1 : 0);
+    const unsigned depth = depthCopy_->current();
+    program.set("u_hasSceneDepth", depth ? 1 : 0);
+    r.bindTexture(kDepthUnit, depth);
+    glBindTextureUnit(kDensityUnit, g.density.get());
+    glBindTextureUnit(kDensityUnit + 1, g.densityMax.get());
+    glBindTextureUnit(kDensityUnit + 2, g.transfer.get());
+    if (p.method == VolumeMethod::Slicing) {
+        g.drawSlices(r, program, item.model, p);
+        return;
+    }
+    glBindVertexArray(g.vao.get());
+    if (!p.halfResolution || !depth) {
+        program.set("u_pixelScale", 1);
+        glDrawArrays(GL_TRIANGLES, 0, 36);
+        return;
+    }
+    g.drawHalf(r, program);
 }
 
 } // namespace sgfx
