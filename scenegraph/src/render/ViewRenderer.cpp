@@ -440,6 +440,7 @@ void Renderer::View::runLegacy(RenderPass& p) {
 }
 
 void Renderer::View::drawOpaque() {
+    s_.log.stage = "main pass"; // GL error sites name the main pass, whichever half
     clearTarget();
     if (r_.options_.countFragments) {
         fragments_ = gl::createQuery(GL_SAMPLES_PASSED);
@@ -450,6 +451,7 @@ void Renderer::View::drawOpaque() {
 }
 
 void Renderer::View::drawTransparent() {
+    s_.log.stage = "main pass";
     r_.drawItems(queue_.transparent);
     if (fragments_) {
         glEndQuery(GL_SAMPLES_PASSED);
