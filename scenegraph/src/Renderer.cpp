@@ -712,7 +712,7 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         s.setDepth(DepthState{});
     }
     gl::Program* program = override;
-    std::uint64_t programKey = ~0ull;
+    ProgramKey programKey = ProgramKey::none();
     const ResolvedState* state = nullptr;
     const Material* material = nullptr;
     std::uint32_t effectSet = ~0u;
@@ -748,8 +748,8 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
         if (item.drawable) {
             // Its own base shader: composed with the effects in the main pass; in depth and
             // G-buffer passes its plain or G-buffer variant.
-            const std::uint64_t key =
-                depthOnly ? item.programKey ^ (std::uint64_t(mode) << 60) : item.programKey;
+            const ProgramKey key =
+                depthOnly ? item.programKey.with(ProgramKey::Mode, std::uint64_t(mode)) : item.programKey;
             if (key != programKey) {
                 snippets.clear();
                 if (!depthOnly)
@@ -800,7 +800,9 @@ void Renderer::drawItems(std::span<const RenderItem> items, gl::Program* overrid
                     ? (item.features & ~lighting) | extra | FeatureGBuffer | FeatureWorldPosition
                     : ShaderComposer::withWorldPosition(
                           (item.features & ~FeatureBlend) | extra | viewFeatures_, false);
-            const std::uint64_t key = own ? features : ~0ull;
+            // The item's own built-in variant, or none() for the override program.
+            const ProgramKey key =
+                own ? ProgramKey::make(ProgramSource::Builtin, 0, 0, features, mode) : ProgramKey::none();
             if (key != programKey) {
                 program = own ? &composer_.program(nullptr, {}, features) : override;
                 programKey = key;
