@@ -75,7 +75,7 @@ const OpaqueQueue& opaqueQueue(long n) {
     q.items = queue.opaque;
     for (sgfx::RenderItem& item : q.items) {
         item.state = &q.states[rng() % 16];
-        item.programKey = std::uint64_t(rng() % 4) << 32;
+        item.programKey = sgfx::ProgramKey().with(sgfx::ProgramKey::Effects, rng() % 4); // 4 programs
     }
     return q;
 }
@@ -114,7 +114,7 @@ struct Changes {
 };
 Changes countChanges(const std::vector<sgfx::RenderItem>& items) {
     Changes c;
-    std::uint64_t program = ~std::uint64_t{0};
+    sgfx::ProgramKey program = sgfx::ProgramKey::none();
     const sgfx::Material* material = nullptr;
     bool first = true;
     for (const sgfx::RenderItem& it : items) {

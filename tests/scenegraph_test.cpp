@@ -504,7 +504,9 @@ TEST(Queue, PackedOpaqueSortEqualsTheComparisonOrder) {
             RenderItem it;
             it.state = &states[next() % std::uint32_t(materials)];
             it.geometry = meshes[next() % 9].get();
-            it.programKey = (next() % 5) * 0x9e3779b97f4a7c15ull;
+            // Five keys whose fields spread over the whole 64 bits.
+            const std::uint32_t p = next() % 5;
+            it.programKey = ProgramKey::make(ProgramSource(p % 3), p, p * 977, p * 0x01234567u);
             const float depths[] = {0.5f, 1.0f, -0.0f, 0.0f, 3.0f, 3.0f, 1000.0f};
             it.depth = next() % 4 == 0 ? depths[next() % 7] : float(next() % 100000) * 0.01f;
             it.depthBucket = it.depth > 1.0f ? std::int8_t(std::ilogb(it.depth)) : 0;

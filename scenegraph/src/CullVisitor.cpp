@@ -252,13 +252,14 @@ void CullVisitor::apply(Geometry& g) {
                                   (transparent ? std::uint32_t(FeatureBlend) : 0u)
                             : ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent,
                                                           state->blendMode());
+        foreignBase_ = queue_.programKeys.base(foreign);
         featuresState_ = state;
         featuresGeometry_ = &g;
     }
     const bool triangles = g.mode == PrimitiveMode::Triangles || g.mode == PrimitiveMode::TriangleStrip ||
                            g.mode == PrimitiveMode::TriangleFan;
     queueItem(&g, nullptr, features_, *state, viewBound.valid() ? viewBound : toView(g.bound()),
-              reinterpret_cast<std::uintptr_t>(foreign), triangles);
+              foreign ? ProgramSource::Foreign : ProgramSource::Builtin, foreignBase_, triangles);
     popState(g);
 }
 
@@ -274,12 +275,12 @@ void CullVisitor::apply(Drawable& d) {
         item.depth = std::numeric_limits<float>::max();
         item.depthBucket = 127; // after every other opaque item
         item.sequence = sequence_++;
-        item.programKey = (std::uint64_t(reinterpret_cast<std::uintptr_t>(&d.baseShader()) | 1u) << 8) ^
-                          (std::uint64_t(item.features) << 32);
+        item.programKey = ProgramKey::make(ProgramSource::Drawable, queue_.programKeys.base(&d.baseShader()),
+                                           queue_.effectSets[item.effectSet].signature, item.features);
         if (plan_ && plannedDrawables_.insert(&d).second) {
-        plan_->drawables.push_back(&d);
-        d.planFrame(*plan_);
-    }
+            plan_->drawables.push_back(&d);
+            d.planFrame(*plan_);
+        }
         queue_.opaque.push_back(item);
         popState(d);
         return;
@@ -307,22 +308,20 @@ void CullVisitor::apply(Drawable& d) {
         plan_->drawables.push_back(&d);
         d.planFrame(*plan_);
     }
-    // Tagged so a drawable's base shader never shares a key with a foreign program.
-    queueItem(nullptr, &d, features, *state, vs, reinterpret_cast<std::uintptr_t>(&d.baseShader()) | 1u,
-              false);
+    queueItem(nullptr, &d, features, *state, vs, ProgramSource::Drawable,
+              queue_.programKeys.base(&d.baseShader()), false);
     popState(d);
 }
 
 void CullVisitor::queueItem(const Geometry* geometry, const Drawable* drawable, std::uint32_t features,
-                            const ResolvedState& state, const BoundingSphere& vs, std::uintptr_t program,
-                            bool twoPassable) {
+                            const ResolvedState& state, const BoundingSphere& vs, ProgramSource source,
+                            std::uint32_t base, bool twoPassable) {
     const std::uint32_t effectSet = effectSet_.back();
     const float depth = -vs.center.z;
     const std::int8_t bucket = depth > 1.0f ? std::int8_t(std::min(exponentOf(depth), 127)) : 0;
     // Equal keys mean one program: (foreign shader, drawable base or built-in variant, snippets).
-    const std::uint64_t programKey = (std::uint64_t(program) << 8) ^
-                                     (std::uint64_t(queue_.effectSets[effectSet].signature) << 44) ^
-                                     (std::uint64_t(features) << 32);
+    const ProgramKey programKey =
+        ProgramKey::make(source, base, queue_.effectSets[effectSet].signature, features);
     computedNear = std::min(computedNear, depth - vs.radius);
     computedFar = std::max(computedFar, depth + vs.radius);
     // Opaque items are built in place, each of their 128 bytes written once (a default-

@@ -35,6 +35,7 @@ void RenderQueue::clear() {
     states.clear();
     stateIndex_.clear();
     subCameras.clear();
+    programKeys.clear();
 }
 
 const ResolvedState* RenderQueue::internState(ResolvedState&& state) {
@@ -60,9 +61,7 @@ std::uint32_t RenderQueue::internEffectSet(std::vector<const EffectNode*> effect
     std::string sig;
     for (const EffectNode* e : effects)
         sig += e->snippet().name + '\n';
-    auto it = std::find(signatures_.begin(), signatures_.end(), sig);
-    const auto sigId = std::uint32_t(it - signatures_.begin());
-    if (it == signatures_.end()) signatures_.push_back(std::move(sig));
+    const std::uint32_t sigId = programKeys.effects(sig);
     effectSets.push_back({std::move(effects), sigId});
     return std::uint32_t(effectSets.size() - 1);
 }
@@ -148,7 +147,7 @@ void RenderQueue::sort() {
             meshRanks_[i] = meshCounts_[meshRanks_[i]] > 1 ? meshRanks_[i] + 1 : 0;
     }
     const bool packed =
-        ranks([&](std::size_t i) { return opaque[i].programKey; }, programRanks_) &&
+        ranks([&](std::size_t i) { return opaque[i].programKey.bits(); }, programRanks_) &&
         ranks([&](std::size_t i) { return std::uint64_t(materialOf(opaque[i])); }, materialRanks_);
     sortKeys_.resize(no);
     for (std::size_t i = 0; i < no; ++i) {

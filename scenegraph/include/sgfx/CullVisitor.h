@@ -52,9 +52,10 @@ private:
     void popState(const Node& n);
     void traverseWithState(Node& n);
     /// Fills the item's common fields and puts it in the opaque, claimed or transparent list.
+    /// `base` is the program source's id in the queue's programKeys (0 = built-in).
     void queueItem(const Geometry* geometry, const Drawable* drawable, std::uint32_t features,
-                   const ResolvedState& state, const BoundingSphere& viewBound, std::uintptr_t program,
-                   bool twoPassable);
+                   const ResolvedState& state, const BoundingSphere& viewBound, ProgramSource source,
+                   std::uint32_t base, bool twoPassable);
 
     RenderQueue& queue_;
     FramePlan* plan_;
@@ -86,6 +87,7 @@ private:
     const ResolvedState* featuresState_ = nullptr;
     const Geometry* featuresGeometry_ = nullptr;
     std::uint32_t features_ = 0;
+    std::uint32_t foreignBase_ = 0; ///< its foreign program's ProgramKey::Base id (0 = built-in)
     std::uint32_t sequence_ = 0;
 };
 

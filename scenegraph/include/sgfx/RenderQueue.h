@@ -1,5 +1,6 @@
 #pragma once
 #include "sgfx/Math.h"
+#include "sgfx/ProgramKey.h"
 #include "sgfx/StateSet.h"
 
 #include <glm/glm.hpp>
@@ -19,7 +20,8 @@ class ShaderProgram;
 class Camera;
 
 /// The effects active above an item, ordered by EffectNode::order(); interned per frame so items
-/// share one entry. `signature` is equal for sets whose snippets are equal (same program variant).
+/// share one entry. `signature` is equal for sets whose snippets are equal (same program variant):
+/// the ProgramKey::Effects id from RenderQueue::programKeys, 0 = no snippet.
 struct EffectSet {
     std::vector<const EffectNode*> effects;
     std::uint32_t signature = 0;
@@ -43,8 +45,8 @@ struct RenderItem {
     std::int32_t order = 0;      ///< transparent items: TransparencyDetails::order
     std::int8_t depthBucket = 0; ///< floor(log2(depth)): opaque items sort near-to-far by it first
     std::uint32_t sequence = 0;  ///< cull order, keeps sorting stable
-    std::uint64_t programKey = 0;
-    std::uint32_t features = 0; ///< built-in material variant (MaterialFeature bits)
+    ProgramKey programKey;       ///< equal keys = one program (ids from the queue's programKeys)
+    std::uint32_t features = 0;  ///< built-in material variant (MaterialFeature bits)
     /// Which faces this item draws (a double-sided transparent item is queued twice: back faces,
     /// then front faces); AsState = as its state's CullFace says.
     enum class Faces : std::uint8_t { AsState, Back, Front } faces = Faces::AsState;
@@ -52,8 +54,8 @@ struct RenderItem {
     RenderItem() = default;
     /// Every field but `order` (0) and `faces` (AsState), so a queue builds items in place.
     RenderItem(const Geometry* g, const Drawable* d, const glm::mat4& m, const ResolvedState* s,
-               std::uint32_t effects, float viewDepth, std::int8_t bucket, std::uint32_t seq,
-               std::uint64_t key, std::uint32_t featureBits)
+               std::uint32_t effects, float viewDepth, std::int8_t bucket, std::uint32_t seq, ProgramKey key,
+               std::uint32_t featureBits)
         : geometry(g)
         , drawable(d)
         , model(m)
@@ -83,6 +85,9 @@ public:
     glm::vec3 ambientLight{0.0f};
     std::deque<ResolvedState> states; ///< stable addresses for items' state pointers
     std::vector<Camera*> subCameras;  ///< nested render-to-texture cameras, drawn first
+    /// Ids of the items' program keys (foreign programs, drawable base shaders, snippet
+    /// signatures): dense for this view and frame, cleared with the queue.
+    ProgramKeyTable programKeys;
 
     void clear();
     void sort();
@@ -96,7 +101,6 @@ public:
 
 private:
     std::unordered_multimap<std::size_t, const ResolvedState*> stateIndex_;
-    std::vector<std::string> signatures_{std::string()}; ///< [0] = no snippet
     struct SortKey {
         std::uint64_t primary;
         std::uint32_t index;

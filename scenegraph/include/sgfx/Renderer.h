@@ -53,6 +53,7 @@ enum class DrawMode : std::uint8_t {
     GBuffer,   ///< like DepthOnly, but writing the G-buffer variant's outputs (FeatureGBuffer); items
                // with foreign shaders use the `override` program (Renderer::gbufferProgram())
 };
+static_assert(ProgramKey::Mode.fits(std::uint64_t(DrawMode::GBuffer)), "DrawMode outgrew ProgramKey::Mode");
 
 /// Texture units 12..15 belong to effects (user textures of a StateSet use 4..11). An effect binds
 /// its textures there through Renderer::bindTexture and declares `layout(binding = N)` samplers.

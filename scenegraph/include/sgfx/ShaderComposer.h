@@ -1,5 +1,6 @@
 #pragma once
 #include "sgfx/Effect.h"
+#include "sgfx/ProgramKey.h"
 #include "sgfx/StateSet.h"
 
 #include <cstdint>
@@ -73,7 +74,8 @@ struct BaseShader {
 };
 
 /// What a built-in material variant contains; each bit becomes a #define (SGFX_BASE_MAP, ...)
-/// so a plain material carries no texture fetch, no unused varying and no `discard`.
+/// so a plain material carries no texture fetch, no unused varying and no `discard`. A new bit
+/// goes into kAllMaterialFeatures too (it must fit ProgramKey::Features).
 enum MaterialFeature : std::uint32_t {
     FeatureBaseMap = 1u << 0,
     FeatureAlphaMap = 1u << 1,
@@ -111,6 +113,17 @@ enum MaterialFeature : std::uint32_t {
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
 };
+
+/// Every MaterialFeature bit.
+inline constexpr std::uint32_t kAllMaterialFeatures =
+    FeatureBaseMap | FeatureAlphaMap | FeatureNormalMap | FeatureVertexColor | FeatureNormals |
+    FeatureTangents | FeatureTexCoords | FeatureAlphaMask | FeatureBlend | FeatureSpecular |
+    FeatureMetallicRoughness | FeatureVertexLighting | FeatureLightCountMask | FeatureWorldPosition |
+    FeaturePointLights | FeatureBlendKindMask | FeatureGBuffer | FeatureMetalRoughMap | FeatureOcclusionMap |
+    FeatureEmissiveMap | FeatureTexCoords1 | FeatureUvTransform | FeatureInstanced | FeatureBatched;
+// A program key holds every feature bit (the mask fits only if each bit does).
+static_assert(ProgramKey::Features.fits(kAllMaterialFeatures),
+              "a MaterialFeature bit is outside ProgramKey::Features");
 
 constexpr unsigned kBatchBinding = 7; ///< shader storage binding of FeatureBatched's matrices
 

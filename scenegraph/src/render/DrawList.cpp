@@ -103,7 +103,7 @@ private:
     // Geometry-only passes: no effects, no blending, depth test and write for every item.
     const bool depthOnly;
     gl::Program* program;
-    std::uint64_t programKey = ~0ull;
+    ProgramKey programKey = ProgramKey::none();
     const ResolvedState* state = nullptr;
     const Material* material = nullptr;
     std::uint32_t effectSet = ~0u;
@@ -224,7 +224,8 @@ bool Renderer::DrawList::selectProgram(const RenderItem& item, std::uint32_t ext
 // A Drawable's own base shader: composed with the effects in the main pass; in depth and G-buffer
 // passes its plain or G-buffer variant.
 bool Renderer::DrawList::selectDrawableProgram(const RenderItem& item) {
-    const std::uint64_t key = depthOnly ? item.programKey ^ (std::uint64_t(mode) << 60) : item.programKey;
+    const ProgramKey key =
+        depthOnly ? item.programKey.with(ProgramKey::Mode, std::uint64_t(mode)) : item.programKey;
     if (key == programKey) return false;
     snippets.clear();
     if (!depthOnly)
@@ -272,7 +273,9 @@ bool Renderer::DrawList::selectDepthProgram(const RenderItem& item, std::uint32_
             ? (item.features & ~kLightingFeatures) | extra | FeatureGBuffer | FeatureWorldPosition
             : ShaderComposer::withWorldPosition((item.features & ~FeatureBlend) | extra | r.viewFeatures_,
                                                 false);
-    const std::uint64_t key = own ? features : ~0ull;
+    // The item's own built-in variant, or none() for the override program.
+    const ProgramKey key =
+        own ? ProgramKey::make(ProgramSource::Builtin, 0, 0, features, mode) : ProgramKey::none();
     if (key == programKey) return false;
     program = own ? &r.composer_.program(nullptr, {}, features) : override;
     programKey = key;
