@@ -131,4 +131,10 @@ inline std::string base64(const std::vector<unsigned char>& bytes) {
     return out;
 }
 
+/// Fails the current test with every GL error the viewer's renderer collected.
+inline void expectNoGlErrors(Viewer& v) {
+    for (const auto& e : v.renderer().takeGlErrors())
+        ADD_FAILURE() << "GL: " << e;
+}
+
 } // namespace sgfx::test

@@ -89,11 +89,6 @@ int channelError(const Image& img, int x, int y, glm::dvec3 linear) {
     return e;
 }
 
-void expectNoGlErrors(Viewer& v) {
-    for (const auto& e : v.renderer().takeGlErrors())
-        ADD_FAILURE() << "GL: " << e;
-}
-
 FogParameters testFog(FogResponse r) {
     FogParameters p;
     p.density = 0.02f;

@@ -58,9 +58,24 @@ TEST(FrameGraph, CullsPassesWhoseOutputsNobodyReads) {
     const ResourceId view = target(g);
     ResourceId a, b, c;
     g.addPass("A", [&](Builder& x) { a = x.colour(x.create("a", kColour)); }, {});
-    g.addPass("B", [&](Builder& x) { x.sample(a); b = x.colour(x.create("b", kColour)); }, {});
-    g.addPass("C", [&](Builder& x) { x.sample(b); c = x.colour(x.create("c", kColour)); }, {}); // c: unread
-    g.addPass("D", [&](Builder& x) { x.sample(a); x.colour(view); }, {});
+    g.addPass("B",
+              [&](Builder& x) {
+                  x.sample(a);
+                  b = x.colour(x.create("b", kColour));
+              },
+              {});
+    g.addPass("C",
+              [&](Builder& x) {
+                  x.sample(b);
+                  c = x.colour(x.create("c", kColour));
+              },
+              {}); // c: unread
+    g.addPass("D",
+              [&](Builder& x) {
+                  x.sample(a);
+                  x.colour(view);
+              },
+              {});
     g.compile({64, 32}, {64, 32});
     EXPECT_FALSE(g.culled("A"));
     EXPECT_TRUE(g.culled("B")) << "B's only output is read by C, which is culled";
@@ -90,7 +105,12 @@ TEST(FrameGraph, LivePassesRunInDeclarationOrderAndKeepReadsPreviousContent) {
     ResourceId depth;
     g.addPass("depth pre-pass", [&](Builder& x) { depth = x.depth(x.create("scene.depth", kDepth)); }, {});
     g.addPass("main", [&](Builder& x) { view = x.colour(view, 0, false); }, {});
-    g.addPass("fog", [&](Builder& x) { x.sample(depth); view = x.colour(view); }, {});
+    g.addPass("fog",
+              [&](Builder& x) {
+                  x.sample(depth);
+                  view = x.colour(view);
+              },
+              {});
     g.addPass("aa", [&](Builder& x) { view = x.colour(view); }, {});
     g.compile({8, 8}, {8, 8});
     FakeAllocator alloc;
@@ -105,7 +125,8 @@ TEST(FrameGraph, ReadingWhatNoPassWroteThrowsNamingBoth) {
         g.addPass("ao occlusion", [&](Builder& x) { x.sample(x.create("scene.normals", kColour)); }, {});
         FAIL() << "no error";
     } catch (const std::logic_error& e) {
-        EXPECT_NE(std::string(e.what()).find("'ao occlusion' reads 'scene.normals'"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("'ao occlusion' reads 'scene.normals'"), std::string::npos)
+            << e.what();
     }
 }
 
@@ -127,7 +148,8 @@ TEST(FrameGraph, SizeRulesRoundAsTheirUsersNeed) {
     EXPECT_EQ(SizeRule::draw().resolve({1282, 722}, {641, 361}), glm::ivec2(1282, 722));
     EXPECT_EQ(SizeRule::view().resolve({1282, 722}, {641, 361}), glm::ivec2(641, 361));
     EXPECT_EQ(SizeRule::fixedSize(256, 128).resolve({1, 1}, {1, 1}), glm::ivec2(256, 128));
-    EXPECT_EQ(SizeRule::half(SizeRule::Round::Down).resolve({1, 1}, {1, 1}), glm::ivec2(1, 1)) << "at least 1";
+    EXPECT_EQ(SizeRule::half(SizeRule::Round::Down).resolve({1, 1}, {1, 1}), glm::ivec2(1, 1))
+        << "at least 1";
 }
 
 TEST(FrameGraph, EqualDescriptionsWithDisjointLivesShareATextureOverlappingOnesNever) {
@@ -136,9 +158,24 @@ TEST(FrameGraph, EqualDescriptionsWithDisjointLivesShareATextureOverlappingOnesN
     ResourceId raw, blurX, blurY;
     // AO's chain: raw → blur x → blur y; raw is dead once blur x ran, so blur y takes its texture.
     g.addPass("occlusion", [&](Builder& x) { raw = x.colour(x.create("ao.raw", kHalf)); }, {});
-    g.addPass("blur x", [&](Builder& x) { x.sample(raw); blurX = x.colour(x.create("ao.x", kHalf)); }, {});
-    g.addPass("blur y", [&](Builder& x) { x.sample(blurX); blurY = x.colour(x.create("ao.map", kHalf)); }, {});
-    g.addPass("main", [&](Builder& x) { x.sample(blurY); view = x.colour(view); }, {});
+    g.addPass("blur x",
+              [&](Builder& x) {
+                  x.sample(raw);
+                  blurX = x.colour(x.create("ao.x", kHalf));
+              },
+              {});
+    g.addPass("blur y",
+              [&](Builder& x) {
+                  x.sample(blurX);
+                  blurY = x.colour(x.create("ao.map", kHalf));
+              },
+              {});
+    g.addPass("main",
+              [&](Builder& x) {
+                  x.sample(blurY);
+                  view = x.colour(view);
+              },
+              {});
     g.compile({641, 361}, {641, 361});
     EXPECT_EQ(g.textureSlots(), 2u) << "ao.map reuses ao.raw's texture; ao.x overlaps both";
     EXPECT_EQ(g.transientBytes(), 2u * 321 * 181 * 8);
@@ -161,8 +198,19 @@ TEST(FrameGraph, DifferentDescriptionsNeverShare) {
     ResourceId view = target(g);
     ResourceId a, b;
     g.addPass("A", [&](Builder& x) { a = x.colour(x.create("a", kColour)); }, {});
-    g.addPass("B", [&](Builder& x) { x.sample(a); b = x.colour(x.create("b", kHalf)); }, {});
-    g.addPass("C", [&](Builder& x) { x.sample(b); x.colour(x.create("c", kHalf)); x.colour(view); }, {});
+    g.addPass("B",
+              [&](Builder& x) {
+                  x.sample(a);
+                  b = x.colour(x.create("b", kHalf));
+              },
+              {});
+    g.addPass("C",
+              [&](Builder& x) {
+                  x.sample(b);
+                  x.colour(x.create("c", kHalf));
+                  x.colour(view);
+              },
+              {});
     g.compile({64, 64}, {64, 64});
     EXPECT_EQ(g.textureSlots(), 3u);
 }
@@ -172,7 +220,12 @@ TEST(FrameGraph, DotNamesPassesResourcesEdgesAndTimes) {
     ResourceId view = target(g);
     ResourceId d;
     g.addPass("scene depth", [&](Builder& x) { d = x.depth(x.create("scene.depth", kDepth)); }, {});
-    g.addPass("fog \"post\"", [&](Builder& x) { x.sample(d, "SGFX_FOG_DEPTH"); view = x.colour(view); }, {});
+    g.addPass("fog \"post\"",
+              [&](Builder& x) {
+                  x.sample(d, "SGFX_FOG_DEPTH");
+                  view = x.colour(view);
+              },
+              {});
     g.addPass("orphan", [&](Builder& x) { x.colour(x.create("nobody", kColour)); }, {});
     g.compile({320, 180}, {320, 180});
     const std::string dot = g.dotCluster("main view", {{"scene depth", 0.25}});

@@ -49,11 +49,6 @@ void expectPixel(const Image& img, int x, int y, glm::dvec3 linear, int tol = 2)
         EXPECT_NEAR(p[c], srgbByte(linear[c]), tol) << "pixel (" << x << "," << y << ") channel " << c;
 }
 
-void expectNoGlErrors(Viewer& v) {
-    for (const auto& e : v.renderer().takeGlErrors())
-        ADD_FAILURE() << "GL: " << e;
-}
-
 } // namespace
 
 TEST(Render, ClearColourIsSrgbEncodedOnce) {

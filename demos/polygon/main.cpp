@@ -33,6 +33,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <numeric>
@@ -68,6 +69,7 @@ modes (at most one):
 
 options:
   --out FILE          PNG to write (default polygon.png)
+  --graph FILE        also write the frame's graph (passes, resources, GPU ms) as Graphviz DOT
   --size WxH          image / bench / window size in pixels (default 1280x720)
   --time T            camera path time of the still image, 0 <= T < 1 (default 0.1)
   --look EX,EY,EZ,TX,TY,TZ
@@ -153,6 +155,7 @@ enum class Mode { Still, Window, Bench, ExportObj, ExportGltf };
 struct Options {
     Mode mode = Mode::Still;
     std::string out = "polygon.png";
+    std::string graph; ///< --graph: DOT file of the frame graph
     std::string objPath;
     std::string gltfPath;
     int width = 1280, height = 720;
@@ -237,6 +240,9 @@ Options parseArgs(int argc, char** argv) {
         } else if (arg == "--out") {
             o.out = value();
             if (o.out.empty()) throw UsageError("--out: empty file name");
+        } else if (arg == "--graph") {
+            o.graph = value();
+            if (o.graph.empty()) throw UsageError("--graph: empty file name");
         } else if (arg == "--size") {
             const std::string_view v = value();
             const auto x = v.find('x');
@@ -553,6 +559,12 @@ int runStill(const Options& o, const polygon::PolygonScene& scene) {
     }
     viewer->writeScreenshot(o.out);
     reportGlErrors(*viewer);
+    if (!o.graph.empty()) {
+        std::ofstream dot(o.graph);
+        dot << viewer->renderer().lastFrameGraphDot();
+        if (!dot) throw std::runtime_error("cannot write " + o.graph);
+        std::cout << "wrote " << o.graph << "\n";
+    }
     const sgfx::FrameStats& st = viewer->stats();
     std::cout << "frame: " << st.triangles << " triangles drawn, " << st.drawCalls << " draw calls, "
               << st.culledNodes << " nodes culled (" << viewer->context().kind() << ", "

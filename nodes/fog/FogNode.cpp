@@ -150,7 +150,8 @@ void FogNode::addNearestDepth(FrameSetup& f) const {
     const RenderQueue& q = f.queue();
     if (q.transparent.empty() && q.claimed.empty()) {
         f.addPass("fog: nearest depth", PassPhase::BeforeMain,
-                  [](PassBuilder& b) { b.publish(std::string(kNearestDepth), b.get(resources::SceneDepth)); }, {});
+                  [](PassBuilder& b) { b.publish(std::string(kNearestDepth), b.get(resources::SceneDepth)); },
+                  {});
         return;
     }
     struct Data {
@@ -201,8 +202,9 @@ const ShaderSnippet& FogNode::snippet() const {
     static const ShaderSnippet forward =
         snippetOf("fog", "", text("fog_optical_depth.glsl"), text("fog_forward.glsl"));
     static const ShaderSnippet split = [] {
-        ShaderSnippet sn = snippetOf("fog_split", "", text("fog_optical_depth.glsl") + text("fog_split_decl.glsl"),
-                                     text("fog_split.glsl"));
+        ShaderSnippet sn =
+            snippetOf("fog_split", "", text("fog_optical_depth.glsl") + text("fog_split_decl.glsl"),
+                      text("fog_split.glsl"));
         sn.samplers = {{"sgfx_fogNearestDepth", std::string(kNearestDepth)}};
         return sn;
     }();

@@ -20,12 +20,20 @@ static_assert(format::Depth32F == GL_DEPTH_COMPONENT32F && format::Rgba16F == GL
               format::Rgba32F == GL_RGBA32F && format::Rg32F == GL_RG32F && format::R32F == GL_R32F &&
               format::R16F == GL_R16F && format::R8 == GL_R8 && format::Rgba8 == GL_RGBA8 &&
               format::Srgb8Alpha8 == GL_SRGB8_ALPHA8);
-constexpr FormatInfo kFormats[] = {
-    {GL_DEPTH_COMPONENT32F, "D32F", 4}, {GL_DEPTH_COMPONENT24, "D24", 4}, {GL_DEPTH24_STENCIL8, "D24S8", 4},
-    {GL_STENCIL_INDEX8, "S8", 1},       {GL_RGBA16F, "RGBA16F", 8},       {GL_RGBA32F, "RGBA32F", 16},
-    {GL_RG32F, "RG32F", 8},             {GL_RG16F, "RG16F", 4},           {GL_R32F, "R32F", 4},
-    {GL_R16F, "R16F", 2},               {GL_R8, "R8", 1},                 {GL_RGBA8, "RGBA8", 4},
-    {GL_SRGB8_ALPHA8, "SRGB8_A8", 4},   {GL_R11F_G11F_B10F, "R11G11B10F", 4}};
+constexpr FormatInfo kFormats[] = {{GL_DEPTH_COMPONENT32F, "D32F", 4},
+                                   {GL_DEPTH_COMPONENT24, "D24", 4},
+                                   {GL_DEPTH24_STENCIL8, "D24S8", 4},
+                                   {GL_STENCIL_INDEX8, "S8", 1},
+                                   {GL_RGBA16F, "RGBA16F", 8},
+                                   {GL_RGBA32F, "RGBA32F", 16},
+                                   {GL_RG32F, "RG32F", 8},
+                                   {GL_RG16F, "RG16F", 4},
+                                   {GL_R32F, "R32F", 4},
+                                   {GL_R16F, "R16F", 2},
+                                   {GL_R8, "R8", 1},
+                                   {GL_RGBA8, "RGBA8", 4},
+                                   {GL_SRGB8_ALPHA8, "SRGB8_A8", 4},
+                                   {GL_R11F_G11F_B10F, "R11G11B10F", 4}};
 
 const FormatInfo* formatInfo(unsigned format) {
     for (const FormatInfo& f : kFormats)
@@ -120,9 +128,9 @@ ResourceId FrameGraph::use(std::uint32_t pass, ResourceId id, Access access, boo
     Pass& p = passes_[pass];
     Resource& r = resource(id, p.name);
     if (id.version + 1u != r.versions)
-        throw std::logic_error("sgfx: frame graph: pass '" + p.name + "' uses version " +
-                               std::to_string(id.version) + " of '" + r.name + "', which a later write replaced (now version " +
-                               std::to_string(r.versions - 1) + ")");
+        throw std::logic_error(
+            "sgfx: frame graph: pass '" + p.name + "' uses version " + std::to_string(id.version) + " of '" +
+            r.name + "', which a later write replaced (now version " + std::to_string(r.versions - 1) + ")");
     const bool unwritten = !r.imported && id.version == 0;
     if (!write && unwritten)
         throw std::logic_error("sgfx: frame graph: pass '" + p.name + "' reads '" + r.name +
@@ -178,7 +186,8 @@ void FrameGraph::cull() {
             ++refs[u.id.index][u.id.version];
         for (const Use& u : pass.writes) {
             writer[u.id.index][u.id.version] = int(p);
-            if (resources_[u.id.index].imported) ++refs[u.id.index][u.id.version]; // written outside the graph
+            if (resources_[u.id.index].imported)
+                ++refs[u.id.index][u.id.version]; // written outside the graph
         }
     }
     for (const ResourceId& id : presented_)
@@ -322,7 +331,8 @@ std::size_t FrameGraph::transientBytes() const {
     return bytes;
 }
 
-std::string FrameGraph::dotCluster(std::string_view cluster, const std::map<std::string, double>& gpuMs) const {
+std::string FrameGraph::dotCluster(std::string_view cluster,
+                                   const std::map<std::string, double>& gpuMs) const {
     std::ostringstream o;
     const std::string id = "c" + std::to_string(std::hash<std::string_view>{}(cluster) % 1000000);
     o << "  subgraph \"cluster_" << escape(cluster) << "\" {\n    label=\"" << escape(cluster) << "\";\n";
@@ -331,8 +341,10 @@ std::string FrameGraph::dotCluster(std::string_view cluster, const std::map<std:
         const auto t = gpuMs.find(p.name);
         char ms[32] = "-";
         if (t != gpuMs.end()) std::snprintf(ms, sizeof ms, "%.3f ms", t->second);
-        o << "    " << id << "_p" << i << " [shape=box, label=\"" << escape(p.name) << "\\n" << ms << "\""
-          << (p.culled ? ", style=dashed, color=grey, fontcolor=grey" : ", style=filled, fillcolor=\"#dde8f5\"")
+        o << "    " << id << "_p" << i << " [shape=box, label=\"" << escape(p.name) << "\\n"
+          << ms << "\""
+          << (p.culled ? ", style=dashed, color=grey, fontcolor=grey"
+                       : ", style=filled, fillcolor=\"#dde8f5\"")
           << "];\n";
     }
     for (std::size_t i = 0; i < resources_.size(); ++i) {
@@ -351,11 +363,11 @@ std::string FrameGraph::dotCluster(std::string_view cluster, const std::map<std:
         const Pass& p = passes_[i];
         const char* style = p.culled ? ", style=dashed, color=grey" : "";
         for (const Use& u : p.reads)
-            o << "    " << id << "_r" << u.id.index << " -> " << id << "_p" << i << " [label=\"" << escape(u.binding)
-              << "\"" << style << "];\n";
+            o << "    " << id << "_r" << u.id.index << " -> " << id << "_p" << i << " [label=\""
+              << escape(u.binding) << "\"" << style << "];\n";
         for (const Use& u : p.writes)
-            o << "    " << id << "_p" << i << " -> " << id << "_r" << u.id.index << " [label=\"v" << u.id.version
-              << "\"" << style << "];\n";
+            o << "    " << id << "_p" << i << " -> " << id << "_r" << u.id.index << " [label=\"v"
+              << u.id.version << "\"" << style << "];\n";
     }
     o << "  }\n";
     return o.str();

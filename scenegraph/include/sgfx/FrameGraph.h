@@ -44,14 +44,14 @@ struct SizeRule {
 
 /// GL internal formats of frame resources, so effects declare targets without including GL.
 namespace format {
-inline constexpr unsigned Depth32F = 0x8CAC; // GL_DEPTH_COMPONENT32F
-inline constexpr unsigned Rgba16F = 0x881A;  // GL_RGBA16F
-inline constexpr unsigned Rgba32F = 0x8814;  // GL_RGBA32F
-inline constexpr unsigned Rg32F = 0x8230;    // GL_RG32F
-inline constexpr unsigned R32F = 0x822E;     // GL_R32F
-inline constexpr unsigned R16F = 0x822D;     // GL_R16F
-inline constexpr unsigned R8 = 0x8229;       // GL_R8
-inline constexpr unsigned Rgba8 = 0x8058;    // GL_RGBA8
+inline constexpr unsigned Depth32F = 0x8CAC;    // GL_DEPTH_COMPONENT32F
+inline constexpr unsigned Rgba16F = 0x881A;     // GL_RGBA16F
+inline constexpr unsigned Rgba32F = 0x8814;     // GL_RGBA32F
+inline constexpr unsigned Rg32F = 0x8230;       // GL_RG32F
+inline constexpr unsigned R32F = 0x822E;        // GL_R32F
+inline constexpr unsigned R16F = 0x822D;        // GL_R16F
+inline constexpr unsigned R8 = 0x8229;          // GL_R8
+inline constexpr unsigned Rgba8 = 0x8058;       // GL_RGBA8
 inline constexpr unsigned Srgb8Alpha8 = 0x8C43; // GL_SRGB8_ALPHA8
 } // namespace format
 
@@ -134,7 +134,9 @@ public:
 
     private:
         friend class FrameGraph;
-        Builder(FrameGraph& g, std::uint32_t pass) : graph_(g), pass_(pass) {}
+        Builder(FrameGraph& g, std::uint32_t pass)
+            : graph_(g)
+            , pass_(pass) {}
         FrameGraph& graph_;
         std::uint32_t pass_;
     };
@@ -200,7 +202,8 @@ private:
         bool culled = false;
     };
     Resource& resource(ResourceId id, std::string_view pass);
-    ResourceId use(std::uint32_t pass, ResourceId id, Access access, bool write, bool keep, std::string_view binding);
+    ResourceId use(std::uint32_t pass, ResourceId id, Access access, bool write, bool keep,
+                   std::string_view binding);
     void cull();
     void planLifetimes();
     std::vector<Resource> resources_;

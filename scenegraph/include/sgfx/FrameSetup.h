@@ -11,10 +11,10 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <utility>
 #include <set>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace sgfx {
@@ -64,7 +64,9 @@ public:
     ResourceId create(std::string name, const TextureDesc& desc) { return b_.create(std::move(name), desc); }
     ResourceId sample(ResourceId id, std::string_view sampler = {}) { return b_.sample(id, sampler); }
     ResourceId sample(std::string_view name) { return b_.sample(get(name), name); }
-    ResourceId colour(ResourceId id, int attachment = 0, bool keep = true) { return b_.colour(id, attachment, keep); }
+    ResourceId colour(ResourceId id, int attachment = 0, bool keep = true) {
+        return b_.colour(id, attachment, keep);
+    }
     ResourceId depth(ResourceId id, bool keep = true) { return b_.depth(id, keep); }
     ResourceId depthTest(ResourceId id) { return b_.depthTest(id); }
     /// Writes the named surface (draw.colour, view.depth...) and publishes its new version.

@@ -236,8 +236,8 @@ private:
     FrameData frame_;
     FrameStats stats_;
     const RenderQueue* current_ = &queue_; ///< the queue being drawn (sub-cameras have their own)
-    std::string dot_;           ///< lastFrameGraphDot()
-    std::size_t viewsDrawn_ = 0; ///< this frame's views so far (names the graph's clusters)
+    void writeGraphDot();
+    std::string dot_; ///< lastFrameGraphDot()
     std::unique_ptr<Impl> impl_;
 };
 

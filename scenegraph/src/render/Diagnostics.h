@@ -36,6 +36,7 @@ public:
     /// Waits for every query of the frame and appends its time; forgets them.
     void collect(std::vector<FrameStats::PassTime>& into);
     void clear() { timers_.clear(); }
+    std::size_t count() const { return timers_.size(); }
 
 private:
     std::vector<std::pair<std::string, gl::QueryObject>> timers_;

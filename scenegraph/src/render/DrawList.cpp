@@ -292,10 +292,11 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
         // Frame resources the snippet samples, on units the renderer picks in snippet order.
         for (const SnippetSampler& sampler : e->snippet().samplers) {
             if (unit >= gl::StateCache::kUnits)
-                throw std::runtime_error("sgfx: the effects above '" + item.node().name + "' sample more than " +
-                                         std::to_string(gl::StateCache::kUnits - kEffectTextureUnit) +
-                                         " frame resources");
-            s.cache.bindTexture(unit, s.graph ? s.graph->texture(s.graph->blackboard.get(sampler.resource)) : 0);
+                throw std::runtime_error(
+                    "sgfx: the effects above '" + item.node().name + "' sample more than " +
+                    std::to_string(gl::StateCache::kUnits - kEffectTextureUnit) + " frame resources");
+            s.cache.bindTexture(unit,
+                                s.graph ? s.graph->texture(s.graph->blackboard.get(sampler.resource)) : 0);
             program->set(sampler.uniform, int(unit++));
         }
     }

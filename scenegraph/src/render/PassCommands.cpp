@@ -58,12 +58,14 @@ void PassCommands::target(std::initializer_list<ResourceId> colour, ResourceId d
         if (extent == glm::ivec2(0)) extent = size(depth);
     }
     if (attachments.empty())
-        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass_) + "' sets a target without attachments");
+        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass_) +
+                               "' sets a target without attachments");
     Renderer::Impl& s = *renderer_.impl_;
     // The view's own target already has a framebuffer for exactly these attachments.
     const gl::RenderTarget& view = *s.current;
     const bool own = attachments.size() == 2 && attachments[0].second == view.color.get() &&
-                     attachments[1].second == view.depth.get() && attachments[0].first == GL_COLOR_ATTACHMENT0;
+                     attachments[1].second == view.depth.get() &&
+                     attachments[0].first == GL_COLOR_ATTACHMENT0;
     const unsigned fbo = own ? view.fbo.get() : s.pool.framebuffer(attachments, pass_);
     s.cache.bindFramebuffer(fbo, extent, srgb);
     s.cache.setColourMask(true);
@@ -122,7 +124,8 @@ void PassCommands::drawQueue(std::span<const RenderItem> items, DrawMode mode) {
 
 void PassCommands::copyDepth(ResourceId from, ResourceId to) {
     Renderer::Impl& s = *renderer_.impl_;
-    const unsigned src = s.pool.framebuffer({{GL_DEPTH_ATTACHMENT, aliveTexture(graph_, from, pass_)}}, pass_);
+    const unsigned src =
+        s.pool.framebuffer({{GL_DEPTH_ATTACHMENT, aliveTexture(graph_, from, pass_)}}, pass_);
     const unsigned dst = s.pool.framebuffer({{GL_DEPTH_ATTACHMENT, aliveTexture(graph_, to, pass_)}}, pass_);
     const glm::ivec2 a = size(from), b = size(to);
     glBlitNamedFramebuffer(src, dst, 0, 0, a.x, a.y, 0, 0, b.x, b.y, GL_DEPTH_BUFFER_BIT, GL_NEAREST);

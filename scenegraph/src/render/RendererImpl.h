@@ -75,9 +75,17 @@ struct Renderer::Impl {
     std::uint64_t submittedTriangles = 0; // FrameStats::triangles at the last glFlush
     gl::VertexArrayObject emptyVao;       // full-screen passes take their vertices from gl_VertexID
     render::DebugLog log;
-    gl::StateCache cache; // every real change is counted as a state change
-    render::ResourcePool pool;        // frame-graph textures and their framebuffers
+    gl::StateCache cache;              // every real change is counted as a state change
+    render::ResourcePool pool;         // frame-graph textures and their framebuffers
     const FrameGraph* graph = nullptr; // the graph being executed (material samplers read it)
+    // This frame's graphs, one per view, with the range of pass timers each started: the graph
+    // picture is drawn once the times are known (Renderer::lastFrameGraphDot).
+    struct ViewGraph {
+        std::string name;
+        FrameGraph graph;
+        std::size_t firstTimer = 0, timers = 0;
+    };
+    std::vector<ViewGraph> graphs;
 };
 
 } // namespace sgfx

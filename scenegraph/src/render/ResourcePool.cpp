@@ -25,7 +25,8 @@ unsigned ResourcePool::acquire(const ResolvedDesc& desc, std::string_view name) 
     e.desc = desc;
     if (desc.samples > 1) {
         e.texture = gl::createTexture(GL_TEXTURE_2D_MULTISAMPLE);
-        glTextureStorage2DMultisample(e.texture.get(), desc.samples, desc.format, desc.width, desc.height, GL_TRUE);
+        glTextureStorage2DMultisample(e.texture.get(), desc.samples, desc.format, desc.width, desc.height,
+                                      GL_TRUE);
     } else {
         e.texture = gl::createTexture2D(desc.format, desc.width, desc.height,
                                         desc.filter == Filter::Nearest ? GL_NEAREST : GL_LINEAR);

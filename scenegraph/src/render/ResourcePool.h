@@ -21,10 +21,11 @@ public:
     void beginFrame(std::uint64_t frame, std::uint64_t keepFrames = 3);
     /// A framebuffer with these attachments (GL attachment point → texture), made on first use
     /// and checked complete; deleted with any of its textures.
-    unsigned framebuffer(const std::vector<std::pair<unsigned, unsigned>>& attachments, std::string_view pass);
+    unsigned framebuffer(const std::vector<std::pair<unsigned, unsigned>>& attachments,
+                         std::string_view pass);
     void clear();
 
-    std::size_t bytesHeld() const;   ///< every texture the pool holds, in use or not
+    std::size_t bytesHeld() const; ///< every texture the pool holds, in use or not
     std::size_t texturesMade() const { return made_; }
     std::size_t textureCount() const { return entries_.size(); }
 

@@ -17,8 +17,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
-#include <stdexcept>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -57,7 +57,7 @@ private:
     void declareMain(bool opaque);
     void declareResolve();
     void declarePostAa();
-    std::vector<std::pair<std::string, std::string>> snippetSamplers() const;
+    std::vector<std::pair<std::string, std::string>> snippetSamplers(std::span<const RenderItem> items) const;
     void legacyState(bool invalidate, const gl::RenderTarget& target);
     void runLegacy(RenderPass& pass);
     void drawOpaque();
@@ -96,12 +96,11 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
         return e.second.owner.expired() || impl_->frames - e.second.lastUse > 600;
     });
     impl_->timers.clear();
-    dot_ = "digraph frame {\n  rankdir=LR;\n  node [fontname=\"Helvetica\", fontsize=10];\n";
-    viewsDrawn_ = 0;
+    impl_->graphs.clear();
     renderView(camera, impl_->scene, queue_, plan_, 0);
-    dot_ += "}\n";
     impl_->log.stage = "outside a frame";
     impl_->timers.collect(stats_.passTimes);
+    writeGraphDot();
     if (options_.glErrors.value_or(impl_->glErrorsDefault) == RendererOptions::GlErrorPolicy::Throw) {
         const std::vector<std::string> errors = takeGlErrors();
         if (!errors.empty()) {
@@ -113,6 +112,18 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     }
     if (camera.renderTarget) render::copyToTexture(impl_->scene, *camera.renderTarget);
     stats_.drawMs = std::chrono::duration<double, std::milli>(clock::now() - t0).count() - stats_.cullMs;
+}
+
+// The frame's graphs as one DOT digraph, a cluster per view, with the GPU times of its passes.
+void Renderer::writeGraphDot() {
+    dot_ = "digraph frame {\n  rankdir=LR;\n  node [fontname=\"Helvetica\", fontsize=10];\n";
+    for (const Impl::ViewGraph& g : impl_->graphs) {
+        std::map<std::string, double> ms;
+        for (std::size_t i = g.firstTimer; i < g.firstTimer + g.timers && i < stats_.passTimes.size(); ++i)
+            ms[stats_.passTimes[i].name] += stats_.passTimes[i].gpuMs;
+        dot_ += g.graph.dotCluster(g.name, ms);
+    }
+    dot_ += "}\n";
 }
 
 void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan,
@@ -241,8 +252,11 @@ void importTarget(FrameGraph& g, const gl::RenderTarget& t, std::string_view col
 
 // What the visible effects declare, interleaved with the renderer's own passes in frame order.
 void Renderer::View::buildGraph(int depth) {
-    const ViewInfo info{{draw_->width, draw_->height}, {target_.width, target_.height}, draw_->samples,
-                        r_.frame_.frameNumber, depth};
+    const ViewInfo info{{draw_->width, draw_->height},
+                        {target_.width, target_.height},
+                        draw_->samples,
+                        r_.frame_.frameNumber,
+                        depth};
     FrameSetup setup(info, queue_);
     for (const EffectNode* e : plan_.effects)
         e->setupFrame(setup);
@@ -252,7 +266,8 @@ void Renderer::View::buildGraph(int depth) {
     if (draw_ != &target_) {
         importTarget(graph_, target_, resources::ViewColour, resources::ViewDepth);
     } else {
-        graph_.blackboard.put(std::string(resources::ViewColour), graph_.blackboard.get(resources::DrawColour));
+        graph_.blackboard.put(std::string(resources::ViewColour),
+                              graph_.blackboard.get(resources::DrawColour));
         graph_.blackboard.put(std::string(resources::ViewDepth), graph_.blackboard.get(resources::DrawDepth));
     }
     declare(setup, PassPhase::Compute, PassStage::Compute);
@@ -307,7 +322,8 @@ void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
             "scene depth",
             [&](FrameGraph::Builder& b) {
                 PassBuilder pb(b, graph_.blackboard);
-                pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
+                pb.publish(std::string(resources::SceneDepth),
+                           pb.depth(pb.create("scene.depth", desc), false));
             },
             [this](PassCommands& c) {
                 c.target({}, graph_.blackboard.get(resources::SceneDepth));
@@ -325,7 +341,8 @@ void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
             pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
         },
         [this](PassCommands& c) {
-            c.copyDepth(graph_.blackboard.get(resources::DrawDepth), graph_.blackboard.get(resources::SceneDepth));
+            c.copyDepth(graph_.blackboard.get(resources::DrawDepth),
+                        graph_.blackboard.get(resources::SceneDepth));
         },
         "after opaque");
 }
@@ -336,7 +353,8 @@ void Renderer::View::declareMain(bool opaque) {
         opaque ? "main: opaque" : "main: transparent",
         [&](FrameGraph::Builder& b) {
             PassBuilder pb(b, graph_.blackboard);
-            for (const auto& [uniform, resource] : snippetSamplers())
+            for (const auto& [uniform, resource] :
+                 snippetSamplers(opaque ? queue_.opaque : queue_.transparent))
                 pb.sample(pb.get(resource), uniform);
             pb.write(resources::DrawColour, !(opaque && camera_.clearColorEnabled));
             if (opaque)
@@ -353,17 +371,25 @@ void Renderer::View::declareMain(bool opaque) {
         "main");
 }
 
-std::vector<std::pair<std::string, std::string>> Renderer::View::snippetSamplers() const {
+// What the items' effects sample (only sets some item uses: an effect whose subtree drew nothing
+// reads nothing, so what it would read can be culled).
+std::vector<std::pair<std::string, std::string>>
+Renderer::View::snippetSamplers(std::span<const RenderItem> items) const {
+    std::vector<bool> used(queue_.effectSets.size(), false);
+    for (const RenderItem& item : items)
+        used[item.effectSet] = true;
     std::vector<std::pair<std::string, std::string>> out;
-    for (const EffectSet& set : queue_.effectSets)
-        for (const EffectNode* e : set.effects)
+    for (std::size_t i = 0; i < used.size(); ++i) {
+        if (!used[i]) continue;
+        for (const EffectNode* e : queue_.effectSets[i].effects)
             for (const SnippetSampler& s : e->snippet().samplers) {
                 if (!graph_.blackboard.has(s.resource))
-                    throw std::logic_error("sgfx: effect '" + std::string(e->kind()) + "' samples '" + s.resource +
-                                           "', which no pass of the frame makes");
+                    throw std::logic_error("sgfx: effect '" + std::string(e->kind()) + "' samples '" +
+                                           s.resource + "', which no pass of the frame makes");
                 if (std::find(out.begin(), out.end(), std::pair(s.uniform, s.resource)) == out.end())
                     out.emplace_back(s.uniform, s.resource);
             }
+    }
     return out;
 }
 
@@ -401,6 +427,7 @@ void Renderer::View::declarePostAa() {
 // Runs the live passes, each timed and named for GL error sites.
 void Renderer::View::executeGraph() {
     s_.pool.beginFrame(s_.frames);
+    const std::size_t firstTimer = s_.timers.count();
     const FrameGraph* outer = std::exchange(s_.graph, &graph_);
     const bool timing = r_.options_.timePasses;
     graph_.execute(s_.pool, [&](std::string_view name, const FrameGraph::Execute& execute) {
@@ -416,10 +443,8 @@ void Renderer::View::executeGraph() {
     const aa::ViewState& aa = *aa_;
     if (aa.settings.mode != AntiAliasing::Mode::Fxaa && aa.settings.mode != AntiAliasing::Mode::Taa)
         aa::finish(r_, *aa_, target_);
-    const std::string cluster =
-        camera_.name.empty() ? "view " + std::to_string(r_.viewsDrawn_) : camera_.name;
-    ++r_.viewsDrawn_;
-    r_.dot_ += graph_.dotCluster(cluster, {});
+    const std::string name = camera_.name.empty() ? "view " + std::to_string(s_.graphs.size()) : camera_.name;
+    s_.graphs.push_back({name, std::move(graph_), firstTimer, s_.timers.count() - firstTimer});
     r_.current_ = &r_.queue_;
     s_.current = &s_.scene;
 }
@@ -480,7 +505,8 @@ void Renderer::View::resolve() {
     r_.frame_.width = target_.width;
     r_.frame_.height = target_.height;
     const glm::vec4 viewport(0.0f, 0.0f, float(target_.width), float(target_.height));
-    glNamedBufferSubData(s_.frameUbo.get(), offsetof(render::FrameBlock, viewport), sizeof viewport, &viewport);
+    glNamedBufferSubData(s_.frameUbo.get(), offsetof(render::FrameBlock, viewport), sizeof viewport,
+                         &viewport);
 }
 
 } // namespace sgfx
