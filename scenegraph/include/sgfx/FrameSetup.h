@@ -109,6 +109,10 @@ public:
     /// the outermost node's view-wide pass wins (cull visits outer nodes first).
     bool once(std::string_view key) { return once_.emplace(key).second; }
     void requestSceneDepth(const SceneDepthRequest& request);
+    /// The main pass samples this resource (a drawable that binds it in its draw with
+    /// Renderer::bindFrameResource): its producer is kept and it stays alive through the main pass.
+    void sampleInMainPass(std::string resource) { mainReads_.push_back(std::move(resource)); }
+    const std::vector<std::string>& mainPassReads() const { return mainReads_; }
     /// Declares a pass. Passes run by phase, and in the order they were added within a phase;
     /// `setup` runs when the renderer builds the graph, `execute` when the pass is not culled.
     void addPass(std::string name, PassPhase phase, Setup setup, FrameGraph::Execute execute);
@@ -135,6 +139,7 @@ private:
     const RenderQueue& queue_;
     std::set<std::string, std::less<>> once_;
     std::vector<DeclaredPass> passes_;
+    std::vector<std::string> mainReads_;
     DepthNeeds depth_;
 };
 

@@ -180,6 +180,11 @@ public:
     void drawFullscreen(gl::Program& program, const DepthState& depth = {.test = false,
                                                                          .write = false,
                                                                          .func = CompareFunc::Always});
+    /// For a Drawable's draw: binds the frame resource published as `resource` (FrameSetup.h; the
+    /// drawable's setupFrame asked for it with sampleInMainPass) to `program`'s sampler `uniform`
+    /// on a unit the renderer picks. Returns false, binding nothing, when the frame has no such
+    /// resource.
+    bool bindFrameResource(gl::Program& program, std::string_view uniform, std::string_view resource);
     /// Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
     gl::Program& depthOnlyProgram();
     /// G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.

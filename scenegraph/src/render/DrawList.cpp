@@ -287,6 +287,7 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
     effectSet = item.effectSet;
     const DrawContext ctx{r.frame_, item};
     unsigned unit = kEffectTextureUnit;
+    s.firstResourceUnit = unit;
     for (const EffectNode* e : r.current_->effectSets[effectSet].effects) {
         e->applyUniforms(*program, ctx);
         // Frame resources the snippet samples, on units the renderer picks in snippet order.
@@ -300,6 +301,7 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
             program->set(sampler.uniform, int(unit++));
         }
     }
+    s.firstResourceUnit = unit;
 }
 
 // The StateSet's blend and depth (main pass), user textures and uniforms.
@@ -387,6 +389,7 @@ void Renderer::DrawList::applyFaces(const RenderItem& item) {
 
 void Renderer::DrawList::drawDrawable(const RenderItem& item) {
     program->set("sgfx_model", item.model);
+    s.nextResourceUnit = s.firstResourceUnit;
     item.drawable->draw(r, *program, item); // binds its own vertex arrays and units
     batchesBound = false;                   // and maybe buffers
     ++r.stats_.drawCalls;
@@ -476,6 +479,20 @@ void Renderer::drawFullscreen(gl::Program& program, const DepthState& depth) {
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
     ++stats_.drawCalls;
+}
+
+bool Renderer::bindFrameResource(gl::Program& program, std::string_view uniform, std::string_view resource) {
+    Impl& s = *impl_;
+    if (!s.graph || !s.graph->blackboard.has(resource)) return false;
+    const unsigned texture = s.graph->texture(s.graph->blackboard.get(resource));
+    if (!texture)
+        throw std::logic_error("sgfx: '" + std::string(resource) +
+                               "' is not alive while drawing: ask for it with FrameSetup::sampleInMainPass");
+    if (s.nextResourceUnit >= gl::StateCache::kUnits)
+        throw std::runtime_error("sgfx: bindFrameResource: no texture unit left for '" + std::string(resource) + "'");
+    s.cache.bindTexture(s.nextResourceUnit, texture);
+    program.set(uniform, int(s.nextResourceUnit++));
+    return true;
 }
 
 } // namespace sgfx

@@ -54,6 +54,7 @@ public:
 private:
     void declare(const FrameSetup& setup, PassPhase phase, PassStage legacy);
     void declareSceneDepth(const FrameSetup::DepthNeeds& needs);
+    void drawSceneDepth(PassCommands& c, const FrameSetup::DepthNeeds& needs);
     void declareMain(bool opaque);
     void declareResolve();
     void declarePostAa();
@@ -77,6 +78,7 @@ private:
     aa::ViewState* aa_ = nullptr;
     gl::RenderTarget* draw_ = nullptr; // where the view is drawn (target_, or a larger/multisample one)
     FrameGraph graph_;
+    std::vector<std::string> mainReads_; // resources drawables bind in the main pass
     gl::QueryObject fragments_; // RendererOptions::countFragments, over the main pass
 };
 
@@ -270,6 +272,7 @@ void Renderer::View::buildGraph(int depth) {
                               graph_.blackboard.get(resources::DrawColour));
         graph_.blackboard.put(std::string(resources::ViewDepth), graph_.blackboard.get(resources::DrawDepth));
     }
+    mainReads_ = setup.mainPassReads();
     declare(setup, PassPhase::Compute, PassStage::Compute);
     if (setup.depthNeeds().beforeMain) declareSceneDepth(setup.depthNeeds());
     declare(setup, PassPhase::BeforeMain, PassStage::PrePass);
@@ -322,15 +325,21 @@ void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
             "scene depth",
             [&](FrameGraph::Builder& b) {
                 PassBuilder pb(b, graph_.blackboard);
-                pb.publish(std::string(resources::SceneDepth),
-                           pb.depth(pb.create("scene.depth", desc), false));
+                pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
+                // The G-buffer outputs at their locations in gbuffer_flat.frag and the material's
+                // G-buffer variant: 0 normal, 1 linear depth, 2 position.
+                const std::pair<bool, std::string_view> outputs[] = {{needs.normals, resources::SceneNormals},
+                                                                     {needs.linearDepth, resources::SceneLinearDepth},
+                                                                     {needs.positions, resources::ScenePositions}};
+                const unsigned formats[] = {format::Rgba16F, format::R32F, format::Rgba16F};
+                const bool gbuffer = needs.normals || needs.linearDepth || needs.positions;
+                for (int i = 0; gbuffer && i < 3; ++i)
+                    if (outputs[i].first || i < 2) { // the G-buffer always has normal and linear depth
+                        const std::string name(outputs[i].second);
+                        pb.publish(name, pb.colour(pb.create(name, {.format = formats[i]}), i, false));
+                    }
             },
-            [this](PassCommands& c) {
-                c.target({}, graph_.blackboard.get(resources::SceneDepth));
-                c.clearDepth();
-                c.drawQueue(queue_.opaque, DrawMode::DepthOnly);
-            },
-            "before main");
+            [this, needs](PassCommands& c) { drawSceneDepth(c, needs); }, "before main");
         return;
     }
     graph_.addPass(
@@ -341,10 +350,26 @@ void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
             pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
         },
         [this](PassCommands& c) {
-            c.copyDepth(graph_.blackboard.get(resources::DrawDepth),
-                        graph_.blackboard.get(resources::SceneDepth));
+            c.copyDepth(graph_.blackboard.get(resources::DrawDepth), graph_.blackboard.get(resources::SceneDepth));
         },
         "after opaque");
+}
+
+// The opaque items' depth, and their G-buffer outputs when an effect asked for them (cleared to 0:
+// a linear depth of 0 means nothing was drawn there).
+void Renderer::View::drawSceneDepth(PassCommands& c, const FrameSetup::DepthNeeds& needs) {
+    const Blackboard& board = graph_.blackboard;
+    const bool gbuffer = needs.normals || needs.linearDepth || needs.positions;
+    const auto at = [&](std::string_view name) { return board.has(name) ? board.get(name) : ResourceId{}; };
+    if (gbuffer)
+        c.target({at(resources::SceneNormals), at(resources::SceneLinearDepth), at(resources::ScenePositions)},
+                 board.get(resources::SceneDepth));
+    else
+        c.target({}, board.get(resources::SceneDepth));
+    for (int i = 0; gbuffer && i < (board.has(resources::ScenePositions) ? 3 : 2); ++i)
+        c.clearColour(glm::vec4(0.0f), i);
+    c.clearDepth();
+    c.drawQueue(queue_.opaque, gbuffer ? DrawMode::GBuffer : DrawMode::DepthOnly);
 }
 
 // The main pass's opaque or transparent items: they read what their effects' snippets sample.
