@@ -1,8 +1,9 @@
 #include "ao/AmbientOcclusionNode.h"
 
 #include "ParameterChecks.h"
-#include "TargetCache.h"
 
+#include <sgfx/FrameSetup.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/gl/Objects.h>
 
 #include <glad/gl.h>
@@ -17,8 +18,6 @@
 namespace sgfx {
 
 namespace {
-
-constexpr unsigned kMapUnit = kEffectTextureUnit + 1; // 13: read by the materials in the main pass
 
 using nodes::number;
 
@@ -49,12 +48,6 @@ ShaderSnippet definesOnly(std::string name, std::string defines) {
     s.name = std::move(name);
     s.defines = std::move(defines);
     return s;
-}
-
-void checkComplete(GLuint fbo, const char* what, int w, int h) {
-    if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw std::runtime_error(std::string("sgfx: ambient occlusion: ") + what +
-                                 " framebuffer incomplete at " + std::to_string(w) + "x" + std::to_string(h));
 }
 
 } // namespace
@@ -124,18 +117,8 @@ std::vector<glm::vec2> ao::rotationNoise(std::uint32_t seed) {
 // ------------------------------------------------------------------------------ passes
 
 // What the three passes share: per-view-size targets, the kernel and the noise texture.
+// GPU objects and CPU caches the passes keep between frames; touched only while they execute.
 struct AmbientOcclusionNode::Shared {
-    AmbientOcclusionParameters parameters;
-
-    struct Targets {
-        int width = 0, height = 0, mapWidth = 0, mapHeight = 0;
-        bool positions = false;
-        std::uint64_t lastUse = 0;
-        gl::FramebufferObject gbuffer, raw, half, blurred; // half: after the blur's x pass
-        gl::TextureObject normal, depth, position, zbuffer, rawMap, halfMap, blurredMap;
-    };
-    nodes::TargetCache<Targets> targets;
-    Targets* current = nullptr; // the view being drawn (set by the G-buffer pass)
     gl::TextureObject noise;
     std::uint32_t noiseSeed = 0;
     std::vector<glm::vec3> kernel;
@@ -143,66 +126,20 @@ struct AmbientOcclusionNode::Shared {
     int kernelSamples = 0;
     std::uint32_t kernelSeed = 0;
 
-    Targets& targetsFor(int w, int h, std::uint64_t frame) {
-        const bool half = parameters.halfResolution;
-        const bool positions = parameters.gbuffer == AoGBuffer::PaperPositions;
-        const int mw = half ? (w + 1) / 2 : w, mh = half ? (h + 1) / 2 : h;
-        return targets.get(
-            frame,
-            [&](const Targets& t) {
-                return t.width == w && t.height == h && t.mapWidth == mw && t.mapHeight == mh &&
-                       t.positions == positions;
-            },
-            [&](Targets& t) { init(t, w, h, mw, mh, positions); });
-    }
+    void release() { noise.reset(); }
 
-    static void init(Targets& t, int w, int h, int mw, int mh, bool positions) {
-        t.normal = gl::createTexture2D(GL_RGBA16F, w, h);
-        t.depth = gl::createTexture2D(GL_R32F, w, h);
-        t.zbuffer = gl::createTexture2D(GL_DEPTH_COMPONENT32F, w, h);
-        t.gbuffer = gl::createFramebuffer();
-        glNamedFramebufferTexture(t.gbuffer.get(), GL_COLOR_ATTACHMENT0, t.normal.get(), 0);
-        glNamedFramebufferTexture(t.gbuffer.get(), GL_COLOR_ATTACHMENT1, t.depth.get(), 0);
-        glNamedFramebufferTexture(t.gbuffer.get(), GL_DEPTH_ATTACHMENT, t.zbuffer.get(), 0);
-        GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_NONE};
-        if (positions) {
-            t.position = gl::createTexture2D(GL_RGBA16F, w, h);
-            glNamedFramebufferTexture(t.gbuffer.get(), GL_COLOR_ATTACHMENT2, t.position.get(), 0);
-            buffers[2] = GL_COLOR_ATTACHMENT2;
-        }
-        glNamedFramebufferDrawBuffers(t.gbuffer.get(), 3, buffers);
-        checkComplete(t.gbuffer.get(), "G-buffer", w, h);
-        auto mapTarget = [&](gl::FramebufferObject& fbo, gl::TextureObject& map) {
-            map = gl::createTexture2D(GL_RG32F, mw, mh);
-            fbo = gl::createFramebuffer();
-            glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, map.get(), 0);
-            checkComplete(fbo.get(), "occlusion map", mw, mh);
-        };
-        mapTarget(t.raw, t.rawMap);
-        mapTarget(t.half, t.halfMap);
-        mapTarget(t.blurred, t.blurredMap);
-        // Only a complete set is ever matched.
-        t.width = w, t.height = h, t.mapWidth = mw, t.mapHeight = mh, t.positions = positions;
-    }
-
-    void release() {
-        targets.clear();
-        current = nullptr;
-        noise.reset();
-    }
-
-    GLuint noiseTexture() {
-        if (!noise || noiseSeed != parameters.seed) {
-            const std::vector<glm::vec2> n = ao::rotationNoise(parameters.seed);
+    // The seed's §2 rotation vectors V_r, a 4×4 texture the occlusion pass tiles over the view.
+    GLuint noiseTexture(std::uint32_t seed) {
+        if (!noise || noiseSeed != seed) {
+            const std::vector<glm::vec2> n = ao::rotationNoise(seed);
             noise = gl::createTexture2D(GL_RG32F, 4, 4);
-            glTextureSubImage2D(noise.get(), 0, 0, 0, 4, 4, GL_RG, GL_FLOAT, n.data());
-            noiseSeed = parameters.seed;
+            glTextureSubImage2D(noise.get(), 0, 0, 0, 4, 4, GL_RG, GL_FLOAT, n.data()); // node-owned data
+            noiseSeed = seed;
         }
         return noise.get();
     }
 
-    const std::vector<glm::vec3>& kernelFor() {
-        const AmbientOcclusionParameters& p = parameters;
+    const std::vector<glm::vec3>& kernelFor(const AmbientOcclusionParameters& p) {
         if (kernel.empty() || kernelKind != p.kernel || kernelSamples != p.samples || kernelSeed != p.seed) {
             kernel = ao::kernel(p.kernel, p.samples, p.seed);
             kernelKind = p.kernel, kernelSamples = p.samples, kernelSeed = p.seed;
@@ -211,133 +148,104 @@ struct AmbientOcclusionNode::Shared {
     }
 };
 
-// Seed §1: view-space normals and depth (or positions) of every opaque item of the view.
-class AmbientOcclusionNode::GBufferPass : public RenderPass {
-public:
-    explicit GBufferPass(std::shared_ptr<Shared> s)
-        : shared_(std::move(s)) {}
-    std::string_view name() const override { return "ao g-buffer"; }
-    PassStage stage() const override { return PassStage::PrePass; }
-    void execute(Renderer& r) override {
-        const gl::RenderTarget& view = r.currentTarget();
-        Shared::Targets& t = shared_->targetsFor(view.width, view.height, r.frame().frameNumber);
-        shared_->current = &t;
-        r.bindTexture(kMapUnit, 0);
-        glBindFramebuffer(GL_FRAMEBUFFER, t.gbuffer.get());
-        glViewport(0, 0, t.width, t.height);
-        glDisable(GL_FRAMEBUFFER_SRGB);
-        const float zero[4] = {0, 0, 0, 0};
-        for (int i = 0; i < (t.positions ? 3 : 2); ++i)
-            glClearNamedFramebufferfv(t.gbuffer.get(), GL_COLOR, i, zero);
-        const float far = 1.0f;
-        glDepthMask(GL_TRUE);
-        glClearNamedFramebufferfv(t.gbuffer.get(), GL_DEPTH, 0, &far);
-        r.resetStateCache();
-        r.drawItems(r.queue().opaque, &r.gbufferProgram(), DrawMode::GBuffer);
-    }
+namespace {
 
-private:
-    std::shared_ptr<Shared> shared_;
-};
+constexpr std::string_view kRaw = "ao.raw"; // the occlusion before the blur
+constexpr std::string_view kMap = "ao.map"; // what the materials read: (k, linear depth)
 
-// Seed §2: the occlusion map.
-class AmbientOcclusionNode::OcclusionPass : public RenderPass {
-public:
-    explicit OcclusionPass(std::shared_ptr<Shared> s)
-        : shared_(std::move(s)) {}
-    std::string_view name() const override { return "ao occlusion"; }
-    PassStage stage() const override { return PassStage::PrePass; }
-    void execute(Renderer& r) override {
-        Shared::Targets* t = shared_->current;
-        if (!t) return;
-        const AmbientOcclusionParameters& p = shared_->parameters;
-        static const BaseShader base = fullscreen("ao_occlusion", "ao_occlusion.frag");
-        static const ShaderSnippet depth = definesOnly("ao_depth", "");
-        static const ShaderSnippet positions = definesOnly("ao_positions", "#define SGFX_AO_POSITIONS");
-        gl::Program& program = r.composer().program(base, std::array{t->positions ? &positions : &depth}, 0);
-        glBindFramebuffer(GL_FRAMEBUFFER, t->raw.get());
-        glViewport(0, 0, t->mapWidth, t->mapHeight);
-        glDisable(GL_FRAMEBUFFER_SRGB);
-        r.setBlend(BlendMode::Off);
-        r.bindTexture(0, t->normal.get());
-        r.bindTexture(1, t->depth.get());
-        r.bindTexture(2, t->positions ? t->position.get() : 0);
-        r.bindTexture(3, shared_->noiseTexture());
-        glUseProgram(program.get());
-        const std::vector<glm::vec3>& k = shared_->kernelFor();
-        glProgramUniform3fv(program.get(), program.location("sgfx_aoKernel[0]"), GLsizei(k.size()), &k[0].x);
-        program.set("sgfx_aoSamples", p.samples);
-        program.set("sgfx_aoShape", glm::vec4(p.radius, p.bias, p.rangeCheck ? 1.0f : 0.0f,
-                                              p.compare == AoCompare::TangentPlane ? 1.0f : 0.0f));
-        const bool paperLike = p.compare == AoCompare::StoredDepth && !p.rangeCheck;
-        program.set("sgfx_aoShape2",
-                    glm::vec4(p.halfResolution ? 2.0f : 1.0f, paperLike ? 0.0f : 1.0f, 0, 0));
-        r.drawFullscreen(program);
-    }
+TextureDesc mapDesc(const AmbientOcclusionParameters& p) {
+    return {.format = format::Rg32F,
+            .size = p.halfResolution ? SizeRule::half(SizeRule::Round::Up) : SizeRule::draw()};
+}
 
-private:
-    std::shared_ptr<Shared> shared_;
-};
+} // namespace
 
-// Seed §3: the blur, then the map goes to the materials' unit.
-class AmbientOcclusionNode::BlurPass : public RenderPass {
-public:
-    explicit BlurPass(std::shared_ptr<Shared> s)
-        : shared_(std::move(s)) {}
-    std::string_view name() const override { return "ao blur"; }
-    PassStage stage() const override { return PassStage::PrePass; }
-    void execute(Renderer& r) override {
-        Shared::Targets* t = shared_->current;
-        if (!t) return;
-        const AmbientOcclusionParameters& p = shared_->parameters;
-        if (p.blurSize > 1) {
-            static const BaseShader base = fullscreen("ao_blur", "ao_blur.frag");
-            static const ShaderSnippet bilateral = definesOnly("ao_bilateral", "");
-            static const ShaderSnippet box = definesOnly("ao_box", "#define SGFX_AO_BOX");
-            gl::Program& program =
-                r.composer().program(base, std::array{p.blur == AoBlur::Box ? &box : &bilateral}, 0);
-            glViewport(0, 0, t->mapWidth, t->mapHeight);
-            glDisable(GL_FRAMEBUFFER_SRGB);
-            r.setBlend(BlendMode::Off);
-            glUseProgram(program.get());
-            // Separable: along x into `half`, then along y into `blurred`.
-            for (int pass = 0; pass < 2; ++pass) {
-                glBindFramebuffer(GL_FRAMEBUFFER, pass == 0 ? t->half.get() : t->blurred.get());
-                r.bindTexture(0, pass == 0 ? t->rawMap.get() : t->halfMap.get());
-                program.set("sgfx_aoBlur", glm::vec4(float(p.blurSize), p.radius, pass == 0 ? 1.0f : 0.0f,
-                                                     pass == 0 ? 0.0f : 1.0f));
-                r.drawFullscreen(program);
-            }
-        }
-        r.bindTexture(kMapUnit, p.blurSize > 1 ? t->blurredMap.get() : t->rawMap.get());
-    }
+// Seed §2: the occlusion map, from the scene's G-buffer (§1: view-space normals and depth, or
+// positions).
+void AmbientOcclusionNode::addOcclusionPass(FrameSetup& f) const {
+    struct Data {
+        ResourceId normals, depth, positions, raw;
+    };
+    f.addPass<Data>(
+        "ao occlusion", PassPhase::BeforeMain,
+        [p = parameters_](PassBuilder& b, Data& d) {
+            d.normals = b.sample(b.get(resources::SceneNormals), "sgfx_aoGNormal");
+            d.depth = b.sample(b.get(resources::SceneLinearDepth), "sgfx_aoGDepth");
+            if (p.gbuffer == AoGBuffer::PaperPositions)
+                d.positions = b.sample(b.get(resources::ScenePositions), "sgfx_aoGPosition");
+            d.raw = b.colour(b.create(std::string(kRaw), mapDesc(p)), 0, false);
+            b.publish(std::string(kRaw), d.raw);
+            if (p.blurSize <= 1) b.publish(std::string(kMap), d.raw);
+        },
+        [p = parameters_, shared = shared_](PassCommands& c, const Data& d) {
+            static const BaseShader base = fullscreen("ao_occlusion", "ao_occlusion.frag");
+            static const ShaderSnippet depth = definesOnly("ao_depth", "");
+            static const ShaderSnippet positions = definesOnly("ao_positions", "#define SGFX_AO_POSITIONS");
+            gl::Program& program = c.program(base, std::array{d.positions.valid() ? &positions : &depth});
+            c.target({d.raw});
+            c.bind(program, "sgfx_aoGNormal", d.normals);
+            c.bind(program, "sgfx_aoGDepth", d.depth);
+            if (d.positions.valid()) c.bind(program, "sgfx_aoGPosition", d.positions);
+            c.bindTexture(program, "sgfx_aoNoise", shared->noiseTexture(p.seed));
+            const std::vector<glm::vec3>& k = shared->kernelFor(p);
+            for (std::size_t i = 0; i < k.size(); ++i)
+                program.set("sgfx_aoKernel[" + std::to_string(i) + "]", k[i]);
+            program.set("sgfx_aoSamples", p.samples);
+            program.set("sgfx_aoShape", glm::vec4(p.radius, p.bias, p.rangeCheck ? 1.0f : 0.0f,
+                                                  p.compare == AoCompare::TangentPlane ? 1.0f : 0.0f));
+            const bool paperLike = p.compare == AoCompare::StoredDepth && !p.rangeCheck;
+            program.set("sgfx_aoShape2", glm::vec4(p.halfResolution ? 2.0f : 1.0f, paperLike ? 0.0f : 1.0f, 0, 0));
+            c.fullscreen(program);
+        });
+}
 
-private:
-    std::shared_ptr<Shared> shared_;
-};
+// Seed §3: the blur, separable: along x, then along y into the map the materials read.
+void AmbientOcclusionNode::addBlurPasses(FrameSetup& f) const {
+    struct Data {
+        ResourceId from, to;
+    };
+    for (int axis = 0; axis < 2; ++axis)
+        f.addPass<Data>(
+            axis == 0 ? "ao blur x" : "ao blur y", PassPhase::BeforeMain,
+            [p = parameters_, axis](PassBuilder& b, Data& d) {
+                d.from = b.sample(b.get(axis == 0 ? kRaw : "ao.half"), "sgfx_aoRaw");
+                const std::string out(axis == 0 ? "ao.half" : kMap);
+                d.to = b.colour(b.create(out, mapDesc(p)), 0, false);
+                b.publish(out, d.to);
+            },
+            [p = parameters_, axis](PassCommands& c, const Data& d) {
+                static const BaseShader base = fullscreen("ao_blur", "ao_blur.frag");
+                static const ShaderSnippet bilateral = definesOnly("ao_bilateral", "");
+                static const ShaderSnippet box = definesOnly("ao_box", "#define SGFX_AO_BOX");
+                gl::Program& program = c.program(base, std::array{p.blur == AoBlur::Box ? &box : &bilateral});
+                c.target({d.to});
+                c.bind(program, "sgfx_aoRaw", d.from);
+                program.set("sgfx_aoBlur", glm::vec4(float(p.blurSize), p.radius, axis == 0 ? 1.0f : 0.0f,
+                                                     axis == 0 ? 0.0f : 1.0f));
+                c.fullscreen(program);
+            });
+}
 
 // The map over the view, opaque grey (seed figures 5 and 7).
-class AmbientOcclusionNode::DebugPass : public RenderPass {
-public:
-    explicit DebugPass(std::shared_ptr<Shared> s)
-        : shared_(std::move(s)) {}
-    std::string_view name() const override { return "ao debug view"; }
-    PassStage stage() const override { return PassStage::Post; }
-    void execute(Renderer& r) override {
-        Shared::Targets* t = shared_->current;
-        if (!t) return;
-        static const BaseShader base = fullscreen("ao_debug", "ao_debug.frag");
-        gl::Program& program = r.composer().program(base, {}, 0);
-        const bool raw =
-            shared_->parameters.debugView == AoDebugView::Raw || shared_->parameters.blurSize == 1;
-        r.setBlend(BlendMode::Off);
-        r.bindTexture(0, raw ? t->rawMap.get() : t->blurredMap.get());
-        r.drawFullscreen(program);
-    }
-
-private:
-    std::shared_ptr<Shared> shared_;
-};
+void AmbientOcclusionNode::addDebugPass(FrameSetup& f) const {
+    struct Data {
+        ResourceId map, colour;
+    };
+    const bool raw = parameters_.debugView == AoDebugView::Raw || parameters_.blurSize == 1;
+    f.addPass<Data>(
+        "ao debug view", PassPhase::AfterResolve,
+        [raw](PassBuilder& b, Data& d) {
+            d.map = b.sample(b.get(raw ? kRaw : kMap), "sgfx_aoShown");
+            d.colour = b.write(resources::ViewColour);
+        },
+        [](PassCommands& c, const Data& d) {
+            static const BaseShader base = fullscreen("ao_debug", "ao_debug.frag");
+            gl::Program& program = c.program(base);
+            c.target({d.colour});
+            c.bind(program, "sgfx_aoShown", d.map);
+            c.fullscreen(program);
+        });
+}
 
 // ------------------------------------------------------------------------------ node
 
@@ -349,11 +257,7 @@ AmbientOcclusionNode::create(const AmbientOcclusionParameters& parameters) {
 }
 
 AmbientOcclusionNode::AmbientOcclusionNode()
-    : shared_(std::make_shared<Shared>())
-    , gbufferPass_(std::make_shared<GBufferPass>(shared_))
-    , occlusionPass_(std::make_shared<OcclusionPass>(shared_))
-    , blurPass_(std::make_shared<BlurPass>(shared_))
-    , debugPass_(std::make_shared<DebugPass>(shared_)) {}
+    : shared_(std::make_shared<Shared>()) {}
 
 AmbientOcclusionNode::~AmbientOcclusionNode() = default;
 
@@ -370,7 +274,8 @@ const ShaderSnippet& AmbientOcclusionNode::snippet() const {
     static const ShaderSnippet s = [] {
         ShaderSnippet sn;
         sn.name = "ambient_occlusion";
-        sn.defines = "#define SGFX_AMBIENT_OCCLUSION 1\n#define SGFX_AO_UNIT " + std::to_string(kMapUnit);
+        sn.defines = "#define SGFX_AMBIENT_OCCLUSION 1";
+        sn.samplers = {{"sgfx_aoMap", std::string(kMap)}};
         sn.fragmentDecl = text("ao_apply.glsl");
         sn.ambientCode = text("ao_ambient.glsl");
         return sn;
@@ -378,15 +283,16 @@ const ShaderSnippet& AmbientOcclusionNode::snippet() const {
     return s;
 }
 
-void AmbientOcclusionNode::planFrame(FramePlan& plan) const {
+void AmbientOcclusionNode::setupFrame(FrameSetup& f) const {
     // The outermost node in view computes the map for the whole view.
-    if (plan.has(gbufferPass_->name())) return;
-    shared_->parameters = parameters_;
-    shared_->current = nullptr;
-    plan.add(gbufferPass_);
-    plan.add(occlusionPass_);
-    plan.add(blurPass_);
-    if (parameters_.debugView != AoDebugView::Off) plan.add(debugPass_);
+    if (!f.once("ambient occlusion")) return;
+    f.requestSceneDepth({.normals = true,
+                         .linearDepth = true,
+                         .positions = parameters_.gbuffer == AoGBuffer::PaperPositions,
+                         .when = PassPhase::BeforeMain});
+    addOcclusionPass(f);
+    if (parameters_.blurSize > 1) addBlurPasses(f);
+    if (parameters_.debugView != AoDebugView::Off) addDebugPass(f);
 }
 
 void AmbientOcclusionNode::applyUniforms(gl::Program& program, const DrawContext&) const {

@@ -99,7 +99,7 @@ public:
     std::string_view kind() const override { return "ambient_occlusion"; }
     int order() const override { return 100; } // the ambient term, before fog at the colour hook
     const ShaderSnippet& snippet() const override;
-    void planFrame(FramePlan& plan) const override;
+    void setupFrame(FrameSetup& frame) const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
     void releaseGLObjects() override;
 
@@ -109,16 +109,11 @@ public:
 
 private:
     struct Shared;
-    class GBufferPass;
-    class OcclusionPass;
-    class BlurPass;
-    class DebugPass;
+    void addOcclusionPass(FrameSetup& frame) const;
+    void addBlurPasses(FrameSetup& frame) const;
+    void addDebugPass(FrameSetup& frame) const;
     AmbientOcclusionParameters parameters_;
-    std::shared_ptr<Shared> shared_;
-    std::shared_ptr<GBufferPass> gbufferPass_;
-    std::shared_ptr<OcclusionPass> occlusionPass_;
-    std::shared_ptr<BlurPass> blurPass_;
-    std::shared_ptr<DebugPass> debugPass_;
+    std::shared_ptr<Shared> shared_; ///< noise texture and kernel, kept by the passes' execute
 };
 
 } // namespace sgfx

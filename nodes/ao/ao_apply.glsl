@@ -1,6 +1,6 @@
 // The occlusion k at this fragment (SSAO seed §4), after intensity and power; read at
 // gl_FragCoord, upsampled by depth from a half-size map. Callable from foreign shaders too.
-layout(binding = SGFX_AO_UNIT) uniform sampler2D sgfx_aoMap; // (k, linear depth)
+uniform sampler2D sgfx_aoMap; // (k, linear depth)
 uniform vec2 sgfx_aoApply;                                    // intensity, power
 
 float sgfx_ambientOcclusion() {

@@ -5,7 +5,7 @@
 // pixel instead of N².
 in vec2 v_uv;
 layout(location = 0) out vec4 sgfx_aoOut;
-layout(binding = 0) uniform sampler2D sgfx_aoRaw; // (k, linear depth)
+uniform sampler2D sgfx_aoRaw; // (k, linear depth)
 uniform vec4 sgfx_aoBlur;                         // N, R, direction (1, 0) or (0, 1)
 
 void main() {

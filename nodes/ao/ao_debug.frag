@@ -3,7 +3,7 @@
 // seed's figures 5 and 7).
 in vec2 v_uv;
 layout(location = 0) out vec4 sgfx_fragColor;
-layout(binding = 0) uniform sampler2D sgfx_aoShown; // (k, linear depth)
+uniform sampler2D sgfx_aoShown; // (k, linear depth)
 
 void main() {
     ivec2 size = textureSize(sgfx_aoShown, 0);

@@ -5,7 +5,7 @@
 in vec2 v_uv;
 layout(location = 0) out vec4 sgfx_aoOut;
 
-layout(binding = 3) uniform sampler2D sgfx_aoNoise; // 4×4 rotation vectors V_r
+uniform sampler2D sgfx_aoNoise; // 4×4 rotation vectors V_r
 
 uniform vec3 sgfx_aoKernel[64];
 uniform int sgfx_aoSamples;

@@ -1,8 +1,8 @@
 // View-space geometry for the occlusion pass: rebuilding positions from linear depth, projecting
 // to G-buffer pixels, and the depth of a pixel's tangent plane along another view ray.
-layout(binding = 0) uniform sampler2D sgfx_aoGNormal;   // view-space normal
-layout(binding = 1) uniform sampler2D sgfx_aoGDepth;    // linear view depth (0 = nothing drawn)
-layout(binding = 2) uniform sampler2D sgfx_aoGPosition; // view-space position (seed's G_pos)
+uniform sampler2D sgfx_aoGNormal;   // view-space normal
+uniform sampler2D sgfx_aoGDepth;    // linear view depth (0 = nothing drawn)
+uniform sampler2D sgfx_aoGPosition; // view-space position (seed's G_pos)
 
 bool sgfx_aoPerspective() {
     return sgfx_projection[2][3] != 0.0;
