@@ -1,6 +1,6 @@
 # Keeps the docs' code in step with compiled code: every ```cpp block in README.md, docs/*.md and
-# docs/effects/*.md must appear in some .cpp or .h under demos/ or tests/ as a contiguous run of lines
-# (each line stripped of leading and trailing whitespace, blank lines ignored on both sides).
+# docs/effects/*.md must appear in some .cpp or .h under demos/ or tests/, or in an effect node's
+# .cpp under nodes/, as a contiguous run of lines (each line stripped of leading and trailing whitespace, blank lines ignored on both sides).
 # Snippets that are not excerpts of a demo or test live in demos/examples/doc_snippets.cpp, which the
 # build compiles.  Usage: cmake -DSOURCE_DIR=<repository root> -P doc_snippets_check.cmake
 if(NOT SOURCE_DIR)
@@ -26,7 +26,7 @@ function(_normalised text out)
   set(${out} "${text}" PARENT_SCOPE)
 endfunction()
 
-file(GLOB_RECURSE sources "${SOURCE_DIR}/demos/*.cpp" "${SOURCE_DIR}/demos/*.h"
+file(GLOB_RECURSE sources "${SOURCE_DIR}/demos/*.cpp" "${SOURCE_DIR}/demos/*.h" "${SOURCE_DIR}/nodes/*.cpp"
                           "${SOURCE_DIR}/tests/*.cpp" "${SOURCE_DIR}/tests/*.h")
 set(corpus "")
 foreach(src IN LISTS sources)

@@ -2,7 +2,11 @@
 // nothing reads what they make, the renderer's pool reusing its textures, and the graph's picture.
 #include "TestUtil.h"
 
+#include <ao/AmbientOcclusionNode.h>
 #include <fog/FogNode.h>
+#include <particles/ParticleSystemNode.h>
+#include <sgfx/FrameSetup.h>
+#include <transparency/TransparencyBin.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
@@ -163,4 +167,90 @@ TEST(FrameGraphRender, TheGraphPictureNamesEveryViewPassAndGpuTime) {
             << pass;
     }
     EXPECT_FALSE(dotNodes(dot, "draw.colour").empty()) << dot;
+}
+
+namespace {
+
+// A fifth effect that reads two frame resources alongside fog, ambient occlusion, OIT and soft
+// particles: the scene's depth and the occlusion map. Its surfaces show what it read: red = the
+// map's linear depth / 64, green = the stored window depth.
+class ProbeEffect : public EffectNode {
+public:
+    std::string_view kind() const override { return "probe"; }
+    int order() const override { return 900; }
+    const ShaderSnippet& snippet() const override {
+        static const ShaderSnippet s = [] {
+            ShaderSnippet sn;
+            sn.name = "probe";
+            sn.fragmentDecl = "uniform sampler2D probe_depth;\nuniform sampler2D probe_ao;\n";
+            sn.colorCode = "ivec2 probePx = ivec2(gl_FragCoord.xy);\n"
+                           "sgfx_color = vec4(texelFetch(probe_ao, probePx, 0).g / 64.0,\n"
+                           "                  texelFetch(probe_depth, probePx, 0).r, 0.0, 1.0);\n";
+            sn.samplers = {{"probe_depth", "scene.depth"}, {"probe_ao", "ao.map"}};
+            return sn;
+        }();
+        return s;
+    }
+    void setupFrame(FrameSetup& f) const override { f.requestSceneDepth({.when = PassPhase::BeforeMain}); }
+};
+
+// Fog (split), AO, an OIT glass and soft smoke on the left; the probe's panel on the right.
+FloatImage renderWithEffects(bool probe) {
+    auto v = Viewer::createHeadless(kSize, kSize);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    v->camera()->setPerspective(60.0f, 0.5f, 500.0f);
+    v->camera()->setLookAt({0, 0, 3}, {0, 10, 3}, {0, 0, 1});
+    v->camera()->computeNearFar = false;
+    auto root = Group::create();
+    auto fog = splitFog();
+    auto ao = AmbientOcclusionNode::create();
+    auto oit = TransparencyBin::create(TransparencyMode::WeightedBlended);
+    root->addChild(fog);
+    fog->addChild(ao);
+    auto left = Transform::create(glm::translate(glm::mat4(1.0f), {-6, 0, 0}));
+    ao->addChild(left);
+    left->addChild(panel(6, 20, {0.8f, 0.7f, 0.6f}));
+    left->addChild(oit);
+    oit->addChild(panel(2, 12, {0.1f, 0.6f, 0.3f}, 0.5f));
+    auto smoke = ParticleSystemNode::smoke(1.0f, 200);
+    ParticleSettings soft = smoke->settings();
+    soft.softness = 0.5f;
+    smoke->setSettings(soft);
+    auto smokeAt = Transform::create(glm::translate(glm::mat4(1.0f), {-6, 15, 1}));
+    smokeAt->addChild(smoke);
+    fog->addChild(smokeAt);
+    if (probe) {
+        auto p = std::make_shared<ProbeEffect>();
+        auto right = Transform::create(glm::translate(glm::mat4(1.0f), {6, 0, 0}));
+        right->addChild(panel(4, 20, {1, 1, 1}));
+        p->addChild(right);
+        root->addChild(p);
+    }
+    v->setSceneData(root);
+    v->frame(0.5);
+    expectNoGlErrors(*v);
+    return v->renderer().readPixelsLinear();
+}
+
+} // namespace
+
+TEST(FrameGraphRender, AFifthEffectReadsTwoResourcesAndNothingElseChanges) {
+    const FloatImage without = renderWithEffects(false), with = renderWithEffects(true);
+    ASSERT_EQ(without.rgba.size(), with.rgba.size());
+    // The probe panel's centre: x = 6 at distance 20 from an eye looking along +Y, 60° fov.
+    const double n = 0.5, f = 500.0, z = 20.0;
+    const double window = 0.5 * ((f + n) / (f - n) - 2.0 * f * n / ((f - n) * z)) + 0.5;
+    const int px = int(std::lround(kSize * (0.5 + 0.5 * (6.0 / z) / std::tan(glm::radians(30.0))))), py = kSize / 2;
+    const float* probe = &with.rgba[(std::size_t(py) * kSize + std::size_t(px)) * 4];
+    EXPECT_NEAR(probe[0], z / 64.0, 1e-4) << "the occlusion map's linear depth";
+    EXPECT_NEAR(probe[1], window, 1e-5) << "the scene depth";
+    // The left half (fog, AO, OIT, smoke) is the same pixel for pixel.
+    std::size_t compared = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize / 2 - 4; ++x)
+            for (int c = 0; c < 4; ++c, ++compared) {
+                const std::size_t i = (std::size_t(y) * kSize + std::size_t(x)) * 4 + std::size_t(c);
+                ASSERT_EQ(without.rgba[i], with.rgba[i]) << "pixel " << x << "," << y << " channel " << c;
+            }
+    EXPECT_GT(compared, 0u);
 }

@@ -3,6 +3,8 @@
 #include "ParameterChecks.h"
 #include "fog/FogNode.h"
 
+#include <sgfx/FrameSetup.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/Renderer.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Visitors.h>
@@ -11,6 +13,7 @@
 #include <glad/gl.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace sgfx {
 
@@ -20,7 +23,6 @@ void check(const char* name, float v, double lo, double hi, bool openLow = false
     nodes::checkRange("SkyParameters", name, v, lo, hi, openLow);
 }
 
-constexpr unsigned kLutUnit = kEffectTextureUnit + 2; // 14: pass-local, bound at every draw
 constexpr int kLutWidth = 256, kLutHeight = 128;
 
 BaseShader makeSkyShader(bool lut) {
@@ -29,8 +31,7 @@ BaseShader makeSkyShader(bool lut) {
     std::string fragment = nodes::shaderWithIncludes("sky.frag");
     if (lut)
         fragment =
-            nodes::afterVersion(std::move(fragment), "#define SGFX_SKY_LUT\n#define SGFX_SKY_LUT_UNIT " +
-                                                         std::to_string(kLutUnit) + "\n");
+            nodes::afterVersion(std::move(fragment), "#define SGFX_SKY_LUT\n");
     return BaseShader{lut ? "sky_lut_view" : "sky", "blit.vert", std::move(vertex), "sky.frag",
                       std::move(fragment)};
 }
@@ -136,50 +137,48 @@ void SkyNode::update(UpdateVisitor&) {
     fog->setParameters(fp);
 }
 
-// Fills the sky-view table for the view being drawn (before the main pass).
-struct SkyNode::LutPass : RenderPass {
-    explicit LutPass(const SkyNode& n)
-        : node(n) {}
-    std::string_view name() const override { return "sky: view table"; }
-    PassStage stage() const override { return PassStage::PrePass; }
-    void execute(Renderer& r) override {
-        if (!texture) {
-            texture = gl::createTexture2D(GL_RGBA16F, kLutWidth, kLutHeight, GL_LINEAR);
-            glTextureParameteri(texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT); // azimuth wraps round
-            fbo = gl::createFramebuffer();
-            glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, texture.get(), 0);
-        }
-        static const BaseShader lutShader{"sky_lut", "blit.vert",
-                                          std::string(ShaderComposer::fullscreenVertex()), "sky_lut.frag",
-                                          nodes::shaderWithIncludes("sky_lut.frag")};
-        gl::Program& program = r.composer().program(lutShader, {}, 0);
-        setSkyUniforms(program, node.parameters_, r.frame().eye.z);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
-        glViewport(0, 0, kLutWidth, kLutHeight);
-        glDisable(GL_FRAMEBUFFER_SRGB);
-        r.setBlend(BlendMode::Off);
-        r.drawFullscreen(program);
-    }
-    const SkyNode& node;
-    gl::TextureObject texture;
-    gl::FramebufferObject fbo;
-};
+// The blackboard name of this node's sky-view table (several skies may be drawn in one view).
+std::string SkyNode::tableName() const {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "sky.viewTable@%p", static_cast<const void*>(this));
+    return buf;
+}
+
+// Fills the sky-view table for the view being drawn (before the main pass); the sky's draw reads it.
+void SkyNode::setupFrame(FrameSetup& f) const {
+    if (!parameters_.lookupTable || !f.once(tableName())) return;
+    struct Data {
+        ResourceId table;
+    };
+    const TextureDesc desc{.format = format::Rgba16F,
+                           .size = SizeRule::fixedSize(kLutWidth, kLutHeight),
+                           .filter = Filter::Linear,
+                           .wrapS = Wrap::Repeat}; // azimuth wraps round
+    f.addPass<Data>(
+        "sky: view table", PassPhase::BeforeMain,
+        [name = tableName(), desc](PassBuilder& b, Data& d) {
+            d.table = b.colour(b.create(name, desc), 0, false);
+            b.publish(name, d.table);
+        },
+        [p = parameters_](PassCommands& c, const Data& d) {
+            static const BaseShader lutShader{"sky_lut", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
+                                              "sky_lut.frag", nodes::shaderWithIncludes("sky_lut.frag")};
+            gl::Program& program = c.program(lutShader);
+            c.target({d.table});
+            setSkyUniforms(program, p, c.frame().eye.z);
+            c.fullscreen(program);
+        });
+    f.sampleInMainPass(tableName());
+}
 
 const BaseShader& SkyNode::baseShader() const {
     return skyShader(parameters_.lookupTable);
 }
 
-void SkyNode::planFrame(FramePlan& plan) const {
-    if (!parameters_.lookupTable) return;
-    if (!lut_) lut_ = std::make_shared<LutPass>(*this);
-    plan.add(lut_);
-}
-
 void SkyNode::draw(Renderer& r, gl::Program& program, const RenderItem&) const {
     const SkyParameters& p = parameters_;
     setSkyUniforms(program, p, r.frame().eye.z);
-    if (p.lookupTable && lut_ && lut_->texture) {
-        r.bindTexture(kLutUnit, lut_->texture.get());
+    if (p.lookupTable && r.bindFrameResource(program, "u_skyLut", tableName())) {
         program.set("u_sunTransmittance", sky::sunTransmittance(p.atmosphere, p.sunDirection,
                                                                 p.altitude + r.frame().eye.z, p.steps));
     }

@@ -55,8 +55,7 @@ public:
     glm::vec3 horizonColor() const;
 
     const BaseShader& baseShader() const override;
-    void planFrame(FramePlan& plan) const override;
-    void releaseGLObjects() override { lut_.reset(); }
+    void setupFrame(FrameSetup& frame) const override;
     std::uint32_t features(const ResolvedState&) const override { return 0; }
     bool background() const override { return true; }
     void update(UpdateVisitor& uv) override;
@@ -66,9 +65,8 @@ protected:
     BoundingSphere computeBound() const override { return {}; }
 
 private:
-    struct LutPass;
+    std::string tableName() const;
     SkyParameters parameters_;
-    mutable std::shared_ptr<LutPass> lut_; ///< made at the first frame that plans it
     std::weak_ptr<FogNode> fog_;
 };
 

@@ -10,7 +10,7 @@ uniform float u_sunCosRadius; // cos of the sun's angular radius
 uniform float u_sunDiscRadiance;
 #ifdef SGFX_SKY_LUT
 // The sky-view table (sky_lut.frag), and the sun's transmittance computed on the CPU.
-layout(binding = SGFX_SKY_LUT_UNIT) uniform sampler2D u_skyLut;
+uniform sampler2D u_skyLut;
 uniform vec3 u_sunTransmittance;
 #endif
 

@@ -3,10 +3,10 @@
 #include "ParameterChecks.h"
 
 #include <sgfx/Geometry.h>
+#include <sgfx/FrameSetup.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/gl/Objects.h>
-
-#include <glad/gl.h>
 
 #include <algorithm>
 #include <array>
@@ -17,9 +17,6 @@
 namespace sgfx {
 
 namespace {
-
-constexpr unsigned kAccumUnit = kEffectTextureUnit + 2; // units 14, 15: this pass's own
-constexpr unsigned kRevealUnit = kEffectTextureUnit + 3;
 
 std::string text(std::string_view file) {
     return nodes::shaderText(file);
@@ -90,129 +87,89 @@ void OitParameters::validate() const {
     nodes::checkRange("OitParameters", "depthScale", depthScale, 0.0, 1e9, true);
 }
 
+namespace {
+
+const BaseShader& compositeBase() {
+    static const BaseShader base{"oit_composite", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
+                                 "oit_composite.frag", text("oit_composite.frag")};
+    return base;
+}
+
+const ShaderSnippet& compositeVariant(bool multisample) {
+    static const ShaderSnippet single = [] {
+        ShaderSnippet s;
+        s.name = "oit_single";
+        return s;
+    }();
+    static const ShaderSnippet ms = [] {
+        ShaderSnippet s;
+        s.name = "oit_multisample";
+        s.defines = "#define SGFX_OIT_MULTISAMPLE";
+        return s;
+    }();
+    return multisample ? ms : single;
+}
+
+} // namespace
+
 // Accumulates every claimed item of the view into (Σ C·w, Σ α·w) and Π(1 − α), against the
-// opaque depth, then composites them over the view in one full-screen pass.
-class TransparencyBin::OitPass : public RenderPass {
-public:
-    std::string_view name() const override { return "transparency OIT"; }
-    PassStage stage() const override { return PassStage::Transparent; }
-    bool revealage8Bit = false;
+// opaque depth (McGuire & Bavoil 2013), in the screen rectangle the items cover.
+void TransparencyBin::addAccumulatePass(FrameSetup& f) const {
+    struct Data {
+        ResourceId accum, reveal, depth;
+    };
+    const int samples = f.view().samples; // a multisampled view gets multisampled sums
+    f.addPass<Data>(
+        "transparency OIT: accumulate", PassPhase::Transparent,
+        [samples, r8 = oit_.revealage8Bit](PassBuilder& b, Data& d) {
+            d.accum = b.colour(b.create("oit.accum", {.format = format::Rgba16F, .samples = samples}), 0, false);
+            d.reveal = b.colour(
+                b.create("oit.reveal", {.format = r8 ? format::R8 : format::R16F, .samples = samples}), 1, false);
+            d.depth = b.depthTest(b.get(resources::DrawDepth)); // against the opaque depth, never written
+            b.publish("oit.accum", d.accum);
+            b.publish("oit.reveal", d.reveal);
+        },
+        [](PassCommands& c, const Data& d) {
+            const auto& items = c.queue().claimed;
+            c.target({d.accum, d.reveal}, d.depth);
+            // Whole-target clears: llvmpipe clears whole tiles at once, a scissored clear pixel by
+            // pixel (5x slower at 720p).
+            c.clearColour(glm::vec4(0.0f), 0);
+            c.clearColour(glm::vec4(1.0f), 1);
+            const glm::ivec4 rect = screenBounds(items, c.frame());
+            if (rect.z <= 0 || rect.w <= 0) return;
+            c.scissor(rect);
+            using F = AttachmentBlend::Factor;
+            c.blendAttachments({{F::One, F::One}, {F::Zero, F::OneMinusSrcColour}});
+            c.depthState({.test = true, .write = false, .func = CompareFunc::Less});
+            c.drawQueue(items, DrawMode::PassBlend);
+        });
+}
 
-    void execute(Renderer& r) override {
-        const auto& items = r.queue().claimed;
-        if (items.empty()) return;
-        const gl::RenderTarget& view = r.currentTarget();
-        allocate(view);
-        const glm::ivec4 rect = screenBounds(items, r.frame());
-        if (rect.z <= 0 || rect.w <= 0) return;
-
-        r.bindTexture(kAccumUnit, 0); // not sampled while being written
-        r.bindTexture(kRevealUnit, 0);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
-        glViewport(0, 0, view.width, view.height);
-        glDisable(GL_FRAMEBUFFER_SRGB);
-        const float zero[4] = {0, 0, 0, 0}, one[4] = {1, 1, 1, 1};
-        // Whole-target clears: llvmpipe clears whole tiles at once, a scissored clear pixel by
-        // pixel (5x slower at 720p).
-        glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, 0, zero);
-        glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, 1, one);
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(rect.x, rect.y, rect.z, rect.w);
-        glEnable(GL_BLEND);
-        glBlendEquation(GL_FUNC_ADD);
-        glBlendFunci(0, GL_ONE, GL_ONE);
-        glBlendFunci(1, GL_ZERO, GL_ONE_MINUS_SRC_COLOR);
-        glEnable(GL_DEPTH_TEST); // against the opaque depth, never written
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_FALSE);
-        r.resetStateCache();
-        r.drawItems(items, nullptr, DrawMode::PassBlend);
-
-        glBindFramebuffer(GL_FRAMEBUFFER, view.fbo.get());
-        glEnable(GL_FRAMEBUFFER_SRGB);
-        r.resetStateCache(); // blend functions per target changed behind the cache
-        r.setBlend(BlendMode::Alpha);
-        r.bindTexture(kAccumUnit, accum_.get());
-        r.bindTexture(kRevealUnit, reveal_.get());
-        r.drawFullscreen(compositeProgram(r, samples_ > 1));
-        r.bindTexture(kAccumUnit, 0);
-        r.bindTexture(kRevealUnit, 0);
-        glDisable(GL_SCISSOR_TEST);
-    }
-
-    void releaseGLObjects() {
-        fbo_.reset();
-        accum_.reset();
-        reveal_.reset();
-        depth_ = 0;
-    }
-
-private:
-    void allocate(const gl::RenderTarget& view) {
-        const GLenum revealFormat = revealage8Bit ? GL_R8 : GL_R16F;
-        if (!fbo_ || width_ != view.width || height_ != view.height || revealFormat_ != revealFormat ||
-            samples_ != view.samples) {
-            // A multisampled view (MSAA) gets multisampled sums, composited per sample.
-            const bool ms = view.samples > 1;
-            fbo_ = gl::createFramebuffer();
-            if (ms) {
-                accum_ = gl::createTexture(GL_TEXTURE_2D_MULTISAMPLE);
-                reveal_ = gl::createTexture(GL_TEXTURE_2D_MULTISAMPLE);
-                glTextureStorage2DMultisample(accum_.get(), view.samples, GL_RGBA16F, view.width, view.height,
-                                              GL_TRUE);
-                glTextureStorage2DMultisample(reveal_.get(), view.samples, revealFormat, view.width,
-                                              view.height, GL_TRUE);
-            } else {
-                accum_ = gl::createTexture2D(GL_RGBA16F, view.width, view.height);
-                reveal_ = gl::createTexture2D(revealFormat, view.width, view.height);
-            }
-            samples_ = view.samples;
-            glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, accum_.get(), 0);
-            glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT1, reveal_.get(), 0);
-            const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-            glNamedFramebufferDrawBuffers(fbo_.get(), 2, buffers);
-            width_ = view.width;
-            height_ = view.height;
-            revealFormat_ = revealFormat;
-            depth_ = 0;
-        }
-        // The view's own depth (it may be a render-to-texture camera's, or reallocated).
-        if (depth_ != view.depth.get()) {
-            glNamedFramebufferTexture(fbo_.get(), GL_DEPTH_ATTACHMENT, view.depth.get(), 0);
-            depth_ = view.depth.get();
-        }
-        if (glCheckNamedFramebufferStatus(fbo_.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            throw std::runtime_error("sgfx: transparency OIT: framebuffer incomplete at " +
-                                     std::to_string(view.width) + "x" + std::to_string(view.height));
-    }
-
-    static gl::Program& compositeProgram(Renderer& r, bool multisample) {
-        static const BaseShader base{"oit_composite", "blit.vert",
-                                     std::string(ShaderComposer::fullscreenVertex()), "oit_composite.frag",
-                                     text("oit_composite.frag")};
-        static const ShaderSnippet units = [] {
-            ShaderSnippet s;
-            s.name = "oit_units";
-            s.defines = "#define SGFX_OIT_ACCUM_UNIT " + std::to_string(kAccumUnit) +
-                        "\n#define SGFX_OIT_REVEAL_UNIT " + std::to_string(kRevealUnit);
-            return s;
-        }();
-        static const ShaderSnippet ms = [] {
-            ShaderSnippet s = units;
-            s.name = "oit_units_ms";
-            s.defines += "\n#define SGFX_OIT_MULTISAMPLE";
-            return s;
-        }();
-        return r.composer().program(base, std::array{multisample ? &ms : &units}, 0);
-    }
-
-    gl::FramebufferObject fbo_;
-    gl::TextureObject accum_, reveal_;
-    int width_ = 0, height_ = 0;
-    GLenum revealFormat_ = 0;
-    int samples_ = 1;
-    GLuint depth_ = 0;
-};
+// The weighted average over the view with coverage 1 − Π(1 − α), in one full-screen pass.
+void TransparencyBin::addCompositePass(FrameSetup& f) const {
+    struct Data {
+        ResourceId accum, reveal, colour;
+    };
+    f.addPass<Data>(
+        "transparency OIT: composite", PassPhase::Transparent,
+        [](PassBuilder& b, Data& d) {
+            d.accum = b.sample(b.get("oit.accum"), "sgfx_oitAccum");
+            d.reveal = b.sample(b.get("oit.reveal"), "sgfx_oitReveal");
+            d.colour = b.write(resources::DrawColour);
+        },
+        [](PassCommands& c, const Data& d) {
+            const glm::ivec4 rect = screenBounds(c.queue().claimed, c.frame());
+            if (rect.z <= 0 || rect.w <= 0) return;
+            gl::Program& program =
+                c.program(compositeBase(), std::array{&compositeVariant(c.samples(d.accum) > 1)});
+            c.target({d.colour});
+            c.scissor(rect);
+            c.bind(program, "sgfx_oitAccum", d.accum);
+            c.bind(program, "sgfx_oitReveal", d.reveal);
+            c.fullscreen(program, {.blend = BlendMode::Alpha});
+        });
+}
 
 std::shared_ptr<TransparencyBin> TransparencyBin::create(TransparencyMode mode) {
     auto n = std::make_shared<TransparencyBin>();
@@ -220,18 +177,13 @@ std::shared_ptr<TransparencyBin> TransparencyBin::create(TransparencyMode mode) 
     return n;
 }
 
-TransparencyBin::TransparencyBin()
-    : oitPass_(std::make_shared<OitPass>()) {
+TransparencyBin::TransparencyBin() {
     StateSet& s = getOrCreateStateSet();
     s.renderBin.set(RenderBin::Transparent);
     s.blend.set(BlendMode::Alpha);
 }
 
 TransparencyBin::~TransparencyBin() = default;
-
-void TransparencyBin::releaseGLObjects() {
-    oitPass_->releaseGLObjects();
-}
 
 void TransparencyBin::setMode(TransparencyMode m) {
     if (std::uint8_t(m) > std::uint8_t(TransparencyMode::WeightedBlended))
@@ -265,12 +217,14 @@ bool TransparencyBin::drawsBlended(BlendMode mode) const {
            (mode == BlendMode::Alpha || mode == BlendMode::Premultiplied);
 }
 
-void TransparencyBin::planFrame(FramePlan& plan) const {
+void TransparencyBin::setupFrame(FrameSetup& f) const {
     // One accumulation per view for every weighted blended bin in it: their items blend
-    // order-independently with each other too. The outermost bin's pass does it.
-    if (mode_ != TransparencyMode::WeightedBlended || plan.has(oitPass_->name())) return;
-    oitPass_->revealage8Bit = oit_.revealage8Bit;
-    plan.add(oitPass_);
+    // order-independently with each other too. The outermost bin's passes do it.
+    if (mode_ != TransparencyMode::WeightedBlended || f.queue().claimed.empty() ||
+        !f.once("transparency OIT"))
+        return;
+    addAccumulatePass(f);
+    addCompositePass(f);
 }
 
 void TransparencyBin::applyUniforms(gl::Program& program, const DrawContext&) const {

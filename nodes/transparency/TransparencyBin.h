@@ -55,12 +55,11 @@ public:
     /// Last at the colour hook: the weighted blended mode turns the final colour into its sums.
     int order() const override { return 10000; }
     const ShaderSnippet& snippet() const override;
-    void planFrame(FramePlan& plan) const override;
+    void setupFrame(FrameSetup& frame) const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
     /// The weighted blended mode draws straight and premultiplied alpha items itself; additive
     /// and multiplicative blending commute, so those stay in the sorted stage.
     bool drawsBlended(BlendMode mode) const override;
-    void releaseGLObjects() override;
 
     /// Each throws std::invalid_argument with the reason and keeps the previous value.
     void setMode(TransparencyMode mode);
@@ -73,10 +72,10 @@ public:
     const OitParameters& oitParameters() const { return oit_; }
 
 private:
-    class OitPass;
+    void addAccumulatePass(FrameSetup& frame) const;
+    void addCompositePass(FrameSetup& frame) const;
     TransparencyMode mode_ = TransparencyMode::Sorted;
     OitParameters oit_;
-    std::shared_ptr<OitPass> oitPass_;
 };
 
 } // namespace sgfx

@@ -4,12 +4,12 @@
 in vec2 v_uv;
 #ifdef SGFX_OIT_MULTISAMPLE
 // Per sample (reading gl_SampleID runs this once per sample of the multisampled view).
-layout(binding = SGFX_OIT_ACCUM_UNIT) uniform sampler2DMS sgfx_oitAccum;
-layout(binding = SGFX_OIT_REVEAL_UNIT) uniform sampler2DMS sgfx_oitReveal;
+uniform sampler2DMS sgfx_oitAccum;
+uniform sampler2DMS sgfx_oitReveal;
 #define SGFX_OIT_SAMPLE gl_SampleID
 #else
-layout(binding = SGFX_OIT_ACCUM_UNIT) uniform sampler2D sgfx_oitAccum;
-layout(binding = SGFX_OIT_REVEAL_UNIT) uniform sampler2D sgfx_oitReveal;
+uniform sampler2D sgfx_oitAccum;
+uniform sampler2D sgfx_oitReveal;
 #define SGFX_OIT_SAMPLE 0
 #endif
 layout(location = 0) out vec4 sgfx_fragColor;

@@ -241,7 +241,7 @@ void FrameGraph::planLifetimes() {
 void FrameGraph::compile(glm::ivec2 drawSize, glm::ivec2 viewSize) {
     for (Resource& r : resources_) {
         const glm::ivec2 size = r.desc.size.resolve(drawSize, viewSize);
-        r.resolved = {r.desc.format, size.x, size.y, r.desc.samples, r.desc.filter};
+        r.resolved = {r.desc.format, size.x, size.y, r.desc.samples, r.desc.filter, r.desc.wrapS};
         r.first = ~0u;
         r.last = 0;
         r.slot = -1;

@@ -10,6 +10,7 @@ namespace sgfx {
 namespace {
 // glad keeps one process-wide function table; remember whose getProcAddress filled it.
 GetProcAddressFn g_loadedFrom = nullptr;
+DeviceLimits g_limits; // of the most recently created context
 } // namespace
 
 void GraphicsContext::loadGl() {
@@ -34,6 +35,15 @@ void GraphicsContext::loadGl() {
     if (major * 10 + minor < 45)
         throw ContextError("sgfx: OpenGL 4.5 core is required, the " + std::string(kind()) +
                            " context gives " + version_ + " (" + renderer_ + ")");
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &limits_.maxTextureSize);
+    glGetIntegerv(GL_MAX_SAMPLES, &limits_.maxSamples);
+    glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &limits_.maxTextureBufferSize);
+    glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &limits_.maxTextureImageUnits);
+    g_limits = limits_;
+}
+
+const DeviceLimits& currentDeviceLimits() {
+    return g_limits;
 }
 
 void GraphicsContext::assertOwnerThread() const {

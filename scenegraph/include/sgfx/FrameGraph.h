@@ -61,6 +61,7 @@ struct TextureDesc {
     SizeRule size{};
     int samples = 1;
     Filter filter = Filter::Nearest;
+    Wrap wrapS = Wrap::ClampToEdge; ///< across the first coordinate (a table over azimuth repeats)
     bool operator==(const TextureDesc&) const = default;
 };
 
@@ -69,6 +70,7 @@ struct ResolvedDesc {
     unsigned format = 0;
     int width = 0, height = 0, samples = 1;
     Filter filter = Filter::Nearest;
+    Wrap wrapS = Wrap::ClampToEdge;
     bool operator==(const ResolvedDesc&) const = default;
     auto operator<=>(const ResolvedDesc&) const = default;
     /// Bytes of GPU memory the texture holds (format size × pixels × samples).

@@ -20,6 +20,18 @@ using GetProcAddressFn = ProcAddress (*)(const char*);
 /// One OpenGL 4.5 core context. GL calls for it happen only on the thread that created it
 /// (checked by assertOwnerThread()). Making it current (re)loads the glad function table
 /// from this context's getProcAddress when another kind of context was current before.
+/// Driver limits the renderer and the nodes choose by (queried once per context, never on a hot
+/// path or during cull).
+struct DeviceLimits {
+    int maxTextureSize = 0;
+    int maxSamples = 0;
+    int maxTextureBufferSize = 0;
+    int maxTextureImageUnits = 0; ///< fragment stage
+};
+/// The limits of the most recently created context (every context of a process shares one driver):
+/// for code that has no context at hand, such as a drawable choosing its shader during cull.
+const DeviceLimits& currentDeviceLimits();
+
 class GraphicsContext {
 public:
     virtual ~GraphicsContext() = default;
@@ -35,6 +47,8 @@ public:
 
     void assertOwnerThread() const;
     const std::string& renderer() const { return renderer_; }
+    /// The driver's limits, queried once when the context was made current the first time.
+    const DeviceLimits& limits() const { return limits_; }
     const std::string& version() const { return version_; }
 
 protected:
@@ -44,6 +58,7 @@ protected:
 
 private:
     std::string renderer_, version_;
+    DeviceLimits limits_;
 };
 
 /// Software OpenGL 4.5 core through Mesa's OSMesa (llvmpipe). Needs no display or GPU.

@@ -28,6 +28,12 @@ struct FullscreenState {
     DepthState depth{.test = false, .write = false, .func = CompareFunc::Always};
 };
 
+/// One colour attachment's blend function (source and destination factors, added).
+struct AttachmentBlend {
+    enum class Factor : std::uint8_t { Zero, One, SrcColour, OneMinusSrcColour, SrcAlpha, OneMinusSrcAlpha };
+    Factor source = Factor::One, destination = Factor::Zero;
+};
+
 class PassCommands {
 public:
     PassCommands(Renderer& renderer, const FrameGraph& graph, std::string_view pass)
@@ -40,6 +46,7 @@ public:
     std::string_view pass() const { return pass_; }
     /// The pixel size of a resource of this frame.
     glm::ivec2 size(ResourceId id) const;
+    int samples(ResourceId id) const;
 
     /// A composed program (cached by the composer).
     gl::Program& program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets = {},
@@ -58,6 +65,13 @@ public:
     /// Draws queue items as the main pass would (Main), or their depth (DepthOnly) or G-buffer
     /// outputs (GBuffer); counted in FrameStats::geometryPasses.
     void drawQueue(std::span<const RenderItem> items, DrawMode mode);
+    /// Blend per colour attachment for the following drawQueue(..., DrawMode::PassBlend) (weighted
+    /// blended OIT adds to one target and multiplies the other).
+    void blendAttachments(std::initializer_list<AttachmentBlend> blends);
+    /// Depth state for the following drawQueue(..., DrawMode::PassBlend).
+    void depthState(const DepthState& depth);
+    /// Limits the pass's draws to (x, y, width, height) in pixels; reset when the pass ends.
+    void scissor(const glm::ivec4& rect);
     /// Copies depth `from` into `to` (a multisample source is resolved, one sample per pixel).
     void copyDepth(ResourceId from, ResourceId to);
 

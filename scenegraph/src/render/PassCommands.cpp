@@ -35,6 +35,10 @@ glm::ivec2 PassCommands::size(ResourceId id) const {
     return {d.width, d.height};
 }
 
+int PassCommands::samples(ResourceId id) const {
+    return graph_.resolved(id).samples;
+}
+
 gl::Program& PassCommands::program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
                                    std::uint32_t features) {
     return renderer_.composer().program(base, snippets, features);
@@ -120,6 +124,23 @@ void PassCommands::drawQueue(std::span<const RenderItem> items, DrawMode mode) {
         renderer_.drawItems(items, nullptr, mode);
         break;
     }
+}
+
+void PassCommands::blendAttachments(std::initializer_list<AttachmentBlend> blends) {
+    static const GLenum factors[] = {GL_ZERO,      GL_ONE,       GL_SRC_COLOR,
+                                     GL_ONE_MINUS_SRC_COLOR, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA};
+    std::vector<std::pair<unsigned, unsigned>> f;
+    for (const AttachmentBlend& b : blends)
+        f.emplace_back(factors[std::size_t(b.source)], factors[std::size_t(b.destination)]);
+    renderer_.impl_->cache.setBlendPerAttachment(f);
+}
+
+void PassCommands::depthState(const DepthState& depth) {
+    renderer_.impl_->cache.setDepth(depth);
+}
+
+void PassCommands::scissor(const glm::ivec4& rect) {
+    renderer_.impl_->cache.setScissor(true, rect);
 }
 
 void PassCommands::copyDepth(ResourceId from, ResourceId to) {

@@ -30,6 +30,9 @@ unsigned ResourcePool::acquire(const ResolvedDesc& desc, std::string_view name) 
     } else {
         e.texture = gl::createTexture2D(desc.format, desc.width, desc.height,
                                         desc.filter == Filter::Nearest ? GL_NEAREST : GL_LINEAR);
+        if (desc.wrapS == Wrap::Repeat) glTextureParameteri(e.texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+        if (desc.wrapS == Wrap::MirroredRepeat)
+            glTextureParameteri(e.texture.get(), GL_TEXTURE_WRAP_S, GL_MIRRORED_REPEAT);
     }
     e.inUse = true;
     e.lastUse = frame_;

@@ -100,7 +100,29 @@ void StateCache::setColourMask(bool on) {
     colourMask_ = int(on);
 }
 
+void StateCache::setBlendPerAttachment(const std::vector<std::pair<unsigned, unsigned>>& factors) {
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    for (std::size_t i = 0; i < factors.size(); ++i)
+        glBlendFunci(GLuint(i), factors[i].first, factors[i].second);
+    blend_ = -2; // no BlendMode: the next setBlend sets every attachment
+    ++*stateChanges_;
+}
+
+void StateCache::setScissor(bool on, const glm::ivec4& rect) {
+    if (int(on) == scissor_ && (!on || rect == scissorRect_)) return;
+    if (on) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(rect.x, rect.y, rect.z, rect.w);
+    } else {
+        glDisable(GL_SCISSOR_TEST);
+    }
+    scissor_ = int(on);
+    scissorRect_ = rect;
+}
+
 void StateCache::invalidate() {
+    scissor_ = -1;
     framebuffer_ = ~0u;
     viewport_ = glm::ivec2(-1);
     srgb_ = colourMask_ = -1;

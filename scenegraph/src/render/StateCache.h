@@ -7,6 +7,8 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <utility>
+#include <vector>
 #include <cstddef>
 
 namespace sgfx::gl {
@@ -30,6 +32,11 @@ public:
     unsigned framebuffer() const { return framebuffer_; }
     glm::ivec2 viewport() const { return viewport_; }
     void setColourMask(bool on);
+    /// glBlendFunci per attachment (source, destination factors as GL enums); the next setBlend
+    /// sets every attachment again.
+    void setBlendPerAttachment(const std::vector<std::pair<unsigned, unsigned>>& factors);
+    /// Scissor test on `rect` (x, y, w, h), or off when `on` is false.
+    void setScissor(bool on, const glm::ivec4& rect = glm::ivec4(0));
     /// The depth state was set behind the cache (glDepthMask before a clear).
     void forgetDepth() { depthKnown_ = false; }
     /// Forgets everything: GL state was changed behind the cache (a pass, another library).
@@ -44,7 +51,8 @@ private:
     std::array<unsigned, kUnits> units_{};
     unsigned framebuffer_ = ~0u;
     glm::ivec2 viewport_{-1};
-    int srgb_ = -1, colourMask_ = -1;
+    int srgb_ = -1, colourMask_ = -1, scissor_ = -1;
+    glm::ivec4 scissorRect_{0};
     std::size_t* stateChanges_;
 };
 

@@ -461,6 +461,7 @@ void Renderer::View::executeGraph() {
         if (execute) {
             PassCommands commands(r_, graph_, name);
             execute(commands);
+            s_.cache.setScissor(false);
         }
         s_.timers.end(timing);
     });
