@@ -161,14 +161,17 @@ TEST(Phases, CullAndSetupMakeNoGlCallsAndChangeNoNode) {
     auto v = Viewer::createHeadless(64, 64);
     v->camera()->setPerspective(60.0f, 0.5f, 500.0f);
     v->camera()->setLookAt({0, 0, 1}, {0, 10, 1}, {0, 0, 1});
+    v->setSceneData(Group::create());
+    v->frame(); // a context with GL loaded; the nodes below have never been drawn
     auto scene = everyEffect();
     v->setSceneData(scene);
-    v->frame(); // programs, buffers and the rest made once, as a running viewer has them
     const auto* fog = dynamic_cast<const FogNode*>(scene->child(0).get());
     ASSERT_NE(fog, nullptr);
     const FogParameters before = fog->parameters();
 
+    // Nodes never drawn (their first cull), then again after a frame drew them.
     for (int round = 0; round < 2; ++round) {
+        if (round == 1) v->frame();
         RenderQueue queue;
         FramePlan plan;
         std::size_t passes = 0;

@@ -183,7 +183,7 @@ public:
     /// For a Drawable's draw: binds the frame resource published as `resource` (FrameSetup.h; the
     /// drawable's setupFrame asked for it with sampleInMainPass) to `program`'s sampler `uniform`
     /// on a unit the renderer picks. Returns false, binding nothing, when the frame has no such
-    /// resource.
+    /// resource or it is not alive in the pass being drawn (a depth pre-pass before its producer).
     bool bindFrameResource(gl::Program& program, std::string_view uniform, std::string_view resource);
     /// Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
     gl::Program& depthOnlyProgram();

@@ -484,10 +484,9 @@ void Renderer::drawFullscreen(gl::Program& program, const DepthState& depth) {
 bool Renderer::bindFrameResource(gl::Program& program, std::string_view uniform, std::string_view resource) {
     Impl& s = *impl_;
     if (!s.graph || !s.graph->blackboard.has(resource)) return false;
+    // Not alive in this pass: a depth pre-pass that draws the item before its resource is made.
     const unsigned texture = s.graph->texture(s.graph->blackboard.get(resource));
-    if (!texture)
-        throw std::logic_error("sgfx: '" + std::string(resource) +
-                               "' is not alive while drawing: ask for it with FrameSetup::sampleInMainPass");
+    if (!texture) return false;
     if (s.nextResourceUnit >= gl::StateCache::kUnits)
         throw std::runtime_error("sgfx: bindFrameResource: no texture unit left for '" + std::string(resource) + "'");
     s.cache.bindTexture(s.nextResourceUnit, texture);

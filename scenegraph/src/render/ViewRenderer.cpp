@@ -381,6 +381,8 @@ void Renderer::View::declareMain(bool opaque) {
             for (const auto& [uniform, resource] :
                  snippetSamplers(opaque ? queue_.opaque : queue_.transparent))
                 pb.sample(pb.get(resource), uniform);
+            for (const std::string& resource : mainReads_) // what drawables bind in their draw
+                pb.sample(pb.get(resource), "drawable");
             pb.write(resources::DrawColour, !(opaque && camera_.clearColorEnabled));
             if (opaque)
                 pb.write(resources::DrawDepth, !camera_.clearDepthEnabled);
