@@ -152,6 +152,7 @@ void Renderer::DrawList::begin(std::span<const RenderItem> items) {
     if (depthOnly) {
         s.cache.setBlend(BlendMode::Off);
         s.cache.setDepth(DepthState{});
+        s.firstResourceUnit = kEffectTextureUnit; // no effect samplers: drawables bind from here
     }
     // The model matrices of every batch of this list, uploaded at once (one buffer write per
     // list: writing per batch, or changing vertex layouts per batch, stalls llvmpipe).

@@ -381,6 +381,16 @@ void Renderer::View::declareMain(bool opaque) {
             for (const auto& [uniform, resource] :
                  snippetSamplers(opaque ? queue_.opaque : queue_.transparent))
                 pb.sample(pb.get(resource), uniform);
+            // What drawables bind in their draw (FrameSetup::sampleInMainPass): the opaque half
+            // reads what is made before it, the transparent half everything, so a producer after
+            // the opaque items lives through the Transparent passes and the transparent items.
+            for (const std::string& resource : mainReads_) {
+                if (opaque && !graph_.blackboard.has(resource)) continue;
+                if (!graph_.blackboard.has(resource))
+                    throw std::logic_error("sgfx: a drawable samples '" + resource +
+                                           "' in the main pass, which no pass of the frame makes");
+                pb.sample(pb.get(resource), resource);
+            }
             pb.write(resources::DrawColour, !(opaque && camera_.clearColorEnabled));
             if (opaque)
                 pb.write(resources::DrawDepth, !camera_.clearDepthEnabled);
