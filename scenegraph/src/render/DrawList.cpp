@@ -490,7 +490,8 @@ bool Renderer::bindFrameResource(gl::Program& program, std::string_view uniform,
         throw std::logic_error("sgfx: '" + std::string(resource) +
                                "' is not alive while drawing: ask for it with FrameSetup::sampleInMainPass");
     if (s.nextResourceUnit >= gl::StateCache::kUnits)
-        throw std::runtime_error("sgfx: bindFrameResource: no texture unit left for '" + std::string(resource) + "'");
+        throw std::runtime_error("sgfx: bindFrameResource: no texture unit left for '" +
+                                 std::string(resource) + "'");
     s.cache.bindTexture(s.nextResourceUnit, texture);
     program.set(uniform, int(s.nextResourceUnit++));
     return true;
