@@ -10,6 +10,7 @@
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
+#include <volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -77,6 +78,19 @@ std::size_t edgesInto(const std::string& dot, const std::string& id) {
          at = dot.find("-> " + id + " ", at + 1))
         ++n;
     return n;
+}
+
+bool hasEdge(const std::string& dot, const std::string& from, const std::string& to) {
+    return dot.find(from + " -> " + to + " ") != std::string::npos;
+}
+
+// A soft smoke system (premultiplied, softness 1 m) at `at`.
+std::shared_ptr<Node> softSmoke(glm::vec3 at) {
+    auto t = Transform::create(glm::translate(glm::mat4(1.0f), at));
+    auto smoke = ParticleSystemNode::smoke(0.5f, 50);
+    EXPECT_GT(smoke->settings().softness, 0.0f);
+    t->addChild(smoke);
+    return t;
 }
 
 } // namespace
@@ -253,4 +267,38 @@ TEST(FrameGraphRender, AFifthEffectReadsTwoResourcesAndNothingElseChanges) {
                 ASSERT_EQ(without.rgba[i], with.rgba[i]) << "pixel " << x << "," << y << " channel " << c;
             }
     EXPECT_GT(compared, 0u);
+}
+
+TEST(FrameGraphRender, TwoSoftSystemsAndAVolumeShareOneSceneDepth) {
+    auto v = viewer();
+    auto root = Group::create();
+    root->addChild(panel(400, 80, {0.9f, 0.3f, 0.1f})); // the wall the smoke and the medium stop at
+    root->addChild(softSmoke({-2, 12, 2}));
+    root->addChild(softSmoke({2, 12, 2}));
+    VolumeParameters vp;
+    vp.size = glm::vec3(4.0f);
+    auto volume = Transform::create(glm::translate(glm::mat4(1.0f), {0, 20, 3}));
+    volume->addChild(VolumeNode::create(vp, VolumeGrid::sphere(16)));
+    root->addChild(volume);
+    v->setSceneData(root);
+    for (int i = 0; i < 3; ++i)
+        v->frame(1.0 / 30.0);
+    expectNoGlErrors(*v);
+    const std::string& dot = v->renderer().lastFrameGraphDot();
+    const auto depth = dotNodes(dot, "scene.depth");
+    ASSERT_EQ(depth.size(), 1u) << dot;
+    EXPECT_EQ(edgesInto(dot, depth[0].id), 1u) << "one writer of scene.depth\n" << dot;
+    const auto copy = dotNodes(dot, "scene depth copy");
+    ASSERT_EQ(copy.size(), 1u) << dot;
+    EXPECT_FALSE(copy[0].dashed) << dot;
+    EXPECT_TRUE(hasEdge(dot, copy[0].id, depth[0].id)) << "the copy writes it\n" << dot;
+    const auto transparent = dotNodes(dot, "main: transparent");
+    ASSERT_EQ(transparent.size(), 1u) << dot;
+    EXPECT_TRUE(hasEdge(dot, depth[0].id, transparent[0].id)) << "the drawables read it\n" << dot;
+    EXPECT_TRUE(dotNodes(dot, "scene depth").empty()) << "no pre-pass: every request is AfterOpaque";
+    EXPECT_EQ(dot.find("particles: depth copy"), std::string::npos) << dot;
+    EXPECT_EQ(dot.find("volume: depth copy"), std::string::npos) << dot;
+    EXPECT_EQ(v->renderer().stats().geometryPasses, 1u);
+    EXPECT_EQ(v->renderer().renderTargetBytes(), std::size_t(kSize) * kSize * 4)
+        << "one D32F at the view's size";
 }

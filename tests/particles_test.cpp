@@ -580,6 +580,41 @@ TEST(Particles, SoftParticleFadesByTheGapToTheSurfaceBehind) {
     EXPECT_NEAR(pixelAt(v->capture(), kSize / 2, kSize / 2).r, srgbByte(0.8), 1);
 }
 
+// Claimed by an OIT bin, soft particles are drawn in the bin's pass (before the transparent half
+// of the main pass) and read the same scene depth there. One layer over black: the composite is
+// the premultiplied colour, so the fade is the same as in the sorted case.
+TEST(Particles, SoftParticleInAnOitBinFadesByTheGapToTheSurfaceBehind) {
+    const float d = 10.0f, gap = 0.3f, softness = 1.2f;
+    auto v = viewer({0, -d, 0}, {0, 0, 0});
+    auto root = Group::create();
+    auto wall = Transform::create(
+        glm::rotate(glm::translate(glm::mat4(1.0f), {0, gap, 0}), glm::radians(90.0f), glm::vec3(1, 0, 0)));
+    auto quad = shapes::quad(20, 20);
+    auto black = Material::create();
+    black->ambient = glm::vec3(0);
+    black->diffuse = glm::vec4(0, 0, 0, 1);
+    quad->getOrCreateStateSet().material.set(black);
+    quad->getOrCreateStateSet().cullFace.set(CullFace::None);
+    wall->addChild(quad);
+    root->addChild(wall);
+    auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
+    root->addChild(bin);
+    ParticleSettings s = stillParticle(ParticleShape::Sprite, 2.0f, ParticlePath::Auto);
+    s.softness = softness;
+    auto p = ParticleSystemNode::create(s);
+    emissiveLook(*p, glm::vec3(0.8f), BlendMode::Premultiplied);
+    bin->addChild(p);
+    v->setSceneData(root);
+    v->frame(0.0);
+    expectNoGlErrors(*v);
+    const double fade = gap / softness;
+    EXPECT_NEAR(pixelAt(v->capture(), kSize / 2, kSize / 2).r, srgbByte(0.8 * fade), 2);
+    s.softness = 0.0f;
+    p->setSettings(s);
+    v->frame(0.0);
+    EXPECT_NEAR(pixelAt(v->capture(), kSize / 2, kSize / 2).r, srgbByte(0.8), 1);
+}
+
 TEST(Particles, BlendedParticlesAreClaimedByAnOitBinAndSortedOtherwise) {
     auto cam = Camera::create();
     cam->setPerspective(60.0f, 0.1f, 100.0f);

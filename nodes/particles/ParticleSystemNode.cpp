@@ -1,12 +1,13 @@
 #include "particles/ParticleSystemNode.h"
 
 #include "ParameterChecks.h"
-#include "SceneDepthCopy.h"
 
+#include <sgfx/FrameSetup.h>
 #include <sgfx/Material.h>
 #include <sgfx/Renderer.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Visitors.h>
+#include <sgfx/GraphicsContext.h>
 #include <sgfx/gl/Objects.h>
 
 #include <glad/gl.h>
@@ -25,8 +26,6 @@ namespace {
 
 using particles::ParticleRecord;
 
-// The soft particles' copy of the opaque depth: a pass-local unit, bound at every draw.
-constexpr unsigned kDepthUnit = kEffectTextureUnit + 2;
 // The vertex-pulling path's buffer textures: units above the 16 the renderer tracks (GL 4.5
 // guarantees 80 combined units), bound at every draw.
 constexpr unsigned kBufferUnit = 16;
@@ -65,10 +64,7 @@ BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft, Particl
     const std::string defines = "#define SGFX_PARTICLE_SHAPE " + std::to_string(int(shape)) + "\n";
     auto withDefines = [&](std::string src) { return nodes::afterVersion(std::move(src), defines); };
     std::string fragment = ShaderComposer::blinnPhong().fragmentSource;
-    if (soft)
-        fragment = nodes::afterVersion(std::move(fragment), "#define SGFX_PARTICLE_DEPTH_UNIT " +
-                                                                std::to_string(kDepthUnit) + "\n" +
-                                                                nodes::shaderText("particle_soft.glsl"));
+    if (soft) fragment = nodes::afterVersion(std::move(fragment), nodes::shaderText("particle_soft.glsl"));
     static const char* const paths[] = {"", "particles_gs_", "particles_instanced_", "particles_pulled_",
                                         "particles_points_"};
     const std::string name = std::string(paths[int(path)]) + shapes[int(shape)] + (soft ? "_soft" : "");
@@ -288,8 +284,7 @@ std::shared_ptr<ParticleSystemNode> ParticleSystemNode::create(const ParticleSet
 }
 
 ParticleSystemNode::ParticleSystemNode(const ParticleSettings& settings)
-    : pass_(std::make_shared<Pass>(*this))
-    , depthCopy_(std::make_shared<nodes::SceneDepthCopy>("particles: depth copy")) {
+    : pass_(std::make_shared<Pass>(*this)) {
     settings.validate();
     settings_ = settings;
     // Particles live in world space and move every frame: the node tests its own world bound,
@@ -364,11 +359,12 @@ ParticlePath ParticleSystemNode::resolvedPath() const {
     }
     if (p == ParticlePath::PointSprite && settings_.shape != ParticleShape::Sprite) p = ParticlePath::Pulled;
     if (p == ParticlePath::Pulled) {
-        // Buffer textures hold GL_MAX_TEXTURE_BUFFER_SIZE texels (13 per particle interleaved).
-        if (maxBufferTexels_ < 0) glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxBufferTexels_);
+        // Buffer textures hold GL_MAX_TEXTURE_BUFFER_SIZE texels (13 per particle interleaved);
+        // the limit was queried when the context was made (this runs during cull: no GL here).
         const std::uint64_t texels =
             std::uint64_t(settings_.capacity) * (settings_.layout == ParticleLayout::Split ? 1 : 13);
-        if (texels > std::uint64_t(maxBufferTexels_)) p = ParticlePath::Instanced;
+        if (texels > std::uint64_t(std::max(currentDeviceLimits().maxTextureBufferSize, 65536)))
+            p = ParticlePath::Instanced;
     }
     return p;
 }
@@ -440,7 +436,13 @@ BoundingSphere ParticleSystemNode::computeBound() const {
 
 void ParticleSystemNode::planFrame(FramePlan& plan) const {
     plan.add(pass_);
-    if (settings_.softness > 0.0f) plan.add(depthCopy_);
+}
+
+// Soft particles read the view's one scene depth (the opaque items' depth) while they draw.
+void ParticleSystemNode::setupFrame(FrameSetup& f) const {
+    if (settings_.softness <= 0.0f) return;
+    f.requestSceneDepth({.when = PassPhase::AfterOpaque});
+    f.sampleInMainPass(std::string(resources::SceneDepth));
 }
 
 std::size_t ParticleSystemNode::triangleCount() const {
@@ -450,7 +452,6 @@ std::size_t ParticleSystemNode::triangleCount() const {
 
 void ParticleSystemNode::releaseGLObjects() {
     gpu_.reset();
-    depthCopy_->releaseGLObjects();
     resetPending_ = true;
 }
 
@@ -599,10 +600,10 @@ void ParticleSystemNode::draw(Renderer& r, gl::Program& program, const RenderIte
     program.set("u_krot", s.emitter.rotationRange);
     program.set("u_stretch", s.shape == ParticleShape::Tetrahedron ? s.stretch : 0.0f);
     if (s.softness > 0.0f) {
-        // Opaque particles, or a view without the depth copy, are drawn hard.
-        const bool soft = (item.features & FeatureBlend) && depthCopy_->current();
+        // Opaque particles (drawn before the scene depth exists), or a view without it, are hard.
+        const bool soft = (item.features & FeatureBlend) &&
+                          r.bindFrameResource(program, "sgfx_particleSceneDepth", resources::SceneDepth);
         program.set("sgfx_particleSoftness", soft ? s.softness : 0.0f);
-        r.bindTexture(kDepthUnit, soft ? depthCopy_->current() : 0);
     }
     const Gpu& g = *gpu_;
     const ParticlePath path = resolvedPath();

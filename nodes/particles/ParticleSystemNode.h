@@ -19,9 +19,6 @@
 namespace sgfx {
 
 class StateSet;
-namespace nodes {
-class SceneDepthCopy;
-}
 
 /// The polygons each particle becomes.
 enum class ParticleShape : std::uint8_t {
@@ -123,6 +120,7 @@ public:
     std::uint32_t features(const ResolvedState& state) const override;
     BoundingSphere worldBound(const glm::mat4& model) const override;
     void planFrame(FramePlan& plan) const override;
+    void setupFrame(FrameSetup& frame) const override;
     void update(UpdateVisitor& uv) override;
     void draw(Renderer& renderer, gl::Program& program, const RenderItem& item) const override;
     std::size_t triangleCount() const override;
@@ -148,10 +146,8 @@ private:
     mutable glm::mat4 lastModel_{1.0f}; ///< world matrix seen by the last cull
     std::unique_ptr<Gpu> gpu_;
     std::shared_ptr<Pass> pass_;
-    std::shared_ptr<nodes::SceneDepthCopy> depthCopy_;
     mutable std::unique_ptr<BaseShader> shader_; ///< draw program base for (path, shape, soft)
     mutable int shaderKey_ = -1;
-    mutable int maxBufferTexels_ = -1;
 };
 
 } // namespace sgfx

@@ -1,7 +1,7 @@
 // Soft particles: coverage fades where the particle comes within u_softness metres of the
 // opaque surface behind it, so sprites do not show a hard line where they cut the ground.
 #define SGFX_BASE_MODIFIER
-layout(binding = SGFX_PARTICLE_DEPTH_UNIT) uniform sampler2D sgfx_particleSceneDepth;
+uniform sampler2D sgfx_particleSceneDepth; // the scene depth, on a unit the renderer picks
 uniform float sgfx_particleSoftness; // m; 0 = off
 
 float particleLinearDepth(float windowZ) {

@@ -1,9 +1,9 @@
 #include "volume/VolumeNode.h"
 
 #include "ParameterChecks.h"
-#include "SceneDepthCopy.h"
 #include "TargetCache.h"
 
+#include <sgfx/FrameSetup.h>
 #include <sgfx/Image.h>
 #include <sgfx/Renderer.h>
 #include <sgfx/StateSet.h>
@@ -22,9 +22,8 @@ namespace sgfx {
 
 namespace {
 
-constexpr unsigned kDepthUnit = kEffectTextureUnit + 2; // 14: pass-local, bound at every draw
-constexpr unsigned kDensityUnit = 16;                   // 16..18: above the tracked units
-constexpr int kMaxBlock = 8;                            // voxels per empty-space cell
+constexpr unsigned kDensityUnit = 16; // 16..18: above the tracked units
+constexpr int kMaxBlock = 8;          // voxels per empty-space cell
 
 void check(const char* name, float v, double lo, double hi, bool openLow = false) {
     nodes::checkRange("VolumeParameters", name, v, lo, hi, openLow);
@@ -32,8 +31,7 @@ void check(const char* name, float v, double lo, double hi, bool openLow = false
 
 BaseShader makeShader(const std::string& function, bool half, bool slices = false) {
     std::string fragment = nodes::shaderWithIncludes(slices ? "volume_slice.frag" : "volume_march.frag");
-    std::string defines = "#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) +
-                          "\n#define SGFX_VOLUME_DENSITY_UNIT " + std::to_string(kDensityUnit) + "\n";
+    std::string defines = "#define SGFX_VOLUME_DENSITY_UNIT " + std::to_string(kDensityUnit) + "\n";
     std::string name = slices ? "volume_slices" : half ? "volume_half" : "volume";
     if (half) defines += "#define SGFX_VOLUME_HALF\n";
     if (!function.empty()) {
@@ -324,8 +322,7 @@ std::shared_ptr<VolumeNode> VolumeNode::createFunction(const VolumeParameters& p
 }
 
 VolumeNode::VolumeNode(const VolumeParameters& p, VolumeGrid grid, std::string function)
-    : function_(std::move(function))
-    , depthCopy_(std::make_shared<nodes::SceneDepthCopy>("volume: depth copy")) {
+    : function_(std::move(function)) {
     p.validate();
     grid.validate();
     parameters_ = p;
@@ -383,14 +380,15 @@ BoundingSphere VolumeNode::computeBound() const {
     return s;
 }
 
-void VolumeNode::planFrame(FramePlan& plan) const {
-    plan.add(depthCopy_);
+// The march stops at the view's one scene depth (the opaque items' depth), read while it draws.
+void VolumeNode::setupFrame(FrameSetup& f) const {
+    f.requestSceneDepth({.when = PassPhase::AfterOpaque});
+    f.sampleInMainPass(std::string(resources::SceneDepth));
 }
 
 void VolumeNode::releaseGLObjects() {
     gpu_.reset();
     gridDirty_ = true;
-    depthCopy_->releaseGLObjects();
 }
 
 namespace {
@@ -530,14 +528,15 @@ void VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program) {
     glEnable(GL_BLEND); // the renderer's premultiplied blending, for the composite
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous));
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-    static const std::string units = "#define SGFX_VOLUME_HALF_UNIT " + std::to_string(kDensityUnit) +
-                                     "\n#define SGFX_VOLUME_DEPTH_UNIT " + std::to_string(kDepthUnit) + "\n";
+    static const std::string units = "#define SGFX_VOLUME_HALF_UNIT " + std::to_string(kDensityUnit) + "\n";
     static const BaseShader upsample{"volume_upsample", "blit.vert",
                                      std::string(ShaderComposer::fullscreenVertex()), "volume_upsample.frag",
                                      nodes::afterVersion(nodes::shaderText("volume_upsample.frag"), units)};
+    gl::Program& composite = r.composer().program(upsample, {}, 0);
+    r.bindFrameResource(composite, "u_sceneDepth", resources::SceneDepth); // the march's bound it too
     glBindTextureUnit(kDensityUnit, target.color.get());
     glBindTextureUnit(kDensityUnit + 1, target.depth.get());
-    r.drawFullscreen(r.composer().program(upsample, {}, 0));
+    r.drawFullscreen(composite);
 }
 
 void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {
@@ -555,9 +554,11 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y,
                        g.maxSize.z);
     program.set("u_useTransfer", g.transfer ? 1 : 0);
-    const unsigned depth = depthCopy_->current();
+    // A blended volume is drawn after the opaque items, when the scene depth exists; an opaque
+    // one (a state of the user's) marches to the far end of the box.
+    const bool depth =
+        (item.features & FeatureBlend) && r.bindFrameResource(program, "u_sceneDepth", resources::SceneDepth);
     program.set("u_hasSceneDepth", depth ? 1 : 0);
-    r.bindTexture(kDepthUnit, depth);
     glBindTextureUnit(kDensityUnit, g.density.get());
     glBindTextureUnit(kDensityUnit + 1, g.densityMax.get());
     glBindTextureUnit(kDensityUnit + 2, g.transfer.get());

@@ -18,9 +18,6 @@
 namespace sgfx {
 
 class Image;
-namespace nodes {
-class SceneDepthCopy;
-}
 
 /// A density grid over the box, x fastest, then y, then z.
 struct VolumeGrid {
@@ -107,7 +104,7 @@ public:
 
     const BaseShader& baseShader() const override;
     std::uint32_t features(const ResolvedState&) const override { return FeatureWorldPosition; }
-    void planFrame(FramePlan& plan) const override;
+    void setupFrame(FrameSetup& frame) const override;
     void draw(Renderer& renderer, gl::Program& program, const RenderItem& item) const override;
     void releaseGLObjects() override;
 
@@ -123,7 +120,6 @@ private:
     BaseShader shader_, halfShader_, sliceShader_;
     mutable std::unique_ptr<Gpu> gpu_;
     mutable bool gridDirty_ = true;
-    std::shared_ptr<nodes::SceneDepthCopy> depthCopy_;
 };
 
 } // namespace sgfx

@@ -33,7 +33,7 @@ uniform int u_countSamples;    // diagnostics: output the number of density samp
 uniform ivec3 u_maxGridSize;
 uniform int u_useTransfer;
 uniform int u_pixelScale;      // 2 when marching at half resolution
-layout(binding = SGFX_VOLUME_DEPTH_UNIT) uniform sampler2D u_sceneDepth;
+uniform sampler2D u_sceneDepth; // the scene depth, on a unit the renderer picks
 layout(binding = SGFX_VOLUME_DENSITY_UNIT + 2) uniform sampler2D u_transfer; // emission colour by ρ
 uniform int u_hasSceneDepth;
 

@@ -20,7 +20,7 @@ uniform vec3 u_lightDirection;
 uniform int u_lightSteps;
 uniform vec3 u_sliceNormal; // world, the view direction the slices face
 uniform float u_spacing;    // metres between slices along it
-layout(binding = SGFX_VOLUME_DEPTH_UNIT) uniform sampler2D u_sceneDepth;
+uniform sampler2D u_sceneDepth; // the scene depth, on a unit the renderer picks
 uniform int u_hasSceneDepth;
 
 // @sgfx:fragment_decl

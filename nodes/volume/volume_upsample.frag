@@ -6,7 +6,7 @@ in vec2 v_uv;
 layout(location = 0) out vec4 fragColor;
 layout(binding = SGFX_VOLUME_HALF_UNIT) uniform sampler2D u_halfColor;     // premultiplied
 layout(binding = SGFX_VOLUME_HALF_UNIT + 1) uniform sampler2D u_halfDepth; // where rays stopped
-layout(binding = SGFX_VOLUME_DEPTH_UNIT) uniform sampler2D u_sceneDepth;
+uniform sampler2D u_sceneDepth; // the scene depth, on a unit the renderer picks
 
 float linearDepth(float windowZ) {
     float ndcZ = windowZ * 2.0 - 1.0;

@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -111,7 +112,10 @@ public:
     void requestSceneDepth(const SceneDepthRequest& request);
     /// The main pass samples this resource (a drawable that binds it in its draw with
     /// Renderer::bindFrameResource): its producer is kept and it stays alive through the main pass.
-    void sampleInMainPass(std::string resource) { mainReads_.push_back(std::move(resource)); }
+    void sampleInMainPass(std::string resource) {
+        if (std::find(mainReads_.begin(), mainReads_.end(), resource) == mainReads_.end())
+            mainReads_.push_back(std::move(resource));
+    }
     const std::vector<std::string>& mainPassReads() const { return mainReads_; }
     /// Declares a pass. Passes run by phase, and in the order they were added within a phase;
     /// `setup` runs when the renderer builds the graph, `execute` when the pass is not culled.

@@ -152,6 +152,7 @@ void Renderer::DrawList::begin(std::span<const RenderItem> items) {
     if (depthOnly) {
         s.cache.setBlend(BlendMode::Off);
         s.cache.setDepth(DepthState{});
+        s.firstResourceUnit = kEffectTextureUnit; // no effect samplers: drawables bind from here
     }
     // The model matrices of every batch of this list, uploaded at once (one buffer write per
     // list: writing per batch, or changing vertex layouts per batch, stalls llvmpipe).
@@ -488,7 +489,8 @@ bool Renderer::bindFrameResource(gl::Program& program, std::string_view uniform,
     const unsigned texture = s.graph->texture(s.graph->blackboard.get(resource));
     if (!texture) return false;
     if (s.nextResourceUnit >= gl::StateCache::kUnits)
-        throw std::runtime_error("sgfx: bindFrameResource: no texture unit left for '" + std::string(resource) + "'");
+        throw std::runtime_error("sgfx: bindFrameResource: no texture unit left for '" +
+                                 std::string(resource) + "'");
     s.cache.bindTexture(s.nextResourceUnit, texture);
     program.set(uniform, int(s.nextResourceUnit++));
     return true;

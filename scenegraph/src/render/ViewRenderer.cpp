@@ -79,7 +79,7 @@ private:
     gl::RenderTarget* draw_ = nullptr; // where the view is drawn (target_, or a larger/multisample one)
     FrameGraph graph_;
     std::vector<std::string> mainReads_; // resources drawables bind in the main pass
-    gl::QueryObject fragments_; // RendererOptions::countFragments, over the main pass
+    gl::QueryObject fragments_;          // RendererOptions::countFragments, over the main pass
 };
 
 void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
@@ -325,12 +325,14 @@ void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
             "scene depth",
             [&](FrameGraph::Builder& b) {
                 PassBuilder pb(b, graph_.blackboard);
-                pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
+                pb.publish(std::string(resources::SceneDepth),
+                           pb.depth(pb.create("scene.depth", desc), false));
                 // The G-buffer outputs at their locations in gbuffer_flat.frag and the material's
                 // G-buffer variant: 0 normal, 1 linear depth, 2 position.
-                const std::pair<bool, std::string_view> outputs[] = {{needs.normals, resources::SceneNormals},
-                                                                     {needs.linearDepth, resources::SceneLinearDepth},
-                                                                     {needs.positions, resources::ScenePositions}};
+                const std::pair<bool, std::string_view> outputs[] = {
+                    {needs.normals, resources::SceneNormals},
+                    {needs.linearDepth, resources::SceneLinearDepth},
+                    {needs.positions, resources::ScenePositions}};
                 const unsigned formats[] = {format::Rgba16F, format::R32F, format::Rgba16F};
                 const bool gbuffer = needs.normals || needs.linearDepth || needs.positions;
                 for (int i = 0; gbuffer && i < 3; ++i)
@@ -350,7 +352,8 @@ void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
             pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
         },
         [this](PassCommands& c) {
-            c.copyDepth(graph_.blackboard.get(resources::DrawDepth), graph_.blackboard.get(resources::SceneDepth));
+            c.copyDepth(graph_.blackboard.get(resources::DrawDepth),
+                        graph_.blackboard.get(resources::SceneDepth));
         },
         "after opaque");
 }
@@ -362,8 +365,9 @@ void Renderer::View::drawSceneDepth(PassCommands& c, const FrameSetup::DepthNeed
     const bool gbuffer = needs.normals || needs.linearDepth || needs.positions;
     const auto at = [&](std::string_view name) { return board.has(name) ? board.get(name) : ResourceId{}; };
     if (gbuffer)
-        c.target({at(resources::SceneNormals), at(resources::SceneLinearDepth), at(resources::ScenePositions)},
-                 board.get(resources::SceneDepth));
+        c.target(
+            {at(resources::SceneNormals), at(resources::SceneLinearDepth), at(resources::ScenePositions)},
+            board.get(resources::SceneDepth));
     else
         c.target({}, board.get(resources::SceneDepth));
     for (int i = 0; gbuffer && i < (board.has(resources::ScenePositions) ? 3 : 2); ++i)
@@ -381,8 +385,16 @@ void Renderer::View::declareMain(bool opaque) {
             for (const auto& [uniform, resource] :
                  snippetSamplers(opaque ? queue_.opaque : queue_.transparent))
                 pb.sample(pb.get(resource), uniform);
-            for (const std::string& resource : mainReads_) // what drawables bind in their draw
-                pb.sample(pb.get(resource), "drawable");
+            // What drawables bind in their draw (FrameSetup::sampleInMainPass): the opaque half
+            // reads what is made before it, the transparent half everything, so a producer after
+            // the opaque items lives through the Transparent passes and the transparent items.
+            for (const std::string& resource : mainReads_) {
+                if (opaque && !graph_.blackboard.has(resource)) continue;
+                if (!graph_.blackboard.has(resource))
+                    throw std::logic_error("sgfx: a drawable samples '" + resource +
+                                           "' in the main pass, which no pass of the frame makes");
+                pb.sample(pb.get(resource), resource);
+            }
             pb.write(resources::DrawColour, !(opaque && camera_.clearColorEnabled));
             if (opaque)
                 pb.write(resources::DrawDepth, !camera_.clearDepthEnabled);
