@@ -563,7 +563,8 @@ int runStill(const Options& o, const polygon::PolygonScene& scene) {
         std::ofstream dot(o.graph);
         dot << viewer->renderer().lastFrameGraphDot();
         if (!dot) throw std::runtime_error("cannot write " + o.graph);
-        std::cout << "wrote " << o.graph << "\n";
+        std::cout << "wrote " << o.graph << " (frame-graph textures held: "
+                  << double(viewer->renderer().renderTargetBytes()) / (1024.0 * 1024.0) << " MiB)\n";
     }
     const sgfx::FrameStats& st = viewer->stats();
     std::cout << "frame: " << st.triangles << " triangles drawn, " << st.drawCalls << " draw calls, "
