@@ -183,6 +183,35 @@ TEST(FrameGraphRender, TheGraphPictureNamesEveryViewPassAndGpuTime) {
     EXPECT_FALSE(dotNodes(dot, "draw.colour").empty()) << dot;
 }
 
+TEST(FrameGraphRender, ARenderToTextureViewIsAClusterOfItsOwnWithItsOwnSceneDepth) {
+    auto v = viewer();
+    auto rtt = Camera::create();
+    rtt->name = "mirror";
+    rtt->setViewport(0, 0, 32, 32);
+    rtt->setPerspective(60.0f, 0.5f, 500.0f);
+    rtt->setLookAt({0, 0, 3}, {0, 10, 3});
+    rtt->renderTarget = Texture::create(nullptr);
+    auto fogInside = splitFog();
+    fogInside->addChild(panel(400, 80, {0.9f, 0.3f, 0.1f}));
+    rtt->addChild(fogInside);
+    auto root = Group::create();
+    root->addChild(rtt);
+    auto fog = splitFog();
+    fog->addChild(panel(400, 80, {0.2f, 0.3f, 0.9f}));
+    root->addChild(fog);
+    v->setSceneData(root);
+    v->frame();
+    expectNoGlErrors(*v);
+    const std::string& dot = v->renderer().lastFrameGraphDot();
+    EXPECT_NE(dot.find("subgraph \"cluster_mirror\""), std::string::npos) << dot;
+    EXPECT_EQ(std::count(dot.begin(), dot.end(), '{'), 3) << "the frame, the mirror and the main view\n" << dot;
+    const auto depths = dotNodes(dot, "scene.depth");
+    ASSERT_EQ(depths.size(), 2u) << dot;
+    EXPECT_NE(dot.find("scene.depth\\nD32F 32x32"), std::string::npos) << "the mirror's own size\n" << dot;
+    EXPECT_NE(dot.find("scene.depth\\nD32F 64x64"), std::string::npos) << dot;
+    EXPECT_EQ(v->renderer().stats().geometryPasses, 4u) << "a pre-pass and a main pass per view";
+}
+
 namespace {
 
 // A fifth effect that reads two frame resources alongside fog, ambient occlusion, OIT and soft
