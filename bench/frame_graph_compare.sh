@@ -3,6 +3,7 @@
 # effect of sharing one scene depth (issue 22). Each round runs every row with both builds, in
 # alternating order; a row's figure is the median over rounds of the per-round ratio new/old.
 #   bench/frame_graph_compare.sh OLD_BUILD NEW_BUILD [FRAMES] [ROUNDS] [SIZE]
+# Then each row's still image (polygon's default time) from both builds, and how many pixels differ.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 old=$1/demos/polygon
@@ -35,4 +36,24 @@ for row in "${rows[@]}"; do
     printf '| %s | %s | %s | %s | %s–%s |\n' "$name" "$(median ${olds[$name]})" "$(median ${news[$name]})" \
         "$(median ${ratios[$name]})" "$(printf '%s\n' ${ratios[$name]} | sort -g | head -1)" \
         "$(printf '%s\n' ${ratios[$name]} | sort -g | tail -1)"
+done
+
+echo
+echo "| row | pixels that differ (old vs new still image, $size) | by more than 8/255 |"
+echo "|---|---:|---:|"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+for row in "${rows[@]}"; do
+    name=${row%%:*} args=${row#*:}
+    # shellcheck disable=SC2086
+    "$old" $args --size "$size" --out "$tmp/old.png" > /dev/null
+    # shellcheck disable=SC2086
+    "$new" $args --size "$size" --out "$tmp/new.png" > /dev/null
+    /usr/bin/python3 - "$name" "$tmp/old.png" "$tmp/new.png" <<'PY'
+import sys
+from PIL import Image, ImageChops
+a, b = (Image.open(f).convert("RGB") for f in sys.argv[2:4])
+d = [max(p) for p in ImageChops.difference(a, b).getdata()]
+print(f"| {sys.argv[1]} | {sum(1 for v in d if v)} of {len(d)} | {sum(1 for v in d if v > 8)} |")
+PY
 done
