@@ -269,9 +269,15 @@ FloatImage renderWithEffects(bool probe) {
         p->addChild(right);
         root->addChild(p);
     }
+    // And a volume, so every effect that reads the scene's depth is here.
+    auto volumeAt = Transform::create(glm::scale(glm::translate(glm::mat4(1.0f), {-8, 25, 2}), glm::vec3(3.0f)));
+    volumeAt->addChild(VolumeNode::create({}, VolumeGrid::sphere(8)));
+    fog->addChild(volumeAt);
     v->setSceneData(root);
     v->frame(0.5);
     expectNoGlErrors(*v);
+    EXPECT_EQ(v->renderer().stats().geometryPasses, 2u)
+        << "split fog, AO, OIT, soft smoke and a volume: the depth pre-pass and the main pass";
     return v->renderer().readPixelsLinear();
 }
 
