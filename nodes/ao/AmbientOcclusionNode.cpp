@@ -133,7 +133,8 @@ struct AmbientOcclusionNode::Shared {
         if (!noise || noiseSeed != seed) {
             const std::vector<glm::vec2> n = ao::rotationNoise(seed);
             noise = gl::createTexture2D(GL_RG32F, 4, 4);
-            glTextureSubImage2D(noise.get(), 0, 0, 0, 4, 4, GL_RG, GL_FLOAT, n.data()); // node-owned data
+            // GL: node-owned data (the noise texels); no texture upload command
+            glTextureSubImage2D(noise.get(), 0, 0, 0, 4, 4, GL_RG, GL_FLOAT, n.data());
             noiseSeed = seed;
         }
         return noise.get();
@@ -194,7 +195,8 @@ void AmbientOcclusionNode::addOcclusionPass(FrameSetup& f) const {
             program.set("sgfx_aoShape", glm::vec4(p.radius, p.bias, p.rangeCheck ? 1.0f : 0.0f,
                                                   p.compare == AoCompare::TangentPlane ? 1.0f : 0.0f));
             const bool paperLike = p.compare == AoCompare::StoredDepth && !p.rangeCheck;
-            program.set("sgfx_aoShape2", glm::vec4(p.halfResolution ? 2.0f : 1.0f, paperLike ? 0.0f : 1.0f, 0, 0));
+            program.set("sgfx_aoShape2",
+                        glm::vec4(p.halfResolution ? 2.0f : 1.0f, paperLike ? 0.0f : 1.0f, 0, 0));
             c.fullscreen(program);
         });
 }

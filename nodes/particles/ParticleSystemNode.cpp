@@ -3,11 +3,11 @@
 #include "ParameterChecks.h"
 
 #include <sgfx/FrameSetup.h>
+#include <sgfx/GraphicsContext.h>
 #include <sgfx/Material.h>
 #include <sgfx/Renderer.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Visitors.h>
-#include <sgfx/GraphicsContext.h>
 #include <sgfx/gl/Objects.h>
 
 #include <glad/gl.h>
@@ -26,8 +26,8 @@ namespace {
 
 using particles::ParticleRecord;
 
-// The vertex-pulling path's buffer textures: units above the 16 the renderer tracks (GL 4.5
-// guarantees 80 combined units), bound at every draw.
+// The vertex-pulling path's buffer textures: units 16.. (a drawable's own, never handed out by the
+// renderer; GL 4.5 guarantees 80 combined units), bound through the renderer at every draw.
 constexpr unsigned kBufferUnit = 16;
 
 // Bytes per particle of each stream: one interleaved record, or (age + P, v, r0, r).
@@ -213,21 +213,26 @@ struct ParticleSystemNode::Gpu {
     bool allocate(ParticleLayout l, std::uint32_t n) {
         layout = l;
         capacity = n;
+        // GL: the particle buffers (transform feedback ping-pong), made and sized here, with the
+        // driver's out-of-memory answer read directly (errors before it drained); no command for
+        // buffers yet.
         while (glGetError() != GL_NO_ERROR) {
         }
         for (auto& copy : buffers)
             for (int s = 0; s < streams(); ++s) {
                 copy[std::size_t(s)] = gl::createBuffer();
+                // GL: storage for one stream of one copy (see above).
                 glNamedBufferData(copy[std::size_t(s)].get(), GLsizeiptr(n) * stride(s), nullptr,
                                   GL_DYNAMIC_COPY);
             }
-        if (glGetError() == GL_OUT_OF_MEMORY) return false;
+        if (glGetError() == GL_OUT_OF_MEMORY) return false; // GL: the allocation's outcome (above)
         emptyVao = gl::createVertexArray();
         static const GLenum splitFormats[4] = {GL_RGBA32F, GL_RGB32F, GL_RGB32F, GL_RGB32F};
         for (int c = 0; c < 2; ++c)
             for (int s = 0; s < streams(); ++s) {
                 gl::TextureObject& t = bufferTextures[std::size_t(c)][std::size_t(s)];
                 t = gl::createTexture(GL_TEXTURE_BUFFER);
+                // GL: a buffer-texture view of the copy for vertex pulling; no command for it.
                 glTextureBuffer(t.get(), layout == ParticleLayout::Split ? splitFormats[s] : GL_R32F,
                                 buffers[std::size_t(c)][std::size_t(s)].get());
             }
@@ -239,12 +244,15 @@ struct ParticleSystemNode::Gpu {
                 static const int offsets[4] = {0, 16, 28, 40};
                 for (int a = 0; a < 4; ++a) {
                     const int binding = layout == ParticleLayout::Split ? a : 0;
+                    // GL: the node's own vertex arrays (per point and per instance) over its
+                    // buffers, set up once per allocation; the renderer has no command for them.
                     glVertexArrayAttribFormat(vao, GLuint(a), sizes[a], GL_FLOAT, GL_FALSE,
                                               layout == ParticleLayout::Split ? 0 : GLuint(offsets[a]));
                     glVertexArrayAttribBinding(vao, GLuint(a), GLuint(binding));
                     glEnableVertexArrayAttrib(vao, GLuint(a));
                 }
                 for (int s = 0; s < streams(); ++s) {
+                    // GL: the vertex arrays' buffers and instance divisors (as above).
                     glVertexArrayVertexBuffer(vao, GLuint(s), buffers[std::size_t(c)][std::size_t(s)].get(),
                                               0, stride(s));
                     if (vao == instanceVao[std::size_t(c)].get())
@@ -258,13 +266,14 @@ struct ParticleSystemNode::Gpu {
     // Binds copy `c` from particle `first` on as the transform feedback targets.
     void bindFeedback(int c, std::uint32_t first, std::uint32_t count) const {
         for (int s = 0; s < streams(); ++s)
+            // GL: transform feedback targets; the renderer has no transform feedback command.
             glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s),
                               buffers[std::size_t(c)][std::size_t(s)].get(), GLintptr(first) * stride(s),
                               GLsizeiptr(count) * stride(s));
     }
     void unbindFeedback() const {
         for (int s = 0; s < streams(); ++s)
-            glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s), 0);
+            glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s), 0); // GL: as bindFeedback
     }
 };
 
@@ -458,7 +467,6 @@ void ParticleSystemNode::releaseGLObjects() {
 void ParticleSystemNode::simulate(Renderer& r) {
     const ParticleSettings& s = settings_;
     gl::Program& program = r.composer().program(updateShader(s.layout), {}, 0);
-    const GLuint p = program.get();
     emitterMatrix_ = lastModel_;
     auto setCommon = [&](float dt) {
         const particles::Emitter& e = s.emitter;
@@ -471,21 +479,25 @@ void ParticleSystemNode::simulate(Renderer& r) {
         program.set("u_kvel", e.rotationSpeed);
         program.set("u_tmax", e.lifetime);
         program.set("u_dt", dt);
-        glProgramUniform1ui(p, program.location("u_step"), step_);
-        glProgramUniform1ui(p, program.location("u_seed"), s.seed);
+        program.setUnsigned("u_step", step_);
+        program.setUnsigned("u_seed", s.seed);
         program.set("u_carryAge", s.respawn == particles::Respawn::CarryAge ? 1 : 0);
         program.set("u_reflect", s.bounce == particles::RotationBounce::Reflect ? 1 : 0);
     };
-    glUseProgram(p);
-    // Draws check the framebuffer even with rasterization off: bind one that is complete.
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r.currentTarget().fbo.get());
+    r.useProgram(program);
+    // Draws check the framebuffer even with rasterization off: the renderer binds the view's
+    // target (complete) through its cache before every RenderPass it runs.
+    // GL: the simulation only writes buffers (transform feedback): no rasterizing, a state the
+    // renderer's cache does not hold; turned off again at the end of simulate.
     glEnable(GL_RASTERIZER_DISCARD);
     // Sets up particles [first, first + count) of copy `c` by the start mode `init` (1..3).
     auto initialise = [&](int c, int init, std::uint32_t first, std::uint32_t count) {
         setCommon(0.0f);
         program.set("u_init", init);
-        glProgramUniform1ui(p, program.location("u_initFirst"), first);
-        glProgramUniform1ui(p, program.location("u_initCount"), count);
+        program.setUnsigned("u_initFirst", first);
+        program.setUnsigned("u_initCount", count);
+        // GL: one transform feedback step over the node's own vertex array (no attributes here);
+        // the renderer has no transform feedback command.
         glBindVertexArray(gpu_->emptyVao.get());
         gpu_->bindFeedback(c, first, count);
         glBeginTransformFeedback(GL_POINTS);
@@ -512,6 +524,7 @@ void ParticleSystemNode::simulate(Renderer& r) {
                 kept = std::min(gpu_->capacity, s.capacity);
                 if (gpu_->layout == next->layout) {
                     for (int st = 0; st < next->streams(); ++st)
+                        // GL: copies the live particles into the new buffers; no buffer command.
                         glCopyNamedBufferSubData(
                             gpu_->buffers[std::size_t(gpu_->current)][std::size_t(st)].get(),
                             next->buffers[0][std::size_t(st)].get(), 0, 0,
@@ -529,6 +542,7 @@ void ParticleSystemNode::simulate(Renderer& r) {
                             std::memcpy(bytes.data() + std::size_t(i) * std::size_t(next->stride(st)),
                                         src + from, std::size_t(next->stride(st)));
                         }
+                        // GL: uploads the converted records; no buffer command.
                         glNamedBufferSubData(next->buffers[0][std::size_t(st)].get(), 0,
                                              GLsizeiptr(bytes.size()), bytes.data());
                     }
@@ -551,6 +565,7 @@ void ParticleSystemNode::simulate(Renderer& r) {
             ++step_;
             setCommon(dt);
             const int src = gpu_->current, dst = 1 - src;
+            // GL: one simulation step, M to M' by transform feedback (as in initialise).
             glBindVertexArray(gpu_->pointVao[std::size_t(src)].get());
             gpu_->bindFeedback(dst, 0, gpu_->capacity);
             glBeginTransformFeedback(GL_POINTS);
@@ -561,6 +576,7 @@ void ParticleSystemNode::simulate(Renderer& r) {
         }
     }
     pendingSteps_.clear();
+    // GL: no vertex array left bound, rasterizing back on (set at the start of simulate).
     glBindVertexArray(0);
     glDisable(GL_RASTERIZER_DISCARD);
 }
@@ -571,6 +587,7 @@ std::vector<ParticleRecord> ParticleSystemNode::readRecords() const {
     const Gpu& g = *gpu_;
     out.resize(g.capacity);
     if (g.layout == ParticleLayout::Interleaved) {
+        // GL: reads the particles back (tests, layout changes); no buffer command.
         glGetNamedBufferSubData(g.buffers[std::size_t(g.current)][0].get(), 0,
                                 GLsizeiptr(g.capacity) * kRecordBytes, out.data());
         return out;
@@ -579,6 +596,7 @@ std::vector<ParticleRecord> ParticleSystemNode::readRecords() const {
     for (int st = 0; st < 4; ++st) {
         const int stride = g.stride(st);
         bytes.resize(std::size_t(g.capacity) * std::size_t(stride));
+        // GL: reads one stream back (as above).
         glGetNamedBufferSubData(g.buffers[std::size_t(g.current)][std::size_t(st)].get(), 0,
                                 GLsizeiptr(bytes.size()), bytes.data());
         const int to = st == 0 ? 0 : 4 + 12 * st;
@@ -608,6 +626,8 @@ void ParticleSystemNode::draw(Renderer& r, gl::Program& program, const RenderIte
     const Gpu& g = *gpu_;
     const ParticlePath path = resolvedPath();
     if (path == ParticlePath::PointSprite) {
+        // GL: point sprites: the size from the shader and the sprite's v upwards, states the
+        // renderer's cache does not hold (set back right after), and the node's own draw.
         glEnable(GL_PROGRAM_POINT_SIZE);
         glPointParameteri(GL_POINT_SPRITE_COORD_ORIGIN, GL_LOWER_LEFT); // v up, as the quads' B
         glBindVertexArray(g.pointVao[std::size_t(g.current)].get());
@@ -615,18 +635,21 @@ void ParticleSystemNode::draw(Renderer& r, gl::Program& program, const RenderIte
         glPointParameteri(GL_POINT_SPRITE_COORD_ORIGIN, GL_UPPER_LEFT);
         glDisable(GL_PROGRAM_POINT_SIZE);
     } else if (path == ParticlePath::GeometryShader) {
+        // GL: the node's own points (vertex array and draw); no command draws a drawable's arrays.
         glBindVertexArray(g.pointVao[std::size_t(g.current)].get());
         glDrawArrays(GL_POINTS, 0, GLsizei(g.capacity));
     } else if (path == ParticlePath::Pulled) {
         for (int st = 0; st < g.streams(); ++st)
-            glBindTextureUnit(kBufferUnit + unsigned(st),
-                              g.bufferTextures[std::size_t(g.current)][std::size_t(st)].get());
+            r.bindTexture(kBufferUnit + unsigned(st),
+                          g.bufferTextures[std::size_t(g.current)][std::size_t(st)].get());
+        // GL: the node's own draw (vertex pulling, no attributes); no command draws a drawable's arrays.
         glBindVertexArray(g.emptyVao.get());
         glDrawArrays(GL_TRIANGLES, 0,
                      GLsizei(std::size_t(g.capacity) * 3 * std::size_t(trianglesPerParticle(s.shape))));
     } else {
+        // GL: the node's own instanced draw; no command draws a drawable's arrays. One strip per
+        // particle (4 or 6 vertices); the tetrahedron's four faces as triangles.
         glBindVertexArray(g.instanceVao[std::size_t(g.current)].get());
-        // One strip per particle (4 or 6 vertices); the tetrahedron's four faces as triangles.
         if (s.shape == ParticleShape::Tetrahedron)
             glDrawArraysInstanced(GL_TRIANGLES, 0, 12, GLsizei(g.capacity));
         else

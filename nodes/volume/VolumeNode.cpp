@@ -22,7 +22,7 @@ namespace sgfx {
 
 namespace {
 
-constexpr unsigned kDensityUnit = 16; // 16..18: above the tracked units
+constexpr unsigned kDensityUnit = 16; // 16..18: a drawable's own units (Renderer::bindTexture)
 constexpr int kMaxBlock = 8;          // voxels per empty-space cell
 
 void check(const char* name, float v, double lo, double hi, bool openLow = false) {
@@ -443,9 +443,12 @@ void VolumeNode::Gpu::uploadGrid(const VolumeGrid& grid, const Image* ramp) {
     const glm::ivec3 n = grid.size;
     static const GLenum formats[] = {GL_R8, GL_R16F, GL_R32F};
     density = gl::createTexture(GL_TEXTURE_3D);
+    // GL: the node's 3D textures (density, then its block maxima), made, filled and sampled as
+    // set here; the renderer has no command for uploading textures.
     glTextureStorage3D(density.get(), 1, formats[int(grid.format)], n.x, n.y, n.z);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage3D(density.get(), 0, 0, 0, 0, n.x, n.y, n.z, GL_RED, GL_FLOAT, grid.values.data());
+    // GL: the density's sampling: clamped to its edges, linear (as the upload above).
     for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
         glTextureParameteri(density.get(), p, GL_CLAMP_TO_EDGE);
     glTextureParameteri(density.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -453,6 +456,7 @@ void VolumeNode::Gpu::uploadGrid(const VolumeGrid& grid, const Image* ramp) {
     maxSize = (n + kMaxBlock - 1) / kMaxBlock;
     const std::vector<float> maxima = blockMaxima(grid, maxSize);
     densityMax = gl::createTexture(GL_TEXTURE_3D);
+    // GL: the block maxima texture (as the density above).
     glTextureStorage3D(densityMax.get(), 1, GL_R32F, maxSize.x, maxSize.y, maxSize.z);
     glTextureSubImage3D(densityMax.get(), 0, 0, 0, 0, maxSize.x, maxSize.y, maxSize.z, GL_RED, GL_FLOAT,
                         maxima.data());
@@ -466,6 +470,7 @@ void VolumeNode::Gpu::uploadGrid(const VolumeGrid& grid, const Image* ramp) {
             for (int c = 0; c < std::min(img.channels, 3); ++c)
                 rgba[std::size_t(x) * 4 + std::size_t(c)] = img.pixel(x, 0)[img.channels == 1 ? 0 : c];
         transfer = gl::createTexture2D(GL_SRGB8_ALPHA8, img.width, 1, GL_LINEAR);
+        // GL: the transfer ramp's texels; no texture upload command.
         glTextureSubImage2D(transfer.get(), 0, 0, 0, img.width, 1, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     }
 }
@@ -480,21 +485,25 @@ void VolumeNode::Gpu::drawSlices(Renderer& r, gl::Program& program, const glm::m
     if (!sliceVao || sliceCapacity < tris.size()) {
         sliceCapacity = tris.size();
         sliceVertices = gl::createBuffer();
+        // GL: the slices' vertex buffer and vertex array, grown here; no command for buffers or
+        // vertex arrays yet.
         glNamedBufferData(sliceVertices.get(), GLsizeiptr(tris.size() * sizeof(glm::vec3)), nullptr,
                           GL_STREAM_DRAW);
         sliceVao = gl::createVertexArray();
+        // GL: the slices' vertex array: one vec3 attribute from the buffer (as above).
         glVertexArrayVertexBuffer(sliceVao.get(), 0, sliceVertices.get(), 0, sizeof(glm::vec3));
         glVertexArrayAttribFormat(sliceVao.get(), 0, 3, GL_FLOAT, GL_FALSE, 0);
         glVertexArrayAttribBinding(sliceVao.get(), 0, 0);
         glEnableVertexArrayAttrib(sliceVao.get(), 0);
     }
+    // GL: this frame's slices into the buffer (as above).
     glNamedBufferSubData(sliceVertices.get(), 0, GLsizeiptr(tris.size() * sizeof(glm::vec3)), tris.data());
     program.set("u_sliceNormal", forward);
     program.set("u_spacing", spacing);
-    glDisable(GL_CULL_FACE); // slices face either way; the renderer's cull state is restored below
+    r.setCull(CullFace::None); // slices face either way; the renderer sets the next item's faces
+    // GL: the node's own draw of its slices; no command draws a drawable's arrays.
     glBindVertexArray(sliceVao.get());
     glDrawArrays(GL_TRIANGLES, 0, GLsizei(tris.size()));
-    glEnable(GL_CULL_FACE);
 }
 
 void VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program) {
@@ -509,33 +518,29 @@ void VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program) {
             e.color = gl::createTexture2D(GL_RGBA16F, w, h);
             e.depth = gl::createTexture2D(GL_R32F, w, h);
             e.fbo = gl::createFramebuffer();
+            // GL: the half-size target's framebuffer (colour and ray depth), made once per size;
+            // the node owns it (not a frame-graph resource: a drawable cannot declare one).
             glNamedFramebufferTexture(e.fbo.get(), GL_COLOR_ATTACHMENT0, e.color.get(), 0);
             glNamedFramebufferTexture(e.fbo.get(), GL_COLOR_ATTACHMENT1, e.depth.get(), 0);
             const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
             glNamedFramebufferDrawBuffers(e.fbo.get(), 2, buffers);
         });
-    GLint previous = 0, viewport[4] = {0, 0, 0, 0};
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
-    glGetIntegerv(GL_VIEWPORT, viewport);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.fbo.get());
-    glViewport(0, 0, w, h);
-    const float zero[4] = {0, 0, 0, 0};
-    glClearBufferfv(GL_COLOR, 0, zero);
-    glClearBufferfv(GL_COLOR, 1, zero);
+    // One back face per pixel: written, not blended (beginOffscreen turns blending off, and
+    // endOffscreen back on, the renderer's premultiplied blending, for the composite).
+    r.beginOffscreen(target.fbo.get(), {w, h});
+    r.clearColour(0, glm::vec4(0.0f));
+    r.clearColour(1, glm::vec4(0.0f));
     program.set("u_pixelScale", 2);
-    glDisable(GL_BLEND); // one back face per pixel: written, not blended
-    glDrawArrays(GL_TRIANGLES, 0, 36);
-    glEnable(GL_BLEND); // the renderer's premultiplied blending, for the composite
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(previous));
-    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    glDrawArrays(GL_TRIANGLES, 0, 36); // GL: the node's own box (its vertex array bound by draw)
+    r.endOffscreen();
     static const std::string units = "#define SGFX_VOLUME_HALF_UNIT " + std::to_string(kDensityUnit) + "\n";
     static const BaseShader upsample{"volume_upsample", "blit.vert",
                                      std::string(ShaderComposer::fullscreenVertex()), "volume_upsample.frag",
                                      nodes::afterVersion(nodes::shaderText("volume_upsample.frag"), units)};
     gl::Program& composite = r.composer().program(upsample, {}, 0);
     r.bindFrameResource(composite, "u_sceneDepth", resources::SceneDepth); // the march's bound it too
-    glBindTextureUnit(kDensityUnit, target.color.get());
-    glBindTextureUnit(kDensityUnit + 1, target.depth.get());
+    r.bindTexture(kDensityUnit, target.color.get());
+    r.bindTexture(kDensityUnit + 1, target.depth.get());
     r.drawFullscreen(composite);
 }
 
@@ -551,25 +556,26 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     }
     const VolumeParameters& p = parameters_;
     setMarchUniforms(program, p, item.model, p.emptySpaceSkipping && function_.empty());
-    glProgramUniform3i(program.get(), program.location("u_maxGridSize"), g.maxSize.x, g.maxSize.y,
-                       g.maxSize.z);
+    program.setInt3("u_maxGridSize", g.maxSize);
     program.set("u_useTransfer", g.transfer ? 1 : 0);
     // A blended volume is drawn after the opaque items, when the scene depth exists; an opaque
     // one (a state of the user's) marches to the far end of the box.
     const bool depth =
         (item.features & FeatureBlend) && r.bindFrameResource(program, "u_sceneDepth", resources::SceneDepth);
     program.set("u_hasSceneDepth", depth ? 1 : 0);
-    glBindTextureUnit(kDensityUnit, g.density.get());
-    glBindTextureUnit(kDensityUnit + 1, g.densityMax.get());
-    glBindTextureUnit(kDensityUnit + 2, g.transfer.get());
+    r.bindTexture(kDensityUnit, g.density.get());
+    r.bindTexture(kDensityUnit + 1, g.densityMax.get());
+    r.bindTexture(kDensityUnit + 2, g.transfer.get());
     if (p.method == VolumeMethod::Slicing) {
         g.drawSlices(r, program, item.model, p);
         return;
     }
+    // GL: the node's own box (36 vertices made in the shader), at full or half resolution; no
+    // command draws a drawable's arrays.
     glBindVertexArray(g.vao.get());
     if (!p.halfResolution || !depth) {
         program.set("u_pixelScale", 1);
-        glDrawArrays(GL_TRIANGLES, 0, 36);
+        glDrawArrays(GL_TRIANGLES, 0, 36); // GL: (see above)
         return;
     }
     g.drawHalf(r, program);

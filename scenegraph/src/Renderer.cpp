@@ -52,13 +52,36 @@ gl::RenderTarget& Renderer::currentTarget() {
 }
 
 void Renderer::bindTexture(unsigned unit, unsigned texture) {
-    if (unit >= gl::StateCache::kUnits)
+    if (unit >= gl::StateCache::kTrackedUnits)
         throw std::invalid_argument("sgfx: texture unit " + std::to_string(unit) + " is out of range");
     impl_->cache.bindTexture(unit, texture);
 }
 
 void Renderer::setBlend(BlendMode mode) {
     impl_->cache.setBlend(mode);
+}
+
+void Renderer::setCull(CullFace face) {
+    impl_->cache.setCull(face);
+}
+
+void Renderer::useProgram(gl::Program& program) {
+    if (impl_->cache.useProgram(program.get())) ++stats_.programChanges;
+}
+
+void Renderer::beginOffscreen(unsigned fbo, glm::ivec2 size) {
+    impl_->cache.beginOffscreen(fbo, size);
+}
+
+void Renderer::clearColour(int attachment, const glm::vec4& value) {
+    // Like glClearBufferfv on the bound framebuffer: the colour mask applies.
+    const unsigned fbo = impl_->cache.framebuffer();
+    if (fbo == ~0u) throw std::logic_error("sgfx: Renderer::clearColour: the bound framebuffer is unknown");
+    glClearNamedFramebufferfv(fbo, GL_COLOR, attachment, &value[0]);
+}
+
+void Renderer::endOffscreen() {
+    impl_->cache.endOffscreen();
 }
 
 void Renderer::resetStateCache() {

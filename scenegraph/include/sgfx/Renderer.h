@@ -190,9 +190,24 @@ public:
     /// G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.
     gl::Program& gbufferProgram();
     /// Binds a texture to a unit through the renderer's state cache (effect units: see above).
+    /// Units 16..31 are a drawable's own (buffer textures, volume data): the renderer never hands
+    /// them out, the cache tracks them all the same.
     void bindTexture(unsigned unit, unsigned texture);
     /// Sets the blend state through the cache (full-screen passes that blend onto the target).
     void setBlend(BlendMode mode);
+    /// For a Drawable's draw: which faces are culled, through the cache (the renderer sets each
+    /// item's faces before its draw, so nothing needs restoring).
+    void setCull(CullFace face);
+    /// Makes `program` current through the cache (an older RenderPass that draws with its own
+    /// vertex arrays, transform feedback).
+    void useProgram(gl::Program& program);
+    /// For a Drawable's draw that renders into a framebuffer of its own first (a half-resolution
+    /// step): draws into `fbo` over (0, 0, size) with blending off; endOffscreen() returns to the
+    /// framebuffer, viewport and blending the draw began with. Not nested.
+    void beginOffscreen(unsigned fbo, glm::ivec2 size);
+    /// Clears a colour attachment of the bound framebuffer (the colour mask applies).
+    void clearColour(int attachment, const glm::vec4& value);
+    void endOffscreen();
     /// Forgets the cached GL state: a pass that set blend, depth or program state directly calls
     /// it before using the renderer's draw functions again.
     void resetStateCache();

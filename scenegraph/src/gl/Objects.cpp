@@ -187,6 +187,16 @@ void Program::set(std::string_view uniform, const UniformValue& v) {
     set(location(uniform), v);
 }
 
+void Program::setUnsigned(std::string_view uniform, std::uint32_t v) {
+    const int loc = location(uniform);
+    if (loc >= 0) glProgramUniform1ui(name_, loc, v);
+}
+
+void Program::setInt3(std::string_view uniform, const glm::ivec3& v) {
+    const int loc = location(uniform);
+    if (loc >= 0) glProgramUniform3i(name_, loc, v.x, v.y, v.z);
+}
+
 void Program::set(int loc, const UniformValue& v) {
     if (loc < 0) return;
     std::visit(

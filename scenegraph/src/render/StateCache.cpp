@@ -121,6 +121,53 @@ void StateCache::setScissor(bool on, const glm::ivec4& rect) {
     scissorRect_ = rect;
 }
 
+void StateCache::beginOffscreen(unsigned fbo, glm::ivec2 size) {
+    Offscreen& o = offscreen_;
+    o.known = framebuffer_ != ~0u && viewport_ != glm::ivec2(-1);
+    if (o.known) {
+        o.framebuffer = framebuffer_;
+        o.viewport = glm::ivec4(0, 0, viewport_);
+    } else {
+        GLint b = 0;
+        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &b);
+        glGetIntegerv(GL_VIEWPORT, &o.viewport[0]);
+        o.framebuffer = unsigned(b);
+    }
+    o.blend = blend_ == -1 ? glIsEnabled(GL_BLEND) == GL_TRUE : blend_ != int(BlendMode::Off);
+    if (fbo != framebuffer_) {
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        framebuffer_ = fbo;
+        ++*stateChanges_;
+    }
+    if (size != viewport_) {
+        glViewport(0, 0, size.x, size.y);
+        viewport_ = size;
+    }
+    if (o.blend) glDisable(GL_BLEND); // blend_ stays: endOffscreen turns the same state back on
+}
+
+void StateCache::endOffscreen() {
+    const Offscreen& o = offscreen_;
+    if (o.blend) glEnable(GL_BLEND);
+    if (o.known) {
+        if (o.framebuffer != framebuffer_) {
+            glBindFramebuffer(GL_FRAMEBUFFER, o.framebuffer);
+            framebuffer_ = o.framebuffer;
+            ++*stateChanges_;
+        }
+        const glm::ivec2 size(o.viewport.z, o.viewport.w);
+        if (size != viewport_) {
+            glViewport(0, 0, size.x, size.y);
+            viewport_ = size;
+        }
+        return;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, o.framebuffer);
+    glViewport(o.viewport.x, o.viewport.y, o.viewport.z, o.viewport.w);
+    framebuffer_ = ~0u;
+    viewport_ = glm::ivec2(-1);
+}
+
 void StateCache::invalidate() {
     scissor_ = -1;
     framebuffer_ = ~0u;

@@ -7,15 +7,17 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cstddef>
 #include <utility>
 #include <vector>
-#include <cstddef>
 
 namespace sgfx::gl {
 
 class StateCache {
 public:
-    static constexpr std::size_t kUnits = 16; ///< texture units tracked (0..15)
+    static constexpr std::size_t kUnits = 16; ///< texture units the renderer hands out (0..15)
+    /// Units tracked: 16..31 are a drawable's own (buffer textures, volume data), never handed out.
+    static constexpr std::size_t kTrackedUnits = 32;
 
     /// Where real changes are counted (the renderer's FrameStats::stateChanges).
     explicit StateCache(std::size_t& stateChanges)
@@ -37,6 +39,11 @@ public:
     void setBlendPerAttachment(const std::vector<std::pair<unsigned, unsigned>>& factors);
     /// Scissor test on `rect` (x, y, w, h), or off when `on` is false.
     void setScissor(bool on, const glm::ivec4& rect = glm::ivec4(0));
+    /// Draws into `fbo` over (0, 0, size) with blending off, keeping the sRGB setting (a drawable's
+    /// own off-screen step); endOffscreen() returns to the framebuffer, viewport and blending that
+    /// were current (a blend mode or per-attachment factors alike). Not nested.
+    void beginOffscreen(unsigned fbo, glm::ivec2 size);
+    void endOffscreen();
     /// The depth state was set behind the cache (glDepthMask before a clear).
     void forgetDepth() { depthKnown_ = false; }
     /// Forgets everything: GL state was changed behind the cache (a pass, another library).
@@ -48,11 +55,17 @@ private:
     int cull_ = -1;
     DepthState depth_{};
     bool depthKnown_ = false;
-    std::array<unsigned, kUnits> units_{};
+    std::array<unsigned, kTrackedUnits> units_{};
     unsigned framebuffer_ = ~0u;
     glm::ivec2 viewport_{-1};
     int srgb_ = -1, colourMask_ = -1, scissor_ = -1;
     glm::ivec4 scissorRect_{0};
+    struct Offscreen {
+        unsigned framebuffer = ~0u;
+        glm::ivec4 viewport{0}; // x, y, w, h
+        bool known = false;     // framebuffer and viewport were the cache's (else queried)
+        bool blend = false;     // blending was on
+    } offscreen_;
     std::size_t* stateChanges_;
 };
 

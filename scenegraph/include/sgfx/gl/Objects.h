@@ -96,6 +96,9 @@ public:
     int location(std::string_view uniform);
     void set(std::string_view uniform, const UniformValue& v);
     void set(int location, const UniformValue& v);
+    /// Types a StateSet's uniforms do not carry: `uint` and `ivec3` uniforms.
+    void setUnsigned(std::string_view uniform, std::uint32_t v);
+    void setInt3(std::string_view uniform, const glm::ivec3& v);
 
     /// Renderer bookkeeping: which frame's per-program uniforms were last uploaded.
     std::uint64_t frameStamp = 0;
