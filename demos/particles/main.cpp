@@ -13,6 +13,7 @@
 // queries, which llvmpipe fills unreliably)
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
@@ -199,7 +200,8 @@ int main(int argc, char** argv) try {
             systems[0]->queueStep(1.0f / 30.0f);
             glFinish();
             const auto t0 = std::chrono::steady_clock::now();
-            systems[0]->simulate(viewer->renderer());
+            viewer->renderer().runCommands("particles: simulate",
+                                           [&](sgfx::PassCommands& c) { systems[0]->simulate(c); });
             glFinish();
             sim.push_back(
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());

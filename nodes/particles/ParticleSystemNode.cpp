@@ -3,6 +3,7 @@
 #include "ParameterChecks.h"
 
 #include <sgfx/FrameSetup.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Material.h>
 #include <sgfx/Renderer.h>
@@ -264,26 +265,20 @@ struct ParticleSystemNode::Gpu {
     }
 
     // Binds copy `c` from particle `first` on as the transform feedback targets.
-    void bindFeedback(int c, std::uint32_t first, std::uint32_t count) const {
+    // What a transform feedback into particles [first, first + count) of copy `c` writes.
+    std::vector<FeedbackBuffer> feedback(int c, std::uint32_t first, std::uint32_t count) const {
+        std::vector<FeedbackBuffer> out;
         for (int s = 0; s < streams(); ++s)
-            // GL: transform feedback targets; the renderer has no transform feedback command.
-            glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s),
-                              buffers[std::size_t(c)][std::size_t(s)].get(), GLintptr(first) * stride(s),
-                              GLsizeiptr(count) * stride(s));
-    }
-    void unbindFeedback() const {
-        for (int s = 0; s < streams(); ++s)
-            glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(s), 0); // GL: as bindFeedback
+            out.push_back({buffers[std::size_t(c)][std::size_t(s)].get(), std::size_t(first) * std::size_t(stride(s)),
+                           std::size_t(count) * std::size_t(stride(s))});
+        return out;
     }
 };
 
 // ---------------------------------------------------------------- passes
-struct ParticleSystemNode::Pass : RenderPass {
-    explicit Pass(ParticleSystemNode& n)
-        : node(n) {}
-    std::string_view name() const override { return "particles: simulate"; }
-    PassStage stage() const override { return PassStage::Compute; }
-    void execute(Renderer& r) override { node.simulate(r); }
+// The simulation's handle on its node: the frame graph's execute advances the particles (GPU state
+// of the node, changed while the frame executes, never during cull or setup).
+struct ParticleSystemNode::Pass {
     ParticleSystemNode& node;
 };
 
@@ -293,7 +288,7 @@ std::shared_ptr<ParticleSystemNode> ParticleSystemNode::create(const ParticleSet
 }
 
 ParticleSystemNode::ParticleSystemNode(const ParticleSettings& settings)
-    : pass_(std::make_shared<Pass>(*this)) {
+    : pass_(std::make_shared<Pass>(Pass{*this})) {
     settings.validate();
     settings_ = settings;
     // Particles live in world space and move every frame: the node tests its own world bound,
@@ -443,12 +438,12 @@ BoundingSphere ParticleSystemNode::computeBound() const {
     return worldBound(model).transformed(glm::inverse(model));
 }
 
-void ParticleSystemNode::planFrame(FramePlan& plan) const {
-    plan.add(pass_);
-}
-
-// Soft particles read the view's one scene depth (the opaque items' depth) while they draw.
+// The simulation step (seed: transform feedback from M to M') before the view's passes; soft
+// particles read the view's one scene depth (the opaque items' depth) while they draw.
 void ParticleSystemNode::setupFrame(FrameSetup& f) const {
+    f.addPass(
+        "particles: simulate", PassPhase::Compute, [](PassBuilder& b) { b.sideEffect(); },
+        [pass = pass_](PassCommands& c) { pass->node.simulate(c); });
     if (settings_.softness <= 0.0f) return;
     f.requestSceneDepth({.when = PassPhase::AfterOpaque});
     f.sampleInMainPass(std::string(resources::SceneDepth));
@@ -464,9 +459,9 @@ void ParticleSystemNode::releaseGLObjects() {
     resetPending_ = true;
 }
 
-void ParticleSystemNode::simulate(Renderer& r) {
+void ParticleSystemNode::simulate(PassCommands& c) {
     const ParticleSettings& s = settings_;
-    gl::Program& program = r.composer().program(updateShader(s.layout), {}, 0);
+    gl::Program& program = c.program(updateShader(s.layout));
     emitterMatrix_ = lastModel_;
     auto setCommon = [&](float dt) {
         const particles::Emitter& e = s.emitter;
@@ -484,32 +479,19 @@ void ParticleSystemNode::simulate(Renderer& r) {
         program.set("u_carryAge", s.respawn == particles::Respawn::CarryAge ? 1 : 0);
         program.set("u_reflect", s.bounce == particles::RotationBounce::Reflect ? 1 : 0);
     };
-    r.useProgram(program);
-    // Draws check the framebuffer even with rasterization off: the renderer binds the view's
-    // target (complete) through its cache before every RenderPass it runs.
-    // GL: the simulation only writes buffers (transform feedback): no rasterizing, a state the
-    // renderer's cache does not hold; turned off again at the end of simulate.
-    glEnable(GL_RASTERIZER_DISCARD);
     // Sets up particles [first, first + count) of copy `c` by the start mode `init` (1..3).
-    auto initialise = [&](int c, int init, std::uint32_t first, std::uint32_t count) {
+    auto initialise = [&](int copy, int init, std::uint32_t first, std::uint32_t count) {
         setCommon(0.0f);
         program.set("u_init", init);
         program.setUnsigned("u_initFirst", first);
         program.setUnsigned("u_initCount", count);
-        // GL: one transform feedback step over the node's own vertex array (no attributes here);
-        // the renderer has no transform feedback command.
-        glBindVertexArray(gpu_->emptyVao.get());
-        gpu_->bindFeedback(c, first, count);
-        glBeginTransformFeedback(GL_POINTS);
-        glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
-        glEndTransformFeedback();
-        gpu_->unbindFeedback();
+        c.transformFeedback(program, gpu_->emptyVao.get(), gpu_->feedback(copy, first, count), first, count);
     };
 
     if (!gpu_ || gpu_->capacity != s.capacity || gpu_->layout != s.layout) {
         auto next = std::make_unique<Gpu>();
         if (!next->allocate(s.layout, s.capacity)) {
-            r.warn("sgfx: ParticleSystemNode '" + name + "': the driver could not allocate " +
+            c.warn("sgfx: ParticleSystemNode '" + name + "': the driver could not allocate " +
                    std::to_string(std::uint64_t(s.capacity) * 2 * kRecordBytes) + " bytes for " +
                    std::to_string(s.capacity) + " particles; keeping " +
                    std::to_string(gpu_ ? gpu_->capacity : 0));
@@ -565,20 +547,13 @@ void ParticleSystemNode::simulate(Renderer& r) {
             ++step_;
             setCommon(dt);
             const int src = gpu_->current, dst = 1 - src;
-            // GL: one simulation step, M to M' by transform feedback (as in initialise).
-            glBindVertexArray(gpu_->pointVao[std::size_t(src)].get());
-            gpu_->bindFeedback(dst, 0, gpu_->capacity);
-            glBeginTransformFeedback(GL_POINTS);
-            glDrawArrays(GL_POINTS, 0, GLsizei(gpu_->capacity));
-            glEndTransformFeedback();
-            gpu_->unbindFeedback();
+            // One simulation step: M to M' (the seed's transform feedback).
+            c.transformFeedback(program, gpu_->pointVao[std::size_t(src)].get(),
+                                gpu_->feedback(dst, 0, gpu_->capacity), 0, gpu_->capacity);
             gpu_->current = dst; // M' becomes M (seed: the pointers swap)
         }
     }
     pendingSteps_.clear();
-    // GL: no vertex array left bound, rasterizing back on (set at the start of simulate).
-    glBindVertexArray(0);
-    glDisable(GL_RASTERIZER_DISCARD);
 }
 
 std::vector<ParticleRecord> ParticleSystemNode::readRecords() const {

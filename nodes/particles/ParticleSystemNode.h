@@ -19,6 +19,7 @@
 namespace sgfx {
 
 class StateSet;
+class PassCommands;
 
 /// The polygons each particle becomes.
 enum class ParticleShape : std::uint8_t {
@@ -119,7 +120,6 @@ public:
     const BaseShader& baseShader() const override;
     std::uint32_t features(const ResolvedState& state) const override;
     BoundingSphere worldBound(const glm::mat4& model) const override;
-    void planFrame(FramePlan& plan) const override;
     void setupFrame(FrameSetup& frame) const override;
     void update(UpdateVisitor& uv) override;
     void draw(Renderer& renderer, gl::Program& program, const RenderItem& item) const override;
@@ -127,7 +127,7 @@ public:
     void releaseGLObjects() override;
 
     /// Runs the queued steps (the simulation pass calls it; GL thread).
-    void simulate(Renderer& renderer);
+    void simulate(PassCommands& commands);
 
     /// Default state for a shape: lit material, blending as the presets use it, double-sided.
     static std::shared_ptr<StateSet> defaultState();

@@ -11,6 +11,7 @@
 
 #include <initializer_list>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace sgfx {
@@ -32,6 +33,12 @@ struct FullscreenState {
 struct AttachmentBlend {
     enum class Factor : std::uint8_t { Zero, One, SrcColour, OneMinusSrcColour, SrcAlpha, OneMinusSrcAlpha };
     Factor source = Factor::One, destination = Factor::Zero;
+};
+
+/// A buffer range a transform feedback writes (its binding index is its place in the list).
+struct FeedbackBuffer {
+    unsigned buffer = 0;
+    std::size_t offset = 0, size = 0; ///< bytes
 };
 
 class PassCommands {
@@ -72,15 +79,28 @@ public:
     void depthState(const DepthState& depth);
     /// Limits the pass's draws to (x, y, width, height) in pixels; reset when the pass ends.
     void scissor(const glm::ivec4& rect);
+    /// Runs `program` over `count` points from `first` of `vertexArray` with rasterization off,
+    /// capturing its vertex outputs into `outputs` (transform feedback; GPU particle simulation).
+    void transformFeedback(gl::Program& program, unsigned vertexArray, std::span<const FeedbackBuffer> outputs,
+                           std::uint32_t first, std::uint32_t count);
+    /// Runs a compute program over `groups` work groups; its writes are visible to every later
+    /// command (a full memory barrier).
+    void dispatch(gl::Program& program, const glm::uvec3& groups);
+    /// Binds a single-sample resource as image `unit`'s write target of a compute program
+    /// (`layout(binding = N)` images are numbered by the program; the pass writes the resource).
+    void bindImage(gl::Program& program, std::string_view image, ResourceId id);
+    /// A warning for Renderer::takeWarnings (a setting the pass could not honour).
+    void warn(std::string message);
     /// Copies depth `from` into `to` (a multisample source is resolved, one sample per pixel).
     void copyDepth(ResourceId from, ResourceId to);
 
 private:
     unsigned nextUnit();
+    unsigned nextImageUnit();
     Renderer& renderer_;
     const FrameGraph& graph_;
     std::string_view pass_;
-    unsigned units_ = 0;
+    unsigned units_ = 0, images_ = 0;
 };
 
 } // namespace sgfx

@@ -5,6 +5,7 @@
 
 #include <glm/glm.hpp>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +15,7 @@
 namespace sgfx {
 
 class Camera;
+class PassCommands;
 class Drawable;
 class EffectNode;
 class GraphicsContext;
@@ -185,6 +187,9 @@ public:
     /// on a unit the renderer picks. Returns false, binding nothing, when the frame has no such
     /// resource or it is not alive in the pass being drawn (a depth pre-pass before its producer).
     bool bindFrameResource(gl::Program& program, std::string_view uniform, std::string_view resource);
+    /// Runs `commands` outside a frame, as a pass with no frame resources (tools and benchmarks
+    /// that time one step alone, such as a particle simulation).
+    void runCommands(std::string_view name, const std::function<void(PassCommands&)>& commands);
     /// Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
     gl::Program& depthOnlyProgram();
     /// G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.

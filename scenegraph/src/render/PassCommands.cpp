@@ -1,6 +1,7 @@
 #include "sgfx/PassCommands.h"
 
 #include "render/RendererImpl.h"
+#include "sgfx/GraphicsContext.h"
 #include "sgfx/gl/Objects.h"
 
 #include <glad/gl.h>
@@ -141,6 +142,63 @@ void PassCommands::depthState(const DepthState& depth) {
 
 void PassCommands::scissor(const glm::ivec4& rect) {
     renderer_.impl_->cache.setScissor(true, rect);
+}
+
+void PassCommands::transformFeedback(gl::Program& program, unsigned vertexArray,
+                                     std::span<const FeedbackBuffer> outputs, std::uint32_t first,
+                                     std::uint32_t count) {
+    Renderer::Impl& s = *renderer_.impl_;
+    // Draws check the framebuffer even with rasterization off: the view's (complete) target.
+    const gl::RenderTarget& view = *s.current;
+    s.cache.bindFramebuffer(view.fbo.get(), {view.width, view.height}, true);
+    if (s.cache.useProgram(program.get())) ++renderer_.stats_.programChanges;
+    glEnable(GL_RASTERIZER_DISCARD);
+    glBindVertexArray(vertexArray);
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+        glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(i), outputs[i].buffer, GLintptr(outputs[i].offset),
+                          GLsizeiptr(outputs[i].size));
+    glBeginTransformFeedback(GL_POINTS);
+    glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
+    glEndTransformFeedback();
+    // Nothing left bound: Mesa would keep a buffer bound to an indexed binding alive past its owner.
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+        glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(i), 0);
+    glBindVertexArray(0);
+    glDisable(GL_RASTERIZER_DISCARD);
+}
+
+void PassCommands::dispatch(gl::Program& program, const glm::uvec3& groups) {
+    Renderer::Impl& s = *renderer_.impl_;
+    if (s.cache.useProgram(program.get())) ++renderer_.stats_.programChanges;
+    glDispatchCompute(groups.x, groups.y, groups.z);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+
+void PassCommands::bindImage(gl::Program& program, std::string_view image, ResourceId id) {
+    const ResolvedDesc& d = graph_.resolved(id);
+    if (d.samples != 1)
+        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass_) + "' binds the multisampled '" +
+                               graph_.resourceName(id) + "' as an image");
+    const unsigned unit = nextImageUnit();
+    glBindImageTexture(unit, aliveTexture(graph_, id, pass_), 0, GL_FALSE, 0, GL_READ_WRITE, d.format);
+    program.set(image, int(unit));
+}
+
+unsigned PassCommands::nextImageUnit() {
+    if (images_ >= 8)
+        throw std::runtime_error("sgfx: frame graph pass '" + std::string(pass_) + "' binds more than 8 images");
+    return images_++;
+}
+
+void PassCommands::warn(std::string message) {
+    renderer_.warn(std::move(message));
+}
+
+void Renderer::runCommands(std::string_view name, const std::function<void(PassCommands&)>& commands) {
+    context_.assertOwnerThread();
+    static const FrameGraph none;
+    PassCommands c(*this, none, name);
+    commands(c);
 }
 
 void PassCommands::copyDepth(ResourceId from, ResourceId to) {
