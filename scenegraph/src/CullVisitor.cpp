@@ -230,7 +230,6 @@ void CullVisitor::apply(EffectNode& e) {
     effectSet_.push_back(queue_.internEffectSet(std::move(set)));
     if (plan_ && planned_.insert(&e).second) {
         plan_->effects.push_back(&e);
-        e.planFrame(*plan_);
     }
     traverseWithState(e);
     effectSet_.pop_back();
@@ -279,7 +278,6 @@ void CullVisitor::apply(Drawable& d) {
                                            queue_.effectSets[item.effectSet].signature, item.features);
         if (plan_ && plannedDrawables_.insert(&d).second) {
             plan_->drawables.push_back(&d);
-            d.planFrame(*plan_);
         }
         queue_.opaque.push_back(item);
         popState(d);
@@ -306,7 +304,6 @@ void CullVisitor::apply(Drawable& d) {
                                    (transparent ? std::uint32_t(FeatureBlend) : 0u);
     if (plan_ && plannedDrawables_.insert(&d).second) {
         plan_->drawables.push_back(&d);
-        d.planFrame(*plan_);
     }
     queueItem(nullptr, &d, features, *state, vs, ProgramSource::Drawable,
               queue_.programKeys.base(&d.baseShader()), false);

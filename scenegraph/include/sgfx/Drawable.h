@@ -36,7 +36,6 @@ public:
     /// Once per frame and view while visible: passes it needs (simulation, depth copies).
     /// See EffectNode::setupFrame.
     virtual void setupFrame(FrameSetup&) const {}
-    virtual void planFrame(FramePlan&) const {}
     /// The update traversal (Viewer::frame): clocks, emitters.
     virtual void update(UpdateVisitor&) {}
     /// Issues its draw calls. `program` is bound with the effects' uniforms, the material's and

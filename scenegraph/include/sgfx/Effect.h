@@ -54,9 +54,6 @@ public:
     /// Called once per view and frame while the node is visible: declares the passes the effect
     /// adds and what they read and write (see FrameSetup.h). No GL, no change to the node.
     virtual void setupFrame(FrameSetup&) const {}
-    /// The older form of setupFrame: whole passes that manage their own GL (deprecated; passes
-    /// added here run as frame-graph passes that are never culled).
-    virtual void planFrame(FramePlan&) const {}
     /// Sets this effect's uniforms on a program that contains its snippet.
     virtual void applyUniforms(gl::Program&, const DrawContext&) const {}
     /// Whether this effect draws the blended items below it that use `mode` itself (in a pass of

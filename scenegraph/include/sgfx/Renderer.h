@@ -41,13 +41,6 @@ struct DrawContext {
     const RenderItem& item;
 };
 
-/// When a pass runs: Compute and PrePass before the main pass; AfterOpaque between the opaque and
-/// the transparent items (the background is final, nothing blended over it yet); Transparent after
-/// that, for passes that draw blended items themselves (RenderQueue::claimed), before the sorted
-/// transparent items; Post at the end.
-enum class PassStage : std::uint8_t { Compute, PrePass, AfterOpaque, Transparent, Post };
-
-/// How Renderer::drawItems treats each item's state.
 enum class DrawMode : std::uint8_t {
     Main,      ///< the item's blend, depth and faces (blended items: depth writes off unless asked)
     DepthOnly, ///< no colour writes, no blending, depth test and write on for every item
@@ -57,38 +50,14 @@ enum class DrawMode : std::uint8_t {
 };
 static_assert(ProgramKey::Mode.fits(std::uint64_t(DrawMode::GBuffer)), "DrawMode outgrew ProgramKey::Mode");
 
-/// Texture units 12..15 belong to effects (user textures of a StateSet use 4..11). An effect binds
-/// its textures there through Renderer::bindTexture and declares `layout(binding = N)` samplers.
-/// Textures the materials read during the main pass keep their unit for the whole frame: 12 fog
-/// depth (split mode), 13 ambient occlusion map; 14 and 15 are for a pass's own use (OIT). A pass
-/// may also use units 0..3 for its own inputs: the materials rebind them after every pass.
-inline constexpr unsigned kEffectTextureUnit = 12;
-inline constexpr unsigned kEffectTextureUnits = 4;
-
-/// Work an effect adds to a frame (pre-passes before the main pass, post-passes after it).
-class RenderPass {
-public:
-    virtual ~RenderPass() = default;
-    virtual std::string_view name() const = 0;
-    virtual PassStage stage() const = 0;
-    virtual void execute(Renderer& renderer) = 0;
-};
-
-/// Passes requested for this frame by the visible effects (each at most once).
+/// The visible effects and drawables of a view, each once, in cull order (outer first): the
+/// renderer calls their setupFrame for the view (EffectNode::setupFrame, FrameSetup.h).
 class FramePlan {
 public:
-    void add(std::shared_ptr<RenderPass> pass);
-    /// Whether a pass with this name is already planned: effects whose passes must run once per
-    /// view (a shared pre-pass, a full-screen pass) check it, so the outermost node's pass wins.
-    bool has(std::string_view name) const;
     void clear() {
-        passes.clear();
         effects.clear();
         drawables.clear();
     }
-    std::vector<std::shared_ptr<RenderPass>> passes;
-    /// The visible effects and drawables, each once, in cull order (outer first): the renderer
-    /// calls their setupFrame for the view.
     std::vector<const EffectNode*> effects;
     std::vector<const Drawable*> drawables;
 };

@@ -152,7 +152,7 @@ void Renderer::DrawList::begin(std::span<const RenderItem> items) {
     if (depthOnly) {
         s.cache.setBlend(BlendMode::Off);
         s.cache.setDepth(DepthState{});
-        s.firstResourceUnit = kEffectTextureUnit; // no effect samplers: drawables bind from here
+        s.firstResourceUnit = render::kFirstFrameResourceUnit; // no effect samplers: drawables bind from here
     }
     // The model matrices of every batch of this list, uploaded at once (one buffer write per
     // list: writing per batch, or changing vertex layouts per batch, stalls llvmpipe).
@@ -287,7 +287,7 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
     if (depthOnly || item.effectSet == effectSet) return;
     effectSet = item.effectSet;
     const DrawContext ctx{r.frame_, item};
-    unsigned unit = kEffectTextureUnit;
+    unsigned unit = render::kFirstFrameResourceUnit;
     s.firstResourceUnit = unit;
     for (const EffectNode* e : r.current_->effectSets[effectSet].effects) {
         e->applyUniforms(*program, ctx);
@@ -296,7 +296,7 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
             if (unit >= gl::StateCache::kUnits)
                 throw std::runtime_error(
                     "sgfx: the effects above '" + item.node().name + "' sample more than " +
-                    std::to_string(gl::StateCache::kUnits - kEffectTextureUnit) + " frame resources");
+                    std::to_string(gl::StateCache::kUnits - render::kFirstFrameResourceUnit) + " frame resources");
             s.cache.bindTexture(unit,
                                 s.graph ? s.graph->texture(s.graph->blackboard.get(sampler.resource)) : 0);
             program->set(sampler.uniform, int(unit++));
@@ -320,7 +320,7 @@ void Renderer::DrawList::applyItemState(const RenderItem& item) {
     }
     unsigned unit = FirstUserUnit;
     for (const auto& [name, tex] : state->textures) {
-        if (!tex.value || !*tex.value || unit >= kEffectTextureUnit) continue;
+        if (!tex.value || !*tex.value || unit >= render::kFirstFrameResourceUnit) continue;
         s.cache.bindTexture(unit, render::textureFor(**tex.value));
         program->set(name, int(unit++));
     }

@@ -24,15 +24,6 @@
 
 namespace sgfx {
 
-void FramePlan::add(std::shared_ptr<RenderPass> pass) {
-    if (pass && std::find(passes.begin(), passes.end(), pass) == passes.end())
-        passes.push_back(std::move(pass));
-}
-
-bool FramePlan::has(std::string_view name) const {
-    return std::any_of(passes.begin(), passes.end(), [&](const auto& p) { return p->name() == name; });
-}
-
 /// One view being drawn, step by step (Renderer::renderView runs the steps in order).
 class Renderer::View {
 public:
@@ -52,7 +43,7 @@ public:
     void executeGraph();
 
 private:
-    void declare(const FrameSetup& setup, PassPhase phase, PassStage legacy);
+    void declare(const FrameSetup& setup, PassPhase phase);
     void declareSceneDepth(const FrameSetup::DepthNeeds& needs);
     void drawSceneDepth(PassCommands& c, const FrameSetup::DepthNeeds& needs);
     void declareMain(bool opaque);
@@ -60,7 +51,6 @@ private:
     void declarePostAa();
     std::vector<std::pair<std::string, std::string>> snippetSamplers(std::span<const RenderItem> items) const;
     void legacyState(bool invalidate, const gl::RenderTarget& target);
-    void runLegacy(RenderPass& pass);
     void drawOpaque();
     void drawTransparent();
     void clearTarget();
@@ -273,37 +263,23 @@ void Renderer::View::buildGraph(int depth) {
         graph_.blackboard.put(std::string(resources::ViewDepth), graph_.blackboard.get(resources::DrawDepth));
     }
     mainReads_ = setup.mainPassReads();
-    declare(setup, PassPhase::Compute, PassStage::Compute);
+    declare(setup, PassPhase::Compute);
     if (setup.depthNeeds().beforeMain) declareSceneDepth(setup.depthNeeds());
-    declare(setup, PassPhase::BeforeMain, PassStage::PrePass);
+    declare(setup, PassPhase::BeforeMain);
     declareMain(true);
     if (setup.depthNeeds().any && !setup.depthNeeds().beforeMain) declareSceneDepth(setup.depthNeeds());
-    declare(setup, PassPhase::AfterOpaque, PassStage::AfterOpaque);
-    declare(setup, PassPhase::Transparent, PassStage::Transparent);
+    declare(setup, PassPhase::AfterOpaque);
+    declare(setup, PassPhase::Transparent);
     declareMain(false);
     if (draw_ != &target_) declareResolve();
-    declare(setup, PassPhase::AfterResolve, PassStage::Post);
+    declare(setup, PassPhase::AfterResolve);
     declarePostAa();
     graph_.present(graph_.blackboard.get(resources::ViewColour));
     graph_.compile(info.drawSize, info.viewSize);
 }
 
-// The effects' passes of one phase: first the older RenderPass ones (never culled, they manage
-// their own GL), then those declared through setupFrame.
-void Renderer::View::declare(const FrameSetup& setup, PassPhase phase, PassStage legacy) {
-    for (const std::shared_ptr<RenderPass>& p : plan_.passes) {
-        if (p->stage() != legacy) continue;
-        const bool drawsOnView = legacy != PassStage::Compute && legacy != PassStage::PrePass;
-        graph_.addPass(
-            std::string(p->name()),
-            [&](FrameGraph::Builder& b) {
-                b.sideEffect();
-                if (!drawsOnView) return;
-                PassBuilder pb(b, graph_.blackboard);
-                pb.write(legacy == PassStage::Post ? resources::ViewColour : resources::DrawColour);
-            },
-            [this, p](PassCommands&) { runLegacy(*p); }, "legacy");
-    }
+// The effects' passes of one phase, in the order they were declared.
+void Renderer::View::declare(const FrameSetup& setup, PassPhase phase) {
     for (const FrameSetup::DeclaredPass& p : setup.passes()) {
         if (p.phase != phase) continue;
         graph_.addPass(
@@ -495,13 +471,6 @@ void Renderer::View::legacyState(bool invalidate, const gl::RenderTarget& t) {
     if (invalidate) s_.cache.invalidate();
     s_.cache.bindFramebuffer(t.fbo.get(), {t.width, t.height}, true);
     s_.cache.setColourMask(true);
-}
-
-void Renderer::View::runLegacy(RenderPass& p) {
-    gl::RenderTarget& t = *s_.current;
-    legacyState(false, t);
-    p.execute(r_);
-    legacyState(true, t);
 }
 
 void Renderer::View::drawOpaque() {
