@@ -21,7 +21,7 @@ import os
 import re
 import sys
 
-BUDGET = 65
+BUDGET = 62
 WINDOW = 6
 DIR = "nodes"
 EXTENSIONS = (".cpp", ".h")
