@@ -21,7 +21,7 @@ import os
 import re
 import sys
 
-BUDGET = 52
+BUDGET = 49
 WINDOW = 6
 DIR = "nodes"
 EXTENSIONS = (".cpp", ".h")

@@ -6,16 +6,19 @@
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
 #include <sgfx/FrameSetup.h>
-#include <transparency/TransparencyBin.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
+#include <transparency/TransparencyBin.h>
 #include <volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <regex>
+#include <utility>
+#include <vector>
 
 using namespace sgfx;
 using namespace sgfx::test;
@@ -204,7 +207,8 @@ TEST(FrameGraphRender, ARenderToTextureViewIsAClusterOfItsOwnWithItsOwnSceneDept
     expectNoGlErrors(*v);
     const std::string& dot = v->renderer().lastFrameGraphDot();
     EXPECT_NE(dot.find("subgraph \"cluster_mirror\""), std::string::npos) << dot;
-    EXPECT_EQ(std::count(dot.begin(), dot.end(), '{'), 3) << "the frame, the mirror and the main view\n" << dot;
+    EXPECT_EQ(std::count(dot.begin(), dot.end(), '{'), 3) << "the frame, the mirror and the main view\n"
+                                                          << dot;
     const auto depths = dotNodes(dot, "scene.depth");
     ASSERT_EQ(depths.size(), 2u) << dot;
     EXPECT_NE(dot.find("scene.depth\\nD32F 32x32"), std::string::npos) << "the mirror's own size\n" << dot;
@@ -270,7 +274,8 @@ FloatImage renderWithEffects(bool probe) {
         root->addChild(p);
     }
     // And a volume, so every effect that reads the scene's depth is here.
-    auto volumeAt = Transform::create(glm::scale(glm::translate(glm::mat4(1.0f), {-8, 25, 2}), glm::vec3(3.0f)));
+    auto volumeAt =
+        Transform::create(glm::scale(glm::translate(glm::mat4(1.0f), {-8, 25, 2}), glm::vec3(3.0f)));
     volumeAt->addChild(VolumeNode::create({}, VolumeGrid::sphere(8)));
     fog->addChild(volumeAt);
     v->setSceneData(root);
@@ -289,7 +294,8 @@ TEST(FrameGraphRender, AFifthEffectReadsTwoResourcesAndNothingElseChanges) {
     // The probe panel's centre: x = 6 at distance 20 from an eye looking along +Y, 60° fov.
     const double n = 0.5, f = 500.0, z = 20.0;
     const double window = 0.5 * ((f + n) / (f - n) - 2.0 * f * n / ((f - n) * z)) + 0.5;
-    const int px = int(std::lround(kSize * (0.5 + 0.5 * (6.0 / z) / std::tan(glm::radians(30.0))))), py = kSize / 2;
+    const int px = int(std::lround(kSize * (0.5 + 0.5 * (6.0 / z) / std::tan(glm::radians(30.0))))),
+              py = kSize / 2;
     const float* probe = &with.rgba[(std::size_t(py) * kSize + std::size_t(px)) * 4];
     EXPECT_NEAR(probe[0], z / 64.0, 1e-4) << "the occlusion map's linear depth";
     EXPECT_NEAR(probe[1], window, 1e-5) << "the scene depth";
@@ -336,4 +342,76 @@ TEST(FrameGraphRender, TwoSoftSystemsAndAVolumeShareOneSceneDepth) {
     EXPECT_EQ(v->renderer().stats().geometryPasses, 1u);
     EXPECT_EQ(v->renderer().renderTargetBytes(), std::size_t(kSize) * kSize * 4)
         << "one D32F at the view's size";
+}
+
+// A half-resolution volume marches into two targets of the renderer's pool, made for the main
+// pass's transparent items at half the draw target's size (odd sides rounding down); two volumes
+// get a pair each, and a full-resolution one none.
+TEST(FrameGraphRender, HalfResolutionVolumesDrawIntoPoolTargetsOfTheMainPass) {
+    constexpr int w = 65, h = 63; // odd: 32x31 when rounding down, 33x32 up
+    auto render = [&](int volumes, bool half) {
+        auto v = Viewer::createHeadless(w, h);
+        v->camera()->setPerspective(60.0f, 0.5f, 500.0f);
+        v->camera()->setLookAt({0, 0, 3}, {0, 10, 3}, {0, 0, 1});
+        v->camera()->computeNearFar = false;
+        auto root = Group::create();
+        root->addChild(panel(400, 80, {0.9f, 0.3f, 0.1f}));
+        std::vector<std::shared_ptr<VolumeNode>> nodes;
+        for (int i = 0; i < volumes; ++i) {
+            VolumeParameters vp;
+            vp.size = glm::vec3(4.0f);
+            vp.halfResolution = half;
+            nodes.push_back(VolumeNode::create(vp, VolumeGrid::sphere(16)));
+            auto t = Transform::create(glm::translate(glm::mat4(1.0f), {i == 0 ? -3.0f : 3.0f, 20, 3}));
+            t->addChild(nodes.back());
+            root->addChild(t);
+        }
+        v->setSceneData(root);
+        for (int i = 0; i < 3; ++i)
+            v->frame(1.0 / 30.0);
+        expectNoGlErrors(*v);
+        return std::pair(std::move(v), std::move(nodes));
+    };
+    const std::size_t depthBytes = std::size_t(w) * h * 4;                // the scene depth (D32F)
+    const std::size_t pairBytes = std::size_t(w / 2) * (h / 2) * (8 + 4); // RGBA16F + R32F
+    auto name = [](const std::shared_ptr<VolumeNode>& n, const char* what) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "volume.%s@%p", what, static_cast<const void*>(n.get()));
+        return std::string(buf);
+    };
+    std::size_t fullCalls = 0;
+    {
+        auto [v, nodes] = render(1, false);
+        const std::string& dot = v->renderer().lastFrameGraphDot();
+        EXPECT_EQ(dot.find("volume.half"), std::string::npos) << "full resolution: no targets\n" << dot;
+        EXPECT_EQ(v->renderer().renderTargetBytes(), depthBytes);
+        fullCalls = v->renderer().stats().drawCalls; // the wall and the volume
+    }
+    for (int volumes : {1, 2}) {
+        auto [v, nodes] = render(volumes, true);
+        const std::string& dot = v->renderer().lastFrameGraphDot();
+        const auto transparent = dotNodes(dot, "main: transparent");
+        ASSERT_EQ(transparent.size(), 1u) << dot;
+        EXPECT_FALSE(transparent[0].dashed) << dot;
+        for (const auto& n : nodes)
+            for (const auto& [what, format] :
+                 {std::pair("halfColour", "RGBA16F"), std::pair("halfDepth", "R32F")}) {
+                const std::string resource = name(n, what);
+                const auto found = dotNodes(dot, resource);
+                ASSERT_EQ(found.size(), 1u) << resource << "\n" << dot;
+                const std::string label = resource + "\\n" + format + " " + std::to_string(w / 2) + "x" +
+                                          std::to_string(h / 2) + " [slot ";
+                EXPECT_NE(dot.find("label=\"" + label), std::string::npos) << "a pool resource at half size\n"
+                                                                           << dot;
+                EXPECT_EQ(edgesInto(dot, found[0].id), 1u) << resource << ": one writer\n" << dot;
+                EXPECT_TRUE(hasEdge(dot, transparent[0].id, found[0].id))
+                    << resource << " written by main: transparent\n"
+                    << dot;
+            }
+        EXPECT_EQ(v->renderer().renderTargetBytes(), depthBytes + std::size_t(volumes) * pairBytes)
+            << volumes << " volume(s): a pair each";
+        EXPECT_EQ(v->renderer().stats().drawCalls,
+                  fullCalls + std::size_t(volumes - 1) + std::size_t(volumes))
+            << "each volume marched into its targets and upsampled them";
+    }
 }

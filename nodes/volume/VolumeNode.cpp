@@ -1,7 +1,6 @@
 #include "volume/VolumeNode.h"
 
 #include "ParameterChecks.h"
-#include "TargetCache.h"
 
 #include <sgfx/FrameSetup.h>
 #include <sgfx/Image.h>
@@ -13,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -230,14 +230,6 @@ struct VolumeNode::Gpu {
     gl::TextureObject density, densityMax, transfer;
     gl::VertexArrayObject vao;
     glm::ivec3 maxSize{1};
-    // Half resolution: premultiplied colour and the linear depth where each ray stopped.
-    struct Half {
-        int width = 0, height = 0;
-        gl::TextureObject color, depth;
-        gl::FramebufferObject fbo;
-        std::uint64_t lastUse = 0;
-    };
-    nodes::TargetCache<Half> half;
     gl::BufferObject sliceVertices;
     gl::VertexArrayObject sliceVao;
     std::size_t sliceCapacity = 0;
@@ -246,8 +238,9 @@ struct VolumeNode::Gpu {
     void uploadGrid(const VolumeGrid& grid, const Image* ramp);
     /// View-aligned slices through the box, blended back to front (VolumeMethod::Slicing).
     void drawSlices(Renderer& r, gl::Program& program, const glm::mat4& model, const VolumeParameters& p);
-    /// The march at half resolution, then upsampled onto the view by depth.
-    void drawHalf(Renderer& r, gl::Program& program);
+    /// The march at half resolution into the frame resources `colour` and `depth`, then
+    /// upsampled onto the view by depth; false when they are not alive in this pass.
+    bool drawHalf(Renderer& r, gl::Program& program, const std::string& colour, const std::string& depth);
 };
 
 namespace {
@@ -380,10 +373,24 @@ BoundingSphere VolumeNode::computeBound() const {
     return s;
 }
 
-// The march stops at the view's one scene depth (the opaque items' depth), read while it draws.
+// The blackboard names of this node's half-resolution targets (several volumes may be drawn in
+// one view): premultiplied colour, and the linear depth where each ray stopped.
+std::string VolumeNode::halfName(const char* what) const {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "volume.%s@%p", what, static_cast<const void*>(this));
+    return buf;
+}
+
+// The march stops at the view's one scene depth (the opaque items' depth), read while it draws;
+// at half resolution it draws into two targets of the renderer's pool first (half the draw
+// target's size, odd sides rounding down).
 void VolumeNode::setupFrame(FrameSetup& f) const {
     f.requestSceneDepth({.when = PassPhase::AfterOpaque});
     f.sampleInMainPass(std::string(resources::SceneDepth));
+    if (!parameters_.halfResolution || parameters_.method != VolumeMethod::Raymarch) return;
+    const SizeRule half = SizeRule::half(SizeRule::Round::Down);
+    f.offscreenTargetInMainPass(halfName("halfColour"), {.format = format::Rgba16F, .size = half});
+    f.offscreenTargetInMainPass(halfName("halfDepth"), {.format = format::R32F, .size = half});
 }
 
 void VolumeNode::releaseGLObjects() {
@@ -506,28 +513,12 @@ void VolumeNode::Gpu::drawSlices(Renderer& r, gl::Program& program, const glm::m
     glDrawArrays(GL_TRIANGLES, 0, GLsizei(tris.size()));
 }
 
-void VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program) {
-    // Half resolution: march into a half-size target, then upsample onto the view by depth.
-    const gl::RenderTarget& view = r.currentTarget();
-    const int w = std::max(1, view.width / 2), h = std::max(1, view.height / 2);
-    Half& target = half.get(
-        r.frame().frameNumber, [&](const Half& e) { return e.width == w && e.height == h; },
-        [&](Half& e) {
-            e.width = w;
-            e.height = h;
-            e.color = gl::createTexture2D(GL_RGBA16F, w, h);
-            e.depth = gl::createTexture2D(GL_R32F, w, h);
-            e.fbo = gl::createFramebuffer();
-            // GL: the half-size target's framebuffer (colour and ray depth), made once per size;
-            // the node owns it (not a frame-graph resource: a drawable cannot declare one).
-            glNamedFramebufferTexture(e.fbo.get(), GL_COLOR_ATTACHMENT0, e.color.get(), 0);
-            glNamedFramebufferTexture(e.fbo.get(), GL_COLOR_ATTACHMENT1, e.depth.get(), 0);
-            const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-            glNamedFramebufferDrawBuffers(e.fbo.get(), 2, buffers);
-        });
+bool VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program, const std::string& colour,
+                               const std::string& depth) {
+    // Half resolution: march into the half-size targets, then upsample onto the view by depth.
     // One back face per pixel: written, not blended (beginOffscreen turns blending off, and
     // endOffscreen back on, the renderer's premultiplied blending, for the composite).
-    r.beginOffscreen(target.fbo.get(), {w, h});
+    if (!r.beginOffscreen({colour, depth})) return false;
     r.clearColour(0, glm::vec4(0.0f));
     r.clearColour(1, glm::vec4(0.0f));
     program.set("u_pixelScale", 2);
@@ -539,9 +530,10 @@ void VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program) {
                                      nodes::afterVersion(nodes::shaderText("volume_upsample.frag"), units)};
     gl::Program& composite = r.composer().program(upsample, {}, 0);
     r.bindFrameResource(composite, "u_sceneDepth", resources::SceneDepth); // the march's bound it too
-    r.bindTexture(kDensityUnit, target.color.get());
-    r.bindTexture(kDensityUnit + 1, target.depth.get());
+    r.bindTexture(kDensityUnit, r.frameResourceTexture(colour));
+    r.bindTexture(kDensityUnit + 1, r.frameResourceTexture(depth));
     r.drawFullscreen(composite);
+    return true;
 }
 
 void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {
@@ -573,12 +565,12 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
     // GL: the node's own box (36 vertices made in the shader), at full or half resolution; no
     // command draws a drawable's arrays.
     glBindVertexArray(g.vao.get());
-    if (!p.halfResolution || !depth) {
-        program.set("u_pixelScale", 1);
-        glDrawArrays(GL_TRIANGLES, 0, 36); // GL: (see above)
+    // At half resolution while its targets are alive (the main pass's transparent items), else
+    // at full resolution.
+    if (p.halfResolution && depth && g.drawHalf(r, program, halfName("halfColour"), halfName("halfDepth")))
         return;
-    }
-    g.drawHalf(r, program);
+    program.set("u_pixelScale", 1);
+    glDrawArrays(GL_TRIANGLES, 0, 36); // GL: (see above)
 }
 
 } // namespace sgfx

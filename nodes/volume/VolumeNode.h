@@ -113,6 +113,7 @@ protected:
 
 private:
     struct Gpu;
+    std::string halfName(const char* what) const;
     VolumeParameters parameters_;
     VolumeGrid grid_;
     std::string function_;

@@ -48,6 +48,16 @@ void FrameSetup::requestSceneDepth(const SceneDepthRequest& r) {
     depth_.positions = depth_.positions || r.positions;
 }
 
+void FrameSetup::offscreenTargetInMainPass(std::string name, const TextureDesc& desc) {
+    for (const auto& [n, d] : mainTargets_)
+        if (n == name) {
+            if (d == desc) return;
+            throw std::logic_error("sgfx: the main pass's offscreen target '" + name +
+                                   "' is asked for twice with different descriptions");
+        }
+    mainTargets_.emplace_back(std::move(name), desc);
+}
+
 void FrameSetup::addPass(std::string name, PassPhase phase, Setup setup, FrameGraph::Execute execute) {
     if (std::uint8_t(phase) > std::uint8_t(PassPhase::AfterResolve))
         throw std::invalid_argument("sgfx: pass '" + name + "' has an invalid PassPhase " +

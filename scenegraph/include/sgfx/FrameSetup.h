@@ -117,6 +117,13 @@ public:
             mainReads_.push_back(std::move(resource));
     }
     const std::vector<std::string>& mainPassReads() const { return mainReads_; }
+    /// A transient target a drawable draws into during its draw in the main pass (a
+    /// half-resolution step: Renderer::beginOffscreen with resource names): the main pass's
+    /// transparent half creates and writes it, so the renderer's pool makes it for that pass and
+    /// takes it back after; it is published as `name` (Renderer::frameResourceTexture). Asking
+    /// twice for one name with the same description is one target; a different one throws.
+    void offscreenTargetInMainPass(std::string name, const TextureDesc& desc);
+    const std::vector<std::pair<std::string, TextureDesc>>& mainPassTargets() const { return mainTargets_; }
     /// Declares a pass. Passes run by phase, and in the order they were added within a phase;
     /// `setup` runs when the renderer builds the graph, `execute` when the pass is not culled.
     void addPass(std::string name, PassPhase phase, Setup setup, FrameGraph::Execute execute);
@@ -144,6 +151,7 @@ private:
     std::set<std::string, std::less<>> once_;
     std::vector<DeclaredPass> passes_;
     std::vector<std::string> mainReads_;
+    std::vector<std::pair<std::string, TextureDesc>> mainTargets_;
     DepthNeeds depth_;
 };
 

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <string>
@@ -159,6 +160,9 @@ public:
     /// Runs `commands` outside a frame, as a pass with no frame resources (tools and benchmarks
     /// that time one step alone, such as a particle simulation).
     void runCommands(std::string_view name, const std::function<void(PassCommands&)>& commands);
+    /// The texture of the frame resource published as `resource` while it is alive in the pass
+    /// being drawn (for a drawable to sample on a unit of its own, 16..31), else 0.
+    unsigned frameResourceTexture(std::string_view resource) const;
     /// Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
     gl::Program& depthOnlyProgram();
     /// G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.
@@ -179,6 +183,11 @@ public:
     /// step): draws into `fbo` over (0, 0, size) with blending off; endOffscreen() returns to the
     /// framebuffer, viewport and blending the draw began with. Not nested.
     void beginOffscreen(unsigned fbo, glm::ivec2 size);
+    /// The same into frame resources the drawable asked for with
+    /// FrameSetup::offscreenTargetInMainPass, as colour attachments 0, 1... in this order (a
+    /// framebuffer the renderer's pool makes), over their size. Returns false, binding nothing,
+    /// when one of them is not alive in the pass being drawn (the item drawn by another pass).
+    bool beginOffscreen(std::initializer_list<std::string_view> colourResources);
     /// Clears a colour attachment of the bound framebuffer (the colour mask applies).
     void clearColour(int attachment, const glm::vec4& value);
     void endOffscreen();

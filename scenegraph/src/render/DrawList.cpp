@@ -482,17 +482,40 @@ void Renderer::drawFullscreen(gl::Program& program, const DepthState& depth) {
     ++stats_.drawCalls;
 }
 
+unsigned Renderer::frameResourceTexture(std::string_view resource) const {
+    const Impl& s = *impl_;
+    if (!s.graph || !s.graph->blackboard.has(resource)) return 0;
+    // 0 when not alive in this pass: a depth pre-pass that draws the item before it is made.
+    return s.graph->texture(s.graph->blackboard.get(resource));
+}
+
 bool Renderer::bindFrameResource(gl::Program& program, std::string_view uniform, std::string_view resource) {
     Impl& s = *impl_;
-    if (!s.graph || !s.graph->blackboard.has(resource)) return false;
-    // Not alive in this pass: a depth pre-pass that draws the item before its resource is made.
-    const unsigned texture = s.graph->texture(s.graph->blackboard.get(resource));
+    const unsigned texture = frameResourceTexture(resource);
     if (!texture) return false;
     if (s.nextResourceUnit >= gl::StateCache::kUnits)
         throw std::runtime_error("sgfx: bindFrameResource: no texture unit left for '" +
                                  std::string(resource) + "'");
     s.cache.bindTexture(s.nextResourceUnit, texture);
     program.set(uniform, int(s.nextResourceUnit++));
+    return true;
+}
+
+bool Renderer::beginOffscreen(std::initializer_list<std::string_view> colourResources) {
+    Impl& s = *impl_;
+    std::vector<std::pair<unsigned, unsigned>> attachments;
+    glm::ivec2 size{0};
+    unsigned point = GL_COLOR_ATTACHMENT0;
+    for (const std::string_view resource : colourResources) {
+        const unsigned texture = frameResourceTexture(resource);
+        if (!texture) return false;
+        attachments.emplace_back(point++, texture);
+        const ResolvedDesc& d = s.graph->resolved(s.graph->blackboard.get(resource));
+        size = {d.width, d.height};
+    }
+    if (attachments.empty())
+        throw std::logic_error("sgfx: Renderer::beginOffscreen: no frame resources to draw into");
+    s.cache.beginOffscreen(s.pool.framebuffer(attachments, s.log.stage), size);
     return true;
 }
 

@@ -69,7 +69,8 @@ private:
     gl::RenderTarget* draw_ = nullptr; // where the view is drawn (target_, or a larger/multisample one)
     FrameGraph graph_;
     std::vector<std::string> mainReads_; // resources drawables bind in the main pass
-    gl::QueryObject fragments_;          // RendererOptions::countFragments, over the main pass
+    std::vector<std::pair<std::string, TextureDesc>> mainTargets_; // and those they draw into
+    gl::QueryObject fragments_; // RendererOptions::countFragments, over the main pass
 };
 
 void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
@@ -263,6 +264,7 @@ void Renderer::View::buildGraph(int depth) {
         graph_.blackboard.put(std::string(resources::ViewDepth), graph_.blackboard.get(resources::DrawDepth));
     }
     mainReads_ = setup.mainPassReads();
+    mainTargets_ = setup.mainPassTargets();
     declare(setup, PassPhase::Compute);
     if (setup.depthNeeds().beforeMain) declareSceneDepth(setup.depthNeeds());
     declare(setup, PassPhase::BeforeMain);
@@ -371,6 +373,12 @@ void Renderer::View::declareMain(bool opaque) {
                                            "' in the main pass, which no pass of the frame makes");
                 pb.sample(pb.get(resource), resource);
             }
+            // What drawables draw into in their draw (FrameSetup::offscreenTargetInMainPass): made
+            // for the transparent half (blended volumes are transparent items), never kept, read
+            // by nothing after it, so they live for this pass alone and keep nothing alive.
+            if (!opaque)
+                for (const auto& [name, desc] : mainTargets_)
+                    pb.publish(name, pb.colour(pb.create(name, desc), 0, false));
             pb.write(resources::DrawColour, !(opaque && camera_.clearColorEnabled));
             if (opaque)
                 pb.write(resources::DrawDepth, !camera_.clearDepthEnabled);
