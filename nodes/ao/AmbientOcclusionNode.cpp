@@ -297,6 +297,10 @@ void AmbientOcclusionNode::setupFrame(FrameSetup& f) const {
     if (parameters_.debugView != AoDebugView::Off) addDebugPass(f);
 }
 
+void AmbientOcclusionNode::compile(Renderer&) const {
+    shared_->noiseTexture(parameters_.seed); // the rotation noise, before the occlusion pass reads it
+}
+
 void AmbientOcclusionNode::applyUniforms(gl::Program& program, const DrawContext&) const {
     program.set("sgfx_aoApply", glm::vec2(parameters_.intensity, parameters_.power));
 }

@@ -100,6 +100,7 @@ public:
     int order() const override { return 100; } // the ambient term, before fog at the colour hook
     const ShaderSnippet& snippet() const override;
     void setupFrame(FrameSetup& frame) const override;
+    void compile(Renderer& renderer) const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
     void releaseGLObjects() override;
 

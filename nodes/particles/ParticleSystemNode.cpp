@@ -443,7 +443,7 @@ BoundingSphere ParticleSystemNode::computeBound() const {
 void ParticleSystemNode::setupFrame(FrameSetup& f) const {
     f.addPass(
         "particles: simulate", PassPhase::Compute, [](PassBuilder& b) { b.sideEffect(); },
-        [pass = pass_](PassCommands& c) { pass->node.simulate(c); });
+        [pass = pass_](PassCommands& c) { pass->node.simulate(c, SimulationPart::Steps); });
     if (settings_.softness <= 0.0f) return;
     f.requestSceneDepth({.when = PassPhase::AfterOpaque});
     f.sampleInMainPass(std::string(resources::SceneDepth));
@@ -459,7 +459,14 @@ void ParticleSystemNode::releaseGLObjects() {
     resetPending_ = true;
 }
 
-void ParticleSystemNode::simulate(PassCommands& c) {
+// The particle buffers: made, resized (keeping the live particles) or reset before the frame's
+// passes; the simulation pass then only steps them.
+void ParticleSystemNode::compile(Renderer& r) const {
+    r.runCommands("particles: buffers",
+                  [pass = pass_](PassCommands& c) { pass->node.simulate(c, SimulationPart::Buffers); });
+}
+
+void ParticleSystemNode::simulate(PassCommands& c, SimulationPart part) {
     const ParticleSettings& s = settings_;
     gl::Program& program = c.program(updateShader(s.layout));
     emitterMatrix_ = lastModel_;
@@ -488,7 +495,7 @@ void ParticleSystemNode::simulate(PassCommands& c) {
         c.transformFeedback(program, gpu_->emptyVao.get(), gpu_->feedback(copy, first, count), first, count);
     };
 
-    if (!gpu_ || gpu_->capacity != s.capacity || gpu_->layout != s.layout) {
+    if (part != SimulationPart::Steps && (!gpu_ || gpu_->capacity != s.capacity || gpu_->layout != s.layout)) {
         auto next = std::make_unique<Gpu>();
         if (!next->allocate(s.layout, s.capacity)) {
             c.warn("sgfx: ParticleSystemNode '" + name + "': the driver could not allocate " +
@@ -536,11 +543,12 @@ void ParticleSystemNode::simulate(PassCommands& c) {
                 initialise(0, int(particles::StartMode::Ramp) + 1, kept, s.capacity - kept);
         }
     }
-    if (gpu_ && resetPending_) {
+    if (part != SimulationPart::Steps && gpu_ && resetPending_) {
         step_ = 0;
         initialise(gpu_->current, int(s.start) + 1, 0, gpu_->capacity);
         resetPending_ = false;
     }
+    if (part == SimulationPart::Buffers) return;
     if (gpu_) {
         program.set("u_init", 0);
         for (const float dt : pendingSteps_) {

@@ -126,8 +126,12 @@ public:
     std::size_t triangleCount() const override;
     void releaseGLObjects() override;
 
-    /// Runs the queued steps (the simulation pass calls it; GL thread).
-    void simulate(PassCommands& commands);
+    /// What simulate() does: make or resize the buffers (the renderer's compile step), run the
+    /// queued steps (the simulation pass), or both (a tool timing one step alone).
+    enum class SimulationPart : std::uint8_t { Buffers, Steps, All };
+    /// GL thread, inside a frame's compile step or pass, or Renderer::runCommands.
+    void simulate(PassCommands& commands, SimulationPart part = SimulationPart::All);
+    void compile(Renderer& renderer) const override;
 
     /// Default state for a shape: lit material, blending as the presets use it, double-sided.
     static std::shared_ptr<StateSet> defaultState();

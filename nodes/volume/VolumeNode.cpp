@@ -536,16 +536,23 @@ bool VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program, const std::str
     return true;
 }
 
-void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {
+// The grid's textures (density, block maxima, transfer ramp), made or refreshed before the frame's
+// draws.
+void VolumeNode::compile(Renderer&) const {
     if (!gpu_) {
         gpu_ = std::make_unique<Gpu>();
         gpu_->vao = gl::createVertexArray();
     }
-    Gpu& g = *gpu_;
     if (gridDirty_) {
-        g.uploadGrid(grid_, transfer_.get());
+        gpu_->uploadGrid(grid_, transfer_.get());
         gridDirty_ = false;
     }
+}
+
+void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item) const {
+    if (!gpu_ || gridDirty_)
+        throw std::logic_error("sgfx: VolumeNode '" + name + "' drawn before the renderer compiled it");
+    Gpu& g = *gpu_;
     const VolumeParameters& p = parameters_;
     setMarchUniforms(program, p, item.model, p.emptySpaceSkipping && function_.empty());
     program.setInt3("u_maxGridSize", g.maxSize);

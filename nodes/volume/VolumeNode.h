@@ -105,6 +105,7 @@ public:
     const BaseShader& baseShader() const override;
     std::uint32_t features(const ResolvedState&) const override { return FeatureWorldPosition; }
     void setupFrame(FrameSetup& frame) const override;
+    void compile(Renderer& renderer) const override;
     void draw(Renderer& renderer, gl::Program& program, const RenderItem& item) const override;
     void releaseGLObjects() override;
 
@@ -119,7 +120,7 @@ private:
     std::string function_;
     std::shared_ptr<Image> transfer_;
     BaseShader shader_, halfShader_, sliceShader_;
-    mutable std::unique_ptr<Gpu> gpu_;
+    mutable std::unique_ptr<Gpu> gpu_; ///< made and refreshed by compile(), read by draw()
     mutable bool gridDirty_ = true;
 };
 

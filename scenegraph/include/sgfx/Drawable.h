@@ -36,6 +36,8 @@ public:
     /// Once per frame and view while visible: passes it needs (simulation, depth copies).
     /// See EffectNode::setupFrame.
     virtual void setupFrame(FrameSetup&) const {}
+    /// See EffectNode::compile: uploads and buffers before the frame's passes and draws.
+    virtual void compile(Renderer&) const {}
     /// The update traversal (Viewer::frame): clocks, emitters.
     virtual void update(UpdateVisitor&) {}
     /// Issues its draw calls. `program` is bound with the effects' uniforms, the material's and

@@ -13,6 +13,7 @@ class Program;
 }
 class FramePlan;
 class FrameSetup;
+class Renderer;
 struct DrawContext;
 
 /// A sampler of a snippet that reads a frame resource (the fog's nearest depth, the occlusion
@@ -54,6 +55,10 @@ public:
     /// Called once per view and frame while the node is visible: declares the passes the effect
     /// adds and what they read and write (see FrameSetup.h). No GL, no change to the node.
     virtual void setupFrame(FrameSetup&) const {}
+    /// Makes or updates the node's own GPU objects (noise, lookup data) for the view about to be
+    /// drawn: called after setup and before the frame's passes run (VulkanSceneGraph's compile
+    /// traversal), so no pass or draw creates them. GL is current.
+    virtual void compile(Renderer&) const {}
     /// Sets this effect's uniforms on a program that contains its snippet.
     virtual void applyUniforms(gl::Program&, const DrawContext&) const {}
     /// Whether this effect draws the blended items below it that use `mode` itself (in a pass of

@@ -40,6 +40,7 @@ public:
     void beginProjection();
     void uploadFrameBlock();
     void buildGraph(int depth);
+    void compileNodes();
     void executeGraph();
 
 private:
@@ -127,6 +128,7 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
     view.beginProjection();
     view.uploadFrameBlock();
     view.buildGraph(depth);
+    view.compileNodes();
     view.executeGraph();
 }
 
@@ -445,6 +447,15 @@ void Renderer::View::declarePostAa() {
             aa::finish(r_, *aa_, target_);
         },
         "post");
+}
+
+// The visible nodes' GPU objects, made or updated before any pass runs (the compile step).
+void Renderer::View::compileNodes() {
+    s_.log.stage = "compile";
+    for (const EffectNode* e : plan_.effects)
+        e->compile(r_);
+    for (const Drawable* d : plan_.drawables)
+        d->compile(r_);
 }
 
 // Runs the live passes, each timed and named for GL error sites.
