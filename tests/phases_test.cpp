@@ -100,7 +100,8 @@ private:
 };
 
 std::shared_ptr<Node> quadAt(glm::vec3 at, float alpha) {
-    auto t = Transform::create(glm::rotate(glm::translate(glm::mat4(1.0f), at), glm::radians(90.0f), {1, 0, 0}));
+    auto t =
+        Transform::create(glm::rotate(glm::translate(glm::mat4(1.0f), at), glm::radians(90.0f), {1, 0, 0}));
     auto q = shapes::quad(4, 4);
     auto m = Material::create();
     m->diffuse = glm::vec4(0.5f, 0.5f, 0.5f, alpha);
@@ -141,17 +142,21 @@ std::shared_ptr<Group> everyEffect() {
 // resources, as the renderer runs it.
 void declareAll(const FrameSetup& setup) {
     FrameGraph g;
-    const TextureDesc colour{format::Srgb8Alpha8, SizeRule::draw()}, depth{format::Depth32F, SizeRule::draw()};
+    const TextureDesc colour{format::Srgb8Alpha8, SizeRule::draw()},
+        depth{format::Depth32F, SizeRule::draw()};
     for (std::string_view name : {resources::DrawColour, resources::ViewColour, resources::SceneNormals,
                                   resources::SceneLinearDepth, resources::ScenePositions})
         g.blackboard.put(std::string(name), g.import(std::string(name), colour, 1));
     for (std::string_view name : {resources::DrawDepth, resources::ViewDepth, resources::SceneDepth})
         g.blackboard.put(std::string(name), g.import(std::string(name), depth, 2));
     for (const FrameSetup::DeclaredPass& p : setup.passes())
-        g.addPass(p.name, [&](FrameGraph::Builder& b) {
-            PassBuilder pb(b, g.blackboard);
-            if (p.setup) p.setup(pb);
-        }, p.execute);
+        g.addPass(
+            p.name,
+            [&](FrameGraph::Builder& b) {
+                PassBuilder pb(b, g.blackboard);
+                if (p.setup) p.setup(pb);
+            },
+            p.execute);
     g.compile({64, 64}, {64, 64});
 }
 

@@ -349,7 +349,8 @@ TEST(Culling, CullingInactiveNodeAndItsAncestorsAreAlwaysVisited) {
         RenderQueue q;
         CullVisitor cv(*cam, q, &plan);
         cv.run(*cam);
-        EXPECT_EQ(std::count(plan.effects.begin(), plan.effects.end(), effect.get()), 0); // culled with its parents
+        EXPECT_EQ(std::count(plan.effects.begin(), plan.effects.end(), effect.get()),
+                  0); // culled with its parents
     }
     effect->setCullingActive(false);
     EXPECT_TRUE(outside->cullingDisabledInSubtree()); // propagated to the ancestors

@@ -13,9 +13,9 @@
 // queries, which llvmpipe fills unreliably)
 #include <fog/FogNode.h>
 #include <particles/ParticleSystemNode.h>
-#include <sgfx/PassCommands.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Group.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
 

@@ -3,9 +3,9 @@
 #include "ParameterChecks.h"
 
 #include <sgfx/FrameSetup.h>
-#include <sgfx/PassCommands.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Material.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/Renderer.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Visitors.h>
@@ -269,7 +269,8 @@ struct ParticleSystemNode::Gpu {
     std::vector<FeedbackBuffer> feedback(int c, std::uint32_t first, std::uint32_t count) const {
         std::vector<FeedbackBuffer> out;
         for (int s = 0; s < streams(); ++s)
-            out.push_back({buffers[std::size_t(c)][std::size_t(s)].get(), std::size_t(first) * std::size_t(stride(s)),
+            out.push_back({buffers[std::size_t(c)][std::size_t(s)].get(),
+                           std::size_t(first) * std::size_t(stride(s)),
                            std::size_t(count) * std::size_t(stride(s))});
         return out;
     }
@@ -495,7 +496,8 @@ void ParticleSystemNode::simulate(PassCommands& c, SimulationPart part) {
         c.transformFeedback(program, gpu_->emptyVao.get(), gpu_->feedback(copy, first, count), first, count);
     };
 
-    if (part != SimulationPart::Steps && (!gpu_ || gpu_->capacity != s.capacity || gpu_->layout != s.layout)) {
+    if (part != SimulationPart::Steps &&
+        (!gpu_ || gpu_->capacity != s.capacity || gpu_->layout != s.layout)) {
         auto next = std::make_unique<Gpu>();
         if (!next->allocate(s.layout, s.capacity)) {
             c.warn("sgfx: ParticleSystemNode '" + name + "': the driver could not allocate " +

@@ -29,9 +29,7 @@ BaseShader makeSkyShader(bool lut) {
     std::string vertex =
         nodes::afterVersion(std::string(ShaderComposer::fullscreenVertex()), "#define SGFX_FULLSCREEN_FAR\n");
     std::string fragment = nodes::shaderWithIncludes("sky.frag");
-    if (lut)
-        fragment =
-            nodes::afterVersion(std::move(fragment), "#define SGFX_SKY_LUT\n");
+    if (lut) fragment = nodes::afterVersion(std::move(fragment), "#define SGFX_SKY_LUT\n");
     return BaseShader{lut ? "sky_lut_view" : "sky", "blit.vert", std::move(vertex), "sky.frag",
                       std::move(fragment)};
 }
@@ -161,8 +159,9 @@ void SkyNode::setupFrame(FrameSetup& f) const {
             b.publish(name, d.table);
         },
         [p = parameters_](PassCommands& c, const Data& d) {
-            static const BaseShader lutShader{"sky_lut", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
-                                              "sky_lut.frag", nodes::shaderWithIncludes("sky_lut.frag")};
+            static const BaseShader lutShader{"sky_lut", "blit.vert",
+                                              std::string(ShaderComposer::fullscreenVertex()), "sky_lut.frag",
+                                              nodes::shaderWithIncludes("sky_lut.frag")};
             gl::Program& program = c.program(lutShader);
             c.target({d.table});
             setSkyUniforms(program, p, c.frame().eye.z);

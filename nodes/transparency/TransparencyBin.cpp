@@ -2,8 +2,8 @@
 
 #include "ParameterChecks.h"
 
-#include <sgfx/Geometry.h>
 #include <sgfx/FrameSetup.h>
+#include <sgfx/Geometry.h>
 #include <sgfx/PassCommands.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/gl/Objects.h>
@@ -90,8 +90,9 @@ void OitParameters::validate() const {
 namespace {
 
 const BaseShader& compositeBase() {
-    static const BaseShader base{"oit_composite", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
-                                 "oit_composite.frag", text("oit_composite.frag")};
+    static const BaseShader base{"oit_composite", "blit.vert",
+                                 std::string(ShaderComposer::fullscreenVertex()), "oit_composite.frag",
+                                 text("oit_composite.frag")};
     return base;
 }
 
@@ -122,9 +123,11 @@ void TransparencyBin::addAccumulatePass(FrameSetup& f) const {
     f.addPass<Data>(
         "transparency OIT: accumulate", PassPhase::Transparent,
         [samples, r8 = oit_.revealage8Bit](PassBuilder& b, Data& d) {
-            d.accum = b.colour(b.create("oit.accum", {.format = format::Rgba16F, .samples = samples}), 0, false);
+            d.accum =
+                b.colour(b.create("oit.accum", {.format = format::Rgba16F, .samples = samples}), 0, false);
             d.reveal = b.colour(
-                b.create("oit.reveal", {.format = r8 ? format::R8 : format::R16F, .samples = samples}), 1, false);
+                b.create("oit.reveal", {.format = r8 ? format::R8 : format::R16F, .samples = samples}), 1,
+                false);
             d.depth = b.depthTest(b.get(resources::DrawDepth)); // against the opaque depth, never written
             b.publish("oit.accum", d.accum);
             b.publish("oit.reveal", d.reveal);

@@ -81,8 +81,8 @@ public:
     void scissor(const glm::ivec4& rect);
     /// Runs `program` over `count` points from `first` of `vertexArray` with rasterization off,
     /// capturing its vertex outputs into `outputs` (transform feedback; GPU particle simulation).
-    void transformFeedback(gl::Program& program, unsigned vertexArray, std::span<const FeedbackBuffer> outputs,
-                           std::uint32_t first, std::uint32_t count);
+    void transformFeedback(gl::Program& program, unsigned vertexArray,
+                           std::span<const FeedbackBuffer> outputs, std::uint32_t first, std::uint32_t count);
     /// Runs a compute program over `groups` work groups; its writes are visible to every later
     /// command (a full memory barrier).
     void dispatch(gl::Program& program, const glm::uvec3& groups);

@@ -296,7 +296,8 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
             if (unit >= gl::StateCache::kUnits)
                 throw std::runtime_error(
                     "sgfx: the effects above '" + item.node().name + "' sample more than " +
-                    std::to_string(gl::StateCache::kUnits - render::kFirstFrameResourceUnit) + " frame resources");
+                    std::to_string(gl::StateCache::kUnits - render::kFirstFrameResourceUnit) +
+                    " frame resources");
             s.cache.bindTexture(unit,
                                 s.graph ? s.graph->texture(s.graph->blackboard.get(sampler.resource)) : 0);
             program->set(sampler.uniform, int(unit++));

@@ -128,8 +128,8 @@ void PassCommands::drawQueue(std::span<const RenderItem> items, DrawMode mode) {
 }
 
 void PassCommands::blendAttachments(std::initializer_list<AttachmentBlend> blends) {
-    static const GLenum factors[] = {GL_ZERO,      GL_ONE,       GL_SRC_COLOR,
-                                     GL_ONE_MINUS_SRC_COLOR, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA};
+    static const GLenum factors[] = {
+        GL_ZERO, GL_ONE, GL_SRC_COLOR, GL_ONE_MINUS_SRC_COLOR, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA};
     std::vector<std::pair<unsigned, unsigned>> f;
     for (const AttachmentBlend& b : blends)
         f.emplace_back(factors[std::size_t(b.source)], factors[std::size_t(b.destination)]);
@@ -155,8 +155,8 @@ void PassCommands::transformFeedback(gl::Program& program, unsigned vertexArray,
     glEnable(GL_RASTERIZER_DISCARD);
     glBindVertexArray(vertexArray);
     for (std::size_t i = 0; i < outputs.size(); ++i)
-        glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(i), outputs[i].buffer, GLintptr(outputs[i].offset),
-                          GLsizeiptr(outputs[i].size));
+        glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, GLuint(i), outputs[i].buffer,
+                          GLintptr(outputs[i].offset), GLsizeiptr(outputs[i].size));
     glBeginTransformFeedback(GL_POINTS);
     glDrawArrays(GL_POINTS, GLint(first), GLsizei(count));
     glEndTransformFeedback();
@@ -177,8 +177,8 @@ void PassCommands::dispatch(gl::Program& program, const glm::uvec3& groups) {
 void PassCommands::bindImage(gl::Program& program, std::string_view image, ResourceId id) {
     const ResolvedDesc& d = graph_.resolved(id);
     if (d.samples != 1)
-        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass_) + "' binds the multisampled '" +
-                               graph_.resourceName(id) + "' as an image");
+        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass_) +
+                               "' binds the multisampled '" + graph_.resourceName(id) + "' as an image");
     const unsigned unit = nextImageUnit();
     glBindImageTexture(unit, aliveTexture(graph_, id, pass_), 0, GL_FALSE, 0, GL_READ_WRITE, d.format);
     program.set(image, int(unit));
@@ -186,7 +186,8 @@ void PassCommands::bindImage(gl::Program& program, std::string_view image, Resou
 
 unsigned PassCommands::nextImageUnit() {
     if (images_ >= 8)
-        throw std::runtime_error("sgfx: frame graph pass '" + std::string(pass_) + "' binds more than 8 images");
+        throw std::runtime_error("sgfx: frame graph pass '" + std::string(pass_) +
+                                 "' binds more than 8 images");
     return images_++;
 }
 

@@ -89,7 +89,7 @@ struct Renderer::Impl {
         std::size_t firstTimer = 0, timers = 0;
     };
     std::vector<ViewGraph> graphs;
-    unsigned nextResourceUnit = 0; // the next unit bindFrameResource gives in the item being drawn
+    unsigned nextResourceUnit = 0;  // the next unit bindFrameResource gives in the item being drawn
     unsigned firstResourceUnit = 0; // after the snippet samplers of the current effect set
 };
 
