@@ -75,7 +75,8 @@ unsigned ResourcePool::framebuffer(const std::vector<std::pair<unsigned, unsigne
     f.attachments = attachments;
     f.fbo = gl::createFramebuffer();
     std::vector<GLenum> drawBuffers;
-    for (const auto& [point, texture] : attachments) {
+    for (const auto& [point, attached] : attachments) {
+        const unsigned texture = attached; // a copy: clang 14 cannot capture a structured binding
         f.external = f.external || std::none_of(entries_.begin(), entries_.end(),
                                                 [&](const Entry& e) { return e.texture.get() == texture; });
         glNamedFramebufferTexture(f.fbo.get(), point, texture, 0);
