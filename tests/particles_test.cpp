@@ -548,11 +548,8 @@ TEST(Particles, FoggedParticleMatchesTheFogFormula) {
         EXPECT_NEAR(px[ch], srgbByte(c[ch] * t + fp.color[ch] * (1.0 - t)), 1) << "channel " << ch;
 }
 
-TEST(Particles, SoftParticleFadesByTheGapToTheSurfaceBehind) {
-    const float d = 10.0f, gap = 0.3f, softness = 1.2f;
-    auto v = viewer({0, -d, 0}, {0, 0, 0});
-    auto root = Group::create();
-    // A black wall `gap` behind the sprite (facing the camera).
+// A black double-sided wall `gap` behind the origin, facing a camera on -Y (soft-particle tests).
+std::shared_ptr<Node> blackWallBehind(float gap) {
     auto wall = Transform::create(
         glm::rotate(glm::translate(glm::mat4(1.0f), {0, gap, 0}), glm::radians(90.0f), glm::vec3(1, 0, 0)));
     auto quad = shapes::quad(20, 20);
@@ -562,7 +559,14 @@ TEST(Particles, SoftParticleFadesByTheGapToTheSurfaceBehind) {
     quad->getOrCreateStateSet().material.set(black);
     quad->getOrCreateStateSet().cullFace.set(CullFace::None);
     wall->addChild(quad);
-    root->addChild(wall);
+    return wall;
+}
+
+TEST(Particles, SoftParticleFadesByTheGapToTheSurfaceBehind) {
+    const float d = 10.0f, gap = 0.3f, softness = 1.2f;
+    auto v = viewer({0, -d, 0}, {0, 0, 0});
+    auto root = Group::create();
+    root->addChild(blackWallBehind(gap));
     ParticleSettings s = stillParticle(ParticleShape::Sprite, 2.0f, ParticlePath::Auto);
     s.softness = softness;
     auto p = ParticleSystemNode::create(s);
@@ -587,16 +591,7 @@ TEST(Particles, SoftParticleInAnOitBinFadesByTheGapToTheSurfaceBehind) {
     const float d = 10.0f, gap = 0.3f, softness = 1.2f;
     auto v = viewer({0, -d, 0}, {0, 0, 0});
     auto root = Group::create();
-    auto wall = Transform::create(
-        glm::rotate(glm::translate(glm::mat4(1.0f), {0, gap, 0}), glm::radians(90.0f), glm::vec3(1, 0, 0)));
-    auto quad = shapes::quad(20, 20);
-    auto black = Material::create();
-    black->ambient = glm::vec3(0);
-    black->diffuse = glm::vec4(0, 0, 0, 1);
-    quad->getOrCreateStateSet().material.set(black);
-    quad->getOrCreateStateSet().cullFace.set(CullFace::None);
-    wall->addChild(quad);
-    root->addChild(wall);
+    root->addChild(blackWallBehind(gap));
     auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
     root->addChild(bin);
     ParticleSettings s = stillParticle(ParticleShape::Sprite, 2.0f, ParticlePath::Auto);
