@@ -210,7 +210,8 @@ public:
     /// The last frame's graphs (one cluster per view: passes with their GPU time when
     /// RendererOptions::timePasses is on, resources with format and size, read and write edges)
     /// in Graphviz DOT; culled passes are dashed.
-    const std::string& lastFrameGraphDot() const { return dot_; }
+    /// Written when asked (not every frame) from the graphs the last frame kept.
+    std::string lastFrameGraphDot() const;
     /// Bytes of GPU memory the frame-graph textures hold now (every view, in use or pooled).
     std::size_t renderTargetBytes() const;
 
@@ -239,8 +240,6 @@ private:
     FrameData frame_;
     FrameStats stats_;
     const RenderQueue* current_ = &queue_; ///< the queue being drawn (sub-cameras have their own)
-    void writeGraphDot();
-    std::string dot_; ///< lastFrameGraphDot()
     std::unique_ptr<Impl> impl_;
 };
 

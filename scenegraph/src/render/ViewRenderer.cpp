@@ -94,7 +94,6 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     renderView(camera, impl_->scene, queue_, plan_, 0);
     impl_->log.stage = "outside a frame";
     impl_->timers.collect(stats_.passTimes);
-    writeGraphDot();
     if (options_.glErrors.value_or(impl_->glErrorsDefault) == RendererOptions::GlErrorPolicy::Throw) {
         const std::vector<std::string> errors = takeGlErrors();
         if (!errors.empty()) {
@@ -109,15 +108,15 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
 }
 
 // The frame's graphs as one DOT digraph, a cluster per view, with the GPU times of its passes.
-void Renderer::writeGraphDot() {
-    dot_ = "digraph frame {\n  rankdir=LR;\n  node [fontname=\"Helvetica\", fontsize=10];\n";
+std::string Renderer::lastFrameGraphDot() const {
+    std::string dot = "digraph frame {\n  rankdir=LR;\n  node [fontname=\"Helvetica\", fontsize=10];\n";
     for (const Impl::ViewGraph& g : impl_->graphs) {
         std::map<std::string, double> ms;
         for (std::size_t i = g.firstTimer; i < g.firstTimer + g.timers && i < stats_.passTimes.size(); ++i)
             ms[stats_.passTimes[i].name] += stats_.passTimes[i].gpuMs;
-        dot_ += g.graph.dotCluster(g.name, ms);
+        dot += g.graph.dotCluster(g.name, ms);
     }
-    dot_ += "}\n";
+    return dot + "}\n";
 }
 
 void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan,
