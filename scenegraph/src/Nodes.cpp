@@ -52,6 +52,7 @@ void Node::setCullingActive(bool active) {
 void Node::dirtyBound() {
     if (boundDirty_) return; // parents were told already
     boundDirty_ = true;
+    ++boundChanges_;
     for (Group* p : parents_)
         p->dirtyBound();
 }

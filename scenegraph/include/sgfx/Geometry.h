@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace sgfx {
@@ -14,6 +15,7 @@ enum class PrimitiveMode : std::uint8_t { Points, Lines, LineStrip, Triangles, T
 namespace gl {
 struct GeometryBuffers;
 }
+class TriangleBvh;
 
 /// Vertex arrays plus optional indices: a drawable leaf. Attributes other than positions may be
 /// empty; a non-empty attribute must have one entry per position (checked at draw time).
@@ -54,6 +56,10 @@ public:
     /// an index is out of range.
     void validate() const;
 
+    /// Its triangles in a BVH for scene queries (Intersection.h), built on first use and again
+    /// after dirty(). Safe to call from several threads at once while nothing changes the arrays.
+    std::shared_ptr<const TriangleBvh> triangleBvh() const;
+
     /// Renderer-owned GPU copy (created lazily on the GL thread).
     std::unique_ptr<gl::GeometryBuffers>& gpu() const { return gpu_; }
 
@@ -63,6 +69,8 @@ protected:
 private:
     std::uint64_t revision_ = 1;
     mutable std::unique_ptr<gl::GeometryBuffers> gpu_;
+    mutable std::mutex queryMutex_; ///< guards bvh_
+    mutable std::shared_ptr<const TriangleBvh> bvh_;
 };
 
 } // namespace sgfx

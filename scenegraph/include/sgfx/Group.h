@@ -1,7 +1,11 @@
 #pragma once
 #include "sgfx/Node.h"
 
+#include <mutex>
+
 namespace sgfx {
+
+struct SubtreeIndex;
 
 /// A node with children, in order (OSG's Group); a child may have several parents.
 class Group : public Node {
@@ -26,6 +30,10 @@ public:
     const NodePtr& child(std::size_t i) const { return children_.at(i); } ///< throws std::out_of_range
     const std::vector<NodePtr>& children() const { return children_; }
 
+    /// The query index over the geometries below (IntersectionVisitor::useSubtreeIndex), built on
+    /// first use and again after boundChanges() moves. Thread-safe while the graph does not change.
+    std::shared_ptr<const SubtreeIndex> subtreeIndex() const;
+
 protected:
     BoundingSphere computeBound() const override;
     bool computeCullingDisabledBelow() const override;
@@ -37,6 +45,8 @@ protected:
 private:
     void checkAcyclic(const Node& child) const;
     std::vector<NodePtr> children_;
+    mutable std::mutex queryMutex_; ///< guards queryIndex_
+    mutable std::shared_ptr<const SubtreeIndex> queryIndex_;
 };
 
 /// Local matrix relative to the parent; world matrices are accumulated during traversal.

@@ -52,6 +52,10 @@ public:
     }
     /// Marks this bound and every ancestor's for recomputation (geometry or matrix changed).
     void dirtyBound();
+    /// Counts the times this bound went from clean to dirty: it changes whenever anything below
+    /// changes (a matrix, a geometry's data, a child added or removed) after the bound was last
+    /// computed. Caches over a subtree (the query index) compare it.
+    std::uint64_t boundChanges() const { return boundChanges_; }
 
     /// OSG's cull-active flag: off, view-frustum culling never rejects this node or any of its
     /// ancestors (an effect whose passes cover the whole view, like fog over the sky, must be
@@ -79,6 +83,7 @@ private:
     std::shared_ptr<StateSet> stateSet_;
     std::vector<Group*> parents_;
     mutable BoundingSphere bound_;
+    std::uint64_t boundChanges_ = 0;
     mutable bool boundDirty_ = true;
     mutable bool cullingDisabledBelow_ = false; ///< cached with the bound
     bool cullingActive_ = true;
