@@ -1,0 +1,118 @@
+// Scene queries on the exported proving ground, sgfx side of bench/query_table.sh (osg_query is the
+// OpenSceneGraph peer): the workloads of bench/query_workload.h through sgfx::LineSegmentIntersector
+// and sgfx::IntersectionVisitor, one intersector and one visitor per query as an application asks.
+//
+//   query_bench FILE.obj [--terrain N] [--sight N] [--no-subtree-index]
+//     --no-subtree-index  walk the graph node by node (IntersectionVisitor::useSubtreeIndex off)
+//
+// Prints a BUILD line (sgfx::prepareForQueries timed after the load, and the BVHs' bytes per
+// triangle) and one QUERY line per workload.
+#include "query_workload.h"
+
+#include <sgfx/Geometry.h>
+#include <sgfx/Group.h>
+#include <sgfx/Intersection.h>
+#include <sgfx/ModelLoader.h>
+#include <sgfx/NodeVisitor.h>
+#include <sgfx/Queries.h>
+#include <sgfx/TriangleBvh.h>
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+namespace qw = queryworkload;
+
+// Triangles, and what the per-geometry BVHs hold (TriangleBvh::memoryBytes: nodes, leaf order and
+// the triangle list), the geometry's own arrays left out as on the OSG side.
+struct BvhBytes : sgfx::NodeVisitor {
+    void apply(sgfx::Geometry& g) override {
+        ++geometries;
+        triangles += g.triangleCount();
+        if (const auto bvh = g.triangleBvh()) {
+            trees += bvh->triangles().empty() ? 0 : 1;
+            indexed += bvh->triangles().size();
+            nodes += bvh->bvh().nodes.size();
+            bytes += bvh->memoryBytes();
+        }
+    }
+    std::size_t geometries = 0, trees = 0, triangles = 0, indexed = 0, nodes = 0, bytes = 0;
+};
+
+glm::dvec3 vec(const qw::Vec3& p) {
+    return {p.x, p.y, p.z};
+}
+
+qw::Result run(sgfx::Node& scene, const std::vector<qw::Segment>& segments, sgfx::Intersector::Limit limit,
+               bool subtreeIndex) {
+    qw::Result r;
+    r.rays = segments.size();
+    const auto t0 = Clock::now();
+    for (const qw::Segment& s : segments) {
+        sgfx::LineSegmentIntersector lsi(vec(s.start), vec(s.end));
+        lsi.limit = limit;
+        sgfx::IntersectionVisitor iv(lsi);
+        iv.useSubtreeIndex = subtreeIndex;
+        iv.visit(scene);
+        if (const sgfx::Intersection* hit = lsi.nearest()) {
+            ++r.hits;
+            if (limit == sgfx::Intersector::Limit::Nearest) r.hitZSum += hit->point.z;
+        }
+    }
+    r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return r;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    bool subtreeIndex = true;
+    // --no-subtree-index is ours; the rest is query_workload.h's.
+    std::vector<char*> rest;
+    for (int i = 0; i < argc; ++i) {
+        if (std::string(argv[i]) == "--no-subtree-index")
+            subtreeIndex = false;
+        else
+            rest.push_back(argv[i]);
+    }
+    qw::Args args;
+    if (!qw::parseArgs(int(rest.size()), rest.data(), "query_bench", args)) return 2;
+    const qw::Box box = qw::objBounds(args.file);
+    if (!box.valid()) {
+        std::fprintf(stderr, "query_bench: no vertices in %s\n", args.file.c_str());
+        return 1;
+    }
+    try {
+        const std::shared_ptr<sgfx::Group> scene = sgfx::loadModel(args.file);
+        const auto t0 = Clock::now();
+        sgfx::prepareForQueries(*scene);
+        const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        BvhBytes m;
+        scene->accept(m);
+        std::printf(
+            "BUILD side=sgfx seconds=%.4f bytes_per_triangle=%.2f triangles=%zu indexed_triangles=%zu "
+            "bytes=%zu geometries=%zu trees=%zu tree_nodes=%zu sizeof_node=%zu\n",
+            seconds, double(m.bytes) / double(m.triangles), m.triangles, m.indexed, m.bytes, m.geometries,
+            m.trees, m.nodes, sizeof(sgfx::BvhNodes::Node));
+        std::printf("BOX min=%.3f,%.3f,%.3f max=%.3f,%.3f,%.3f\n", box.min.x, box.min.y, box.min.z, box.max.x,
+                    box.max.y, box.max.z);
+
+        using Limit = sgfx::Intersector::Limit;
+        // Warm-up on other points: caches, page faults, the CPU's clock.
+        run(*scene, qw::terrainSegments(box, 1000, qw::kSeed + 100), Limit::Nearest, subtreeIndex);
+
+        const char* side = subtreeIndex ? "sgfx" : "sgfx-walk";
+        const auto terrain = qw::terrainSegments(box, args.terrainRays);
+        qw::print(side, "terrain", terrain, run(*scene, terrain, Limit::Nearest, subtreeIndex));
+        const auto sight = qw::sightSegments(box, args.sightRays);
+        qw::print(side, "sight", sight, run(*scene, sight, Limit::Any, subtreeIndex));
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "query_bench: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
