@@ -24,18 +24,19 @@ struct Intersection {
     /// Line and ray: distance from the start along the line (metres); sphere: from the centre to
     /// the nearest point of the triangle; polytope: of `point` from the polytope's first plane.
     double distance = 0.0;
-    double ratio = 0.0;              ///< line segment: distance / length (0 at the start, 1 at the end)
-    glm::dvec3 point{0.0};           ///< world
-    glm::dvec3 geometricNormal{0.0}; ///< unit, world, on the front side (winding and the transform's determinant)
-    glm::dvec3 normal{0.0};          ///< the vertex normals interpolated, unit, world; geometricNormal when none
-    glm::dvec3 barycentric{0.0};     ///< weights of the triangle's three vertices at `point`
+    double ratio = 0.0;    ///< line segment: distance / length (0 at the start, 1 at the end)
+    glm::dvec3 point{0.0}; ///< world
+    glm::dvec3 geometricNormal{
+        0.0};                    ///< unit, world, on the front side (winding and the transform's determinant)
+    glm::dvec3 normal{0.0};      ///< the vertex normals interpolated, unit, world; geometricNormal when none
+    glm::dvec3 barycentric{0.0}; ///< weights of the triangle's three vertices at `point`
     std::optional<glm::dvec2> texcoord; ///< TEXCOORD_0 interpolated, when the geometry has them
     std::vector<Node*> nodePath;        ///< from the visited node down to `geometry`
     Geometry* geometry = nullptr;
-    std::uint32_t primitiveIndex = 0;            ///< triangle number in draw order (strips: per triangle)
+    std::uint32_t primitiveIndex = 0;             ///< triangle number in draw order (strips: per triangle)
     std::array<std::uint32_t, 3> vertexIndices{}; ///< the triangle's vertices in the geometry
-    std::uint32_t instanceIndex = 0;             ///< entry of Geometry::instances (0 when not instanced)
-    glm::dmat4 worldMatrix{1.0}; ///< geometry frame to world (instance matrix included)
+    std::uint32_t instanceIndex = 0;              ///< entry of Geometry::instances (0 when not instanced)
+    glm::dmat4 worldMatrix{1.0};                  ///< geometry frame to world (instance matrix included)
 };
 
 /// A node's frame relative to the world while a query walks the graph.
@@ -107,6 +108,7 @@ protected:
     double tMax_ = 1.0;
 
 private:
+    double searchLimit() const; ///< tMax_, or the kept hit's t under Limit::Nearest
     glm::dvec3 start_, end_;
     double length_;
 };
@@ -142,6 +144,7 @@ public:
 
 private:
     PolytopeIntersector() = default;
+    std::vector<glm::dvec4> localPlanes(const QueryFrame& frame) const;
     std::vector<DPlane> planes_;
 };
 
@@ -210,7 +213,6 @@ public:
     std::size_t geometriesTested() const { return geometriesTested_; } ///< in this visitor's life
 
 private:
-    friend struct SubtreeWalk;
     bool enterBound(const Node& node) const;
     void pushFrame(const glm::dmat4& local);
     void popFrame() { frames_.pop_back(); }

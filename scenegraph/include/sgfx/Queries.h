@@ -38,7 +38,8 @@ struct PickResult {
     Intersection hit;
     const Camera* camera = nullptr; ///< the view that was clicked
 };
-std::optional<PickResult> pick(const Camera& camera, Node& scene, double x, double y, NodeMask mask = ~NodeMask{0});
+std::optional<PickResult> pick(const Camera& camera, Node& scene, double x, double y,
+                               NodeMask mask = ~NodeMask{0});
 /// The viewer's channel whose viewport holds the target pixel (x, y) (origin top left), then as
 /// above. nullopt when no viewport holds it or nothing is hit.
 std::optional<PickResult> pick(Viewer& viewer, double x, double y, NodeMask mask = ~NodeMask{0});

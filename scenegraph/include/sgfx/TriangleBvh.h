@@ -37,16 +37,18 @@ struct QueryBox {
 /// Node i's children are i + 1 and `second`; leaves hold items [first, first + count).
 struct BvhNodes {
     struct Node {
-        glm::vec3 min, max; ///< float boxes, rounded outwards so they hold the exact item boxes
-        std::uint32_t first = 0;  ///< leaf: first item; inner: index of the second child
-        std::uint32_t count = 0;  ///< items in a leaf; 0 for an inner node
+        glm::vec3 min, max;      ///< float boxes, rounded outwards so they hold the exact item boxes
+        std::uint32_t first = 0; ///< leaf: first item; inner: index of the second child
+        std::uint32_t count = 0; ///< items in a leaf; 0 for an inner node
     };
     std::vector<Node> nodes;
-    std::vector<std::uint32_t> order; ///< item index for each leaf slot
+    std::vector<std::uint32_t> order; ///< item index for each leaf slot (TriangleBvh: empty, see there)
 
     /// Builds over `boxes` (one per item; invalid boxes are left out).
     static BvhNodes build(const std::vector<QueryBox>& boxes);
-    std::size_t memoryBytes() const { return nodes.size() * sizeof(Node) + order.size() * sizeof(std::uint32_t); }
+    std::size_t memoryBytes() const {
+        return nodes.size() * sizeof(Node) + order.size() * sizeof(std::uint32_t);
+    }
 };
 
 /// The triangles of one Geometry (Triangles, TriangleStrip and TriangleFan; points and lines
@@ -58,7 +60,8 @@ public:
     /// (Geometry::validate). Degenerate triangles (zero area) are kept out.
     explicit TriangleBvh(const Geometry& geometry);
 
-    /// Vertex indices of primitive `p` (the triangle number in the geometry's draw order).
+    /// A triangle's vertex indices and its number in the geometry's draw order. Stored in leaf
+    /// order: a leaf's [first, first + count) indexes triangles() directly.
     struct Triangle {
         std::array<std::uint32_t, 3> v;
         std::uint32_t primitive;

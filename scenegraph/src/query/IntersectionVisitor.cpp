@@ -1,0 +1,201 @@
+// IntersectionVisitor: walks the graph (or a group's index) for an intersector.
+#include "BvhWalk.h"
+#include "SubtreeIndex.h"
+#include "sgfx/Billboard.h"
+#include "sgfx/Camera.h"
+#include "sgfx/Geometry.h"
+#include "sgfx/Intersection.h"
+#include "sgfx/LOD.h"
+
+#include <stdexcept>
+#include <utility>
+
+namespace sgfx {
+
+QueryView QueryView::of(const Camera& camera) {
+    QueryView v;
+    v.viewMatrix = glm::dmat4(camera.viewMatrix);
+    v.projectionMatrix = camera.projectionMatrix;
+    v.viewportHeight = camera.viewport.height;
+    return v;
+}
+
+IntersectionVisitor::IntersectionVisitor(Intersector& intersector, NodeMask queryMask)
+    : NodeVisitor(Mode::ActiveChildren)
+    , intersector_(intersector) {
+    traversalMask = queryMask;
+}
+
+void IntersectionVisitor::visit(Node& node, const glm::dmat4& parentToWorld) {
+    if (lodSelection == LodSelection::Shown && !view)
+        throw std::invalid_argument(
+            "sgfx: IntersectionVisitor: LodSelection::Shown needs a view (set `view`)");
+    frames_.assign(1, QueryFrame::of(parentToWorld));
+    nodePath.clear();
+    atStart_ = true;
+    if (accepts(node)) node.accept(*this);
+    atStart_ = false;
+    frames_.clear();
+    intersector_.finish();
+}
+
+bool IntersectionVisitor::enterBound(const Node& node) const {
+    if (intersector_.done()) return false;
+    const BoundingSphere& s = node.bound();
+    if (!s.valid()) return false;
+    // The float sphere may be a rounding short of its contents: widen it a little.
+    const glm::dvec3 c(s.center);
+    const double r = double(s.radius) * (1.0 + 1e-6) + 1e-9;
+    QueryBox box;
+    box.min = c - r;
+    box.max = c + r;
+    return intersector_.mayHit(box, frames_.back());
+}
+
+void IntersectionVisitor::pushFrame(const glm::dmat4& local) {
+    frames_.push_back(QueryFrame::of(frames_.back().toWorld * local));
+}
+
+void IntersectionVisitor::apply(Node& node) {
+    atStart_ = false;
+    if (enterBound(node)) traverse(node);
+}
+
+void IntersectionVisitor::apply(Group& group) {
+    const bool start = std::exchange(atStart_, false);
+    if (!enterBound(group)) return;
+    if (start && useSubtreeIndex)
+        visitIndexed(group);
+    else
+        traverse(group);
+}
+
+void IntersectionVisitor::apply(Transform& t) {
+    const bool start = std::exchange(atStart_, false);
+    if (!enterBound(t)) return;
+    pushFrame(glm::dmat4(t.matrix()));
+    if (start && useSubtreeIndex)
+        visitIndexed(t);
+    else
+        traverse(t);
+    popFrame();
+}
+
+void IntersectionVisitor::apply(LOD& lod) {
+    atStart_ = false;
+    if (!enterBound(lod)) return;
+    std::vector<bool> chosen(lod.numChildren(), false);
+    if (lodSelection == LodSelection::Finest) {
+        // The children with the greatest upper bound: what the LOD shows when largest on screen.
+        float top = -1.0f;
+        for (const LOD::Range& r : lod.ranges())
+            top = std::max(top, r.maxPixels);
+        for (std::size_t i = 0; i < chosen.size(); ++i)
+            chosen[i] = lod.range(i).maxPixels == top;
+    } else {
+        // As CullVisitor does: the selection sphere's projected size in the query's view.
+        const BoundingSphere& local = lod.selectionSphere();
+        float pixels = 0.0f;
+        if (local.valid()) {
+            const glm::dmat4 modelView = view->viewMatrix * frames_.back().toWorld;
+            const glm::vec3 center(modelView * glm::dvec4(glm::dvec3(local.center), 1.0));
+            const float radius = local.radius * maxAxisScale(glm::mat4(modelView));
+            pixels = pixelSize(center, radius, view->projectionMatrix, view->viewportHeight);
+        }
+        for (std::size_t i = 0; i < chosen.size(); ++i)
+            chosen[i] = lod.range(i).contains(pixels);
+    }
+    nodePath.push_back(&lod);
+    for (std::size_t i = 0; i < chosen.size(); ++i)
+        if (chosen[i] && accepts(*lod.child(i))) lod.child(i)->accept(*this);
+    nodePath.pop_back();
+}
+
+void IntersectionVisitor::apply(Billboard& b) {
+    atStart_ = false;
+    if (!enterBound(b)) return;
+    if (!view) { // the rest pose
+        traverse(b);
+        return;
+    }
+    // The eye and the view's up in the billboard's frame, as CullVisitor turns it.
+    const glm::dmat4 toLocal = glm::inverse(view->viewMatrix * frames_.back().toWorld);
+    pushFrame(glm::dmat4(b.orientation(glm::vec3(toLocal[3]), glm::vec3(toLocal[1]))));
+    traverse(b);
+    popFrame();
+}
+
+void IntersectionVisitor::apply(Geometry& g) {
+    atStart_ = false;
+    if (!enterBound(g)) return;
+    nodePath.push_back(&g);
+    const auto bvh = g.triangleBvh();
+    const QueryFrame& frame = frames_.back();
+    ++geometriesTested_;
+    if (g.instances.empty()) {
+        intersector_.intersect(g, *bvh, frame, {&nodePath, 0});
+    } else {
+        for (std::size_t i = 0; i < g.instances.size() && !intersector_.done(); ++i)
+            intersector_.intersect(g, *bvh, QueryFrame::of(frame.toWorld * glm::dmat4(g.instances[i])),
+                                   {&nodePath, std::uint32_t(i)});
+    }
+    nodePath.pop_back();
+}
+
+void IntersectionVisitor::apply(Drawable&) {
+    atStart_ = false; // particles and volumes have no triangles to hit
+}
+
+void IntersectionVisitor::apply(Light&) {
+    atStart_ = false;
+}
+
+void IntersectionVisitor::apply(Camera& c) {
+    atStart_ = false;
+    if (c.renderTarget) return; // its children are drawn into a texture, not placed in the world
+    if (enterBound(c)) traverse(c);
+}
+
+bool IntersectionVisitor::visitIndexed(Group& group) {
+    const auto index = group.subtreeIndex();
+    const QueryFrame base = frames_.back();
+    const std::size_t depth = nodePath.size();
+    nodePath.push_back(&group);
+    auto test = [&](const BvhNodes::Node& n) {
+        QueryBox box;
+        box.min = glm::dvec3(n.min);
+        box.max = glm::dvec3(n.max);
+        return intersector_.mayHit(box, base);
+    };
+    auto leaf = [&](std::uint32_t first, std::uint32_t count) {
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            const SubtreeIndex::Item& item = index->items[index->bvh.order[k]];
+            bool active = true;
+            for (Node* n : item.path)
+                active = active && accepts(*n);
+            if (!active) continue;
+            QueryFrame frame;
+            frame.toWorld = base.toWorld * item.toGroup;
+            frame.toLocal = item.fromGroup * base.toLocal;
+            frame.mirrored = glm::determinant(glm::dmat3(frame.toWorld)) < 0.0;
+            nodePath.insert(nodePath.end(), item.path.begin(), item.path.end() - 1);
+            if (item.geometry) {
+                nodePath.push_back(item.node);
+                ++geometriesTested_;
+                intersector_.intersect(*item.geometry, *item.bvh, frame, {&nodePath, item.instance});
+            } else {
+                frames_.push_back(frame);
+                item.node->accept(*this);
+                frames_.pop_back();
+            }
+            nodePath.resize(depth + 1);
+            if (intersector_.done()) return false;
+        }
+        return true;
+    };
+    query::walk(index->bvh, test, leaf);
+    nodePath.resize(depth);
+    return true;
+}
+
+} // namespace sgfx
