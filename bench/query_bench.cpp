@@ -2,11 +2,15 @@
 // OpenSceneGraph peer): the workloads of bench/query_workload.h through sgfx::LineSegmentIntersector
 // and sgfx::IntersectionVisitor, one intersector and one visitor per query as an application asks.
 //
-//   query_bench FILE.obj [--terrain N] [--sight N] [--no-subtree-index]
+//   query_bench FILE.obj [--terrain N] [--sight N] [--no-subtree-index] [--model FILE]
 //     --no-subtree-index  walk the graph node by node (IntersectionVisitor::useSubtreeIndex off)
+//     --model FILE        query FILE (the same scene in another format: `polygon --export-gltf`
+//                         keeps its 4336 meshes apart, where the OBJ loader merges them per
+//                         material); the workloads still come from FILE.obj's box
 //
 // Prints a BUILD line (sgfx::prepareForQueries timed after the load, and the BVHs' bytes per
 // triangle) and one QUERY line per workload.
+#include "query/SubtreeIndex.h" // private: for its memoryBytes()
 #include "query_workload.h"
 
 #include <sgfx/Geometry.h>
@@ -21,6 +25,8 @@
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <unordered_set>
+#include <vector>
 
 namespace {
 
@@ -31,8 +37,9 @@ namespace qw = queryworkload;
 // the triangle list), the geometry's own arrays left out as on the OSG side.
 struct BvhBytes : sgfx::NodeVisitor {
     void apply(sgfx::Geometry& g) override {
+        if (!seen.insert(&g).second) return; // a shared geometry has one BVH
         ++geometries;
-        triangles += g.triangleCount();
+        triangles += g.triangleCount() / g.instanceCount(); // one BVH serves every instance
         if (const auto bvh = g.triangleBvh()) {
             trees += bvh->triangles().empty() ? 0 : 1;
             indexed += bvh->triangles().size();
@@ -40,6 +47,7 @@ struct BvhBytes : sgfx::NodeVisitor {
             bytes += bvh->memoryBytes();
         }
     }
+    std::unordered_set<const sgfx::Geometry*> seen;
     std::size_t geometries = 0, trees = 0, triangles = 0, indexed = 0, nodes = 0, bytes = 0;
 };
 
@@ -71,11 +79,14 @@ qw::Result run(sgfx::Node& scene, const std::vector<qw::Segment>& segments, sgfx
 
 int main(int argc, char** argv) {
     bool subtreeIndex = true;
-    // --no-subtree-index is ours; the rest is query_workload.h's.
+    std::string model;
+    // --no-subtree-index and --model are ours; the rest is query_workload.h's.
     std::vector<char*> rest;
     for (int i = 0; i < argc; ++i) {
         if (std::string(argv[i]) == "--no-subtree-index")
             subtreeIndex = false;
+        else if (std::string(argv[i]) == "--model" && i + 1 < argc)
+            model = argv[++i];
         else
             rest.push_back(argv[i]);
     }
@@ -86,18 +97,23 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "query_bench: no vertices in %s\n", args.file.c_str());
         return 1;
     }
+    const std::string side =
+        std::string("sgfx") + (model.empty() ? "" : "-model") + (subtreeIndex ? "" : "-walk");
     try {
-        const std::shared_ptr<sgfx::Group> scene = sgfx::loadModel(args.file);
+        const std::shared_ptr<sgfx::Group> scene = sgfx::loadModel(model.empty() ? args.file : model);
         const auto t0 = Clock::now();
         sgfx::prepareForQueries(*scene);
         const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         BvhBytes m;
         scene->accept(m);
+        // The root's index over its geometries (built by prepareForQueries) counts too.
+        const std::size_t indexBytes = scene->subtreeIndex()->memoryBytes();
+        m.bytes += indexBytes;
         std::printf(
-            "BUILD side=sgfx seconds=%.4f bytes_per_triangle=%.2f triangles=%zu indexed_triangles=%zu "
-            "bytes=%zu geometries=%zu trees=%zu tree_nodes=%zu sizeof_node=%zu\n",
-            seconds, double(m.bytes) / double(m.triangles), m.triangles, m.indexed, m.bytes, m.geometries,
-            m.trees, m.nodes, sizeof(sgfx::BvhNodes::Node));
+            "BUILD side=%s seconds=%.4f bytes_per_triangle=%.2f triangles=%zu indexed_triangles=%zu "
+            "bytes=%zu subtree_index_bytes=%zu geometries=%zu trees=%zu tree_nodes=%zu sizeof_node=%zu\n",
+            side.c_str(), seconds, double(m.bytes) / double(m.triangles), m.triangles, m.indexed, m.bytes,
+            indexBytes, m.geometries, m.trees, m.nodes, sizeof(sgfx::BvhNodes::Node));
         std::printf("BOX min=%.3f,%.3f,%.3f max=%.3f,%.3f,%.3f\n", box.min.x, box.min.y, box.min.z, box.max.x,
                     box.max.y, box.max.z);
 
@@ -105,11 +121,10 @@ int main(int argc, char** argv) {
         // Warm-up on other points: caches, page faults, the CPU's clock.
         run(*scene, qw::terrainSegments(box, 1000, qw::kSeed + 100), Limit::Nearest, subtreeIndex);
 
-        const char* side = subtreeIndex ? "sgfx" : "sgfx-walk";
         const auto terrain = qw::terrainSegments(box, args.terrainRays);
-        qw::print(side, "terrain", terrain, run(*scene, terrain, Limit::Nearest, subtreeIndex));
+        qw::print(side.c_str(), "terrain", terrain, run(*scene, terrain, Limit::Nearest, subtreeIndex));
         const auto sight = qw::sightSegments(box, args.sightRays);
-        qw::print(side, "sight", sight, run(*scene, sight, Limit::Any, subtreeIndex));
+        qw::print(side.c_str(), "sight", sight, run(*scene, sight, Limit::Any, subtreeIndex));
     } catch (const std::exception& e) {
         std::fprintf(stderr, "query_bench: %s\n", e.what());
         return 1;
