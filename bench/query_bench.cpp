@@ -21,7 +21,6 @@
 #include <sgfx/Queries.h>
 #include <sgfx/TriangleBvh.h>
 
-#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -30,7 +29,6 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 namespace qw = queryworkload;
 
 // Triangles, and what the per-geometry BVHs hold (TriangleBvh::memoryBytes: nodes, leaf order and
@@ -59,7 +57,7 @@ qw::Result run(sgfx::Node& scene, const std::vector<qw::Segment>& segments, sgfx
                bool subtreeIndex) {
     qw::Result r;
     r.rays = segments.size();
-    const auto t0 = Clock::now();
+    const qw::Stopwatch watch;
     for (const qw::Segment& s : segments) {
         sgfx::LineSegmentIntersector lsi(vec(s.start), vec(s.end));
         lsi.limit = limit;
@@ -71,7 +69,8 @@ qw::Result run(sgfx::Node& scene, const std::vector<qw::Segment>& segments, sgfx
             if (limit == sgfx::Intersector::Limit::Nearest) r.hitZSum += hit->point.z;
         }
     }
-    r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    r.seconds = watch.wall();
+    r.cpuSeconds = watch.cpu();
     return r;
 }
 
@@ -101,19 +100,20 @@ int main(int argc, char** argv) {
         std::string("sgfx") + (model.empty() ? "" : "-model") + (subtreeIndex ? "" : "-walk");
     try {
         const std::shared_ptr<sgfx::Group> scene = sgfx::loadModel(model.empty() ? args.file : model);
-        const auto t0 = Clock::now();
+        const qw::Stopwatch watch;
         sgfx::prepareForQueries(*scene);
-        const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        const double seconds = watch.wall(), cpuSeconds = watch.cpu();
         BvhBytes m;
         scene->accept(m);
         // The root's index over its geometries (built by prepareForQueries) counts too.
         const std::size_t indexBytes = scene->subtreeIndex()->memoryBytes();
         m.bytes += indexBytes;
         std::printf(
-            "BUILD side=%s seconds=%.4f bytes_per_triangle=%.2f triangles=%zu indexed_triangles=%zu "
-            "bytes=%zu subtree_index_bytes=%zu geometries=%zu trees=%zu tree_nodes=%zu sizeof_node=%zu\n",
-            side.c_str(), seconds, double(m.bytes) / double(m.triangles), m.triangles, m.indexed, m.bytes,
-            indexBytes, m.geometries, m.trees, m.nodes, sizeof(sgfx::BvhNodes::Node));
+            "BUILD side=%s seconds=%.4f cpu_seconds=%.4f bytes_per_triangle=%.2f triangles=%zu "
+            "indexed_triangles=%zu bytes=%zu subtree_index_bytes=%zu geometries=%zu trees=%zu tree_nodes=%zu "
+            "sizeof_node=%zu\n",
+            side.c_str(), seconds, cpuSeconds, double(m.bytes) / double(m.triangles), m.triangles, m.indexed,
+            m.bytes, indexBytes, m.geometries, m.trees, m.nodes, sizeof(sgfx::BvhNodes::Node));
         std::printf("BOX min=%.3f,%.3f,%.3f max=%.3f,%.3f,%.3f\n", box.min.x, box.min.y, box.min.z, box.max.x,
                     box.max.y, box.max.z);
 

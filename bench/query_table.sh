@@ -8,6 +8,8 @@
 # the glTF export (4336 geometries, like OSG's OBJ plugin makes, where sgfx's OBJ loader merges
 # them into one per material), the same walked node by node (no subtree index), and OSG with its
 # geometries merged by osgUtil::Optimizer.
+# Rates and build times are per CPU second of the process (the wall-clock figures are in the
+# programs' lines on stderr): this 2-core machine is shared with builds.
 # Usage: bench/query_table.sh [BUILD_DIR] [ROUNDS] [TERRAIN_RAYS] [SIGHT_RAYS]
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -32,7 +34,8 @@ if [ "${QUERY_VARIANTS:-0}" = 1 ]; then
          "$build/bench/osg_query $obj --merge")
 fi
 n=${#labels[@]}
-ref=1 # OSG as loaded
+ref=1                                   # OSG as loaded
+ref2=$(( n > 2 ? n - 1 : -1 ))          # OSG merged, with the variants
 
 val() { echo "$1" | field "$2"; }
 # line OUTPUT KIND [PATTERN]: the first KIND line (QUERY, BUILD) of OUTPUT matching PATTERN.
@@ -41,7 +44,7 @@ queries() { echo "$1" | sed -n 's/.* queries=\([0-9a-f]*\).*/\1/p'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.4f", a / b }'; }
 
 workloads=(terrain sight)
-declare -A rate ratios bsec bratios out
+declare -A rate ratios ratios2 bsec bratios out
 fail=0
 for ((r = 0; r < rounds; ++r)); do
   for ((k = 0; k < n; ++k)); do
@@ -53,13 +56,18 @@ for ((r = 0; r < rounds; ++r)); do
   for ((p = 0; p < n; ++p)); do
     s=${out[$p]}
     b=$(line "$s" BUILD)
-    bsec[$p]+="$(val "$b" seconds) "
-    bratios[$p]+="$(ratio "$(val "$b" seconds)" "$(val "$(line "$o" BUILD)" seconds)") "
+    bsec[$p]+="$(val "$b" cpu_seconds) "
+    bratios[$p]+="$(ratio "$(val "$b" cpu_seconds)" "$(val "$(line "$o" BUILD)" cpu_seconds)") "
     for w in "${workloads[@]}"; do
       sl=$(line "$s" QUERY "workload=$w "); ol=$(line "$o" QUERY "workload=$w ")
-      rate[$p,$w]+="$(val "$sl" rays_per_s) "
-      ratios[$p,$w]+="$(ratio "$(val "$sl" rays_per_s)" "$(val "$ol" rays_per_s)") "
-      echo "round $r $w ${labels[$p]}: $(val "$sl" rays_per_s) rays/s, hits $(val "$sl" hits)" >&2
+      rate[$p,$w]+="$(val "$sl" rays_per_cpu_s) "
+      ratios[$p,$w]+="$(ratio "$(val "$sl" rays_per_cpu_s)" "$(val "$ol" rays_per_cpu_s)") "
+      if (( ref2 >= 0 )); then
+        ml=$(line "${out[$ref2]}" QUERY "workload=$w ")
+        ratios2[$p,$w]+="$(ratio "$(val "$sl" rays_per_cpu_s)" "$(val "$ml" rays_per_cpu_s)") "
+      fi
+      echo "round $r $w ${labels[$p]}: $(val "$sl" rays_per_cpu_s) rays/CPU s ($(val "$sl" rays_per_s) rays/s)," \
+           "hits $(val "$sl" hits)" >&2
       if [ "$(queries "$sl")" != "$(queries "$ol")" ]; then
         echo "query_table: $w: ${labels[$p]} asked other questions than OSG ($(queries "$sl") vs $(queries "$ol"))" >&2
         fail=1
@@ -79,23 +87,30 @@ stats() {
   echo "$(median "${a[@]}") $(printf '%s\n' "${a[@]}" | sort -g | head -n 1) $(printf '%s\n' "${a[@]}" | sort -g | tail -n 1)"
 }
 
-echo "| workload | program | geometries | rays | rays/s | × OSG (median of rounds) | range | hits | mean hit z |"
-echo "|---|---|---:|---:|---:|---:|---|---:|---:|"
+m1="× OSG (median of rounds)"; m2=""; sep="|---|---|---:|---:|---:|---:|---|"
+if (( ref2 >= 0 )); then m2=" × OSG merged | range |"; sep+="---:|---|"; fi
+echo "| workload | program | geometries | rays | rays per CPU s | $m1 | range |$m2 hits | mean hit z |"
+echo "$sep---:|---:|"
 for w in "${workloads[@]}"; do
   for ((p = 0; p < n; ++p)); do
     sl=$(line "${out[$p]}" QUERY "workload=$w "); b=$(line "${out[$p]}" BUILD)
     read -r rm _ _ <<<"$(stats "${rate[$p,$w]}")"
     read -r qm qlo qhi <<<"$(stats "${ratios[$p,$w]}")"
+    q2="-"; q2lo=0; q2hi=0
+    if (( ref2 >= 0 )); then read -r q2 q2lo q2hi <<<"$(stats "${ratios2[$p,$w]}")"; fi
+    # rf: which reference this row is (1: OSG, 2: OSG merged), so its own ratio column stays empty.
     awk -v w="$w" -v l="${labels[$p]}" -v g="$(val "$b" geometries)" -v n="$(val "$sl" rays)" -v s="$rm" \
-        -v q="$qm" -v lo="$qlo" -v hi="$qhi" -v h="$(val "$sl" hits)" -v z="$(val "$sl" hit_z_sum)" \
-        -v ref="$(( p == ref ))" \
-        'BEGIN { printf "| %s | %s | %d | %d | %.0f | %s | %s | %d | %s |\n", w, l, g, n, s,
-                 ref ? "1" : sprintf("%.2f×", q), ref ? "" : sprintf("%.2f–%.2f", lo, hi), h,
+        -v q="$qm" -v lo="$qlo" -v hi="$qhi" -v q2="$q2" -v lo2="$q2lo" -v hi2="$q2hi" \
+        -v h="$(val "$sl" hits)" -v z="$(val "$sl" hit_z_sum)" \
+        -v rf="$(( p == ref ? 1 : (p == ref2 ? 2 : 0) ))" -v two="$(( ref2 >= 0 ))" \
+        'function r(x, a, b, self) { return self ? "1 | " : sprintf("%.2f× | %.2f–%.2f", x, a, b) }
+         BEGIN { printf "| %s | %s | %d | %d | %.0f | %s |%s %d | %s |\n", w, l, g, n, s,
+                 r(q, lo, hi, rf == 1), two ? " " r(q2, lo2, hi2, rf == 2) " |" : "", h,
                  (w == "terrain" && h > 0) ? sprintf("%.4f", z / h) : "—" }'
   done
 done
 echo
-echo "| program | BVH build ms | × OSG (median of rounds) | bytes/triangle | triangles | indexed triangles | trees | tree nodes |"
+echo "| program | BVH build CPU ms | × OSG (median of rounds) | bytes/triangle | triangles | indexed triangles | trees | tree nodes |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 for ((p = 0; p < n; ++p)); do
   b=$(line "${out[$p]}" BUILD)

@@ -2,7 +2,10 @@
 // The scene-query workloads of bench/query_table.sh, shared by query_bench (sgfx) and osg_query
 // (OpenSceneGraph 3.6) so both ask exactly the same questions: the same box, the same splitmix64
 // stream, the same arithmetic. Depends on neither library.
+#include <time.h>
+
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -114,20 +117,36 @@ inline std::uint64_t checksum(const std::vector<Segment>& segments) {
     return h;
 }
 
+// Wall time, and the process's CPU time: on a shared machine (2 cores, builds beside) the CPU
+// time leaves out the moments the program waited for a core; the table reads it.
+struct Stopwatch {
+    static double cpuNow() {
+        timespec t{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+        return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+    }
+    std::chrono::steady_clock::time_point wall0 = std::chrono::steady_clock::now();
+    double cpu0 = cpuNow();
+    double wall() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    }
+    double cpu() const { return cpuNow() - cpu0; }
+};
+
 // Where each side reports its results: one line per workload, parsed by bench/query_table.sh.
 struct Result {
     std::size_t rays = 0;
-    double seconds = 0;
+    double seconds = 0, cpuSeconds = 0;
     std::size_t hits = 0; // terrain: segments that hit; sight: segments that are blocked
     double hitZSum = 0;   // terrain: sum of the nearest hits' z
 };
 
 inline void print(const char* side, const char* workload, const std::vector<Segment>& segments,
                   const Result& r) {
-    std::printf("QUERY side=%s workload=%s rays=%zu seconds=%.4f rays_per_s=%.1f us_per_ray=%.3f hits=%zu "
-                "hit_z_sum=%.3f queries=%016llx\n",
-                side, workload, r.rays, r.seconds, double(r.rays) / r.seconds,
-                1e6 * r.seconds / double(r.rays), r.hits, r.hitZSum,
+    std::printf("QUERY side=%s workload=%s rays=%zu seconds=%.4f cpu_seconds=%.4f rays_per_s=%.1f "
+                "rays_per_cpu_s=%.1f us_per_ray=%.3f hits=%zu hit_z_sum=%.3f queries=%016llx\n",
+                side, workload, r.rays, r.seconds, r.cpuSeconds, double(r.rays) / r.seconds,
+                double(r.rays) / r.cpuSeconds, 1e6 * r.seconds / double(r.rays), r.hits, r.hitZSum,
                 static_cast<unsigned long long>(checksum(segments)));
 }
 
