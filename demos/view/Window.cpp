@@ -384,18 +384,9 @@ private:
     int shots_ = 0;
 };
 
-} // namespace
-
-int runWindow(const Options& o, ViewScene& scene) {
-    auto window = std::make_unique<sgfx::GlfwWindow>(o.width, o.height, "sgfx-view");
-    GLFWwindow* win = window->handle();
-    sgfx::Viewer viewer(std::move(window));
-    viewer.renderer().options().timePasses = true;
-    viewer.setSceneData(scene.root());
-
-    Input input;
+// The GLFW callbacks fill `input`. Installed before ImGui's, which chains to them.
+void listen(GLFWwindow* win, Input& input) {
     glfwSetWindowUserPointer(win, &input);
-    // Installed before ImGui's, which chains to them.
     glfwSetKeyCallback(win, [](GLFWwindow* w, int key, int, int action, int) {
         if (action == GLFW_PRESS) inputOf(w).keys.push_back(key);
     });
@@ -414,9 +405,10 @@ int runWindow(const Options& o, ViewScene& scene) {
         auto& d = inputOf(w).dropped;
         d.assign(paths, paths + count);
     });
+}
 
-    App app(o, scene, viewer, win);
 #if SGFX_VIEW_IMGUI
+void startImGui(GLFWwindow* win) {
     // ImGui's GL loader dlopens the system libGL and closes it at shutdown; this process-lifetime
     // reference keeps the library (and glvnd's dispatch stubs it made for ImGui) loaded, so
     // nothing of it is unloaded while still referenced and leak reports can name it.
@@ -429,6 +421,24 @@ int runWindow(const Options& o, ViewScene& scene) {
     ImGui_ImplGlfw_InitForOpenGL(win, true);
     if (!ImGui_ImplOpenGL3_Init("#version 450"))
         throw sgfx::ContextError("sgfx-view: Dear ImGui's OpenGL backend could not start");
+}
+#endif
+
+} // namespace
+
+int runWindow(const Options& o, ViewScene& scene) {
+    auto window = std::make_unique<sgfx::GlfwWindow>(o.width, o.height, "sgfx-view");
+    GLFWwindow* win = window->handle();
+    sgfx::Viewer viewer(std::move(window));
+    viewer.renderer().options().timePasses = true;
+    viewer.setSceneData(scene.root());
+
+    Input input;
+    listen(win, input);
+
+    App app(o, scene, viewer, win);
+#if SGFX_VIEW_IMGUI
+    startImGui(win);
     std::size_t uiVertices = 0;
     bool grabWindow = false;
     sgfx::Image windowImage; // --self-test: what the window shows, panel included
