@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -72,6 +73,13 @@ public:
     // For traversals (IntersectionVisitor):
     /// Whether anything inside `box` (in `frame`'s local coordinates) could be hit; conservative.
     virtual bool mayHit(const QueryBox& box, const QueryFrame& frame) const = 0;
+    /// An order key for `box`: where the query enters it (lines: the parameter t), +infinity when
+    /// it cannot hit it. Traversals visit smaller keys first and skip keys beyond reach().
+    virtual double entry(const QueryBox& box, const QueryFrame& frame) const {
+        return mayHit(box, frame) ? 0.0 : std::numeric_limits<double>::infinity();
+    }
+    /// The largest entry key still worth visiting (shrinks as Limit::Nearest finds closer hits).
+    virtual double reach() const { return std::numeric_limits<double>::infinity(); }
     /// Tests the triangles of `geometry` (through its BVH) and records hits.
     virtual void intersect(const Geometry& geometry, const TriangleBvh& bvh, const QueryFrame& frame,
                            const QueryContext& context) = 0;
@@ -100,6 +108,8 @@ public:
     const glm::dvec3& end() const { return end_; }
 
     bool mayHit(const QueryBox& box, const QueryFrame& frame) const override;
+    double entry(const QueryBox& box, const QueryFrame& frame) const override;
+    double reach() const override { return searchLimit(); }
     void intersect(const Geometry& geometry, const TriangleBvh& bvh, const QueryFrame& frame,
                    const QueryContext& context) override;
 

@@ -161,12 +161,13 @@ bool IntersectionVisitor::visitIndexed(Group& group) {
     const QueryFrame base = frames_.back();
     const std::size_t depth = nodePath.size();
     nodePath.push_back(&group);
-    auto test = [&](const BvhNodes::Node& n) {
+    auto entry = [&](const BvhNodes::Node& n) {
         QueryBox box;
         box.min = glm::dvec3(n.min);
         box.max = glm::dvec3(n.max);
-        return intersector_.mayHit(box, base);
+        return intersector_.entry(box, base);
     };
+    auto reach = [&] { return intersector_.reach(); };
     auto leaf = [&](std::uint32_t first, std::uint32_t count) {
         for (std::uint32_t k = first; k < first + count; ++k) {
             const SubtreeIndex::Item& item = index->items[index->bvh.order[k]];
@@ -193,7 +194,7 @@ bool IntersectionVisitor::visitIndexed(Group& group) {
         }
         return true;
     };
-    query::walk(index->bvh, test, leaf);
+    query::walkNearFirst(index->bvh, entry, reach, leaf); // nearer items first: Nearest prunes the rest
     nodePath.resize(depth);
     return true;
 }

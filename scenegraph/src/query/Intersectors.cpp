@@ -102,10 +102,14 @@ double LineSegmentIntersector::searchLimit() const {
     return limit == Limit::Nearest && !hits_.empty() ? hits_.front().ratio : tMax_;
 }
 
-bool LineSegmentIntersector::mayHit(const QueryBox& box, const QueryFrame& frame) const {
+double LineSegmentIntersector::entry(const QueryBox& box, const QueryFrame& frame) const {
     const glm::dvec3 o = transformPoint(frame.toLocal, start_);
     const query::LineSlab slab(o, transformPoint(frame.toLocal, end_) - o);
-    return slab.entry(box.min, box.max, searchLimit()) != query::kMiss;
+    return slab.entry(box.min, box.max, searchLimit());
+}
+
+bool LineSegmentIntersector::mayHit(const QueryBox& box, const QueryFrame& frame) const {
+    return entry(box, frame) != query::kMiss;
 }
 
 void LineSegmentIntersector::intersect(const Geometry& g, const TriangleBvh& bvh, const QueryFrame& frame,
