@@ -59,7 +59,8 @@ TEST(QueryThreads, TwoThreadsDuringHundredFrames) {
     };
     root->addChild(mover);
     for (int i = 0; i < 6; ++i) // obstacles for the lines of sight
-        root->addChild(Transform::create(glm::translate(glm::mat4(1.0f), {10.0f * float(i) + 5.0f, 10.0f, 1.0f})));
+        root->addChild(
+            Transform::create(glm::translate(glm::mat4(1.0f), {10.0f * float(i) + 5.0f, 10.0f, 1.0f})));
     for (int i = 0; i < 6; ++i)
         static_cast<Group&>(*root->child(std::size_t(2 + i))).addChild(shapes::box({1, 1, 4}));
 
@@ -84,7 +85,8 @@ TEST(QueryThreads, TwoThreadsDuringHundredFrames) {
                 const bool onBox = std::abs(x - bx) < 0.99 && std::abs(y - 32.0) < 0.99;
                 const double r = std::fmod(x + 5.0, 10.0); // 0 or 10 at a post's axis
                 const bool onPost = std::abs(y - 10.0) < 0.51 && (r < 0.51 || r > 9.49);
-                const bool nearEdge = std::abs(std::abs(x - bx) - 1.0) < 0.02 || std::abs(std::abs(y - 32) - 1.0) < 0.02;
+                const bool nearEdge =
+                    std::abs(std::abs(x - bx) - 1.0) < 0.02 || std::abs(std::abs(y - 32) - 1.0) < 0.02;
                 if (onPost || nearEdge) continue; // the posts stand on the slope; edges are ambiguous
                 const double expected = onBox ? 12.0 : slopeHeight(x, y);
                 if (!h || std::abs(*h - expected) > 1e-9) ++wrong;
