@@ -9,6 +9,7 @@
 #include <sgfx/LOD.h>
 #include <sgfx/Queries.h>
 #include <sgfx/Shapes.h>
+#include <sgfx/Viewer.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -467,4 +468,20 @@ TEST(Query, MovingPartLeavesStaticIndicesAlone) {
     const auto treeHits = run(LineSegmentIntersector({0.1, 10.1, 5}, {0.1, 10.1, -5}), *root);
     ASSERT_EQ(treeHits.size(), 2u);
     EXPECT_EQ(treeHits[0].nodePath[1], tree.get());
+}
+
+// Through the viewer: a headless context has no size of its own, so the target is the camera's
+// viewport (pixels from its top left); a pixel outside it hits nothing.
+TEST(Query, PickThroughAHeadlessViewer) {
+    auto root = Group::create();
+    root->addChild(shapes::box({2, 2, 2}));
+    auto viewer = Viewer::createHeadless(64, 48);
+    viewer->setSceneData(root);
+    viewer->camera()->setPerspective(45.0f, 0.5f, 100.0f);
+    viewer->camera()->setLookAt({10, 0, 0}, {0, 0, 0});
+    const auto hit = pick(*viewer, 32, 24);
+    ASSERT_TRUE(hit.has_value());
+    expectNear(hit->hit.point, {1, 0, 0}, kTol, "the centre pixel");
+    EXPECT_EQ(hit->camera, viewer->camera().get());
+    EXPECT_FALSE(pick(*viewer, 32, 60).has_value()) << "below the viewport";
 }
