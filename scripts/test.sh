@@ -2,7 +2,8 @@
 # Installs what is missing, builds everything and runs the whole test suite through CTest:
 # first the normal (Release) build, then the same suite built with AddressSanitizer,
 # UndefinedBehaviorSanitizer and LeakSanitizer (suppressions: tests/sanitizers/lsan.supp).
-# SGFX_SKIP_SANITIZERS=1 runs the first stage only (for quick local runs). A third stage builds the
+# SGFX_SKIP_SANITIZERS=1 runs the first stage only (for quick local runs). Then the scene-query tests
+# are built with ThreadSanitizer and run (SGFX_SKIP_TSAN=1 skips them). A last stage builds the
 # glTF loader's libFuzzer target with clang and runs it for 60 s (scripts/fuzz.sh); SGFX_SKIP_FUZZ=1
 # skips it.
 set -euo pipefail
@@ -24,6 +25,16 @@ if [ "${SGFX_SKIP_SANITIZERS:-0}" != 1 ]; then
   export LSAN_OPTIONS=suppressions=$root/tests/sanitizers/lsan.supp:print_suppressions=0
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   (cd build-asan && ctest --output-on-failure -j "$jobs" -E 'package_consumer')
+fi
+
+if [ "${SGFX_SKIP_TSAN:-0}" != 1 ]; then
+  # ThreadSanitizer over the scene queries: two threads query while the viewer draws
+  # (tests/query_threads_test.cpp). Only Mesa's own threads are suppressed (tests/sanitizers/tsan.supp).
+  cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGFX_TSAN=ON -DSGFX_BUILD_BENCH=OFF
+  cmake --build build-tsan -j "$jobs" --target test_query_threads test_query
+  export TSAN_OPTIONS=halt_on_error=1:suppressions=$root/tests/sanitizers/tsan.supp
+  build-tsan/tests/test_query_threads
+  build-tsan/tests/test_query
 fi
 
 if [ "${SGFX_SKIP_FUZZ:-0}" != 1 ]; then

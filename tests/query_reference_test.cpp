@@ -122,7 +122,11 @@ TEST(QueryReference, TenThousandRaysMatchBruteForce) {
         ++hits;
         const Intersection& h = *line.nearest();
         const glm::dvec3 refPoint = o + ref.t * (e - o);
-        worst = std::max(worst, glm::length(h.point - refPoint) / r);
+        const double error = glm::length(h.point - refPoint) / r;
+        EXPECT_LT(error, 1e-6) << "ray " << k << ": hit at t = " << h.ratio << " on '" << h.geometry->name
+                               << "', the reference at t = " << ref.t << " on '" << ref.tri->geometry->name
+                               << "'";
+        worst = std::max(worst, error);
         if (h.geometry != ref.tri->geometry || h.primitiveIndex != ref.tri->primitive ||
             h.instanceIndex != ref.tri->instance) {
             // Two triangles at the same distance (a shared edge, coplanar overlap): either is right.

@@ -9,6 +9,7 @@
 #include <sgfx/LOD.h>
 #include <sgfx/Queries.h>
 #include <sgfx/Shapes.h>
+#include <sgfx/Viewer.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -54,6 +55,7 @@ run(I intersector, Node& scene, Intersector::Limit limit = Intersector::Limit::A
         results[indexed] = copy.intersections();
     }
     EXPECT_EQ(results[0].size(), results[1].size()) << "the subtree index changes the number of hits";
+    if (limit == Intersector::Limit::Any) return results[1]; // any one hit: which is not specified
     for (std::size_t i = 0; i < std::min(results[0].size(), results[1].size()); ++i) {
         EXPECT_EQ(results[0][i].geometry, results[1][i].geometry);
         EXPECT_EQ(results[0][i].primitiveIndex, results[1][i].primitiveIndex);
@@ -435,4 +437,51 @@ TEST(Query, BadInputIsNamed) {
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("broken"), std::string::npos) << e.what();
     }
+}
+
+// A vehicle driving in a large scene rebuilds its own small index and the root's, not the
+// terrain's: large child groups keep indices of their own.
+TEST(Query, MovingPartLeavesStaticIndicesAlone) {
+    auto root = Group::create();
+    auto terrain = Group::create();
+    for (int i = 0; i < 40; ++i)
+        terrain->addChild(placed(shapes::box({1, 1, 1}), glm::translate(glm::mat4(1.0f), {i * 2.0f, 0, 0})));
+    auto vehicle = Transform::create();
+    for (int i = 0; i < 20; ++i)
+        vehicle->addChild(
+            placed(shapes::box({0.5f, 0.5f, 0.5f}), glm::translate(glm::mat4(1.0f), {0, 0, i * 1.0f})));
+    auto tree = LOD::create(); // walked at query time, inside the indexed root
+    tree->addChild(placed(shapes::box({1, 1, 1}), glm::translate(glm::mat4(1.0f), {0, 10, 0})));
+    root->addChild(terrain);
+    root->addChild(vehicle);
+    root->addChild(tree);
+    prepareForQueries(*root);
+    const auto terrainIndex = terrain->subtreeIndex();
+    const auto rootIndex = root->subtreeIndex();
+    vehicle->setMatrix(glm::translate(glm::mat4(1.0f), {11, 0, 0}));
+    const LineSegmentIntersector line({11.1, 0.1, 30}, {11.1, 0.1, -30});
+    const auto hits = run(line, *root, Intersector::Limit::Nearest);
+    ASSERT_EQ(hits.size(), 1u);
+    EXPECT_NEAR(hits[0].point.z, 19.25, kTol) << "the top of the moved vehicle's highest box";
+    EXPECT_EQ(terrain->subtreeIndex(), terrainIndex) << "the terrain's index was rebuilt";
+    EXPECT_NE(root->subtreeIndex(), rootIndex);
+    const auto treeHits = run(LineSegmentIntersector({0.1, 10.1, 5}, {0.1, 10.1, -5}), *root);
+    ASSERT_EQ(treeHits.size(), 2u);
+    EXPECT_EQ(treeHits[0].nodePath[1], tree.get());
+}
+
+// Through the viewer: a headless context has no size of its own, so the target is the camera's
+// viewport (pixels from its top left); a pixel outside it hits nothing.
+TEST(Query, PickThroughAHeadlessViewer) {
+    auto root = Group::create();
+    root->addChild(shapes::box({2, 2, 2}));
+    auto viewer = Viewer::createHeadless(64, 48);
+    viewer->setSceneData(root);
+    viewer->camera()->setPerspective(45.0f, 0.5f, 100.0f);
+    viewer->camera()->setLookAt({10, 0, 0}, {0, 0, 0});
+    const auto hit = pick(*viewer, 32, 24);
+    ASSERT_TRUE(hit.has_value());
+    expectNear(hit->hit.point, {1, 0, 0}, kTol, "the centre pixel");
+    EXPECT_EQ(hit->camera, viewer->camera().get());
+    EXPECT_FALSE(pick(*viewer, 32, 60).has_value()) << "below the viewport";
 }

@@ -12,6 +12,7 @@
 #include <particles/ParticleSystemNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/ModelLoader.h>
+#include <sgfx/Queries.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
 #include <sky/SkyNode.h>
@@ -21,9 +22,62 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cstdio>
+#include <functional>
 #include <memory>
 
 namespace doc_snippets {
+
+// ---- docs/queries.md
+
+void queriesHelpers(const sgfx::NodePtr& scene, const std::unique_ptr<sgfx::Viewer>& viewer, double x, double y,
+                    const glm::dvec3& sensor, const glm::dvec3& target, double mouseX, double mouseY) {
+    // docs: queries.md, The helpers
+    #include <sgfx/Queries.h>
+
+    // Terrain following: the highest surface under a world point (Z up).
+    std::optional<double> z = sgfx::heightOfTerrain(*scene, x, y);
+    std::optional<sgfx::Intersection> ground = sgfx::terrainHit(*scene, x, y); // with the normal
+
+    // Line of sight: true when no triangle lies between the two world points. Stops at the first hit.
+    bool visible = sgfx::lineOfSight(*scene, sensor, target);
+
+    // Picking: the nearest triangle under a pixel (origin top left, like mouse coordinates).
+    if (auto p = sgfx::pick(*viewer, mouseX, mouseY)) {
+        const glm::dvec3 point = p->hit.point;   // world
+        const glm::dvec3 normal = p->hit.normal; // interpolated, world
+        for (const sgfx::Node* n : p->hit.nodePath) // from the scene root down to the Geometry
+            std::printf("/%s", n->name.c_str());
+        std::printf(" at (%g, %g, %g), normal (%g, %g, %g)\n", point.x, point.y, point.z, normal.x, normal.y,
+                    normal.z);
+    }
+    // end
+    (void)z;
+    (void)ground;
+    (void)visible;
+}
+
+void queriesVisitor(const sgfx::NodePtr& scene, const glm::dvec3& start, const glm::dvec3& end,
+                    sgfx::NodeMask queryMask) {
+    // docs: queries.md, Intersectors and the visitor
+    sgfx::LineSegmentIntersector line(start, end);
+    line.limit = sgfx::Intersector::Limit::Nearest; // All (default), Nearest, or Any (stop at the first)
+    sgfx::IntersectionVisitor iv(line, queryMask);
+    iv.visit(*scene);
+    for (const sgfx::Intersection& hit : line.intersections()) // sorted by distance
+    std::printf("%s at %g m\n", hit.geometry->name.c_str(), hit.distance);
+    // end
+}
+
+void queriesThreads(const std::unique_ptr<sgfx::Viewer>& viewer, const sgfx::NodePtr& scene, double dt,
+                    const std::function<void()>& startQueries, const std::function<void()>& waitForQueries) {
+    // docs: queries.md, Threads
+    viewer->update(dt);                 // update callbacks: the scene changes here, on this thread
+    sgfx::prepareForQueries(*scene);    // bounds and BVHs rebuilt here, not raced by the query threads
+    startQueries();                     // other threads may query from now ...
+    viewer->renderFrame();              // ... while this culls and draws (it only reads the graph)
+    waitForQueries();                   // ... until here
+    // end
+}
 
 // ---- docs/guide.md
 

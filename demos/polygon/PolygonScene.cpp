@@ -1001,9 +1001,10 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     // The robot vehicle and the glass panes on the flat test area at the centre.
     scene.vehicle = Group::create();
     scene.vehicle->name = "vehicle_site";
-    scene.vehicle->addChild(
+    scene.vehiclePose =
         place(translate({18.0f, 17.0f, terrain.height(18.0f, 17.0f)}) * rotateZ(glm::radians(215.0f)),
-              makeVehicle(), "vehicle_pose"));
+              makeVehicle(), "vehicle_pose");
+    scene.vehicle->addChild(scene.vehiclePose);
     scene.glassBin = makeGlass(terrain);
     scene.glass = scene.glassBin;
 
@@ -1013,6 +1014,10 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     scene.root->addChild(scene.trees);
     scene.root->addChild(scene.vehicle);
     scene.root->addChild(scene.glass);
+    scene.ground = Group::create();
+    scene.ground->name = "ground";
+    scene.ground->addChild(scene.terrain);
+    scene.ground->addChild(scene.roads);
     return scene;
 }
 

@@ -7,7 +7,7 @@
 //   roads     a ring road and two cross roads, flat strips following the terrain height
 //   buildings instances of a few shared building prototypes, grouped by area
 //   trees     one shared tree (trunk + alpha-masked leaf cards) under many Transforms
-//   vehicle   a tracked robot vehicle near the centre
+//   vehicle   a tracked robot vehicle near the centre (VehicleDrive.h drives it over the hills)
 //   glass     two alpha-blended glass panes near the centre
 //   lights    a directional sun and an ambient light
 #include <sgfx/Camera.h>
@@ -97,6 +97,11 @@ struct PolygonScene {
     std::shared_ptr<sgfx::Group> root;
     // Named subgraphs, also reachable from root (handy for tests and tools).
     std::shared_ptr<sgfx::Group> terrain, roads, buildings, trees, vehicle, glass;
+    std::shared_ptr<sgfx::Transform> vehiclePose; // "vehicle_pose", the vehicle's only child
+    // Terrain and roads again under one group that is not in root: what the vehicle stands on, for
+    // ground queries that skip everything else and whose cached index the moving vehicle never
+    // invalidates (a second parent of both; root's subtree changes whenever the vehicle moves).
+    std::shared_ptr<sgfx::Group> ground;
     std::shared_ptr<sgfx::TransparencyBin> glassBin; // == glass: its mode is the demo's choice
     SceneInfo info;
 };

@@ -2,6 +2,7 @@
 // through it in a window, benchmarks the shared camera path, or exports it as OBJ.
 #include "CameraPath.h"
 #include "PolygonScene.h"
+#include "VehicleDrive.h"
 
 #include <ao/AmbientOcclusionNode.h>
 #include <fog/FogNode.h>
@@ -53,7 +54,7 @@ const char* const kUsage = R"(usage: polygon [options]
 
 Renders the sgfx proving ground: hilly terrain in tiles, roads, a few hundred buildings,
 alpha-masked trees, a tracked robot vehicle, two glass panes and a glass cabin, lit by a sun and
-the sky.
+the sky. The vehicle drives a loop over the hills, following the ground.
 Without a mode option it renders one frame headless (OSMesa) and writes a PNG.
 
 modes (at most one):
@@ -78,6 +79,9 @@ options:
   --scale S           scale the triangle count, 0 < S <= 16 (default 1, about 600k
                       triangles): terrain resolution and numbers of buildings and trees
   --seed N            scene seed, an unsigned integer (default 1)
+  --drive on|off      the vehicle drives its loop from the flat centre over the hills, set on
+                      the ground by four height queries a frame (default on; parked in exports,
+                      and in --bench unless on, so its frames match the OpenSceneGraph peer's)
   --no-lod            every object at full detail (by default distant terrain tiles drop to
                       half and quarter resolution and distant buildings to flat window panes;
                       exports always hold the full detail)
@@ -163,6 +167,7 @@ struct Options {
     std::optional<polygon::CameraPose> look;
     float scale = 1.0f;
     std::uint64_t seed = 1;
+    std::optional<bool> drive; // --drive; unset: on except in --bench
     bool lod = true;
     bool manyDrawables = false;
     bool autoInstancing = true;
@@ -279,6 +284,11 @@ Options parseArgs(int argc, char** argv) {
         } else if (arg == "--scale") {
             o.scale = parseNumber<float>(arg, value());
             if (!(o.scale > 0.0f && o.scale <= 16.0f)) throw UsageError("--scale: S must be in (0, 16]");
+        } else if (arg == "--drive") {
+            const std::string_view v = value();
+            if (v != "on" && v != "off")
+                throw UsageError("--drive: '" + std::string(v) + "' is not on or off");
+            o.drive = v == "on";
         } else if (arg == "--no-lod") {
             o.lod = false;
         } else if (arg == "--no-instancing") {
@@ -781,6 +791,30 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     return 0;
 }
 
+int runMode(const Options& o, const polygon::PolygonScene& scene, std::size_t sceneTriangles) {
+    switch (o.mode) {
+    case Mode::ExportObj: {
+        const sgfx::ObjWriteResult r = sgfx::writeObj(*scene.root, o.objPath);
+        std::printf("wrote %s: %zu objects, %zu vertices, %zu triangles\n", o.objPath.c_str(), r.objects,
+                    r.vertices, r.triangles);
+        return 0;
+    }
+    case Mode::ExportGltf: {
+        const sgfx::GltfWriteResult r = sgfx::writeGltf(*scene.root, o.gltfPath);
+        std::printf("wrote %s: %zu meshes, %zu materials, %zu vertices, %zu triangles\n", o.gltfPath.c_str(),
+                    r.meshes, r.materials, r.vertices, r.triangles);
+        return 0;
+    }
+    case Mode::Bench:
+        return runBench(o, scene, sceneTriangles);
+    case Mode::Window:
+        return runWindow(o, scene);
+    case Mode::Still:
+        return runStill(o, scene);
+    }
+    return 0;
+}
+
 int run(const Options& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const polygon::PolygonScene scene = polygon::buildPolygonScene(
@@ -816,27 +850,24 @@ int run(const Options& o) {
                     info.buildings, info.buildingsRequested, info.trees, info.treesRequested);
     std::fflush(stdout);
 
-    switch (o.mode) {
-    case Mode::ExportObj: {
-        const sgfx::ObjWriteResult r = sgfx::writeObj(*scene.root, o.objPath);
-        std::printf("wrote %s: %zu objects, %zu vertices, %zu triangles\n", o.objPath.c_str(), r.objects,
-                    r.vertices, r.triangles);
-        return 0;
+    const bool exporting = o.mode == Mode::ExportObj || o.mode == Mode::ExportGltf;
+    if (!exporting && o.drive.value_or(o.mode != Mode::Bench)) {
+        const polygon::DriveRoute route = polygon::provingGroundRoute();
+        const auto drive = polygon::driveVehicle(scene, route);
+        std::printf("vehicle: drives a %.0f m loop at %.0f m/s, %zu ground queries a frame\n", route.length(),
+                    polygon::DriveOptions{}.speed, polygon::kTrackContacts.size());
+        std::fflush(stdout);
+        const int status = runMode(o, scene, stats.triangles);
+        glm::dvec3 at(0.0);
+        for (const glm::dvec3& c : drive->contacts)
+            at += 0.25 * c;
+        std::printf(
+            "vehicle: %llu ground queries over %llu frames, %.1f m along the loop, at (%.1f, %.1f, %.2f)\n",
+            static_cast<unsigned long long>(drive->queries), static_cast<unsigned long long>(drive->frames),
+            drive->distance, at.x, at.y, at.z);
+        return status;
     }
-    case Mode::ExportGltf: {
-        const sgfx::GltfWriteResult r = sgfx::writeGltf(*scene.root, o.gltfPath);
-        std::printf("wrote %s: %zu meshes, %zu materials, %zu vertices, %zu triangles\n", o.gltfPath.c_str(),
-                    r.meshes, r.materials, r.vertices, r.triangles);
-        return 0;
-    }
-    case Mode::Bench:
-        return runBench(o, scene, stats.triangles);
-    case Mode::Window:
-        return runWindow(o, scene);
-    case Mode::Still:
-        return runStill(o, scene);
-    }
-    return 0;
+    return runMode(o, scene, stats.triangles);
 }
 
 } // namespace

@@ -4,6 +4,9 @@
 
 #include <sgfx/Group.h>
 
+#include <glm/glm.hpp>
+
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,7 +20,8 @@ struct Options {
     Settings settings;
     bool compare = false, keepYUp = false;
     bool headless = false, window = false;
-    int selfTestFrames = 0; // --self-test N: scripted input in the window, then exit
+    int selfTestFrames = 0;         // --self-test N: scripted input in the window, then exit
+    std::optional<glm::dvec2> pick; // --pick X,Y: image pixels from the top-left corner
     float yaw = 30.0f, pitch = 25.0f, crease = 0.0f;
 };
 

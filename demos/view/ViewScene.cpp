@@ -9,15 +9,41 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <cxxabi.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <typeinfo>
 
 namespace view {
 
 namespace {
 const glm::vec3 kSunDirection = glm::normalize(glm::vec3(-0.4f, 0.3f, -0.85f)); // travel direction
 constexpr std::uint32_t kWeatherCount = 20000;
+
+// "Transform" for an sgfx::Transform, "FogNode" for an sgfx::FogNode.
+std::string typeName(const sgfx::Node& node) {
+    const char* mangled = typeid(node).name();
+    int status = 0;
+    const std::unique_ptr<char, void (*)(void*)> plain(
+        abi::__cxa_demangle(mangled, nullptr, nullptr, &status), std::free);
+    std::string name = status == 0 && plain ? plain.get() : mangled;
+    if (name.starts_with("sgfx::")) name.erase(0, 6);
+    return name;
+}
+
+// Three numbers as "(x, y, z)", with -0.0000 printed as 0.0000.
+std::string triple(const glm::dvec3& v) {
+    auto tidy = [](double c) { return std::abs(c) < 5e-5 ? 0.0 : c; };
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.4f, %.4f, %.4f)", tidy(v.x), tidy(v.y), tidy(v.z));
+    return text;
+}
 } // namespace
 
 ViewScene::ViewScene()
@@ -34,6 +60,8 @@ ViewScene::ViewScene()
     m->diffuse = {0.55f, 0.55f, 0.52f, 1.0f};
     m->ambient = glm::vec3(0.55f);
     quad->getOrCreateStateSet().material.set(m);
+    quad->name = "ground plane";
+    ground_->name = "ground";
     ground_->addChild(quad);
     world_->addChild(modelSlot_);
     world_->addChild(ground_);
@@ -153,6 +181,25 @@ std::string ViewScene::describeEffects(const Settings& s) const {
     if (s.weather == Weather::Snow) add("snow");
     if (s.sky) add("sky");
     return o.str().empty() ? "no effects" : o.str();
+}
+
+std::string ViewScene::describePick(const std::optional<sgfx::PickResult>& pick, double x, double y) const {
+    char head[64];
+    std::snprintf(head, sizeof head, "pick %g,%g: ", x, y);
+    if (!pick) return std::string(head) + "nothing";
+    const sgfx::Intersection& hit = pick->hit;
+    // The path starts below the viewer's effect nodes and the model's slot: the files' own nodes.
+    const auto& path = hit.nodePath;
+    auto first = path.begin();
+    for (auto it = path.begin(); it != path.end(); ++it)
+        if (*it == world_.get() || *it == modelSlot_.get()) first = it + 1;
+    std::string text = head;
+    for (auto it = first; it != path.end(); ++it)
+        text += (it == first ? "" : " > ") + ((*it)->name.empty() ? "(" + typeName(**it) + ")" : (*it)->name);
+    const glm::dvec3 eye(glm::inverse(glm::dmat4(pick->camera->viewMatrix))[3]);
+    char tail[64];
+    std::snprintf(tail, sizeof tail, ", %.3f m from the eye", glm::length(hit.point - eye));
+    return text + "\n  point " + triple(hit.point) + tail + "\n  normal " + triple(hit.normal);
 }
 
 } // namespace view

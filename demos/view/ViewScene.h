@@ -9,7 +9,9 @@
 
 #include <sgfx/Camera.h>
 #include <sgfx/Group.h>
+#include <sgfx/Queries.h>
 
+#include <optional>
 #include <string>
 
 namespace view {
@@ -51,6 +53,9 @@ public:
     sgfx::FogParameters fogParameters(const Settings& s) const;
     sgfx::AmbientOcclusionParameters aoParameters(const Settings& s) const;
     std::string describeEffects(const Settings& s) const;
+    // What pixel (x, y) shows, for the panel and --pick: the node path below the viewer's own
+    // nodes (each node's name, or its type when unnamed), then the world point and normal.
+    std::string describePick(const std::optional<sgfx::PickResult>& pick, double x, double y) const;
 
 private:
     sgfx::NodePtr root_, model_;

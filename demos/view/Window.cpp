@@ -1,13 +1,15 @@
 // sgfx-view's window: GLFW input drives an orbit or fly manipulator; Dear ImGui (Debian's
 // libimgui-dev, when it was found at configure time) draws the effects panel and the stats
 // overlay over the view through the viewer's final draw callback. ImGui's OpenGL backend loads
-// the system libGL itself at run time, and only here, so headless runs never touch it.
+// the system libGL itself at run time, and only here, so headless runs never touch it. A left
+// click that does not drag picks (sgfx::pick): the overlay shows what the pixel shows.
 #include "Options.h"
 #include "ViewScene.h"
 
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Image.h>
 #include <sgfx/Manipulator.h>
+#include <sgfx/Queries.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
 
@@ -29,6 +31,7 @@
 #include <cstdio>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,7 +44,13 @@ struct Input {
     std::deque<int> keys; // pressed keys, in order
     std::vector<std::string> dropped;
     double scroll = 0.0;
+    std::optional<glm::dvec2> pressedAt; // the left button's, in window coordinates
+    std::vector<glm::dvec2> clicks;      // left clicks that did not drag, in window coordinates
 };
+
+// A press and release of the left button this close together (window coordinates) is a click,
+// not an orbit drag.
+constexpr double kClickSlop = 3.0;
 
 Input& inputOf(GLFWwindow* w) {
     return *static_cast<Input*>(glfwGetWindowUserPointer(w));
@@ -150,6 +159,19 @@ public:
         std::printf("%s\n", message_.c_str());
     }
 
+    // What the clicked pixel shows, with the camera as last drawn (what the user clicked on).
+    // (x, y): window coordinates, turned into framebuffer pixels (they differ on HiDPI screens).
+    void pick(glm::dvec2 at) {
+        int ww = 0, wh = 0, fw = 0, fh = 0;
+        glfwGetWindowSize(win_, &ww, &wh);
+        glfwGetFramebufferSize(win_, &fw, &fh);
+        if (ww <= 0 || wh <= 0) return;
+        const double x = at.x * fw / ww, y = at.y * fh / wh;
+        pick_ = scene_.describePick(sgfx::pick(viewer_, x, y), x, y);
+        std::printf("%s\n", pick_.c_str());
+        std::fflush(stdout);
+    }
+
     // Mouse and keys held down this frame (ImGui takes them while the pointer is over the panel).
     void pollHeld(double dt, bool mouseFree, bool keysFree, Input& in) {
         double x = 0, y = 0;
@@ -236,6 +258,10 @@ public:
             ImGui::Separator();
             ImGui::TextWrapped("%s", message_.c_str());
         }
+        ImGui::Separator();
+        ImGui::PushTextWrapPos(ImGui::GetFontSize() * 40.0f);
+        ImGui::TextUnformatted(pick_.empty() ? "click to pick" : pick_.c_str());
+        ImGui::PopTextWrapPos();
         ImGui::End();
         if (!panel_) return;
 
@@ -301,6 +327,11 @@ public:
         const int step = std::max(1, frames / 12);
         const float h = float(viewer_.camera()->viewport.height);
         if (frame < frames / 4) manipulator().drag(sgfx::MouseButton::Left, {6.0f, 1.0f}, h);
+        if (frame == 1) { // a click at the window's centre, where the orbit camera looks at the model
+            int ww = 0, wh = 0;
+            glfwGetWindowSize(win_, &ww, &wh);
+            in.clicks.push_back({0.5 * ww, 0.5 * wh});
+        }
         if (frame == step) in.scroll += 2.0;
         if (frame == 2 * step) in.keys.insert(in.keys.end(), {GLFW_KEY_F, GLFW_KEY_O, GLFW_KEY_M});
         if (frame == 3 * step) in.keys.insert(in.keys.end(), {GLFW_KEY_R, GLFW_KEY_K});
@@ -349,33 +380,35 @@ private:
     bool flying_ = false, panel_ = true, haveCursor_ = false, resized_ = false;
     double lastX_ = 0, lastY_ = 0;
     Stats stats_;
-    std::string message_;
+    std::string message_, pick_;
     int shots_ = 0;
 };
 
-} // namespace
-
-int runWindow(const Options& o, ViewScene& scene) {
-    auto window = std::make_unique<sgfx::GlfwWindow>(o.width, o.height, "sgfx-view");
-    GLFWwindow* win = window->handle();
-    sgfx::Viewer viewer(std::move(window));
-    viewer.renderer().options().timePasses = true;
-    viewer.setSceneData(scene.root());
-
-    Input input;
+// The GLFW callbacks fill `input`. Installed before ImGui's, which chains to them.
+void listen(GLFWwindow* win, Input& input) {
     glfwSetWindowUserPointer(win, &input);
-    // Installed before ImGui's, which chains to them.
     glfwSetKeyCallback(win, [](GLFWwindow* w, int key, int, int action, int) {
         if (action == GLFW_PRESS) inputOf(w).keys.push_back(key);
     });
     glfwSetScrollCallback(win, [](GLFWwindow* w, double, double dy) { inputOf(w).scroll += dy; });
+    glfwSetMouseButtonCallback(win, [](GLFWwindow* w, int button, int action, int) {
+        if (button != GLFW_MOUSE_BUTTON_LEFT) return;
+        Input& in = inputOf(w);
+        glm::dvec2 at(0.0);
+        glfwGetCursorPos(w, &at.x, &at.y);
+        if (action == GLFW_PRESS) in.pressedAt = at;
+        if (action == GLFW_RELEASE && in.pressedAt && glm::length(at - *in.pressedAt) <= kClickSlop)
+            in.clicks.push_back(at);
+        if (action == GLFW_RELEASE) in.pressedAt.reset();
+    });
     glfwSetDropCallback(win, [](GLFWwindow* w, int count, const char** paths) {
         auto& d = inputOf(w).dropped;
         d.assign(paths, paths + count);
     });
+}
 
-    App app(o, scene, viewer, win);
 #if SGFX_VIEW_IMGUI
+void startImGui(GLFWwindow* win) {
     // ImGui's GL loader dlopens the system libGL and closes it at shutdown; this process-lifetime
     // reference keeps the library (and glvnd's dispatch stubs it made for ImGui) loaded, so
     // nothing of it is unloaded while still referenced and leak reports can name it.
@@ -388,6 +421,24 @@ int runWindow(const Options& o, ViewScene& scene) {
     ImGui_ImplGlfw_InitForOpenGL(win, true);
     if (!ImGui_ImplOpenGL3_Init("#version 450"))
         throw sgfx::ContextError("sgfx-view: Dear ImGui's OpenGL backend could not start");
+}
+#endif
+
+} // namespace
+
+int runWindow(const Options& o, ViewScene& scene) {
+    auto window = std::make_unique<sgfx::GlfwWindow>(o.width, o.height, "sgfx-view");
+    GLFWwindow* win = window->handle();
+    sgfx::Viewer viewer(std::move(window));
+    viewer.renderer().options().timePasses = true;
+    viewer.setSceneData(scene.root());
+
+    Input input;
+    listen(win, input);
+
+    App app(o, scene, viewer, win);
+#if SGFX_VIEW_IMGUI
+    startImGui(win);
     std::size_t uiVertices = 0;
     bool grabWindow = false;
     sgfx::Image windowImage; // --self-test: what the window shows, panel included
@@ -408,7 +459,8 @@ int runWindow(const Options& o, ViewScene& scene) {
                              windowImage.pixel(0, windowImage.height - 1 - y));
     };
 #endif
-    std::printf("window: left drag orbit/look, right drag zoom, middle drag pan, wheel zoom, WASD/QE move, V "
+    std::printf("window: left click pick, left drag orbit/look, right drag zoom, middle drag pan, wheel "
+                "zoom, WASD/QE move, V "
                 "orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather, K sky, G ground, F1 panel, F12 "
                 "screenshot, Esc quit; drop files to load them\n");
     std::fflush(stdout);
@@ -439,6 +491,9 @@ int runWindow(const Options& o, ViewScene& scene) {
             app.load(input.dropped);
             input.dropped.clear();
         }
+        for (const glm::dvec2& click : input.clicks)
+            if (mouseFree) app.pick(click);
+        input.clicks.clear();
         app.pollHeld(dt, mouseFree, keysFree, input);
 #if SGFX_VIEW_IMGUI
         app.buildUi();

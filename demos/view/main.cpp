@@ -1,13 +1,15 @@
 // sgfx-view: look at a model (glTF, OBJ, OFF, PLY, STL) under the effects. With a display it opens
 // a window (orbit/fly camera, a panel to tune the effects, a stats overlay); without one, or with
 // --headless or --out, it renders one still to a PNG, optionally a row of panels comparing the
-// effects (plain | fog | AO | both).
+// effects (plain | fog | AO | both). A click in the window, or --pick X,Y headless, tells what a
+// pixel shows: the node path, the world point and the normal (sgfx::pick).
 #include "Options.h"
 #include "ViewScene.h"
 
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Manipulator.h>
 #include <sgfx/ModelLoader.h>
+#include <sgfx/Queries.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
 
@@ -38,6 +40,9 @@ it opens a window; otherwise, or with --headless or --out, it renders a PNG.
   --weather KIND     none, rain or snow particles over the model
   --sky HOURS        physical sky and sun at this solar time (0..24)
   --compare          four panels side by side: plain, fog, AO, fog + AO (headless)
+  --pick X,Y         headless: print what pixel (X, Y) of the image shows (pixels from its
+                     top-left corner, fractions allowed): the node path, the world point and the
+                     normal, then exit without rendering
   --yaw DEG          camera azimuth around the model (default 30)
   --pitch DEG        camera elevation (default 25)
   --crease DEG       glTF normals made for primitives without them: smooth below DEG (default flat)
@@ -45,7 +50,8 @@ it opens a window; otherwise, or with --headless or --out, it renders a PNG.
   --keep-y-up        do not turn glTF's Y up into Z up
   --self-test N      window: N frames of scripted input (both cameras, every toggle, a resize,
                      a screenshot to --out's name), then exit
-Window keys: left drag orbit/look, right drag zoom, middle drag pan, wheel zoom (fly: speed),
+Window keys: left click pick (the panel shows the node path, point and normal),
+  left drag orbit/look, right drag zoom, middle drag pan, wheel zoom (fly: speed),
   WASD move, Q/E down/up, Shift fast, V orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather,
   K sky, G ground, F1 panel, F12 or P screenshot, Esc quit; drop files on the window to load them.
 Exit status: 0 written, 1 a file failed to load or render, 2 bad options.
@@ -129,6 +135,12 @@ view::Options parse(int argc, char** argv) {
             s.skyHours = number(arg, value(), 0.0f, 24.0f);
         } else if (arg == "--compare") {
             o.compare = true;
+        } else if (arg == "--pick") {
+            const std::string v = value();
+            const auto comma = v.find(',');
+            if (comma == std::string::npos) throw UsageError("--pick: '" + v + "' is not X,Y");
+            o.pick = glm::dvec2(number(arg, v.substr(0, comma), 0.0f, 65536.0f),
+                                number(arg, v.substr(comma + 1), 0.0f, 65536.0f));
         } else if (arg == "--yaw") {
             o.yaw = number(arg, value(), -360.0f, 360.0f);
         } else if (arg == "--pitch") {
@@ -149,13 +161,37 @@ view::Options parse(int argc, char** argv) {
         }
     }
     if (o.files.empty()) throw UsageError("no model file given");
-    if (o.window && (o.headless || o.compare))
-        throw UsageError("--window and --self-test cannot go with --headless or --compare");
+    if (o.window && (o.headless || o.compare || o.pick))
+        throw UsageError("--window and --self-test cannot go with --headless, --compare or --pick");
+    if (o.pick && o.compare) throw UsageError("--pick cannot go with --compare");
+    if (o.pick && (o.pick->x > o.width || o.pick->y > o.height))
+        throw UsageError("--pick: the pixel is outside the " + std::to_string(o.width) + "x" +
+                         std::to_string(o.height) + " image");
+    if (o.pick) o.headless = true;
     if (o.outGiven && !o.window) o.headless = true;
     if (o.compare) o.headless = true;
     if (!o.headless && !sizeGiven) o.width = 1280, o.height = 720; // a window's default
     (void)autoFog; // density 0 means the model-scaled preset's own
     return o;
+}
+
+// The headless camera: homed on the model from the options' yaw and pitch, clip planes around it.
+void homeCamera(const view::Options& o, const view::ViewScene& scene, sgfx::Camera& cam) {
+    sgfx::OrbitManipulator orbit;
+    orbit.home(scene.boundsMin(), scene.boundsMax(), 40.0f, float(o.width) / float(o.height), o.yaw, o.pitch);
+    orbit.apply(cam);
+    cam.setPerspective(40.0f, orbit.distance * 0.02f, orbit.distance * 20.0f);
+}
+
+// --pick: what the image's pixel shows, with the camera the still would have.
+int runPick(const view::Options& o, view::ViewScene& scene) {
+    auto viewer = sgfx::Viewer::createHeadless(o.width, o.height);
+    homeCamera(o, scene, *viewer->camera());
+    scene.apply(o.settings, *viewer->camera());
+    viewer->setSceneData(scene.root());
+    std::printf("%s\n",
+                scene.describePick(sgfx::pick(*viewer, o.pick->x, o.pick->y), o.pick->x, o.pick->y).c_str());
+    return 0;
 }
 
 int runHeadless(const view::Options& o, view::ViewScene& scene, double loadMs) {
@@ -179,10 +215,7 @@ int runHeadless(const view::Options& o, view::ViewScene& scene, double loadMs) {
     out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 4, 0);
     auto viewer = sgfx::Viewer::createHeadless(o.width, o.height);
     auto& cam = *viewer->camera();
-    sgfx::OrbitManipulator orbit;
-    orbit.home(scene.boundsMin(), scene.boundsMax(), 40.0f, float(o.width) / float(o.height), o.yaw, o.pitch);
-    orbit.apply(cam);
-    cam.setPerspective(40.0f, orbit.distance * 0.02f, orbit.distance * 20.0f);
+    homeCamera(o, scene, cam);
     viewer->setSceneData(scene.root());
     double frameMs = 0.0;
     for (std::size_t p = 0; p < panels.size(); ++p) {
@@ -215,6 +248,7 @@ int runHeadless(const view::Options& o, view::ViewScene& scene, double loadMs) {
 
 sgfx::NodePtr view::loadFiles(const std::vector<std::string>& files, const Options& o) {
     auto model = sgfx::Group::create();
+    model->name = "model";
     sgfx::GltfOptions gltf;
     gltf.zUp = !o.keepYUp;
     gltf.creaseAngle = glm::radians(o.crease);
@@ -246,7 +280,7 @@ int main(int argc, char** argv) {
                 std::fprintf(stderr, "sgfx-view: no window: rendering headless to %s\n", o.out.c_str());
             }
         }
-        return runHeadless(o, scene, loadMs);
+        return o.pick ? runPick(o, scene) : runHeadless(o, scene, loadMs);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sgfx-view: %s\n", e.what());
         return 1;

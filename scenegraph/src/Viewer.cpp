@@ -91,11 +91,19 @@ void Viewer::setSceneData(NodePtr scene) {
 }
 
 void Viewer::frame(double dt) {
-    context_->makeCurrent();
+    update(dt);
+    renderFrame();
+}
+
+void Viewer::update(double dt) {
     update_.deltaTime = dt;
     update_.simulationTime += dt;
     ++update_.frameNumber;
     camera_->accept(update_);
+}
+
+void Viewer::renderFrame() {
+    context_->makeCurrent();
     if (context_->isWindow()) {
         const int w = context_->width(), h = context_->height();
         if (w > 0 && h > 0 && (w != camera_->viewport.width || h != camera_->viewport.height))

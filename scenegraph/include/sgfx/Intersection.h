@@ -12,12 +12,14 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
 namespace sgfx {
 
 class Camera;
+struct SubtreeIndex;
 
 /// One hit of a query on one triangle.
 struct Intersection {
@@ -70,9 +72,18 @@ public:
     virtual void reset() { hits_.clear(); }
 
     // For traversals (IntersectionVisitor):
-    /// Whether anything inside `box` (in `frame`'s local coordinates) could be hit; conservative.
-    virtual bool mayHit(const QueryBox& box, const QueryFrame& frame) const = 0;
-    /// Tests the triangles of `geometry` (through its BVH) and records hits.
+    /// Puts the query into `frame`'s local coordinates for the entry() calls that follow (one
+    /// transform per frame rather than one per box).
+    virtual void setFrame(const QueryFrame& frame) = 0;
+    /// An order key for `box`, in the local coordinates of the frame set last: where the query
+    /// enters it (lines: the parameter t; others 0), +infinity when it cannot touch it
+    /// (conservative). Traversals visit smaller keys first and skip keys beyond reach().
+    virtual double entry(const QueryBox& box) const = 0;
+    bool mayHit(const QueryBox& box) const { return entry(box) != std::numeric_limits<double>::infinity(); }
+    /// The largest entry key still worth visiting (shrinks as Limit::Nearest finds closer hits).
+    virtual double reach() const { return std::numeric_limits<double>::infinity(); }
+    /// Tests the triangles of `geometry` (through its BVH, in `frame`) and records hits. Leaves the
+    /// frame set by setFrame as it was.
     virtual void intersect(const Geometry& geometry, const TriangleBvh& bvh, const QueryFrame& frame,
                            const QueryContext& context) = 0;
     /// True when the limit is met and the visit can stop (Any, after a hit).
@@ -99,7 +110,9 @@ public:
     const glm::dvec3& start() const { return start_; }
     const glm::dvec3& end() const { return end_; }
 
-    bool mayHit(const QueryBox& box, const QueryFrame& frame) const override;
+    void setFrame(const QueryFrame& frame) override;
+    double entry(const QueryBox& box) const override;
+    double reach() const override { return searchLimit(); }
     void intersect(const Geometry& geometry, const TriangleBvh& bvh, const QueryFrame& frame,
                    const QueryContext& context) override;
 
@@ -111,6 +124,7 @@ private:
     double searchLimit() const; ///< tMax_, or the kept hit's t under Limit::Nearest
     glm::dvec3 start_, end_;
     double length_;
+    glm::dvec3 localStart_{0.0}, localDirection_{0.0}, localReciprocal_{0.0}; ///< in the frame set last
 };
 
 /// A ray from `origin` along `direction` with no end (OSG's RayIntersector).
@@ -138,7 +152,8 @@ public:
     };
     const std::vector<DPlane>& planes() const { return planes_; }
 
-    bool mayHit(const QueryBox& box, const QueryFrame& frame) const override;
+    void setFrame(const QueryFrame& frame) override;
+    double entry(const QueryBox& box) const override;
     void intersect(const Geometry& geometry, const TriangleBvh& bvh, const QueryFrame& frame,
                    const QueryContext& context) override;
 
@@ -146,6 +161,7 @@ private:
     PolytopeIntersector() = default;
     std::vector<glm::dvec4> localPlanes(const QueryFrame& frame) const;
     std::vector<DPlane> planes_;
+    std::vector<glm::dvec4> local_; ///< the planes in the frame set last
 };
 
 /// The triangles within `radius` of `center` (world): proximity, collision of a sphere.
@@ -154,13 +170,17 @@ public:
     /// Throws std::invalid_argument for a non-finite centre or a radius that is not > 0.
     SphereIntersector(const glm::dvec3& center, double radius);
 
-    bool mayHit(const QueryBox& box, const QueryFrame& frame) const override;
+    void setFrame(const QueryFrame& frame) override;
+    double entry(const QueryBox& box) const override;
     void intersect(const Geometry& geometry, const TriangleBvh& bvh, const QueryFrame& frame,
                    const QueryContext& context) override;
 
 private:
+    /// The box around the sphere's image in a frame (an ellipsoid under scaling).
+    static QueryBox localBox(const glm::dvec3& center, double radius, const QueryFrame& frame);
     glm::dvec3 center_;
     double radius_;
+    QueryBox local_; ///< localBox in the frame set last
 };
 
 /// A view for queries that depend on it: LODs as shown and billboards turned towards its eye.
@@ -213,15 +233,18 @@ public:
     std::size_t geometriesTested() const { return geometriesTested_; } ///< in this visitor's life
 
 private:
-    bool enterBound(const Node& node) const;
+    bool enterBound(const Node& node);
     void pushFrame(const glm::dmat4& local);
-    void popFrame() { frames_.pop_back(); }
+    void popFrame();
     void testGeometry(Geometry& geometry, const QueryFrame& frame);
     bool visitIndexed(Group& group);
+    void walkIndex(const SubtreeIndex& index, const QueryFrame& base);
 
     Intersector& intersector_;
     std::vector<QueryFrame> frames_;
     std::size_t geometriesTested_ = 0;
+    std::uint64_t frameVersion_ = 1; ///< moves whenever frames_.back() changes
+    std::uint64_t frameSet_ = 0;     ///< the version the intersector's setFrame last saw
     bool atStart_ = false;
 };
 

@@ -25,8 +25,15 @@ public:
     const NodePtr& sceneData() const { return scene_; }
     const std::shared_ptr<Camera>& camera() const { return camera_; }
 
-    /// Advances the clock by dt seconds, then updates, culls and renders one frame.
+    /// Advances the clock by dt seconds, then updates, culls and renders one frame:
+    /// update(dt) then renderFrame().
     void frame(double dt = 1.0 / 60.0);
+    /// The update traversal alone (clock, update callbacks): the part of a frame that changes
+    /// the scene.
+    void update(double dt = 1.0 / 60.0);
+    /// Cull, draw and present. It only reads the scene graph, so scene queries (Queries.h) may
+    /// run on other threads meanwhile, once prepareForQueries(scene) has run after update().
+    void renderFrame();
     Image capture() { return renderer_->readPixels(); }
     void writeScreenshot(const std::filesystem::path& png) { writePng(png, capture()); }
 

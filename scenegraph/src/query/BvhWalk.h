@@ -104,6 +104,13 @@ struct LineSlab {
             inv[a] = flat[a] ? 0.0 : 1.0 / d[a];
         }
     }
+    /// With the reciprocals computed already (0 where d is 0).
+    LineSlab(const glm::dvec3& origin, const glm::dvec3& d, const glm::dvec3& reciprocal)
+        : o(origin)
+        , inv(reciprocal) {
+        for (int a = 0; a < 3; ++a)
+            flat[a] = d[a] == 0.0;
+    }
     /// Entry parameter into [min, max] within [0, tMax], or kMiss. A relative slack of 1e-9 keeps
     /// rounding from losing a hit on a box face (it only costs a few extra tests).
     double entry(const glm::dvec3& min, const glm::dvec3& max, double tMax) const {

@@ -31,6 +31,7 @@ void IntersectionVisitor::visit(Node& node, const glm::dmat4& parentToWorld) {
         throw std::invalid_argument(
             "sgfx: IntersectionVisitor: LodSelection::Shown needs a view (set `view`)");
     frames_.assign(1, QueryFrame::of(parentToWorld));
+    ++frameVersion_;
     nodePath.clear();
     atStart_ = true;
     if (accepts(node)) node.accept(*this);
@@ -39,7 +40,7 @@ void IntersectionVisitor::visit(Node& node, const glm::dmat4& parentToWorld) {
     intersector_.finish();
 }
 
-bool IntersectionVisitor::enterBound(const Node& node) const {
+bool IntersectionVisitor::enterBound(const Node& node) {
     if (intersector_.done()) return false;
     const BoundingSphere& s = node.bound();
     if (!s.valid()) return false;
@@ -49,11 +50,21 @@ bool IntersectionVisitor::enterBound(const Node& node) const {
     QueryBox box;
     box.min = c - r;
     box.max = c + r;
-    return intersector_.mayHit(box, frames_.back());
+    if (frameSet_ != frameVersion_) { // the intersector's local form is for another frame
+        intersector_.setFrame(frames_.back());
+        frameSet_ = frameVersion_;
+    }
+    return intersector_.mayHit(box);
 }
 
 void IntersectionVisitor::pushFrame(const glm::dmat4& local) {
     frames_.push_back(QueryFrame::of(frames_.back().toWorld * local));
+    ++frameVersion_;
+}
+
+void IntersectionVisitor::popFrame() {
+    frames_.pop_back();
+    ++frameVersion_;
 }
 
 void IntersectionVisitor::apply(Node& node) {
@@ -157,19 +168,28 @@ void IntersectionVisitor::apply(Camera& c) {
 }
 
 bool IntersectionVisitor::visitIndexed(Group& group) {
-    const auto index = group.subtreeIndex();
-    const QueryFrame base = frames_.back();
-    const std::size_t depth = nodePath.size();
     nodePath.push_back(&group);
-    auto test = [&](const BvhNodes::Node& n) {
+    const QueryFrame base = frames_.back(); // a copy: walking a LOD or billboard pushes frames
+    walkIndex(*group.subtreeIndex(), base);
+    nodePath.pop_back();
+    return true;
+}
+
+// nodePath ends with the index's group; `base` is the group's child frame.
+void IntersectionVisitor::walkIndex(const SubtreeIndex& index, const QueryFrame& base) {
+    const std::size_t depth = nodePath.size();
+    intersector_.setFrame(base);
+    ++frameVersion_; // what enterBound set is gone
+    auto entry = [&](const BvhNodes::Node& n) {
         QueryBox box;
         box.min = glm::dvec3(n.min);
         box.max = glm::dvec3(n.max);
-        return intersector_.mayHit(box, base);
+        return intersector_.entry(box);
     };
+    auto reach = [&] { return intersector_.reach(); };
     auto leaf = [&](std::uint32_t first, std::uint32_t count) {
         for (std::uint32_t k = first; k < first + count; ++k) {
-            const SubtreeIndex::Item& item = index->items[index->bvh.order[k]];
+            const SubtreeIndex::Item& item = index.items[index.bvh.order[k]];
             bool active = true;
             for (Node* n : item.path)
                 active = active && accepts(*n);
@@ -178,24 +198,31 @@ bool IntersectionVisitor::visitIndexed(Group& group) {
             frame.toWorld = base.toWorld * item.toGroup;
             frame.toLocal = item.fromGroup * base.toLocal;
             frame.mirrored = glm::determinant(glm::dmat3(frame.toWorld)) < 0.0;
-            nodePath.insert(nodePath.end(), item.path.begin(), item.path.end() - 1);
-            if (item.geometry) {
-                nodePath.push_back(item.node);
+            nodePath.insert(nodePath.end(), item.path.begin(), item.path.end());
+            switch (item.kind) {
+            case SubtreeIndex::Kind::Geometry:
                 ++geometriesTested_;
                 intersector_.intersect(*item.geometry, *item.bvh, frame, {&nodePath, item.instance});
-            } else {
+                break;
+            case SubtreeIndex::Kind::Nested:
+                walkIndex(*item.nested, frame);
+                intersector_.setFrame(base);
+                break;
+            case SubtreeIndex::Kind::Walk:
+                nodePath.pop_back(); // the node's apply adds it
                 frames_.push_back(frame);
+                ++frameVersion_;
                 item.node->accept(*this);
-                frames_.pop_back();
+                popFrame();
+                intersector_.setFrame(base);
+                break;
             }
-            nodePath.resize(depth + 1);
+            nodePath.resize(depth);
             if (intersector_.done()) return false;
         }
         return true;
     };
-    query::walk(index->bvh, test, leaf);
-    nodePath.resize(depth);
-    return true;
+    query::walkNearFirst(index.bvh, entry, reach, leaf); // nearer items first: Nearest prunes the rest
 }
 
 } // namespace sgfx

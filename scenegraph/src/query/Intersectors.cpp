@@ -102,10 +102,16 @@ double LineSegmentIntersector::searchLimit() const {
     return limit == Limit::Nearest && !hits_.empty() ? hits_.front().ratio : tMax_;
 }
 
-bool LineSegmentIntersector::mayHit(const QueryBox& box, const QueryFrame& frame) const {
-    const glm::dvec3 o = transformPoint(frame.toLocal, start_);
-    const query::LineSlab slab(o, transformPoint(frame.toLocal, end_) - o);
-    return slab.entry(box.min, box.max, searchLimit()) != query::kMiss;
+void LineSegmentIntersector::setFrame(const QueryFrame& frame) {
+    localStart_ = transformPoint(frame.toLocal, start_);
+    localDirection_ = transformPoint(frame.toLocal, end_) - localStart_;
+    for (int a = 0; a < 3; ++a)
+        localReciprocal_[a] = localDirection_[a] == 0.0 ? 0.0 : 1.0 / localDirection_[a];
+}
+
+double LineSegmentIntersector::entry(const QueryBox& box) const {
+    return query::LineSlab(localStart_, localDirection_, localReciprocal_)
+        .entry(box.min, box.max, searchLimit());
 }
 
 void LineSegmentIntersector::intersect(const Geometry& g, const TriangleBvh& bvh, const QueryFrame& frame,
@@ -265,8 +271,12 @@ std::vector<glm::dvec4> PolytopeIntersector::localPlanes(const QueryFrame& frame
     return local;
 }
 
-bool PolytopeIntersector::mayHit(const QueryBox& box, const QueryFrame& frame) const {
-    return boxMayTouch(localPlanes(frame), box.min, box.max);
+void PolytopeIntersector::setFrame(const QueryFrame& frame) {
+    local_ = localPlanes(frame);
+}
+
+double PolytopeIntersector::entry(const QueryBox& box) const {
+    return boxMayTouch(local_, box.min, box.max) ? 0.0 : query::kMiss;
 }
 
 void PolytopeIntersector::intersect(const Geometry& g, const TriangleBvh& bvh, const QueryFrame& frame,
@@ -351,25 +361,37 @@ glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm
 
 } // namespace
 
-bool SphereIntersector::mayHit(const QueryBox& box, const QueryFrame& frame) const {
+QueryBox SphereIntersector::localBox(const glm::dvec3& center, double radius, const QueryFrame& frame) {
     // The local image of the sphere is an ellipsoid; its box has half extent r·|row i| of the
     // inverse's 3×3 part on axis i.
-    const glm::dvec3 c = transformPoint(frame.toLocal, center_);
+    const glm::dvec3 c = transformPoint(frame.toLocal, center);
     const glm::dmat3 inv(frame.toLocal);
+    QueryBox box;
     for (int a = 0; a < 3; ++a) {
-        const double e = radius_ * glm::length(glm::dvec3(inv[0][a], inv[1][a], inv[2][a])) * (1.0 + 1e-9);
-        if (c[a] + e < box.min[a] || c[a] - e > box.max[a]) return false;
+        const double e = radius * glm::length(glm::dvec3(inv[0][a], inv[1][a], inv[2][a])) * (1.0 + 1e-9);
+        box.min[a] = c[a] - e;
+        box.max[a] = c[a] + e;
     }
-    return true;
+    return box;
+}
+
+void SphereIntersector::setFrame(const QueryFrame& frame) {
+    local_ = localBox(center_, radius_, frame);
+}
+
+double SphereIntersector::entry(const QueryBox& box) const {
+    for (int a = 0; a < 3; ++a)
+        if (local_.max[a] < box.min[a] || local_.min[a] > box.max[a]) return query::kMiss;
+    return 0.0;
 }
 
 void SphereIntersector::intersect(const Geometry& g, const TriangleBvh& bvh, const QueryFrame& frame,
                                   const QueryContext& context) {
+    const QueryBox sphere = localBox(center_, radius_, frame);
     auto test = [&](const BvhNodes::Node& n) {
-        QueryBox b;
-        b.min = glm::dvec3(n.min);
-        b.max = glm::dvec3(n.max);
-        return mayHit(b, frame);
+        for (int a = 0; a < 3; ++a)
+            if (sphere.max[a] < double(n.min[a]) || sphere.min[a] > double(n.max[a])) return false;
+        return true;
     };
     const auto& tris = bvh.triangles();
     auto leaf = [&](std::uint32_t first, std::uint32_t count) {

@@ -77,7 +77,10 @@ std::optional<PickResult> pick(Viewer& viewer, double x, double y, NodeMask mask
     // channels of a multi-view viewer join this loop.)
     const Camera& camera = *viewer.camera();
     const Viewport& vp = camera.viewport;
-    const double targetHeight = double(viewer.context().height());
+    // A window's target is its framebuffer; a headless context has no size of its own (0), and
+    // its target reaches as high as the viewport.
+    const double targetHeight =
+        viewer.context().isWindow() ? double(viewer.context().height()) : double(vp.y + vp.height);
     const double vx = x - vp.x, vy = y - (targetHeight - double(vp.y + vp.height));
     if (vx < 0.0 || vy < 0.0 || vx > vp.width || vy > vp.height) return std::nullopt;
     return pick(camera, *viewer.sceneData(), vx, vy, mask);

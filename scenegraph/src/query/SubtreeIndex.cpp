@@ -19,6 +19,24 @@ QueryBox transformedBox(const glm::dmat4& m, const glm::dvec3& lo, const glm::dv
     return out;
 }
 
+// Whether `node` holds at least `n` index items (stops counting there).
+bool holdsAtLeast(const Node& node, std::size_t& n) {
+    if (auto* g = dynamic_cast<const Geometry*>(&node)) {
+        n -= std::min(n, g->instanceCount());
+    } else if (dynamic_cast<const LOD*>(&node) || dynamic_cast<const Billboard*>(&node)) {
+        n -= std::min<std::size_t>(n, 1);
+    } else if (auto* group = dynamic_cast<const Group*>(&node)) {
+        for (std::size_t i = 0; i < group->numChildren() && n > 0; ++i)
+            holdsAtLeast(*group->child(i), n);
+    }
+    return n == 0;
+}
+
+bool large(const Group& group) {
+    std::size_t n = SubtreeIndex::kNestedItems;
+    return holdsAtLeast(group, n);
+}
+
 // Every node below the group, all children whatever their masks: masks are read at query time.
 class Collector : public NodeVisitor {
 public:
@@ -27,9 +45,20 @@ public:
         , index_(index)
         , boxes_(boxes) {}
 
+    void apply(Group& g) override {
+        if (large(g))
+            addNested(g, matrix_);
+        else
+            traverse(g);
+    }
     void apply(Transform& t) override {
+        const glm::dmat4 inner = matrix_ * glm::dmat4(t.matrix());
+        if (large(t)) {
+            addNested(t, inner);
+            return;
+        }
         const glm::dmat4 saved = matrix_;
-        matrix_ = matrix_ * glm::dmat4(t.matrix());
+        matrix_ = inner;
         traverse(t);
         matrix_ = saved;
     }
@@ -62,7 +91,17 @@ private:
         if (!s.valid()) return;
         const glm::dvec3 c(s.center);
         const double r = double(s.radius) * (1.0 + 1e-6) + 1e-9;
-        add(node, matrix_, transformedBox(matrix_, c - r, c + r));
+        add(node, matrix_, transformedBox(matrix_, c - r, c + r)).kind = SubtreeIndex::Kind::Walk;
+    }
+    // `inner`: the group's child frame (its own matrix included for a Transform).
+    void addNested(Group& g, const glm::dmat4& inner) {
+        auto nested = g.subtreeIndex();
+        if (nested->bvh.nodes.empty()) return;
+        const BvhNodes::Node& root = nested->bvh.nodes.front();
+        SubtreeIndex::Item& item =
+            add(g, inner, transformedBox(inner, glm::dvec3(root.min), glm::dvec3(root.max)));
+        item.kind = SubtreeIndex::Kind::Nested;
+        item.nested = std::move(nested);
     }
     SubtreeIndex::Item& add(Node& node, const glm::dmat4& m, const QueryBox& box) {
         SubtreeIndex::Item& item = index_.items.emplace_back();

@@ -1,6 +1,9 @@
 #pragma once
 // The query index of a Group: a BVH over the geometries (one entry per instance and per node
 // path) and the view-dependent subtrees (LODs, billboards) below it, in the group's child frame.
+// A large child group (kNestedItems or more items below) is one entry holding its own index, so a
+// change below it (a vehicle driving) rebuilds that index and the small ones above, not the
+// whole scene's.
 #include "sgfx/Group.h"
 #include "sgfx/TriangleBvh.h"
 
@@ -12,14 +15,24 @@ namespace sgfx {
 class Geometry;
 
 struct SubtreeIndex {
+    static constexpr std::size_t kNestedItems = 16;
+    enum class Kind : std::uint8_t {
+        Geometry, ///< triangles: `bvh`
+        Walk,     ///< a LOD or billboard, walked by the visitor at query time
+        Nested,   ///< a group with its own index: `nested`
+    };
     struct Item {
-        Node* node = nullptr;         ///< the geometry, or a LOD or billboard walked at query time
-        Geometry* geometry = nullptr; ///< null for a walked subtree
+        Kind kind = Kind::Geometry;
+        Node* node = nullptr;
+        Geometry* geometry = nullptr; ///< Geometry items
         std::uint32_t instance = 0;
-        glm::dmat4 toGroup{1.0};   ///< geometry (instance included) or the subtree's parent frame → group
-        glm::dmat4 fromGroup{1.0}; ///< its inverse
-        std::vector<Node*> path;   ///< below the group, down to `node`
-        std::shared_ptr<const TriangleBvh> bvh; ///< geometry items
+        /// To the group's child frame from: the geometry's frame (instance included), a walked
+        /// subtree's parent frame, or a nested group's child frame.
+        glm::dmat4 toGroup{1.0};
+        glm::dmat4 fromGroup{1.0};                  ///< its inverse
+        std::vector<Node*> path;                    ///< below the group, down to `node`
+        std::shared_ptr<const TriangleBvh> bvh;     ///< Geometry items
+        std::shared_ptr<const SubtreeIndex> nested; ///< Nested items
     };
     std::vector<Item> items;
     BvhNodes bvh;
