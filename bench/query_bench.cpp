@@ -49,6 +49,16 @@ struct BvhBytes : sgfx::NodeVisitor {
     std::size_t geometries = 0, trees = 0, triangles = 0, indexed = 0, nodes = 0, bytes = 0;
 };
 
+// An index and the nested ones it holds (large child groups keep their own; memoryBytes() counts
+// one level), each once.
+std::size_t indexBytes(const sgfx::SubtreeIndex& index, std::unordered_set<const sgfx::SubtreeIndex*>& seen) {
+    if (!seen.insert(&index).second) return 0;
+    std::size_t bytes = index.memoryBytes();
+    for (const sgfx::SubtreeIndex::Item& item : index.items)
+        if (item.nested) bytes += indexBytes(*item.nested, seen);
+    return bytes;
+}
+
 glm::dvec3 vec(const qw::Vec3& p) {
     return {p.x, p.y, p.z};
 }
@@ -106,14 +116,15 @@ int main(int argc, char** argv) {
         BvhBytes m;
         scene->accept(m);
         // The root's index over its geometries (built by prepareForQueries) counts too.
-        const std::size_t indexBytes = scene->subtreeIndex()->memoryBytes();
-        m.bytes += indexBytes;
+        std::unordered_set<const sgfx::SubtreeIndex*> seen;
+        const std::size_t subtreeBytes = indexBytes(*scene->subtreeIndex(), seen);
+        m.bytes += subtreeBytes;
         std::printf(
             "BUILD side=%s seconds=%.4f cpu_seconds=%.4f bytes_per_triangle=%.2f triangles=%zu "
             "indexed_triangles=%zu bytes=%zu subtree_index_bytes=%zu geometries=%zu trees=%zu tree_nodes=%zu "
             "sizeof_node=%zu\n",
             side.c_str(), seconds, cpuSeconds, double(m.bytes) / double(m.triangles), m.triangles, m.indexed,
-            m.bytes, indexBytes, m.geometries, m.trees, m.nodes, sizeof(sgfx::BvhNodes::Node));
+            m.bytes, subtreeBytes, m.geometries, m.trees, m.nodes, sizeof(sgfx::BvhNodes::Node));
         std::printf("BOX min=%.3f,%.3f,%.3f max=%.3f,%.3f,%.3f\n", box.min.x, box.min.y, box.min.z, box.max.x,
                     box.max.y, box.max.z);
 
