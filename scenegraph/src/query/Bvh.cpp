@@ -212,13 +212,18 @@ TriangleBvh::TriangleBvh(const Geometry& g)
     bvh_ = BvhNodes::build(boxes);
     // Store the triangles in leaf order, so a leaf reads consecutive entries.
     triangles_.reserve(bvh_.order.size());
-    for (const std::uint32_t t : bvh_.order)
+    corners_.reserve(bvh_.order.size() * 3);
+    for (const std::uint32_t t : bvh_.order) {
         triangles_.push_back({tris[t], t});
+        for (const std::uint32_t v : tris[t])
+            corners_.push_back(g.positions[v]);
+    }
     bvh_.order = {}; // leaves index triangles_ directly
 }
 
 std::size_t TriangleBvh::memoryBytes() const {
-    return sizeof(*this) + bvh_.memoryBytes() + triangles_.size() * sizeof(Triangle);
+    return sizeof(*this) + bvh_.memoryBytes() + triangles_.size() * sizeof(Triangle) +
+           corners_.size() * sizeof(glm::vec3);
 }
 
 std::shared_ptr<const TriangleBvh> Geometry::triangleBvh() const {

@@ -194,10 +194,13 @@ void IntersectionVisitor::walkIndex(const SubtreeIndex& index, const QueryFrame&
             for (Node* n : item.path)
                 active = active && accepts(*n);
             if (!active) continue;
-            QueryFrame frame;
-            frame.toWorld = base.toWorld * item.toGroup;
-            frame.toLocal = item.fromGroup * base.toLocal;
-            frame.mirrored = glm::determinant(glm::dmat3(frame.toWorld)) < 0.0;
+            QueryFrame composed;
+            if (!item.identity) {
+                composed.toWorld = base.toWorld * item.toGroup;
+                composed.toLocal = item.fromGroup * base.toLocal;
+                composed.mirrored = glm::determinant(glm::dmat3(composed.toWorld)) < 0.0;
+            }
+            const QueryFrame& frame = item.identity ? base : composed;
             nodePath.insert(nodePath.end(), item.path.begin(), item.path.end());
             switch (item.kind) {
             case SubtreeIndex::Kind::Geometry:

@@ -121,14 +121,14 @@ void LineSegmentIntersector::intersect(const Geometry& g, const TriangleBvh& bvh
     const glm::dvec3 d = transformPoint(frame.toLocal, end_) - o;
     const query::LineSlab slab(o, d);
     const auto& tris = bvh.triangles();
+    const glm::vec3* corner = bvh.corners().data();
     auto entry = [&](const BvhNodes::Node& n) { return slab.entry(n, searchLimit()); };
     auto bound = [&] { return searchLimit(); };
     auto leaf = [&](std::uint32_t first, std::uint32_t count) {
         for (std::uint32_t k = first; k < first + count; ++k) {
-            const TriangleBvh::Triangle& tri = tris[k];
-            const glm::dvec3 v0 = position(g, tri.v[0]);
+            const glm::dvec3 v0(corner[3 * k]);
             // Möller & Trumbore (1997), in double.
-            const glm::dvec3 e1 = position(g, tri.v[1]) - v0, e2 = position(g, tri.v[2]) - v0;
+            const glm::dvec3 e1 = glm::dvec3(corner[3 * k + 1]) - v0, e2 = glm::dvec3(corner[3 * k + 2]) - v0;
             const glm::dvec3 p = glm::cross(d, e2);
             const double det = glm::dot(e1, p);
             if (det == 0.0) continue; // the line runs in the triangle's plane: no crossing
@@ -145,8 +145,8 @@ void LineSegmentIntersector::intersect(const Geometry& g, const TriangleBvh& bvh
             hit.ratio = t;
             hit.distance = t * length_;
             hit.barycentric = {1.0 - u - v, u, v};
-            hit.primitiveIndex = tri.primitive;
-            hit.vertexIndices = tri.v;
+            hit.primitiveIndex = tris[k].primitive;
+            hit.vertexIndices = tris[k].v;
             complete(hit, g, frame, context);
             record(std::move(hit));
             if (done()) return false;

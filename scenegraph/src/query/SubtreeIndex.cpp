@@ -74,6 +74,7 @@ public:
             const glm::dmat4 m = g.instances.empty() ? matrix_ : matrix_ * glm::dmat4(g.instances[i]);
             SubtreeIndex::Item& item =
                 add(g, m, transformedBox(m, glm::dvec3(root.min), glm::dvec3(root.max)));
+            item.kind = SubtreeIndex::Kind::Geometry;
             item.geometry = &g;
             item.instance = std::uint32_t(i);
             item.bvh = bvh;
@@ -108,6 +109,7 @@ private:
         item.node = &node;
         item.toGroup = m;
         item.fromGroup = glm::inverse(m);
+        item.identity = m == glm::dmat4(1.0);
         item.path = nodePath;
         item.path.push_back(&node);
         boxes_.push_back(box);
