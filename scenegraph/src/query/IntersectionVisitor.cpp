@@ -190,6 +190,9 @@ void IntersectionVisitor::walkIndex(const SubtreeIndex& index, const QueryFrame&
     auto leaf = [&](std::uint32_t first, std::uint32_t count) {
         for (std::uint32_t k = first; k < first + count; ++k) {
             const SubtreeIndex::Item& item = index.items[index.bvh.order[k]];
+            // A leaf holds up to four items: the line may miss this one's box.
+            const double t = intersector_.entry(item.box);
+            if (t == query::kMiss || t > intersector_.reach()) continue;
             bool active = true;
             for (Node* n : item.path)
                 active = active && accepts(*n);

@@ -110,6 +110,7 @@ private:
         item.toGroup = m;
         item.fromGroup = glm::inverse(m);
         item.identity = m == glm::dmat4(1.0);
+        item.box = box;
         item.path = nodePath;
         item.path.push_back(&node);
         boxes_.push_back(box);

@@ -29,10 +29,11 @@ struct SubtreeIndex {
         /// To the group's child frame from: the geometry's frame (instance included), a walked
         /// subtree's parent frame, or a nested group's child frame.
         glm::dmat4 toGroup{1.0};
-        glm::dmat4 fromGroup{1.0};              ///< its inverse
-        bool identity = true;                   ///< toGroup is the identity: the item is in the group's frame
-        std::vector<Node*> path;                ///< below the group, down to `node`
-        std::shared_ptr<const TriangleBvh> bvh; ///< Geometry items
+        glm::dmat4 fromGroup{1.0}; ///< its inverse
+        QueryBox box;              ///< in the group's child frame: tested before the item is entered
+        bool identity = true;      ///< toGroup is the identity: the item is in the group's frame
+        std::vector<Node*> path;   ///< below the group, down to `node`
+        std::shared_ptr<const TriangleBvh> bvh;     ///< Geometry items
         std::shared_ptr<const SubtreeIndex> nested; ///< Nested items
     };
     std::vector<Item> items;
