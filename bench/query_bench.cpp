@@ -10,7 +10,6 @@
 //
 // Prints a BUILD line (sgfx::prepareForQueries timed after the load, and the BVHs' bytes per
 // triangle) and one QUERY line per workload.
-#include "query/SubtreeIndex.h" // private: for its memoryBytes()
 #include "query_workload.h"
 
 #include <sgfx/Geometry.h>
@@ -48,16 +47,6 @@ struct BvhBytes : sgfx::NodeVisitor {
     std::unordered_set<const sgfx::Geometry*> seen;
     std::size_t geometries = 0, trees = 0, triangles = 0, indexed = 0, nodes = 0, bytes = 0;
 };
-
-// An index and the nested ones it holds (large child groups keep their own; memoryBytes() counts
-// one level), each once.
-std::size_t indexBytes(const sgfx::SubtreeIndex& index, std::unordered_set<const sgfx::SubtreeIndex*>& seen) {
-    if (!seen.insert(&index).second) return 0;
-    std::size_t bytes = index.memoryBytes();
-    for (const sgfx::SubtreeIndex::Item& item : index.items)
-        if (item.nested) bytes += indexBytes(*item.nested, seen);
-    return bytes;
-}
 
 glm::dvec3 vec(const qw::Vec3& p) {
     return {p.x, p.y, p.z};
@@ -115,9 +104,9 @@ int main(int argc, char** argv) {
         const double seconds = watch.wall(), cpuSeconds = watch.cpu();
         BvhBytes m;
         scene->accept(m);
-        // The root's index over its geometries (built by prepareForQueries) counts too.
-        std::unordered_set<const sgfx::SubtreeIndex*> seen;
-        const std::size_t subtreeBytes = indexBytes(*scene->subtreeIndex(), seen);
+        // The subtree indexes (the root's and the nested ones, built by prepareForQueries) count too.
+        const sgfx::QueryMemory memory = sgfx::queryMemory(*scene);
+        const std::size_t subtreeBytes = memory.indexBytes;
         m.bytes += subtreeBytes;
         std::printf(
             "BUILD side=%s seconds=%.4f cpu_seconds=%.4f bytes_per_triangle=%.2f triangles=%zu "

@@ -485,3 +485,14 @@ TEST(Query, PickThroughAHeadlessViewer) {
     EXPECT_EQ(hit->camera, viewer->camera().get());
     EXPECT_FALSE(pick(*viewer, 32, 60).has_value()) << "below the viewport";
 }
+
+TEST(Query, MemoryCountsSharedCachesOnce) {
+    auto box = shapes::box({2, 2, 2});
+    auto root = Group::create();
+    root->addChild(placed(box, glm::translate(glm::mat4(1.0f), {-3, 0, 0})));
+    root->addChild(placed(box, glm::translate(glm::mat4(1.0f), {3, 0, 0})));
+    const QueryMemory m = queryMemory(*root);
+    EXPECT_EQ(m.triangles, 12u) << "one box's BVH, shared by both placements";
+    EXPECT_EQ(m.bvhBytes, box->triangleBvh()->memoryBytes());
+    EXPECT_GT(m.indexBytes, 0u);
+}

@@ -3,6 +3,7 @@
 /// The questions a simulation asks every frame, on top of Intersection.h.
 #include "sgfx/Intersection.h"
 
+#include <cstddef>
 #include <optional>
 
 namespace sgfx {
@@ -43,6 +44,16 @@ std::optional<PickResult> pick(const Camera& camera, Node& scene, double x, doub
 /// The viewer's channel whose viewport holds the target pixel (x, y) (origin top left), then as
 /// above. nullopt when no viewport holds it or nothing is hit.
 std::optional<PickResult> pick(Viewer& viewer, double x, double y, NodeMask mask = ~NodeMask{0});
+
+/// What the query caches below `scene` hold, each counted once however often it is shared: the
+/// geometries' triangle BVHs, and the subtree indexes (the scene's and the nested ones). Builds
+/// what is missing, like prepareForQueries. The geometries' own arrays are not counted.
+struct QueryMemory {
+    std::size_t bvhBytes = 0;
+    std::size_t indexBytes = 0;
+    std::size_t triangles = 0; ///< in the BVHs (degenerate triangles are left out of them)
+};
+QueryMemory queryMemory(Node& scene);
 
 /// Computes every bound and builds every BVH below `scene` now, so that queries started on other
 /// threads afterwards find them built (and a first query pays no build). Not thread-safe itself:

@@ -1,6 +1,8 @@
 // Terrain height, line of sight, picking (Queries.h).
 #include "sgfx/Queries.h"
 
+#include "SubtreeIndex.h"
+
 #include "sgfx/Camera.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Viewer.h"
@@ -8,6 +10,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <unordered_set>
 
 namespace sgfx {
 
@@ -97,6 +100,40 @@ public:
 };
 
 } // namespace
+
+namespace {
+
+class MemoryCounter : public NodeVisitor {
+public:
+    MemoryCounter()
+        : NodeVisitor(Mode::AllChildren) {}
+    void apply(Geometry& g) override {
+        const auto bvh = g.triangleBvh();
+        if (!seen_.insert(bvh.get()).second) return;
+        memory.bvhBytes += bvh->memoryBytes();
+        memory.triangles += bvh->triangles().size();
+    }
+    void countIndex(const SubtreeIndex& index) {
+        if (!seen_.insert(&index).second) return;
+        memory.indexBytes += index.memoryBytes();
+        for (const SubtreeIndex::Item& item : index.items)
+            if (item.nested) countIndex(*item.nested);
+    }
+    QueryMemory memory;
+
+private:
+    std::unordered_set<const void*> seen_;
+};
+
+} // namespace
+
+QueryMemory queryMemory(Node& scene) {
+    scene.bound();
+    MemoryCounter counter;
+    scene.accept(counter);
+    if (auto* group = dynamic_cast<Group*>(&scene)) counter.countIndex(*group->subtreeIndex());
+    return counter.memory;
+}
 
 void prepareForQueries(Node& scene) {
     scene.bound();
