@@ -45,7 +45,6 @@ struct Intersection {
 struct QueryFrame {
     glm::dmat4 toWorld{1.0};
     glm::dmat4 toLocal{1.0};
-    bool mirrored = false; ///< det(toWorld) < 0: the front faces wind clockwise
     static QueryFrame of(const glm::dmat4& toWorld);
 };
 
@@ -237,7 +236,7 @@ private:
     void pushFrame(const glm::dmat4& local);
     void popFrame();
     void testGeometry(Geometry& geometry, const QueryFrame& frame);
-    bool visitIndexed(Group& group);
+    void visitIndexed(Group& group);
     void walkIndex(const SubtreeIndex& index, const QueryFrame& base);
 
     Intersector& intersector_;

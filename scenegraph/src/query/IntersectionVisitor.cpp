@@ -167,12 +167,11 @@ void IntersectionVisitor::apply(Camera& c) {
     if (enterBound(c)) traverse(c);
 }
 
-bool IntersectionVisitor::visitIndexed(Group& group) {
+void IntersectionVisitor::visitIndexed(Group& group) {
     nodePath.push_back(&group);
     const QueryFrame base = frames_.back(); // a copy: walking a LOD or billboard pushes frames
     walkIndex(*group.subtreeIndex(), base);
     nodePath.pop_back();
-    return true;
 }
 
 // nodePath ends with the index's group; `base` is the group's child frame.
@@ -201,7 +200,6 @@ void IntersectionVisitor::walkIndex(const SubtreeIndex& index, const QueryFrame&
             if (!item.identity) {
                 composed.toWorld = base.toWorld * item.toGroup;
                 composed.toLocal = item.fromGroup * base.toLocal;
-                composed.mirrored = glm::determinant(glm::dmat3(composed.toWorld)) < 0.0;
             }
             const QueryFrame& frame = item.identity ? base : composed;
             nodePath.insert(nodePath.end(), item.path.begin(), item.path.end());

@@ -36,7 +36,6 @@ QueryFrame QueryFrame::of(const glm::dmat4& toWorld) {
     QueryFrame f;
     f.toWorld = toWorld;
     f.toLocal = glm::inverse(toWorld);
-    f.mirrored = glm::determinant(glm::dmat3(toWorld)) < 0.0;
     return f;
 }
 
