@@ -7,7 +7,7 @@
 #include <sgfx/TriangleSort.h>
 #include <sgfx/Viewer.h>
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <benchmark/benchmark.h>
 #include <glm/gtc/matrix_transform.hpp>

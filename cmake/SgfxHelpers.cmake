@@ -25,3 +25,13 @@ function(sgfx_embed_files target namespace)
     COMMENT "Embedding shaders for ${target}" VERBATIM)
   target_sources(${target} PRIVATE ${out})
 endfunction()
+
+# What every sgfx library shares: hidden symbols but those the public headers mark SGFX_API
+# (sgfx/Export.h), the SONAME and version from project(VERSION), and the warnings.
+function(sgfx_library target)
+  set_target_properties(${target} PROPERTIES
+    CXX_VISIBILITY_PRESET hidden C_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON
+    VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}
+    OUTPUT_NAME ${target})
+  sgfx_warnings(${target})
+endfunction()

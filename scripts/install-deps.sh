@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages sgfx needs, only those missing. Nothing else is downloaded:
-# the GL loader (glad) is committed pre-generated under third_party/glad.
+# sgfx's GL loader (glad, prefixed) is committed pre-generated under third_party/glad.
 set -euo pipefail
 
 packages=(
@@ -16,6 +16,8 @@ packages=(
   libopenscenegraph-dev                          # the OpenSceneGraph peer benchmark
   xvfb xauth libgl1-mesa-dri libglx-mesa0        # the windowed path tested on a virtual display
   python3-matplotlib                             # sgfx-bench --plot (scripts/plot_bench.py)
+  python3-glad                                   # the packaging test's "application with its own glad"
+  dpkg-dev libgl-dev                             # Debian packages (dpkg-shlibdeps); the conflict check
 )
 
 missing=()

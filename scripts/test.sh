@@ -5,7 +5,8 @@
 # SGFX_SKIP_SANITIZERS=1 runs the first stage only (for quick local runs). Then the scene-query tests
 # are built with ThreadSanitizer and run (SGFX_SKIP_TSAN=1 skips them). A last stage builds the
 # glTF loader's libFuzzer target with clang and runs it for 60 s (scripts/fuzz.sh); SGFX_SKIP_FUZZ=1
-# skips it.
+# skips it. The packaging stage builds the libraries shared (scripts/package.sh), checks that install
+# and the Debian packages (tests/packaging/); SGFX_SKIP_PACKAGING=1 skips it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -15,6 +16,15 @@ jobs=$(nproc)
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$jobs"
 (cd build && ctest --output-on-failure -j "$jobs")
+
+if [ "${SGFX_SKIP_PACKAGING:-0}" != 1 ]; then
+  # Shared libraries with hidden symbols, their install, and libsgfx0/libsgfx-dev/sgfx-tools.
+  # On a fresh CI machine (root) the packages are also really installed, used and purged.
+  bash scripts/package.sh build-package
+  bash tests/packaging/check_install.sh build-package build-package/check_install
+  if [ "${CI:-}" = true ] && [ "$(id -u)" = 0 ]; then export SGFX_TEST_SYSTEM_INSTALL=1; fi
+  bash tests/packaging/check_deb.sh build-package build-package/check_deb
+fi
 
 if [ "${SGFX_SKIP_SANITIZERS:-0}" != 1 ]; then
   # The OSG peer is third-party code and the package consumer links without the sanitizer

@@ -14,7 +14,7 @@
 // planet's shadow, jumps by at most the transmittance of a sun ray grazing the ground (< 3e-4 in
 // red) and costs at most that times one interval. Measured: doubling the intervals changes the
 // radiance by at most 5e-5 of itself (where above 1e-6) over the tests' sun and view directions.
-#include <sky/SkyMath.h> // sky::Atmosphere: the inputs only
+#include <sgfx/nodes/sky/SkyMath.h> // sky::Atmosphere: the inputs only
 
 #include <glm/glm.hpp>
 

@@ -3,16 +3,16 @@
 // that coverage, in linear colour (the resolves average in linear space).
 #include "TestUtil.h"
 
-#include <ao/AmbientOcclusionNode.h>
-#include <fog/FogNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
-#include <transparency/TransparencyBin.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
 
-#include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <sgfx_glad/gl.h>
 
 #include <cstdio>
 

@@ -3,12 +3,12 @@
 // occlusion k of the map is measured directly where the seed's geometry says what it must be.
 #include "TestUtil.h"
 
-#include <ao/AmbientOcclusionNode.h>
-#include <fog/FogNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

@@ -2,11 +2,11 @@
 // messages on a real OSMesa context.
 #include "TestUtil.h"
 
-#include <debugtint/DebugTintNode.h>
 #include <sgfx/Group.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/gl/Objects.h>
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

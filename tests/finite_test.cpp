@@ -3,12 +3,12 @@
 // The sky's own sweep (zenith, nadir, horizon) is in sky_test.cpp.
 #include "TestUtil.h"
 
-#include <ao/AmbientOcclusionNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

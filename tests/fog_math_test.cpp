@@ -1,7 +1,7 @@
 // FogMath (the CPU mirror of fog_optical_depth.glsl) against numerical quadrature of the seed's
 // integral (eq. 5) in double, over a grid that includes b = 0, exactly horizontal and vertical
 // rays, cameras below the reference plane and at 20 km, and distances from 0 to 1e7 m.
-#include <fog/FogMath.h>
+#include <sgfx/nodes/fog/FogMath.h>
 
 #include <glm/glm.hpp>
 #include <gtest/gtest.h>

@@ -2,12 +2,12 @@
 // sky pixels, fog through glass composited physically, foreign shaders, nesting, bad input.
 #include "TestUtil.h"
 
-#include <fog/FogMath.h>
-#include <fog/FogNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
+#include <sgfx/nodes/fog/FogMath.h>
+#include <sgfx/nodes/fog/FogNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

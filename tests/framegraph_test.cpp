@@ -2,8 +2,8 @@
 // size rules, and the errors a wrong declaration gets.
 #include "sgfx/FrameGraph.h"
 
-#include <glad/gl.h>
 #include <gtest/gtest.h>
+#include <sgfx_glad/gl.h>
 
 #include <map>
 #include <regex>

@@ -3,13 +3,13 @@
 // geometry, and the normals and tangents MeshTools makes. Linear float targets, 64×64.
 #include "TestUtil.h"
 
-#include <ao/AmbientOcclusionNode.h>
-#include <fog/FogNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/MeshTools.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Visitors.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

@@ -3,12 +3,12 @@
 // their formulas, capacity changes and bad input. Render tests are ≤ 128×128 on OSMesa.
 #include "TestUtil.h"
 
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/CullVisitor.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
-#include <transparency/TransparencyBin.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

@@ -3,21 +3,21 @@
 // count their calls. glad keeps the entry points in global pointers, so the stubs replace them.
 #include "TestUtil.h"
 
-#include <ao/AmbientOcclusionNode.h>
-#include <debugtint/DebugTintNode.h>
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/CullVisitor.h>
 #include <sgfx/FrameSetup.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
-#include <sky/SkyNode.h>
-#include <transparency/TransparencyBin.h>
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
-#include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <sgfx_glad/gl.h>
 
 using namespace sgfx;
 using namespace sgfx::test;
@@ -76,16 +76,16 @@ public:
 
 private:
     void swap() {
-        std::swap(glad_glGetIntegerv, getIntegerv_);
-        std::swap(glad_glBindFramebuffer, bindFramebuffer_);
-        std::swap(glad_glCreateTextures, createTextures_);
-        std::swap(glad_glCreateBuffers, createBuffers_);
-        std::swap(glad_glBindTextureUnit, bindTextureUnit_);
-        std::swap(glad_glUseProgram, useProgram_);
-        std::swap(glad_glDrawArrays, drawArrays_);
-        std::swap(glad_glNamedBufferData, namedBufferData_);
-        std::swap(glad_glCreateFramebuffers, createFramebuffers_);
-        std::swap(glad_glEnable, enable_);
+        std::swap(sgfx_glad_glGetIntegerv, getIntegerv_);
+        std::swap(sgfx_glad_glBindFramebuffer, bindFramebuffer_);
+        std::swap(sgfx_glad_glCreateTextures, createTextures_);
+        std::swap(sgfx_glad_glCreateBuffers, createBuffers_);
+        std::swap(sgfx_glad_glBindTextureUnit, bindTextureUnit_);
+        std::swap(sgfx_glad_glUseProgram, useProgram_);
+        std::swap(sgfx_glad_glDrawArrays, drawArrays_);
+        std::swap(sgfx_glad_glNamedBufferData, namedBufferData_);
+        std::swap(sgfx_glad_glCreateFramebuffers, createFramebuffers_);
+        std::swap(sgfx_glad_glEnable, enable_);
     }
     PFNGLGETINTEGERVPROC getIntegerv_ = stubGetIntegerv;
     PFNGLBINDFRAMEBUFFERPROC bindFramebuffer_ = stubBindFramebuffer;

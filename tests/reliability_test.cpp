@@ -5,10 +5,6 @@
 #include <CameraPath.h>
 #include <PolygonScene.h>
 #include <ProcessMemory.h>
-#include <ao/AmbientOcclusionNode.h>
-#include <debugtint/DebugTintNode.h>
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/CullVisitor.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/GltfLoader.h>
@@ -22,13 +18,17 @@
 #include <sgfx/Shapes.h>
 #include <sgfx/Simplify.h>
 #include <sgfx/gl/Objects.h>
-#include <sky/SkyNode.h>
-#include <transparency/TransparencyBin.h>
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
-#include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <sgfx_glad/gl.h>
 
 #include <cmath>
 #include <cstdio>

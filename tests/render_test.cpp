@@ -1,15 +1,15 @@
 // Headless render tests on OSMesa (llvmpipe), ≤ 256×256, compared with analytic values.
 #include "TestUtil.h"
 
-#include <debugtint/DebugTintNode.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/gl/Objects.h>
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
 
-#include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <sgfx_glad/gl.h>
 
 #include <filesystem>
 

@@ -9,13 +9,13 @@
 #include <cstdio>
 #include <sstream>
 
-#include <fog/FogNode.h>
 #include <sgfx/Group.h>
 #include <sgfx/Material.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Visitors.h>
-#include <sky/SkyNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

@@ -9,8 +9,8 @@
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/TriangleSort.h>
-#include <transparency/OitMath.h>
-#include <transparency/TransparencyBin.h>
+#include <sgfx/nodes/transparency/OitMath.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

@@ -5,13 +5,13 @@
 // 64×64.
 #include "TestUtil.h"
 
-#include <fog/FogNode.h>
 #include <sgfx/Group.h>
 #include <sgfx/Image.h>
 #include <sgfx/Material.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

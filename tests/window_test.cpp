@@ -4,8 +4,8 @@
 
 #include <sgfx/GraphicsContext.h>
 
-#include <glad/gl.h>
 #include <gtest/gtest.h>
+#include <sgfx_glad/gl.h>
 
 #include <cstdlib>
 

@@ -3,9 +3,9 @@
 // maps (figures 5 and 7). Headless; writes four PNGs.
 //   ao_figure [--out-dir DIR] [--size WxH]
 #include <PolygonScene.h>
-#include <ao/AmbientOcclusionNode.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 
 #include <cstdio>
 #include <cstring>

@@ -4,19 +4,19 @@
 #include "CameraPath.h"
 #include "PolygonScene.h"
 
-#include <ao/AmbientOcclusionNode.h>
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/ModelLoader.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
-#include <sky/SkyNode.h>
-#include <transparency/TransparencyBin.h>
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 

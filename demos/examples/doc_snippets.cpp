@@ -6,18 +6,18 @@
 // The functions are compiled, not run: they would need a display, a GPU or files such as truck.glb.
 // A snippet's own #include lines sit inside the function body; the headers are already included
 // here (every sgfx header is #pragma once), so they expand to nothing there.
-#include <ao/AmbientOcclusionNode.h>
-#include <debugtint/DebugTintNode.h>
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/ModelLoader.h>
 #include <sgfx/Queries.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
-#include <sky/SkyNode.h>
-#include <transparency/TransparencyBin.h>
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -160,7 +160,7 @@ void antialiasingUsage(const std::shared_ptr<sgfx::Camera>& camera) {
 
 void aoUsage(const sgfx::NodePtr& world) {
     // docs: effects/ao.md, Usage
-#include <ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 
     auto ao = sgfx::AmbientOcclusionNode::create();   // defaults below
     ao->addChild(world);
@@ -175,7 +175,7 @@ void aoUsage(const sgfx::NodePtr& world) {
 
 void fogUsage(const sgfx::NodePtr& world) {
     // docs: effects/fog.md, Usage
-#include <fog/FogNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
 
     auto fog = sgfx::FogNode::create(sgfx::FogParameters::ground());  // or ::solid()
     fog->addChild(world);              // everything below is fogged: built-in, glTF, foreign shaders
@@ -192,7 +192,7 @@ void fogUsage(const sgfx::NodePtr& world) {
 
 void particlesUsage(const std::shared_ptr<sgfx::FogNode>& fogNode) {
     // docs: effects/particles.md, Usage
-#include <particles/ParticleSystemNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
 
     auto rain = sgfx::ParticleSystemNode::rain({80.0f, 80.0f}, 200000); // area (m), drops
     auto above = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, 36.0f}));
@@ -209,7 +209,7 @@ void particlesUsage(const std::shared_ptr<sgfx::FogNode>& fogNode) {
 
 void transparencyUsage(const sgfx::NodePtr& canopy) {
     // docs: effects/transparency.md, Usage
-#include <transparency/TransparencyBin.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
 
     auto glass = sgfx::TransparencyBin::create();          // Sorted (default)
     glass->addChild(canopy);                               // everything below is in the bin
@@ -224,7 +224,7 @@ void transparencyUsage(const sgfx::NodePtr& canopy) {
 void volumeUsage(const std::shared_ptr<sgfx::Transform>& place) {
     const glm::vec3 toSun = glm::normalize(glm::vec3(-0.4f, 0.3f, 0.85f));
     // docs: effects/volume-sky.md, Volumes, usage
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
     sgfx::VolumeParameters p;
     p.size = {40.0f, 40.0f, 24.0f};        // box (m), centred on the node
@@ -246,7 +246,7 @@ void volumeUsage(const std::shared_ptr<sgfx::Transform>& place) {
 void skyUsage(const std::shared_ptr<sgfx::Group>& root, const std::shared_ptr<sgfx::Light>& sun,
               const std::shared_ptr<sgfx::FogNode>& fogNode) {
     // docs: effects/volume-sky.md, Sky, usage
-#include <sky/SkyNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
 
     auto sky = sgfx::SkyNode::create(sgfx::SkyParameters::atTime(18.5f)); // local solar time, 45°N, midsummer
     root->addChild(sky);

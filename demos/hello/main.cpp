@@ -1,7 +1,7 @@
 // The README's example: build a small scene in code and render it headless to hello.png.
-#include <debugtint/DebugTintNode.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 

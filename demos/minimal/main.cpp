@@ -1,10 +1,10 @@
 // The minimal example: a model under a FogNode, rendered headless to a PNG.
 // Usage: minimal MODEL [PNG]   (glTF, OBJ, OFF, PLY or STL; the PNG defaults to minimal.png)
-#include <fog/FogNode.h>
 #include <sgfx/Manipulator.h>
 #include <sgfx/ModelLoader.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
+#include <sgfx/nodes/fog/FogNode.h>
 
 #include <cstdio>
 #include <exception>

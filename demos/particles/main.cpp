@@ -11,16 +11,16 @@
 //   PARTICLES count=... path=... layout=... frame_ms=... sim_ms=... update_ms=... draw_ms=...
 // (sim_ms: the simulation step alone, CPU-timed with glFinish; update_ms and draw_ms: GPU timer
 // queries, which llvmpipe fills unreliably)
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Group.h>
 #include <sgfx/PassCommands.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
 
-#include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <charconv>

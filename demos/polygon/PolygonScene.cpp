@@ -1,6 +1,6 @@
 #include "PolygonScene.h"
 
-#include <particles/ParticleSystemNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
 
 #include "CameraPath.h"
 
@@ -13,7 +13,7 @@
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Texture.h>
-#include <transparency/TransparencyBin.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>

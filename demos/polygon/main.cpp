@@ -4,22 +4,22 @@
 #include "PolygonScene.h"
 #include "VehicleDrive.h"
 
-#include <ao/AmbientOcclusionNode.h>
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/GltfWriter.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Manipulator.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
 
 #include <filesystem>
 #include <sgfx/ObjWriter.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
-#include <sky/SkyNode.h>
-#include <transparency/TransparencyBin.h>
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 // After glad: GLFW must not pull in the system GL header.
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>

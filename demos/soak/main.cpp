@@ -5,15 +5,15 @@
 #include "PolygonScene.h"
 #include "ProcessMemory.h"
 
-#include <ao/AmbientOcclusionNode.h>
-#include <debugtint/DebugTintNode.h>
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/gl/Objects.h>
-#include <sky/SkyNode.h>
-#include <transparency/TransparencyBin.h>
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 

@@ -1,6 +1,6 @@
 #include "ViewScene.h"
 
-#include <sky/SkyMath.h>
+#include <sgfx/nodes/sky/SkyMath.h>
 
 #include <sgfx/Geometry.h>
 #include <sgfx/Material.h>

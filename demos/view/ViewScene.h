@@ -2,10 +2,10 @@
 // sgfx-view's scene: the user's model on a ground plane, under every effect the viewer can
 // toggle. All effect nodes stay in the graph; switching one off clears its `enabled` flag or
 // node mask, so toggling costs no rebuild and keeps the nodes' GPU targets.
-#include <ao/AmbientOcclusionNode.h>
-#include <fog/FogNode.h>
-#include <particles/ParticleSystemNode.h>
-#include <sky/SkyNode.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
 
 #include <sgfx/Camera.h>
 #include <sgfx/Group.h>

@@ -7,9 +7,9 @@
 //
 // Defaults: 7,10,13,18.5 hours, 320x180 per panel, volume_sky.png. --no-volume and --no-sky give
 // the "before" images of the docs (scripts/effect-figures.sh).
-#include <sky/SkyMath.h>
-#include <sky/SkyNode.h>
-#include <volume/VolumeNode.h>
+#include <sgfx/nodes/sky/SkyMath.h>
+#include <sgfx/nodes/sky/SkyNode.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>

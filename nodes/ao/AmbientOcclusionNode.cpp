@@ -1,4 +1,4 @@
-#include "ao/AmbientOcclusionNode.h"
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 
 #include "ParameterChecks.h"
 
@@ -6,7 +6,7 @@
 #include <sgfx/PassCommands.h>
 #include <sgfx/gl/Objects.h>
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <array>

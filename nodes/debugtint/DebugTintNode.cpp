@@ -1,4 +1,4 @@
-#include "debugtint/DebugTintNode.h"
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
 
 #include "EmbeddedShaders.h"
 

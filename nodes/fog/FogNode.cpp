@@ -1,5 +1,5 @@
-#include "fog/FogNode.h"
-#include "fog/FogMath.h"
+#include <sgfx/nodes/fog/FogMath.h>
+#include <sgfx/nodes/fog/FogNode.h>
 
 #include "ParameterChecks.h"
 

@@ -1,4 +1,4 @@
-#include "particles/ParticleSystemNode.h"
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
 
 #include "ParameterChecks.h"
 
@@ -11,7 +11,7 @@
 #include <sgfx/Visitors.h>
 #include <sgfx/gl/Objects.h>
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <array>

@@ -1,7 +1,7 @@
-#include "sky/SkyNode.h"
+#include <sgfx/nodes/sky/SkyNode.h>
 
 #include "ParameterChecks.h"
-#include "fog/FogNode.h"
+#include <sgfx/nodes/fog/FogNode.h>
 
 #include <sgfx/FrameSetup.h>
 #include <sgfx/PassCommands.h>
@@ -10,7 +10,7 @@
 #include <sgfx/Visitors.h>
 #include <sgfx/gl/Objects.h>
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "transparency/TransparencyBin.h"
+#include <sgfx/nodes/transparency/TransparencyBin.h>
 
 #include "ParameterChecks.h"
 

@@ -1,4 +1,4 @@
-#include "volume/VolumeNode.h"
+#include <sgfx/nodes/volume/VolumeNode.h>
 
 #include "ParameterChecks.h"
 
@@ -8,7 +8,7 @@
 #include <sgfx/StateSet.h>
 #include <sgfx/gl/Objects.h>
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <cmath>

@@ -3,8 +3,8 @@
 #include "EmbeddedShaders.h"
 #include "sgfx/Renderer.h"
 
-#include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
 #include "sgfx/GraphicsContext.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 #define EGL_EGL_PROTOTYPES 0
 #include <EGL/egl.h>
 #include <EGL/eglext.h>

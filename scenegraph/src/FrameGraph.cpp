@@ -1,6 +1,6 @@
 #include "sgfx/FrameGraph.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <cstdio>

@@ -1,6 +1,6 @@
 #include "sgfx/GraphicsContext.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 // After glad: GLFW must not pull in the system GL header.
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>

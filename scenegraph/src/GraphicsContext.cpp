@@ -1,6 +1,6 @@
 #include "sgfx/GraphicsContext.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -16,7 +16,7 @@ DeviceLimits g_limits; // of the most recently created context
 void GraphicsContext::loadGl() {
     const GetProcAddressFn proc = procAddress();
     if (g_loadedFrom != proc) {
-        if (!gladLoadGL(reinterpret_cast<GLADloadfunc>(proc)))
+        if (!sgfx_gladLoadGL(reinterpret_cast<SGFX_GLADloadfunc>(proc)))
             throw ContextError("sgfx: could not load OpenGL functions through the " + std::string(kind()) +
                                " context");
         g_loadedFrom = proc;

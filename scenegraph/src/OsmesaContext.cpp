@@ -1,6 +1,6 @@
 #include "sgfx/GraphicsContext.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 // After glad, so osmesa.h's GL/gl.h include is a no-op.
 #include <GL/osmesa.h>
 

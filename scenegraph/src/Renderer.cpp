@@ -6,7 +6,7 @@
 #include "render/RendererImpl.h"
 #include "sgfx/GraphicsContext.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <cstdlib>
 #include <stdexcept>

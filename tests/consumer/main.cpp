@@ -1,7 +1,7 @@
 // Renders a lit box headless through an installed sgfx and checks the centre pixel is lit.
-#include <debugtint/DebugTintNode.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
+#include <sgfx/nodes/debugtint/DebugTintNode.h>
 
 #include <cstdio>
 

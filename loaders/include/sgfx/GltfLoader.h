@@ -4,6 +4,7 @@
 /// and .glb. Every index, offset, count and type is checked before the data is touched (tinygltf
 /// 2.7 accepts many files that break those rules); a bad file raises LoadError naming the file,
 /// the element (`meshes[2].primitives[0].indices`) and the reason, and nothing is built.
+#include "sgfx/Export.h"
 #include <sgfx/Group.h>
 
 #include <cstddef>
@@ -17,13 +18,13 @@
 
 namespace sgfx {
 
-class LoadError : public std::runtime_error {
+class SGFX_API LoadError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
 };
 
 /// How glTF content is turned into sgfx nodes (axes, normals, limits).
-struct GltfOptions {
+struct SGFX_API GltfOptions {
     int scene = -1;  ///< the file's default scene (or its first), or this index
     bool zUp = true; ///< rotate glTF's Y-up into sgfx's Z-up at the root
     /// Normals made for primitives without them: 0 = flat (per face, as glTF asks); an angle in
@@ -36,7 +37,7 @@ struct GltfOptions {
 };
 
 /// What a load made, for tools and tests.
-struct GltfStats {
+struct SGFX_API GltfStats {
     std::size_t nodes = 0;      ///< glTF nodes instanced in the scene (each use counts)
     std::size_t meshes = 0;     ///< distinct meshes loaded
     std::size_t primitives = 0; ///< distinct primitives loaded
@@ -56,13 +57,15 @@ struct GltfStats {
 /// KHR_materials_emissive_strength, EXT_mesh_gpu_instancing, KHR_mesh_quantization. A required
 /// extension outside that list is a LoadError; an optional one is skipped with a warning (in
 /// GltfStats::warnings and on stderr unless `stats` is given). Throws LoadError.
-std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options = {},
-                                GltfStats* stats = nullptr);
+SGFX_API std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options = {},
+                                         GltfStats* stats = nullptr);
 
 /// The same from bytes in memory: .glb when they start with "glTF", else .gltf JSON. There is no
 /// base directory, so a file that names external buffers or images fails with LoadError (data: URIs
 /// and the GLB chunk work). `nameForErrors` stands in for the file name in messages.
-std::shared_ptr<Group> loadGltfFromMemory(std::span<const std::byte> bytes, std::string_view nameForErrors,
-                                          const GltfOptions& options = {}, GltfStats* stats = nullptr);
+SGFX_API std::shared_ptr<Group> loadGltfFromMemory(std::span<const std::byte> bytes,
+                                                   std::string_view nameForErrors,
+                                                   const GltfOptions& options = {},
+                                                   GltfStats* stats = nullptr);
 
 } // namespace sgfx

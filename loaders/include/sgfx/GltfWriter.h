@@ -3,6 +3,7 @@
 /// glTF 2.0 out of the scene graph, the counterpart of loadGltf: what it writes loads back
 /// through loadGltf with the same triangles, positions, normals, texcoords, colours and
 /// material colours.
+#include "sgfx/Export.h"
 #include <sgfx/Node.h>
 
 #include <filesystem>
@@ -10,13 +11,13 @@
 namespace sgfx {
 
 /// Choices for writeGltf.
-struct GltfWriteOptions {
+struct SGFX_API GltfWriteOptions {
     /// The scene is sgfx's Z-up: rotate it into glTF's Y-up, which loadGltf's default undoes.
     bool zUp = true;
 };
 
 /// What writeGltf wrote.
-struct GltfWriteResult {
+struct SGFX_API GltfWriteResult {
     std::size_t meshes = 0, vertices = 0, triangles = 0, materials = 0;
 };
 
@@ -28,7 +29,7 @@ struct GltfWriteResult {
 /// Textures are not written. `.glb` gives a binary file, `.gltf` JSON with the buffer embedded as
 /// base64. Throws std::invalid_argument for another extension or an invalid geometry
 /// (Geometry::validate), std::runtime_error naming the path when it cannot be written.
-GltfWriteResult writeGltf(Node& root, const std::filesystem::path& path,
-                          const GltfWriteOptions& options = {});
+SGFX_API GltfWriteResult writeGltf(Node& root, const std::filesystem::path& path,
+                                   const GltfWriteOptions& options = {});
 
 } // namespace sgfx

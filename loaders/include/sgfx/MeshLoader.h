@@ -4,6 +4,7 @@
 /// triangle meshes (polygons are triangulated) with the file's normals, or smooth normals made
 /// from the faces when it has none; and written back, so other tools and peer benchmarks can load
 /// exactly what sgfx renders. Errors raise LoadError naming the file and the reason.
+#include "sgfx/Export.h"
 #include <sgfx/GltfLoader.h>
 
 #include <sgfx/Geometry.h>
@@ -14,7 +15,7 @@
 namespace sgfx {
 
 /// By the file's extension: .obj, .off, .ply, .stl (ASCII or binary). Throws LoadError.
-std::shared_ptr<Geometry> loadMesh(const std::filesystem::path& file);
+SGFX_API std::shared_ptr<Geometry> loadMesh(const std::filesystem::path& file);
 
 /// A model with its materials: for .obj, the `mtllib` materials (Kd, Ka, Ks, Ns, Ke, d/Tr, map_Kd,
 /// map_d, map_Bump/bump/norm) and texture coordinates, one Geometry per material in order of first
@@ -23,10 +24,10 @@ std::shared_ptr<Geometry> loadMesh(const std::filesystem::path& file);
 /// scene's default material). Other formats: loadMesh's Geometry in a Group. Throws LoadError
 /// naming file:line for bad OBJ/MTL lines, and the .mtl file and material for a texture that is
 /// missing or does not decode.
-std::shared_ptr<Group> loadMeshModel(const std::filesystem::path& file);
+SGFX_API std::shared_ptr<Group> loadMeshModel(const std::filesystem::path& file);
 
 /// Writes a triangle geometry (positions, normals) by the extension: .obj, .off, .ply, .stl.
 /// Throws LoadError naming the file when the geometry is not triangles or the file cannot be written.
-void writeMesh(const Geometry& geometry, const std::filesystem::path& file);
+SGFX_API void writeMesh(const Geometry& geometry, const std::filesystem::path& file);
 
 } // namespace sgfx

@@ -1,6 +1,7 @@
 #pragma once
 /// @file
 /// Mesh processing the loaders share: normals and tangents for triangle geometry that lacks them.
+#include "sgfx/Export.h"
 #include <sgfx/Geometry.h>
 
 namespace sgfx {
@@ -11,12 +12,12 @@ namespace sgfx {
 /// crease angle of their own face's normal, so hard edges stay hard. Vertices are split where
 /// normals differ and welded where they agree. Throws std::invalid_argument for other modes or
 /// a negative or NaN angle.
-void computeNormals(Geometry& geometry, float creaseAngle);
+SGFX_API void computeNormals(Geometry& geometry, float creaseAngle);
 
 /// Tangents (xyz, w = handedness) from positions, normals and texcoords, with MikkTSpace's main
 /// rules: per-face tangents from the texture derivatives, angle-weighted, orthogonalised against
 /// the vertex normal, and vertices split where faces disagree in handedness (mirrored UVs).
 /// Needs triangles with normals and texcoords; throws std::invalid_argument otherwise.
-void computeTangents(Geometry& geometry);
+SGFX_API void computeTangents(Geometry& geometry);
 
 } // namespace sgfx

@@ -3,6 +3,7 @@
 /// One entry point for every model format sgfx reads, chosen by the file's extension (any case):
 /// .gltf and .glb through loadGltf; .obj (with its MTL materials), .off, .ply and .stl through
 /// loadMeshModel. Throws LoadError; an unknown extension names the file and the accepted ones.
+#include "sgfx/Export.h"
 #include <sgfx/GltfLoader.h>
 
 #include <filesystem>
@@ -11,6 +12,6 @@
 namespace sgfx {
 
 /// `gltf` applies to glTF files only.
-std::shared_ptr<Group> loadModel(const std::filesystem::path& file, const GltfOptions& gltf = {});
+SGFX_API std::shared_ptr<Group> loadModel(const std::filesystem::path& file, const GltfOptions& gltf = {});
 
 } // namespace sgfx

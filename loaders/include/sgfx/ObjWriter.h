@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <sgfx/Node.h>
 
 #include <filesystem>
@@ -6,7 +7,7 @@
 namespace sgfx {
 
 /// What writeObj wrote.
-struct ObjWriteResult {
+struct SGFX_API ObjWriteResult {
     std::size_t objects = 0, vertices = 0, triangles = 0, textures = 0;
 };
 
@@ -16,6 +17,6 @@ struct ObjWriteResult {
 /// STEM_MATERIAL.png), with the geometry's texture coordinates. Of a LOD only the most detailed
 /// level is written.
 /// Throws std::runtime_error naming the path when it cannot be written.
-ObjWriteResult writeObj(Node& root, const std::filesystem::path& path);
+SGFX_API ObjWriteResult writeObj(Node& root, const std::filesystem::path& path);
 
 } // namespace sgfx

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Group.h"
 
 #include <glm/glm.hpp>
@@ -9,7 +10,7 @@ namespace sgfx {
 /// (OSG's osg::Billboard): trees, signs and lights seen from any side as one card. The cull
 /// traversal applies the rotation; every other visitor sees the children unrotated (exports,
 /// bounds of the rest pose), while bound() holds every orientation.
-class Billboard : public Group {
+class SGFX_API Billboard : public Group {
 public:
     enum class Mode : std::uint8_t {
         AxialRotation, ///< about `axis` only (trees: they stay upright)

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Group.h"
 #include "sgfx/Texture.h"
 
@@ -11,7 +12,7 @@
 namespace sgfx {
 
 /// A rectangle of the target in pixels, origin bottom left.
-struct Viewport {
+struct SGFX_API Viewport {
     int x = 0, y = 0, width = 640, height = 480;
     float aspect() const { return height > 0 ? float(width) / float(height) : 1.0f; }
     bool operator==(const Viewport&) const = default;
@@ -19,7 +20,7 @@ struct Viewport {
 
 /// Anti-aliasing of one camera's image (Camera::setAntiAliasing). Headless and windowed renders
 /// take the same path; the targets follow the viewport.
-struct AntiAliasing {
+struct SGFX_API AntiAliasing {
     enum class Mode : std::uint8_t {
         None,
         Msaa, ///< multisample colour and depth, resolved before the post passes
@@ -73,7 +74,7 @@ struct AntiAliasing {
 };
 
 /// A view into the graph: its children are the scene. View space looks down -Z.
-class Camera : public Group {
+class SGFX_API Camera : public Group {
 public:
     static std::shared_ptr<Camera> create() { return std::make_shared<Camera>(); }
     void accept(NodeVisitor& v) override;
@@ -128,7 +129,7 @@ private:
 enum class LightType : std::uint8_t { Directional, Point, Ambient };
 
 /// A light placed in the graph; it illuminates the whole scene (positional state, as in OSG).
-class Light : public Node {
+class SGFX_API Light : public Node {
 public:
     static std::shared_ptr<Light> create(LightType t = LightType::Directional) {
         auto l = std::make_shared<Light>();

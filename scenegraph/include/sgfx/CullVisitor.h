@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Math.h"
 #include "sgfx/NodeVisitor.h"
 #include "sgfx/RenderQueue.h"
@@ -13,7 +14,7 @@ class FramePlan;
 
 /// Walks the scene under a camera: frustum-culls bounding spheres, honours node masks,
 /// accumulates transforms, state and active effects, and fills a RenderQueue.
-class CullVisitor : public NodeVisitor {
+class SGFX_API CullVisitor : public NodeVisitor {
 public:
     CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* plan = nullptr);
 

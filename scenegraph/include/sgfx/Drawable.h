@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Node.h"
 
 #include <cstdint>
@@ -20,7 +21,7 @@ class Program;
 /// the built-in material's hook points, so the effects above it compose into its program exactly
 /// as they do for Geometry: it is queued, sorted, blended, claimed by a transparency pass and
 /// drawn in depth and G-buffer passes like any other item. The core knows nothing else about it.
-class Drawable : public Node {
+class SGFX_API Drawable : public Node {
 public:
     void accept(NodeVisitor& v) override;
 

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Group.h"
 #include "sgfx/StateSet.h"
 
@@ -19,7 +20,7 @@ struct DrawContext;
 /// A sampler of a snippet that reads a frame resource (the fog's nearest depth, the occlusion
 /// map): the renderer binds the resource published under `resource` to the uniform `uniform` on a
 /// unit it chooses, and the main pass's frame-graph node reads the resource.
-struct SnippetSampler {
+struct SGFX_API SnippetSampler {
     std::string uniform;  ///< `uniform sampler2D <uniform>;` in the snippet's declarations
     std::string resource; ///< blackboard name (see FrameSetup.h)
 };
@@ -31,7 +32,7 @@ struct SnippetSampler {
 ///  ambientCode:  may modify `vec3 sgfx_ambient` (the ambient light term)
 ///  colorCode:    may modify `vec4 sgfx_color` (final linear colour, before output);
 ///                `vec3 sgfx_worldPos` and `vec3 sgfx_eyePos` are available.
-struct ShaderSnippet {
+struct SGFX_API ShaderSnippet {
     std::string name; ///< identifies the code: equal names must mean equal code
     std::string defines;
     std::string vertexDecl;
@@ -44,7 +45,7 @@ struct ShaderSnippet {
 
 /// A Group whose subtree gets an effect. The core knows effects only through this interface.
 /// Nested effects of the same kind: the inner one wins for its subtree.
-class EffectNode : public Group {
+class SGFX_API EffectNode : public Group {
 public:
     void accept(NodeVisitor& v) override;
 

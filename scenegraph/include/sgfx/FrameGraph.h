@@ -5,6 +5,7 @@
 // can share one texture; execute() makes the textures through a ResourceAllocator just before
 // their first use, runs the live passes in declaration order and gives the textures back after
 // their last use, so a later resource with the same description reuses them (the aliasing).
+#include "sgfx/Export.h"
 #include "sgfx/Texture.h"
 
 #include <glm/glm.hpp>
@@ -24,7 +25,7 @@ class PassCommands;
 /// The size of a render target relative to the view: the draw target (multisample or supersampled),
 /// the view's own target, or fixed. `num/den` scale it; `round` says which way an odd side goes
 /// (ambient occlusion's half resolution rounds up, the volume's down).
-struct SizeRule {
+struct SGFX_API SizeRule {
     enum class Base : std::uint8_t { Draw, View, Fixed };
     enum class Round : std::uint8_t { Up, Down };
     Base base = Base::Draw;
@@ -56,7 +57,7 @@ inline constexpr unsigned Srgb8Alpha8 = 0x8C43; // GL_SRGB8_ALPHA8
 } // namespace format
 
 /// What a texture of the graph is: GL internal format, size rule, samples (1: a plain texture).
-struct TextureDesc {
+struct SGFX_API TextureDesc {
     unsigned format = 0;
     SizeRule size{};
     int samples = 1;
@@ -66,7 +67,7 @@ struct TextureDesc {
 };
 
 /// A description with its size worked out: what a pool compares to reuse a texture.
-struct ResolvedDesc {
+struct SGFX_API ResolvedDesc {
     unsigned format = 0;
     int width = 0, height = 0, samples = 1;
     Filter filter = Filter::Nearest;
@@ -78,11 +79,11 @@ struct ResolvedDesc {
 };
 
 /// Short name of a GL internal format for graphs and messages ("D32F", "RGBA16F"...).
-std::string formatName(unsigned format);
+SGFX_API std::string formatName(unsigned format);
 
 /// One version of one resource. Writing a resource gives a new version; the old handle can still
 /// be read by passes declared before the write, never after it.
-struct ResourceId {
+struct SGFX_API ResourceId {
     std::uint16_t index = 0xffff;
     std::uint16_t version = 0;
     bool valid() const { return index != 0xffff; }
@@ -90,7 +91,7 @@ struct ResourceId {
 };
 
 /// Where the textures of the graph come from: the renderer's pool (GL), or a fake in tests.
-class ResourceAllocator {
+class SGFX_API ResourceAllocator {
 public:
     virtual ~ResourceAllocator() = default;
     /// A texture for a resource about to be written first; `name` is for diagnostics.
@@ -101,7 +102,7 @@ public:
 
 /// Name → resource, so passes that produce and consume a resource meet without knowing each other
 /// (Filament's Blackboard): a depth producer puts "scene.depth", the fog and AO passes get it.
-class Blackboard {
+class SGFX_API Blackboard {
 public:
     void put(std::string name, ResourceId id) { entries_[std::move(name)] = id; }
     bool has(std::string_view name) const { return entries_.find(name) != entries_.end(); }
@@ -113,7 +114,7 @@ private:
     std::map<std::string, ResourceId, std::less<>> entries_;
 };
 
-class FrameGraph {
+class SGFX_API FrameGraph {
 public:
     using Execute = std::function<void(PassCommands&)>;
     enum class Access : std::uint8_t { Sample, ColourAttachment, DepthAttachment, DepthTest };

@@ -4,6 +4,7 @@
 // resources its material snippet samples. Nothing here touches GL or changes a node; the
 // renderer builds the view's FrameGraph from these declarations, culls what nobody reads, makes
 // the textures and binds every sampler to a unit it chooses.
+#include "sgfx/Export.h"
 #include "sgfx/FrameGraph.h"
 
 #include <glm/glm.hpp>
@@ -27,13 +28,13 @@ class RenderQueue;
 /// for passes that draw blended items themselves (RenderQueue::claimed) before the sorted
 /// transparent items; AfterResolve on the view's single-sample colour, before anti-aliasing.
 enum class PassPhase : std::uint8_t { Compute, BeforeMain, AfterOpaque, Transparent, AfterResolve };
-std::string_view phaseName(PassPhase phase);
+SGFX_API std::string_view phaseName(PassPhase phase);
 
 /// What an effect needs of the opaque scene's depth, and by when. Every request of a view is
 /// served by one producer: a pre-pass over the opaque items when any request is BeforeMain (with
 /// the G-buffer outputs when any request asks for them), else one copy of the main pass's depth
 /// after the opaque items.
-struct SceneDepthRequest {
+struct SGFX_API SceneDepthRequest {
     bool normals = false;     ///< "scene.normals": view-space normal (RGBA16F, xyz)
     bool linearDepth = false; ///< "scene.linearDepth": view-space distance along -Z (R32F)
     bool positions = false;   ///< "scene.positions": view-space position (RGBA16F)
@@ -54,7 +55,7 @@ inline constexpr std::string_view ViewDepth = "view.depth";
 
 /// A pass's setup: FrameGraph::Builder plus the view's named resources. Writing the draw or view
 /// surfaces through it keeps their current versions for the passes declared after it.
-class PassBuilder {
+class SGFX_API PassBuilder {
 public:
     PassBuilder(FrameGraph::Builder& builder, Blackboard& board)
         : b_(builder)
@@ -82,7 +83,7 @@ private:
 };
 
 /// The view a frame is being set up for.
-struct ViewInfo {
+struct SGFX_API ViewInfo {
     glm::ivec2 drawSize{0}; ///< the target the scene is drawn into (multisample or supersampled)
     glm::ivec2 viewSize{0}; ///< the view's own single-sample target
     int samples = 1;        ///< of the draw target
@@ -91,7 +92,7 @@ struct ViewInfo {
 };
 
 /// One view's frame being set up (see the file comment).
-class FrameSetup {
+class SGFX_API FrameSetup {
 public:
     using Setup = std::function<void(PassBuilder&)>;
     struct DeclaredPass {

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Node.h"
 
 #include <glm/glm.hpp>
@@ -20,7 +21,7 @@ class TriangleBvh;
 /// Vertex arrays plus optional indices: a drawable leaf. Attributes other than positions may be
 /// empty; a non-empty attribute must have one entry per position (checked at draw time).
 /// After editing the arrays call dirty(): the GPU copy is refreshed at the next draw.
-class Geometry : public Node {
+class SGFX_API Geometry : public Node {
 public:
     static std::shared_ptr<Geometry> create() { return std::make_shared<Geometry>(); }
     Geometry();

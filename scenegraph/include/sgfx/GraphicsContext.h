@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -9,7 +10,7 @@ struct GLFWwindow;
 namespace sgfx {
 
 /// Creating or using a context failed (no display, no driver, wrong version); what() says which.
-class ContextError : public std::runtime_error {
+class SGFX_API ContextError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
 };
@@ -22,7 +23,7 @@ using GetProcAddressFn = ProcAddress (*)(const char*);
 /// from this context's getProcAddress when another kind of context was current before.
 /// Driver limits the renderer and the nodes choose by (queried once per context, never on a hot
 /// path or during cull).
-struct DeviceLimits {
+struct SGFX_API DeviceLimits {
     int maxTextureSize = 0;
     int maxSamples = 0;
     int maxTextureBufferSize = 0;
@@ -30,9 +31,9 @@ struct DeviceLimits {
 };
 /// The limits of the most recently created context (every context of a process shares one driver):
 /// for code that has no context at hand, such as a drawable choosing its shader during cull.
-const DeviceLimits& currentDeviceLimits();
+SGFX_API const DeviceLimits& currentDeviceLimits();
 
-class GraphicsContext {
+class SGFX_API GraphicsContext {
 public:
     virtual ~GraphicsContext() = default;
     virtual void makeCurrent() = 0;
@@ -62,7 +63,7 @@ private:
 };
 
 /// Software OpenGL 4.5 core through Mesa's OSMesa (llvmpipe). Needs no display or GPU.
-class OsmesaContext : public GraphicsContext {
+class SGFX_API OsmesaContext : public GraphicsContext {
 public:
     OsmesaContext();
     ~OsmesaContext() override;
@@ -77,7 +78,7 @@ private:
 
 /// Headless OpenGL 4.5 core through EGL: the NVIDIA device platform or Mesa surfaceless.
 /// libEGL is loaded at run time, so binaries that never use it do not depend on it.
-class EglContext : public GraphicsContext {
+class SGFX_API EglContext : public GraphicsContext {
 public:
     EglContext();
     ~EglContext() override;
@@ -94,7 +95,7 @@ private:
 
 /// An interactive GLFW window with an OpenGL 4.5 core context.
 /// Throws ContextError("no display ...") where no X11/Wayland display is available.
-class GlfwWindow : public GraphicsContext {
+class SGFX_API GlfwWindow : public GraphicsContext {
 public:
     GlfwWindow(int width, int height, const std::string& title);
     ~GlfwWindow() override;
@@ -113,6 +114,6 @@ private:
 };
 
 /// Best available headless context: OSMesa unless `preferEgl`, falling back to the other.
-std::unique_ptr<GraphicsContext> createHeadlessContext(bool preferEgl = false);
+SGFX_API std::unique_ptr<GraphicsContext> createHeadlessContext(bool preferEgl = false);
 
 } // namespace sgfx

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Node.h"
 
 #include <mutex>
@@ -8,7 +9,7 @@ namespace sgfx {
 struct SubtreeIndex;
 
 /// A node with children, in order (OSG's Group); a child may have several parents.
-class Group : public Node {
+class SGFX_API Group : public Node {
 public:
     static std::shared_ptr<Group> create() { return std::make_shared<Group>(); }
     ~Group() override;
@@ -50,7 +51,7 @@ private:
 };
 
 /// Local matrix relative to the parent; world matrices are accumulated during traversal.
-class Transform : public Group {
+class SGFX_API Transform : public Group {
 public:
     static std::shared_ptr<Transform> create(const glm::mat4& m = glm::mat4(1.0f)) {
         auto t = std::make_shared<Transform>();

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -8,7 +9,7 @@
 namespace sgfx {
 
 /// 8-bit image, rows stored top to bottom (the PNG order).
-struct Image {
+struct SGFX_API Image {
     int width = 0;
     int height = 0;
     int channels = 4; ///< 1..4
@@ -22,14 +23,14 @@ struct Image {
 };
 
 /// Linear RGBA floats, rows top to bottom.
-struct FloatImage {
+struct SGFX_API FloatImage {
     int width = 0;
     int height = 0;
     std::vector<float> rgba;
 };
 
 /// Throws std::runtime_error with the path and the reason.
-void writePng(const std::filesystem::path& path, const Image& image);
-Image readPng(const std::filesystem::path& path);
+SGFX_API void writePng(const std::filesystem::path& path, const Image& image);
+SGFX_API Image readPng(const std::filesystem::path& path);
 
 } // namespace sgfx

@@ -4,6 +4,7 @@
 /// IntersectionVisitor (how the graph is walked). Everything is read-only and in double precision
 /// from the world down to each triangle, so a hit on a 100 km terrain is exact to well under a
 /// millimetre. See docs/queries.md for the threading rules.
+#include "sgfx/Export.h"
 #include "sgfx/Math.h"
 #include "sgfx/NodeVisitor.h"
 #include "sgfx/TriangleBvh.h"
@@ -22,7 +23,7 @@ class Camera;
 struct SubtreeIndex;
 
 /// One hit of a query on one triangle.
-struct Intersection {
+struct SGFX_API Intersection {
     /// Line and ray: distance from the start along the line (metres); sphere: from the centre to
     /// the nearest point of the triangle; polytope: of `point` from the polytope's first plane.
     double distance = 0.0;
@@ -42,20 +43,20 @@ struct Intersection {
 };
 
 /// A node's frame relative to the world while a query walks the graph.
-struct QueryFrame {
+struct SGFX_API QueryFrame {
     glm::dmat4 toWorld{1.0};
     glm::dmat4 toLocal{1.0};
     static QueryFrame of(const glm::dmat4& toWorld);
 };
 
 /// What the visitor hands an intersector with a geometry.
-struct QueryContext {
+struct SGFX_API QueryContext {
     const std::vector<Node*>* path = nullptr; ///< down to the geometry
     std::uint32_t instance = 0;
 };
 
 /// The question a query asks. Hits are collected during a visit and sorted by distance at its end.
-class Intersector {
+class SGFX_API Intersector {
 public:
     /// All: every hit. Nearest: only the closest (the search prunes everything farther).
     /// Any: the first hit found ends the whole visit (line of sight).
@@ -102,7 +103,7 @@ protected:
 /// A line segment from `start` to `end` (world; OSG's LineSegmentIntersector), or with
 /// `infinite()` a ray from `start` through `end` (OSG's RayIntersector). Both faces of every
 /// triangle are hit; Intersection::geometricNormal tells which side.
-class LineSegmentIntersector : public Intersector {
+class SGFX_API LineSegmentIntersector : public Intersector {
 public:
     /// Throws std::invalid_argument when a point is not finite or start == end.
     LineSegmentIntersector(const glm::dvec3& start, const glm::dvec3& end);
@@ -127,7 +128,7 @@ private:
 };
 
 /// A ray from `origin` along `direction` with no end (OSG's RayIntersector).
-class RayIntersector : public LineSegmentIntersector {
+class SGFX_API RayIntersector : public LineSegmentIntersector {
 public:
     /// Throws std::invalid_argument when origin or direction is not finite or direction is 0.
     RayIntersector(const glm::dvec3& origin, const glm::dvec3& direction);
@@ -136,7 +137,7 @@ public:
 /// The triangles that touch a convex volume given by planes whose normals point inwards (OSG's
 /// PolytopeIntersector): box selection, a frustum. Each hit's point is the centroid of the part
 /// of the triangle inside the volume.
-class PolytopeIntersector : public Intersector {
+class SGFX_API PolytopeIntersector : public Intersector {
 public:
     /// At least one plane; throws std::invalid_argument for a non-finite or zero normal.
     explicit PolytopeIntersector(std::vector<Plane> planes);
@@ -164,7 +165,7 @@ private:
 };
 
 /// The triangles within `radius` of `center` (world): proximity, collision of a sphere.
-class SphereIntersector : public Intersector {
+class SGFX_API SphereIntersector : public Intersector {
 public:
     /// Throws std::invalid_argument for a non-finite centre or a radius that is not > 0.
     SphereIntersector(const glm::dvec3& center, double radius);
@@ -183,7 +184,7 @@ private:
 };
 
 /// A view for queries that depend on it: LODs as shown and billboards turned towards its eye.
-struct QueryView {
+struct SGFX_API QueryView {
     glm::dmat4 viewMatrix{1.0};
     glm::mat4 projectionMatrix{1.0f};
     int viewportHeight = 1;
@@ -201,7 +202,7 @@ struct QueryView {
 /// - Skinned meshes would be hit in their bind pose (sgfx has no skinning yet).
 /// The graph must not change during a visit (docs/queries.md); visits on other threads may run
 /// while a frame is culled and drawn.
-class IntersectionVisitor : public NodeVisitor {
+class SGFX_API IntersectionVisitor : public NodeVisitor {
 public:
     enum class LodSelection : std::uint8_t {
         Finest, ///< the children drawn when the LOD is largest on screen

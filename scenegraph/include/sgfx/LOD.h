@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Group.h"
 
 #include <limits>
@@ -13,13 +14,14 @@ namespace sgfx {
 /// eye (not the view depth, so turning the camera does not switch levels); for an orthographic one
 /// w = 1 and the size depends on the view volume's height only. An eye at the centre gives the
 /// largest finite float.
-float pixelSize(const glm::vec3& viewCenter, float radius, const glm::mat4& projection, int viewportHeight);
+SGFX_API float pixelSize(const glm::vec3& viewCenter, float radius, const glm::mat4& projection,
+                         int viewportHeight);
 
 /// Level of detail by size on screen (OSG's osg::LOD in PIXEL_SIZE_ON_SCREEN mode): the cull
 /// visitor visits exactly the children whose range [minPixels, maxPixels) holds the projected
 /// diameter of the LOD's bounding sphere (or of the user sphere). Every other visitor sees all
 /// children, and the bound is the union of all children, so switching never changes the bound.
-class LOD : public Group {
+class SGFX_API LOD : public Group {
 public:
     /// On-screen size range, in pixels, in which a child is drawn.
     struct Range {

@@ -3,6 +3,7 @@
 /// Camera manipulators (OSG's osgGA vocabulary): they turn input into a view matrix. Input comes
 /// as plain numbers (pixels, seconds, key axes), so any window system, a replay or a test can
 /// drive them. World space is Z up, as everywhere in sgfx.
+#include "sgfx/Export.h"
 #include <glm/glm.hpp>
 
 namespace sgfx {
@@ -13,7 +14,7 @@ class Camera;
 enum class MouseButton : unsigned char { Left, Right, Middle };
 
 /// Turns input into a view: the base of OrbitManipulator and FlyManipulator.
-class CameraManipulator {
+class SGFX_API CameraManipulator {
 public:
     virtual ~CameraManipulator() = default;
 
@@ -51,7 +52,7 @@ protected:
 
 /// Turns around a centre: left drag orbits, right drag (or the wheel) zooms, middle drag pans;
 /// WASD slide the centre over the ground plane, Q/E lower and raise it.
-class OrbitManipulator : public CameraManipulator {
+class SGFX_API OrbitManipulator : public CameraManipulator {
 public:
     void setLookAt(const glm::vec3& eye, const glm::vec3& target) override;
     void drag(MouseButton button, glm::vec2 pixels, float viewportHeight) override;
@@ -66,7 +67,7 @@ public:
 };
 
 /// Flies: left drag looks around, WASD move along the view, Q/E down/up, the wheel changes speed.
-class FlyManipulator : public CameraManipulator {
+class SGFX_API FlyManipulator : public CameraManipulator {
 public:
     void setLookAt(const glm::vec3& eye, const glm::vec3& target) override;
     void drag(MouseButton button, glm::vec2 pixels, float viewportHeight) override;

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Texture.h"
 
 #include <glm/glm.hpp>
@@ -29,7 +30,7 @@ inline constexpr std::size_t kMaterialMapCount = 6;
 
 /// Which texture coordinates a map reads and how they are transformed first
 /// (KHR_texture_transform: uv' = T(offset) * R(rotation) * S(scale) * uv).
-struct TextureMapping {
+struct SGFX_API TextureMapping {
     int texCoord = 0; ///< 0: Geometry::texcoords, 1: Geometry::texcoords1
     glm::vec2 offset{0.0f};
     float rotation = 0.0f; ///< radians; positive turns the texture counter-clockwise in uv space
@@ -42,7 +43,7 @@ struct TextureMapping {
 };
 
 /// The built-in material. Colours are linear RGB.
-class Material {
+class SGFX_API Material {
 public:
     static std::shared_ptr<Material> create() { return std::make_shared<Material>(); }
 

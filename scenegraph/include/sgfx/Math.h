@@ -1,6 +1,7 @@
 #pragma once
 /// @file
 /// Value types for bounds and frusta. World is right-handed, Z up, metres.
+#include "sgfx/Export.h"
 #include <glm/glm.hpp>
 
 #include <array>
@@ -8,7 +9,7 @@
 namespace sgfx {
 
 /// A sphere that holds a node and everything below it (an empty one has a negative radius).
-struct BoundingSphere {
+struct SGFX_API BoundingSphere {
     glm::vec3 center{0.0f};
     float radius = -1.0f; ///< negative = invalid (empty)
 
@@ -19,7 +20,7 @@ struct BoundingSphere {
 };
 
 /// Axis-aligned box, used to build tight spheres from vertex data.
-struct BoundingBox {
+struct SGFX_API BoundingBox {
     glm::vec3 min{std::numeric_limits<float>::max()};
     glm::vec3 max{-std::numeric_limits<float>::max()};
     bool valid() const { return min.x <= max.x; }
@@ -31,23 +32,23 @@ struct BoundingBox {
 };
 
 /// A plane n·p + d = 0; distance() is positive on the side the normal points to.
-struct Plane {
+struct SGFX_API Plane {
     glm::vec3 n{0, 0, 1};
     float d = 0; ///< n·p + d = signed distance
     float distance(const glm::vec3& p) const { return glm::dot(n, p) + d; }
 };
 
 /// The largest column length of m's 3×3 part: how much m can stretch a bounding sphere's radius.
-float maxAxisScale(const glm::mat4& m);
+SGFX_API float maxAxisScale(const glm::mat4& m);
 /// Whether m's 3×3 part is a rotation times a uniform scale (columns orthogonal and of equal
 /// length, to 1e-6 relative): then maxAxisScale(a * m) = maxAxisScale(a) * maxAxisScale(m) for
 /// any `a` that is one too.
-bool isSimilarity(const glm::mat4& m);
+SGFX_API bool isSimilarity(const glm::mat4& m);
 
 enum class Containment { Outside, Intersects, Inside };
 
 /// Six planes from a view-projection matrix (Gribb/Hartmann), normals point inwards.
-struct Frustum {
+struct SGFX_API Frustum {
     std::array<Plane, 6> planes; ///< left, right, bottom, top, near, far
     static Frustum fromMatrix(const glm::mat4& viewProj);
     Containment classify(const BoundingSphere& s) const;

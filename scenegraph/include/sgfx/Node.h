@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Math.h"
 
 #include <cstdint>
@@ -18,7 +19,7 @@ using NodeMask = std::uint32_t;
 
 /// Base of the graph. Nodes are shared (std::shared_ptr); a node may have several parents.
 /// Parents are tracked as raw back-pointers: a Group clears them when it lets a child go.
-class Node : public std::enable_shared_from_this<Node> {
+class SGFX_API Node : public std::enable_shared_from_this<Node> {
 public:
     using UpdateCallback = std::function<void(Node&, UpdateVisitor&)>;
 

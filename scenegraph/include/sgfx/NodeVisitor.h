@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Node.h"
 
 #include <cstdint>
@@ -21,7 +22,7 @@ using NodeMask = std::uint32_t;
 
 /// Double dispatch over node types. The default for each type forwards to its base's apply,
 /// ending in apply(Node&), which traverses the children.
-class NodeVisitor {
+class SGFX_API NodeVisitor {
 public:
     /// Which children traverse() visits: none, all, or those whose nodeMask passes traversalMask.
     enum class Mode { None, AllChildren, ActiveChildren };

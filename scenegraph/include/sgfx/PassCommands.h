@@ -2,6 +2,7 @@
 // Everything a frame-graph pass may do to the GPU. Each command goes through the renderer's state
 // cache, so a pass never calls GL itself and never has to reset the cache; texture units are
 // chosen here, so no effect knows a unit number.
+#include "sgfx/Export.h"
 #include "sgfx/FrameGraph.h"
 #include "sgfx/RenderQueue.h"
 #include "sgfx/ShaderComposer.h"
@@ -24,24 +25,24 @@ class Program;
 }
 
 /// Blend and depth state of a full-screen draw (no culling, depth off by default).
-struct FullscreenState {
+struct SGFX_API FullscreenState {
     BlendMode blend = BlendMode::Off;
     DepthState depth{.test = false, .write = false, .func = CompareFunc::Always};
 };
 
 /// One colour attachment's blend function (source and destination factors, added).
-struct AttachmentBlend {
+struct SGFX_API AttachmentBlend {
     enum class Factor : std::uint8_t { Zero, One, SrcColour, OneMinusSrcColour, SrcAlpha, OneMinusSrcAlpha };
     Factor source = Factor::One, destination = Factor::Zero;
 };
 
 /// A buffer range a transform feedback writes (its binding index is its place in the list).
-struct FeedbackBuffer {
+struct SGFX_API FeedbackBuffer {
     unsigned buffer = 0;
     std::size_t offset = 0, size = 0; ///< bytes
 };
 
-class PassCommands {
+class SGFX_API PassCommands {
 public:
     PassCommands(Renderer& renderer, const FrameGraph& graph, std::string_view pass)
         : renderer_(renderer)

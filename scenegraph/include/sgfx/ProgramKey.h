@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <array>
 #include <cstdint>
 #include <iosfwd>
@@ -11,7 +12,7 @@ namespace sgfx {
 enum class DrawMode : std::uint8_t; // Renderer.h
 
 /// One named bit field of a ProgramKey: `width` bits from bit `shift`.
-struct ProgramKeyField {
+struct SGFX_API ProgramKeyField {
     const char* name;
     unsigned shift;
     unsigned width;
@@ -33,7 +34,7 @@ enum class ProgramSource : std::uint8_t {
 /// std::length_error naming the field when a value does not fit: nothing is truncated, so two
 /// programs never share a key by overflowing into a neighbour. Bit 63 is in no field: none() is
 /// no item's key.
-class ProgramKey {
+class SGFX_API ProgramKey {
 public:
     /// MaterialFeature bits of the variant (every bit is checked to fit in ShaderComposer.h).
     static constexpr ProgramKeyField Features{"Features", 0, 29};
@@ -117,7 +118,7 @@ static_assert(ProgramKey::make(ProgramSource::Drawable, 0x3fff, 0xffff, 0x1fffff
                   ProgramSource::Drawable);
 
 /// "Features=0x110 Mode=0 Effects=3 Base=1 Source=Foreign" (test failures, logs).
-std::ostream& operator<<(std::ostream& out, const ProgramKey& key);
+SGFX_API std::ostream& operator<<(std::ostream& out, const ProgramKey& key);
 
 /// Small dense ids for what a ProgramKey names by identity (foreign programs, drawable base
 /// shaders) or by text (effect signatures). A RenderQueue owns one and clears it with the queue,
@@ -128,7 +129,7 @@ std::ostream& operator<<(std::ostream& out, const ProgramKey& key);
 /// a new object after the old one died only needs to be distinct within one queue's items, and it
 /// is: the queue's states hold the foreign programs they name, and a drawable's base shader is
 /// the same object for the whole frame (Drawable::baseShader).
-class ProgramKeyTable {
+class SGFX_API ProgramKeyTable {
 public:
     /// Base id of a foreign ShaderProgram or a Drawable's BaseShader, from 1 (0 = built-in, for
     /// null). Throws std::length_error when the Base field is full.

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Math.h"
 #include "sgfx/ProgramKey.h"
 #include "sgfx/StateSet.h"
@@ -22,19 +23,19 @@ class Camera;
 /// The effects active above an item, ordered by EffectNode::order(); interned per frame so items
 /// share one entry. `signature` is equal for sets whose snippets are equal (same program variant):
 /// the ProgramKey::Effects id from RenderQueue::programKeys, 0 = no snippet.
-struct EffectSet {
+struct SGFX_API EffectSet {
     std::vector<const EffectNode*> effects;
     std::uint32_t signature = 0;
 };
 
 /// A light as the frame block carries it: world position (w = 1) or direction (w = 0), colour.
-struct LightInfo {
+struct SGFX_API LightInfo {
     glm::vec4 vector{0, 0, 1, 0}; ///< world: direction towards the light (w=0) or position (w=1)
     glm::vec3 color{1.0f};        ///< colour × intensity
 };
 
 /// One draw of the frame: what, with which state, effects and matrix, and its sort keys.
-struct RenderItem {
+struct SGFX_API RenderItem {
     const Geometry* geometry = nullptr; ///< one of these two is set
     const Drawable* drawable = nullptr;
     glm::mat4 model{1.0f};
@@ -73,7 +74,7 @@ struct RenderItem {
 };
 
 /// Everything the cull traversal found for one view: items by stage, lights, sub-cameras.
-class RenderQueue {
+class SGFX_API RenderQueue {
 public:
     std::vector<RenderItem> opaque;      ///< drawn first; by octave of depth, program, material, mesh, depth
     std::vector<RenderItem> transparent; ///< drawn last; sorted by order, then back to front

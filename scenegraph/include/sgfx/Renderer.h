@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Image.h"
 #include "sgfx/RenderQueue.h"
 #include "sgfx/ShaderComposer.h"
@@ -28,7 +29,7 @@ class StateCache;
 } // namespace gl
 
 /// Per-frame data every pass and effect can read.
-struct FrameData {
+struct SGFX_API FrameData {
     glm::mat4 view{1.0f}, projection{1.0f}, viewProjection{1.0f}, inverseViewProjection{1.0f};
     glm::vec3 eye{0.0f};
     int width = 0, height = 0;
@@ -37,7 +38,7 @@ struct FrameData {
 };
 
 /// What an effect's applyUniforms sees for one draw.
-struct DrawContext {
+struct SGFX_API DrawContext {
     const FrameData& frame;
     const RenderItem& item;
 };
@@ -53,7 +54,7 @@ static_assert(ProgramKey::Mode.fits(std::uint64_t(DrawMode::GBuffer)), "DrawMode
 
 /// The visible effects and drawables of a view, each once, in cull order (outer first): the
 /// renderer calls their setupFrame for the view (EffectNode::setupFrame, FrameSetup.h).
-class FramePlan {
+class SGFX_API FramePlan {
 public:
     void clear() {
         effects.clear();
@@ -64,7 +65,7 @@ public:
 };
 
 /// What the last frame drew and how long the CPU and (with timePasses) the GPU took.
-struct FrameStats {
+struct SGFX_API FrameStats {
     std::size_t drawCalls = 0;
     std::size_t triangles = 0;
     std::size_t programChanges = 0;
@@ -88,7 +89,7 @@ struct FrameStats {
 };
 
 /// Quality/speed choices of a Renderer.
-struct RendererOptions {
+struct SGFX_API RendererOptions {
     /// Per-pixel Blinn-Phong (default) or per-vertex (Gouraud, the fixed-function look and
     /// cost of OpenSceneGraph's default path; normal maps are ignored).
     enum class Lighting : std::uint8_t { PerPixel, PerVertex } lighting = Lighting::PerPixel;
@@ -122,7 +123,7 @@ struct RendererOptions {
 };
 
 /// Owns GL-side resources for one context: composed programs, the scene target, the state cache.
-class Renderer {
+class SGFX_API Renderer {
 public:
     using Options = RendererOptions;
 

@@ -1,5 +1,6 @@
 #pragma once
 #include "sgfx/Effect.h"
+#include "sgfx/Export.h"
 #include "sgfx/ProgramKey.h"
 #include "sgfx/StateSet.h"
 
@@ -24,7 +25,7 @@ class Program;
 ///  uniforms:   mat4 sgfx_model, sgfx_normalMatrix (mat3) and the std140 block `SgfxFrame`
 ///              (declare it with `#include`-free text from docs, or leave it: the wrap adds it)
 /// Its fragment `main` is renamed and wrapped so active effects apply to its colour output.
-class ShaderProgram {
+class SGFX_API ShaderProgram {
 public:
     static std::shared_ptr<ShaderProgram> create(std::string name, std::string vertexSource,
                                                  std::string fragmentSource) {
@@ -40,13 +41,13 @@ public:
 };
 
 /// A compile or link failure; what() names the base shader, the snippets and the original line.
-class ShaderError : public std::runtime_error {
+class SGFX_API ShaderError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
 };
 
 /// A linked program with the names of the sources it was composed from (for error messages).
-struct ComposedProgram {
+struct SGFX_API ComposedProgram {
     std::string vertex;
     std::string geometry; ///< optional
     std::string fragment; ///< may be empty for a transform-feedback-only program
@@ -64,7 +65,7 @@ struct ComposedProgram {
 /// A material shader written once with hook markers (`// @sgfx:NAME` lines). With a geometry
 /// stage, the vertex hooks (`vertex_decl`, `vertex`) live in the geometry stage, which is where
 /// the world positions are made (particle sprites); the vertex stage then has no hooks.
-struct BaseShader {
+struct SGFX_API BaseShader {
     std::string name;
     std::string vertexName, vertexSource;
     std::string fragmentName, fragmentSource;
@@ -131,7 +132,7 @@ class Material;
 class Geometry;
 
 /// Builds program variants for (base shader, features, snippets) and caches them.
-class ShaderComposer {
+class SGFX_API ShaderComposer {
 public:
     ShaderComposer();
     ~ShaderComposer();

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Material.h"
 #include "sgfx/Texture.h"
 
@@ -47,7 +48,7 @@ enum class CullFace : std::uint8_t { None, Back, Front };
 enum class RenderBin : std::uint8_t { Opaque, Transparent };
 
 /// Depth test, depth writes and the comparison, as a pass or a StateSet sets them.
-struct DepthState {
+struct SGFX_API DepthState {
     bool test = true;
     bool write = true;
     CompareFunc func = CompareFunc::Less;
@@ -57,7 +58,7 @@ struct DepthState {
 /// How a blended item is ordered and drawn in the transparent stage (OSG's render bin details,
 /// three.js's renderOrder). Items are drawn by ascending `order`, then back to front by the view
 /// depth of their bound's centre plus `depthBias`, then in cull order.
-struct TransparencyDetails {
+struct SGFX_API TransparencyDetails {
     int order = 0;              ///< explicit order: lower is drawn first, whatever the depths
     float depthBias = 0.0f;     ///< metres added to the sort depth (positive: drawn earlier, as if farther)
     bool twoPass = true;        ///< double-sided items (CullFace::None): back faces first, then front faces
@@ -73,7 +74,7 @@ struct TransparencyDetails {
 using UniformValue = std::variant<int, float, glm::vec2, glm::vec3, glm::vec4, glm::mat3, glm::mat4>;
 
 /// The attributes a StateSet may set and a ResolvedState holds, each with its flags.
-struct StateAttributes {
+struct SGFX_API StateAttributes {
     StateAttr<std::shared_ptr<Material>> material;
     StateAttr<std::shared_ptr<ShaderProgram>> program; ///< foreign shader; built-in material when unset
     StateAttr<BlendMode> blend;
@@ -90,7 +91,7 @@ struct StateAttributes {
 
 /// Render state of a node and its subtree (OSG's StateSet): material, textures, blending, depth,
 /// culling, render bin, a foreign program. Unset attributes are inherited from above.
-class StateSet : public StateAttributes {
+class SGFX_API StateSet : public StateAttributes {
 public:
     static std::shared_ptr<StateSet> create() { return std::make_shared<StateSet>(); }
 
@@ -104,7 +105,7 @@ public:
 
 /// The state in force at a point of the graph: every attribute resolved, with its flags kept so
 /// deeper StateSets merge correctly.
-struct ResolvedState : StateAttributes {
+struct SGFX_API ResolvedState : StateAttributes {
     static ResolvedState defaults();
     ResolvedState merged(const StateSet& child) const;
 

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/Image.h"
 
 #include <cstdint>
@@ -14,7 +15,7 @@ enum class Filter : std::uint8_t { Nearest, Linear, LinearMipmapLinear };
 enum class Wrap : std::uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 
 /// An image plus sampling state. `srgb` marks colour data stored sRGB-encoded (decoded on sampling).
-class Texture {
+class SGFX_API Texture {
 public:
     static std::shared_ptr<Texture> create(std::shared_ptr<Image> image, bool srgb = true);
     Texture();

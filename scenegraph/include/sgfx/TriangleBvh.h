@@ -1,6 +1,7 @@
 #pragma once
 /// @file
 /// A bounding-volume hierarchy over a Geometry's triangles, for scene queries (Intersection.h).
+#include "sgfx/Export.h"
 #include <glm/glm.hpp>
 
 #include <array>
@@ -15,7 +16,7 @@ namespace sgfx {
 class Geometry;
 
 /// An axis-aligned box in double precision (query frames, the subtree index).
-struct QueryBox {
+struct SGFX_API QueryBox {
     glm::dvec3 min{std::numeric_limits<double>::max()};
     glm::dvec3 max{-std::numeric_limits<double>::max()};
     bool valid() const { return min.x <= max.x; }
@@ -35,7 +36,7 @@ struct QueryBox {
 /// A binary BVH built with the surface-area heuristic (binned, 16 bins per axis, leaves of at
 /// most 4 items): over triangles (TriangleBvh) and over the items of a subtree index.
 /// Node i's children are i + 1 and `second`; leaves hold items [first, first + count).
-struct BvhNodes {
+struct SGFX_API BvhNodes {
     struct Node {
         glm::vec3 min, max;      ///< float boxes, rounded outwards so they hold the exact item boxes
         std::uint32_t first = 0; ///< leaf: first item; inner: index of the second child
@@ -54,7 +55,7 @@ struct BvhNodes {
 /// The triangles of one Geometry (Triangles, TriangleStrip and TriangleFan; points and lines
 /// have no area and are left out) in a BVH, in the geometry's own frame. Built lazily by
 /// Geometry::triangleBvh() and rebuilt after Geometry::dirty().
-class TriangleBvh {
+class SGFX_API TriangleBvh {
 public:
     /// Throws std::invalid_argument naming the geometry when its arrays are inconsistent
     /// (Geometry::validate). Degenerate triangles (zero area) are kept out.
@@ -86,6 +87,6 @@ private:
 
 /// Vertex triples of every triangle of `geometry` in draw order (strips and fans unrolled with
 /// the winding of the first triangle); empty for points and lines.
-std::vector<std::array<std::uint32_t, 3>> triangleIndices(const Geometry& geometry);
+SGFX_API std::vector<std::array<std::uint32_t, 3>> triangleIndices(const Geometry& geometry);
 
 } // namespace sgfx

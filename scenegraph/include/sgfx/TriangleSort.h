@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -14,7 +15,7 @@ class Geometry;
 /// blends correctly only if its far triangles are drawn first. The key is each centroid's
 /// view-space depth, which depends only on the view axis in the mesh's own frame, so the order
 /// is exact until that axis turns; it is re-sorted when it has turned by more than a threshold.
-class TriangleDepthSort {
+class SGFX_API TriangleDepthSort {
 public:
     /// Triangle list of any triangle mode (strips and fans unrolled, non-indexed numbered);
     /// empty for points and lines. The geometry must be valid (Geometry::validate()).

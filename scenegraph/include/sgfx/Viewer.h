@@ -1,5 +1,6 @@
 #pragma once
 #include "sgfx/Camera.h"
+#include "sgfx/Export.h"
 #include "sgfx/GraphicsContext.h"
 #include "sgfx/Renderer.h"
 #include "sgfx/Visitors.h"
@@ -13,7 +14,7 @@ namespace sgfx {
 /// One context, one camera, one scene: update → cull → render → present, each frame.
 /// Destroy the scene before or with the Viewer; GL objects die with their owners while the
 /// Viewer's context is current.
-class Viewer {
+class SGFX_API Viewer {
 public:
     explicit Viewer(std::unique_ptr<GraphicsContext> context);
     /// Headless viewer with the given target size: on OSMesa (software), or through EGL on a GPU.

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include "sgfx/NodeVisitor.h"
 
 #include <glm/glm.hpp>
@@ -9,7 +10,7 @@
 namespace sgfx {
 
 /// Runs update callbacks; carries the frame clock.
-class UpdateVisitor : public NodeVisitor {
+class SGFX_API UpdateVisitor : public NodeVisitor {
 public:
     UpdateVisitor()
         : NodeVisitor(Mode::ActiveChildren) {}
@@ -22,7 +23,7 @@ public:
 };
 
 /// World-space bounds of everything below the visited node (accumulating transforms).
-class ComputeBoundsVisitor : public NodeVisitor {
+class SGFX_API ComputeBoundsVisitor : public NodeVisitor {
 public:
     ComputeBoundsVisitor()
         : NodeVisitor(Mode::ActiveChildren) {}
@@ -39,7 +40,7 @@ private:
 };
 
 /// Counts what a traversal reaches: each shared subgraph counts once per parent path.
-class StatsVisitor : public NodeVisitor {
+class SGFX_API StatsVisitor : public NodeVisitor {
 public:
     StatsVisitor()
         : NodeVisitor(Mode::ActiveChildren) {}

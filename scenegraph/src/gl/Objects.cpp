@@ -1,7 +1,7 @@
 #include "sgfx/gl/Objects.h"
 
-#include <glad/gl.h>
 #include <glm/gtc/type_ptr.hpp>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -27,7 +27,7 @@ template <Kind K> void Object<K>::reset() {
     if (!name_) return;
     // Deleting needs the owning context current; GL silently ignores calls without one, so a
     // late destruction leaks on the driver side but never crashes.
-    if (glad_glGetString) {
+    if (sgfx_glad_glGetString) {
         switch (K) {
         case Kind::Buffer:
             glDeleteBuffers(1, &name_);
@@ -170,7 +170,7 @@ Program::Program(const ComposedProgram& c)
 
 Program::~Program() {
     if (!name_) return;
-    if (glad_glGetString) glDeleteProgram(name_);
+    if (sgfx_glad_glGetString) glDeleteProgram(name_);
     --liveObjects().counts[std::size_t(Kind::Program)];
 }
 

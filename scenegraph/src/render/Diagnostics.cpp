@@ -3,7 +3,7 @@
 #include "render/RendererImpl.h"
 #include "sgfx/Node.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <cstdio>

@@ -10,7 +10,7 @@
 #include "sgfx/Material.h"
 #include "sgfx/TriangleSort.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <cstddef>

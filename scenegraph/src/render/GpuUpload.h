@@ -6,7 +6,7 @@
 #include "sgfx/Texture.h"
 #include "sgfx/gl/Objects.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 namespace sgfx::render {
 

@@ -4,7 +4,7 @@
 #include "sgfx/GraphicsContext.h"
 #include "sgfx/gl/Objects.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <stdexcept>
 #include <string>

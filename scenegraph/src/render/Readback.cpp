@@ -3,7 +3,7 @@
 #include "sgfx/GraphicsContext.h"
 #include "sgfx/Image.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <cmath>

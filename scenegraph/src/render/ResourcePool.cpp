@@ -1,6 +1,6 @@
 #include "render/ResourcePool.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <stdexcept>

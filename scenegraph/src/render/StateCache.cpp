@@ -2,7 +2,7 @@
 
 #include "render/GpuUpload.h"
 
-#include <glad/gl.h>
+#include <sgfx_glad/gl.h>
 
 namespace sgfx::gl {
 

@@ -11,8 +11,8 @@
 #include "sgfx/GraphicsContext.h"
 #include "sgfx/PassCommands.h"
 
-#include <glad/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <sgfx_glad/gl.h>
 
 #include <algorithm>
 #include <chrono>

@@ -2,6 +2,7 @@
 /// @file
 /// RAII wrappers for GL objects. Each owns one name, deletes it on destruction, and is counted
 /// in liveObjects() so tests can prove a scene and viewer leave nothing behind.
+#include "sgfx/Export.h"
 #include "sgfx/ShaderComposer.h"
 #include "sgfx/StateSet.h"
 
@@ -31,15 +32,15 @@ enum class Kind : std::uint8_t {
 };
 
 /// How many GL objects of each kind are alive (tests prove scenes leave none behind).
-struct LiveCounts {
+struct SGFX_API LiveCounts {
     std::array<std::atomic<long>, std::size_t(Kind::Count)> counts{};
     long total() const;
     long operator[](Kind k) const { return counts[std::size_t(k)].load(); }
 };
-LiveCounts& liveObjects();
+SGFX_API LiveCounts& liveObjects();
 
 /// Move-only owner of one GL name of kind K.
-template <Kind K> class Object {
+template <Kind K> class SGFX_API Object {
 public:
     Object() = default;
     explicit Object(Name n)
@@ -74,17 +75,18 @@ using FramebufferObject = Object<Kind::Framebuffer>;
 using RenderbufferObject = Object<Kind::Renderbuffer>;
 using QueryObject = Object<Kind::Query>;
 
-BufferObject createBuffer();
-VertexArrayObject createVertexArray();
-TextureObject createTexture(unsigned target);
+SGFX_API BufferObject createBuffer();
+SGFX_API VertexArrayObject createVertexArray();
+SGFX_API TextureObject createTexture(unsigned target);
 /// A single-level 2D texture for a pass's own use: `filter` (GL_NEAREST or GL_LINEAR) both ways,
 /// clamped to its edges.
-TextureObject createTexture2D(unsigned format, int width, int height, int filter = 0x2600 /* GL_NEAREST */);
-FramebufferObject createFramebuffer();
-QueryObject createQuery(unsigned target);
+SGFX_API TextureObject createTexture2D(unsigned format, int width, int height,
+                                       int filter = 0x2600 /* GL_NEAREST */);
+SGFX_API FramebufferObject createFramebuffer();
+SGFX_API QueryObject createQuery(unsigned target);
 
 /// Linked program with a uniform-location cache.
-class Program {
+class SGFX_API Program {
 public:
     /// Compiles and links; throws ShaderError with the driver log translated to original lines.
     explicit Program(const ComposedProgram& composed);
@@ -111,7 +113,7 @@ private:
 };
 
 /// A texture's GPU copy: the GL object and what it was made from.
-class Texture {
+class SGFX_API Texture {
 public:
     TextureObject object;
     unsigned target = 0;
@@ -119,7 +121,7 @@ public:
 };
 
 /// A Geometry's GPU copy: one interleaved-free VBO per attribute, an index buffer and a VAO.
-struct GeometryBuffers {
+struct SGFX_API GeometryBuffers {
     VertexArrayObject vao;
     /// position, normal, tangent, texcoord, colour, texcoord1, instance matrices (locations 6..9)
     std::array<BufferObject, 7> attributes;
@@ -132,7 +134,7 @@ struct GeometryBuffers {
 };
 
 /// A colour + depth render target whose attachments are textures (readable by later passes).
-struct RenderTarget {
+struct SGFX_API RenderTarget {
     FramebufferObject fbo;
     TextureObject color;
     TextureObject depth;

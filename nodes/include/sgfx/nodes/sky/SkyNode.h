@@ -4,7 +4,8 @@
 /// defaults after Nishita et al. 1993): a spherical atmosphere seen from the eye's altitude, a sun
 /// disc, time of day by the sun's direction. Its horizon colour can drive a FogNode's colour, so
 /// distant geometry fades into the sky (aerial perspective).
-#include "sky/SkyMath.h"
+#include "sgfx/Export.h"
+#include <sgfx/nodes/sky/SkyMath.h>
 
 #include <sgfx/Drawable.h>
 #include <sgfx/ShaderComposer.h>
@@ -16,7 +17,7 @@ namespace sgfx {
 class FogNode;
 
 /// The atmosphere, the sun and how the sky is drawn (view table or per pixel).
-struct SkyParameters {
+struct SGFX_API SkyParameters {
     glm::vec3 sunDirection{0.0f, 0.5f, 0.866f}; ///< towards the sun, world (normalised when set)
     float sunIntensity = 20.0f;                 ///< irradiance scale of the scattered light
     float sunDiscRadiance = 2000.0f;            ///< radiance of the disc itself
@@ -38,7 +39,7 @@ struct SkyParameters {
 /// The sky behind everything (lecture 12: Rayleigh and Mie single scattering), drawn where
 /// nothing else is; attachFog() makes a FogNode take its horizon colour. See
 /// docs/effects/volume-sky.md.
-class SkyNode : public Drawable {
+class SGFX_API SkyNode : public Drawable {
 public:
     static std::shared_ptr<SkyNode> create(const SkyParameters& parameters = {});
     explicit SkyNode(const SkyParameters& parameters);

@@ -3,6 +3,7 @@
 /// Volume rendering on the CPU (lecture 12, "Volume rendering": Beer–Lambert absorption, emission,
 /// scattering, phase functions, raymarching): the closed forms the tests compare pixels with, and
 /// the shader's march (volume_march.glsl) step for step.
+#include "sgfx/Export.h"
 #include <glm/glm.hpp>
 
 #include <cmath>
@@ -48,7 +49,7 @@ enum class Integration : std::uint8_t {
 };
 
 /// What a march along one ray gives: the light it gathered, its transmittance and the steps taken.
-struct MarchResult {
+struct SGFX_API MarchResult {
     glm::dvec3 radiance{0.0};
     double transmittance = 1.0;
     int steps = 0;

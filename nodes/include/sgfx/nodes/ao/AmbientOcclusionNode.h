@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <sgfx/Effect.h>
 #include <sgfx/Renderer.h>
 
@@ -49,7 +50,7 @@ enum class AoGBuffer : std::uint8_t {
 enum class AoDebugView : std::uint8_t { Off, Raw, Blurred };
 
 /// The occlusion kernel, its G-buffer, blur and strength (seed symbols in the field comments).
-struct AmbientOcclusionParameters {
+struct SGFX_API AmbientOcclusionParameters {
     int samples = 32;    ///< m, 8..64
     float radius = 0.5f; ///< R in metres, (0, 1e4]
     float bias = 0.025f; ///< δ in metres, [0, 1e3]
@@ -77,9 +78,9 @@ struct AmbientOcclusionParameters {
 
 namespace ao {
 /// The m offsets in tangent space (normal = +Z), as the occlusion pass receives them.
-std::vector<glm::vec3> kernel(AoKernel kind, int samples, std::uint32_t seed);
+SGFX_API std::vector<glm::vec3> kernel(AoKernel kind, int samples, std::uint32_t seed);
 /// The 4×4 tiled rotation vectors V_r = (2r − 1, 2r − 1, 0) (seed §2).
-std::vector<glm::vec2> rotationNoise(std::uint32_t seed);
+SGFX_API std::vector<glm::vec2> rotationNoise(std::uint32_t seed);
 } // namespace ao
 
 /// Screen-space ambient occlusion (SSAO seed, Maltsev 2019): a G-buffer pre-pass of the whole
@@ -90,7 +91,7 @@ std::vector<glm::vec2> rotationNoise(std::uint32_t seed);
 ///   float sgfx_ambientOcclusion(); // defined by sgfx: k at this pixel, 0..1
 ///   #endif
 /// @endcode
-class AmbientOcclusionNode : public EffectNode {
+class SGFX_API AmbientOcclusionNode : public EffectNode {
 public:
     static std::shared_ptr<AmbientOcclusionNode> create(const AmbientOcclusionParameters& parameters = {});
     AmbientOcclusionNode();

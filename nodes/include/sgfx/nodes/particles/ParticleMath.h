@@ -3,6 +3,7 @@
 /// CPU reference of the particle simulation (seed: gpu-particles-transform-feedback-2014, section
 /// "Обработка массива частиц"): the same equations, in the same order and with the same random
 /// numbers as particle_motion.glsl, so the GPU state can be checked particle by particle.
+#include "sgfx/Export.h"
 #include <glm/glm.hpp>
 
 #include <cmath>
@@ -12,7 +13,7 @@ namespace sgfx::particles {
 
 /// One particle, as the seed stores it: age t (4 bytes), position P (12), velocity v (12),
 /// initial angles r0 (12), angle changes r (12) = 52 bytes. World space.
-struct ParticleRecord {
+struct SGFX_API ParticleRecord {
     float age = 0.0f; ///< < 0: not born yet
     glm::vec3 position{0.0f};
     glm::vec3 velocity{0.0f};
@@ -23,7 +24,7 @@ static_assert(sizeof(ParticleRecord) == 52);
 
 /// The seed's emitter E: a W×H rectangle in the z = 0 plane of its own frame, placed by the
 /// node's world matrix. Vectors are world space, as in the seed.
-struct Emitter {
+struct SGFX_API Emitter {
     glm::vec2 size{1.0f, 1.0f};                 ///< W, H (m)
     glm::vec3 velocity{0.0f, 0.0f, 0.0f};       ///< v0 (m/s)
     float velocitySpread = 0.0f;                ///< kv ≥ 0 (m/s): v = v0 + 2·kv·Vrand
@@ -51,7 +52,7 @@ enum class StartMode : std::uint8_t {
 };
 
 /// What one simulation step reads besides the particle itself.
-struct StepInput {
+struct SGFX_API StepInput {
     glm::mat4 emitterToWorld{1.0f}; ///< Mmodel
     Emitter emitter;
     float dt = 0.0f; ///< ΔT
@@ -71,7 +72,7 @@ constexpr std::uint32_t pcgHash(std::uint32_t v) {
 }
 
 /// frand of the seed: a stateless stream per (system seed, particle index, step).
-class Random {
+class SGFX_API Random {
 public:
     Random(std::uint32_t seed, std::uint32_t index, std::uint32_t step)
         : state_(pcgHash(seed ^ pcgHash(index ^ pcgHash(step)))) {}

@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <sgfx/Effect.h>
 
 #include <glm/glm.hpp>
@@ -9,7 +10,7 @@ namespace sgfx {
 
 /// Tints the final colour of everything below it: colour = mix(colour, tint.rgb, tint.a).
 /// A diagnostic (highlight a subtree) and the smallest example of an effect node.
-class DebugTintNode : public EffectNode {
+class SGFX_API DebugTintNode : public EffectNode {
 public:
     static std::shared_ptr<DebugTintNode> create(const glm::vec4& tint = {1, 0, 0, 0.5f});
 

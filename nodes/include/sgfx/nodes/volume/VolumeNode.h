@@ -4,7 +4,8 @@
 /// (Beer–Lambert), emission, single scattering towards a directional light with a
 /// Henyey–Greenstein or Rayleigh phase function; the march stops at the opaque scene's depth, so
 /// walls inside smoke cut it. Composited premultiplied; fog applies up to where the medium starts.
-#include "volume/VolumeMath.h"
+#include "sgfx/Export.h"
+#include <sgfx/nodes/volume/VolumeMath.h>
 
 #include <sgfx/Drawable.h>
 #include <sgfx/ShaderComposer.h>
@@ -17,10 +18,10 @@
 
 namespace sgfx {
 
-class Image;
+struct Image;
 
 /// A density grid over the box, x fastest, then y, then z.
-struct VolumeGrid {
+struct SGFX_API VolumeGrid {
     enum class Format : std::uint8_t { R8, R16F, R32F }; ///< GPU storage; R8 holds [0, 1]
     glm::ivec3 size{0};
     Format format = Format::R32F;
@@ -47,7 +48,7 @@ enum class VolumePhase : std::uint8_t { Isotropic, HenyeyGreenstein, Rayleigh };
 enum class VolumeMethod : std::uint8_t { Raymarch, Slicing };
 
 /// The medium's optical properties, its light, the box size and the rendering method.
-struct VolumeParameters {
+struct SGFX_API VolumeParameters {
     glm::vec3 size{1.0f};                        ///< box edges (m), centred on the node's origin
     float absorption = 1.0f;                     ///< k_a per metre at density 1
     float scattering = 0.0f;                     ///< k_s per metre at density 1
@@ -81,7 +82,7 @@ struct VolumeParameters {
 /// A participating medium in a box (lecture 12): a density grid raymarched per pixel or drawn
 /// as slices, with absorption, emission and single scattering, stopped by the opaque scene.
 /// See docs/effects/volume-sky.md.
-class VolumeNode : public Drawable {
+class SGFX_API VolumeNode : public Drawable {
 public:
     static std::shared_ptr<VolumeNode> create(const VolumeParameters& parameters = {},
                                               VolumeGrid grid = VolumeGrid::constant(1.0f));

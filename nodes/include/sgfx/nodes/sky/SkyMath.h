@@ -3,7 +3,8 @@
 /// Single scattering in a spherical atmosphere (lecture 12: Rayleigh and Mie scattering, the
 /// Henyey–Greenstein phase, the nested light march; Earth's defaults after Nishita et al. 1993):
 /// the CPU mirror of sky_scattering.glsl, for the tests and for the horizon colour a FogNode takes.
-#include "volume/VolumeMath.h"
+#include "sgfx/Export.h"
+#include <sgfx/nodes/volume/VolumeMath.h>
 
 #include <glm/glm.hpp>
 
@@ -12,7 +13,7 @@
 namespace sgfx::sky {
 
 /// A spherical atmosphere: radii, scale heights and scattering coefficients (metres).
-struct Atmosphere {
+struct SGFX_API Atmosphere {
     float planetRadius = 6360e3f;                    ///< m
     float atmosphereRadius = 6420e3f;                ///< m
     glm::vec3 rayleigh{5.8e-6f, 13.5e-6f, 33.1e-6f}; ///< β_R at sea level, per metre (R, G, B)

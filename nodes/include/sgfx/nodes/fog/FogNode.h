@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <sgfx/Effect.h>
 #include <sgfx/Renderer.h>
 
@@ -36,7 +37,7 @@ enum class FogSky : std::uint8_t {
 };
 
 /// ρ(h) = density·e^(−falloff·h), h = height above the reference plane along `up` (seed eq. 3).
-struct FogParameters {
+struct SGFX_API FogParameters {
     float density = 1e-4f;                ///< ρ0 per metre at the reference height, [0, 1e6]
     float falloff = 1e-4f;                ///< b per metre, [0, 1e3]
     glm::vec3 color{0.70f, 0.74f, 0.80f}; ///< linear RGB
@@ -58,7 +59,7 @@ struct FogParameters {
 /// Height fog over its subtree (fog seed, eq. 3): the optical depth of ρ(h) = ρ0·e^(−b·h) along
 /// each view ray turns into the fog amount k, applied in every material below (Forward,
 /// ForwardSplit) or in a full-screen pass (PostProcess). See docs/effects/fog.md.
-class FogNode : public EffectNode {
+class SGFX_API FogNode : public EffectNode {
 public:
     static std::shared_ptr<FogNode> create(const FogParameters& parameters = FogParameters::solid(),
                                            FogMode mode = FogMode::Forward);

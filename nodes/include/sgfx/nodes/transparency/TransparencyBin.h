@@ -1,4 +1,5 @@
 #pragma once
+#include "sgfx/Export.h"
 #include <sgfx/Effect.h>
 #include <sgfx/Renderer.h>
 
@@ -29,7 +30,7 @@ enum class OitWeight : std::uint8_t {
 };
 
 /// Weighted blended OIT: the weight function's depth scale and the revealage precision.
-struct OitParameters {
+struct SGFX_API OitParameters {
     OitWeight weight = OitWeight::Depth7;
     /// Metres per unit of the paper's z: its constants suit 0.1–500 units, so a scene whose
     /// transparent content spans kilometres raises this.
@@ -45,7 +46,7 @@ struct OitParameters {
 /// and straight alpha blending, which a child's StateSet may override, e.g. with Additive), in the
 /// bin's mode. Application geometry elsewhere opts in with a StateSet (blend or renderBin) and
 /// tunes its order with StateSet::transparency.
-class TransparencyBin : public EffectNode {
+class SGFX_API TransparencyBin : public EffectNode {
 public:
     static std::shared_ptr<TransparencyBin> create(TransparencyMode mode = TransparencyMode::Sorted);
     TransparencyBin();

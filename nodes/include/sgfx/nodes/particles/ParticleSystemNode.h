@@ -6,7 +6,8 @@
 /// (the seed) or by instancing. The particles are lit by the scene's lights with the built-in
 /// material and go through the shader composer, so fog, ambient occlusion and the transparency
 /// passes apply to them like to any other surface.
-#include "particles/ParticleMath.h"
+#include "sgfx/Export.h"
+#include <sgfx/nodes/particles/ParticleMath.h>
 
 #include <sgfx/Drawable.h>
 #include <sgfx/ShaderComposer.h>
@@ -45,7 +46,7 @@ enum class ParticlePath : std::uint8_t { Auto, GeometryShader, Instanced, Pulled
 enum class ParticleLayout : std::uint8_t { Interleaved, Split };
 
 /// A particle system: emitter, forces, look, count, and how it is simulated and drawn.
-struct ParticleSettings {
+struct SGFX_API ParticleSettings {
     particles::Emitter emitter;
     std::uint32_t capacity = 10000; ///< n
     std::uint32_t seed = 1;
@@ -67,7 +68,7 @@ struct ParticleSettings {
 /// A GPU particle system (particle seed): simulated by transform feedback, drawn lit and
 /// composed like any surface. Presets: rain(), snow(), leaves(), smoke(), waterJet(), sparks().
 /// See docs/effects/particles.md.
-class ParticleSystemNode : public Drawable {
+class SGFX_API ParticleSystemNode : public Drawable {
 public:
     /// Most particles a system may hold: 2^24 (2 × 872 MB of records).
     static constexpr std::uint32_t kMaxCapacity = 1u << 24;
