@@ -5,7 +5,8 @@
 #  2. every public header compiles on its own; the old effect spellings still compile, with a warning;
 #  3. a CMake project (find_package(sgfx)) builds and renders through it;
 #  4. an application with its own glad (Debian's python3-glad) links and runs beside sgfx;
-#  5. the same program builds through pkg-config (--static for static libraries);
+#  5. find_package honours SameMajorVersion; the program builds through pkg-config (--static for
+#     static libraries);
 #  6. shared: each library has its SONAME and exports nothing but sgfx's API and its prefixed loader.
 # Usage: check_install.sh BUILD_DIR WORK_DIR
 set -euo pipefail
@@ -56,6 +57,21 @@ cmake --build "$work/consumer" >>"$work/consumer.log" 2>&1 ||
 "$work/consumer/consumer" || fail "the CMake consumer rendered the wrong pixel"
 "$work/consumer/own_glad_consumer" || fail "the application with its own glad failed beside sgfx"
 
+# The version file: SameMajorVersion accepts this release's 0.x and refuses another major.
+major=$(cache CMAKE_PROJECT_VERSION_MAJOR)
+mkdir -p "$work/version"
+cat >"$work/version/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.22)
+project(sgfx_version_probe CXX)
+find_package(sgfx ${WANT} CONFIG REQUIRED)
+CMAKE
+cmake -S "$work/version" -B "$work/version/ok" -DWANT="$major" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null 2>&1 ||
+  fail "find_package(sgfx $major) does not accept the installed $(cache CMAKE_PROJECT_VERSION)"
+if cmake -S "$work/version" -B "$work/version/next" -DWANT="$((major + 1))" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null 2>&1; then
+  fail "find_package(sgfx $((major + 1))) accepted the installed $(cache CMAKE_PROJECT_VERSION)"
+fi
+echo "check_install: find_package(sgfx $major) finds it, find_package(sgfx $((major + 1))) does not"
+
 # 5. pkg-config.
 export PKG_CONFIG_PATH=$prefix/$libdir/pkgconfig
 static=()
@@ -68,7 +84,6 @@ c++ -std=c++20 -O1 -o "$work/pc_consumer" "$src/tests/consumer/main.cpp" $flags 
 
 # 6. Shared libraries: SONAME and exported symbols.
 if ((shared)); then
-  major=$(cache CMAKE_PROJECT_VERSION_MAJOR)
   for lib in scenegraph nodes loaders; do
     so=$prefix/$libdir/libsgfx_$lib.so
     soname=$(readelf -d "$so" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')
