@@ -2,22 +2,11 @@
 // beside sgfx, whose loader is private and prefixed: it links (no duplicate symbol), and both
 // loaders work on one context, interleaved. The application clears a framebuffer of its own and
 // reads it back through its glad between two sgfx frames, each of which must still draw the box.
-#include <glad/gl.h>
-#include <sgfx/Shapes.h>
-#include <sgfx/Viewer.h>
-#include <sgfx/nodes/debugtint/DebugTintNode.h>
+#include "GreenBox.h"
 
-#include <cstdio>
+#include <glad/gl.h>
 
 namespace {
-
-bool sgfxDrawsGreen(sgfx::Viewer& viewer) {
-    viewer.frame();
-    const sgfx::Image img = viewer.capture();
-    const unsigned char* p = img.pixel(16, 16);
-    std::printf("own glad: sgfx's centre pixel %d %d %d\n", p[0], p[1], p[2]);
-    return p[0] == 0 && p[1] == 255 && p[2] == 0;
-}
 
 // The application's own GL: a 4x4 RGBA8 target cleared to (0.2, 0.4, 0.6) and read back.
 bool ownGlWorks() {
@@ -48,14 +37,8 @@ bool ownGlWorks() {
 } // namespace
 
 int main() {
-    auto viewer = sgfx::Viewer::createHeadless(32, 32);
-    auto tint = sgfx::DebugTintNode::create({0, 1, 0, 1});
-    tint->addChild(sgfx::shapes::box({1, 1, 1}));
-    viewer->setSceneData(tint);
-    viewer->camera()->setLookAt({3, 3, 3}, {0, 0, 0});
-    viewer->camera()->setPerspective(45.0f, 0.1f, 100.0f);
-    viewer->camera()->clearColor = {0, 0, 0, 1};
-    if (!sgfxDrawsGreen(*viewer)) return 1;
+    auto viewer = greenBoxViewer();
+    if (!drawsGreen(*viewer, "own glad: sgfx")) return 1;
 
     // The documented way to call GL beside sgfx: feed your own loader the context's getProcAddress.
     viewer->context().makeCurrent();
@@ -67,5 +50,5 @@ int main() {
     std::printf("own glad: GL %d.%d on %s\n", GLAD_VERSION_MAJOR(version), GLAD_VERSION_MINOR(version),
                 reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
     if (!ownGlWorks()) return 1;
-    return sgfxDrawsGreen(*viewer) ? 0 : 1;
+    return drawsGreen(*viewer, "own glad: sgfx again") ? 0 : 1;
 }
