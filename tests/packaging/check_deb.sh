@@ -17,6 +17,7 @@ src=$(cd "$(dirname "$0")/../.." && pwd)
 fail() { echo "check_deb: FAIL: $*" >&2; exit 1; }
 rm -rf "$work"
 mkdir -p "$work"
+work=$(cd "$work" && pwd) # absolute: CMake reads a relative prefix from its own build folder
 (cd "$build" && cpack -G DEB -B "$work/debs" >"$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack -G DEB failed"; }
 mapfile -t debs < <(find "$work/debs" -maxdepth 1 -name '*.deb' | sort)
 ((${#debs[@]} == 3)) || fail "expected 3 packages, cpack made: ${debs[*]}"

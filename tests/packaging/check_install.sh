@@ -20,6 +20,7 @@ libdir=$(cache CMAKE_INSTALL_LIBDIR)
 case "$shared" in ON | on | 1 | TRUE | true) shared=1 ;; *) shared=0 ;; esac
 rm -rf "$work"
 mkdir -p "$work"
+work=$(cd "$work" && pwd) # absolute: CMake reads a relative prefix from its own build folder
 prefix=$work/prefix
 cmake --install "$build" --prefix "$prefix" >/dev/null || fail "cmake --install $build failed"
 echo "check_install: installed $( ((shared)) && echo shared || echo static ) sgfx into $prefix"
