@@ -13,7 +13,7 @@ install(TARGETS sgfx sgfx_scenegraph sgfx_nodes sgfx_loaders EXPORT sgfxTargets
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY scenegraph/include/ loaders/include/ nodes/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         COMPONENT dev)
-# The old effect-header spellings (<fog/FogNode.h>), forwarding with a warning, for one release.
+# The 0.1 effect-header spellings (<fog/FogNode.h>), forwarding with a warning, in 0.2 only.
 install(DIRECTORY nodes/compat/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sgfx/compat COMPONENT dev)
 install(EXPORT sgfxTargets NAMESPACE sgfx:: DESTINATION ${SGFX_CMAKE_DIR} COMPONENT dev)
 
@@ -31,8 +31,18 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/sgfxConfigVersion.cmake C
 install(FILES ${PROJECT_BINARY_DIR}/sgfxConfig.cmake ${PROJECT_BINARY_DIR}/sgfxConfigVersion.cmake
         DESTINATION ${SGFX_CMAKE_DIR} COMPONENT dev)
 
-# pkg-config: `pkg-config --cflags --libs sgfx` (add --static against static libraries).
-file(RELATIVE_PATH SGFX_PC_TO_PREFIX /p/${CMAKE_INSTALL_LIBDIR}/pkgconfig /p)
+# pkg-config: `pkg-config --cflags --libs sgfx` (add --static against static libraries). The prefix
+# is the configured one (the Debian packages: /usr); a staged install overrides it with
+# --define-variable=prefix=... (tests/packaging/check_install.sh).
+# A shared sgfx keeps its libraries to itself: pkgconf reads Requires.private even without --static,
+# so listing them would make users install glfw's, OSMesa's... -dev packages for nothing.
+if(BUILD_SHARED_LIBS)
+  set(SGFX_PC_REQUIRES_PRIVATE "")
+  set(SGFX_PC_LIBS_PRIVATE "")
+else()
+  set(SGFX_PC_REQUIRES_PRIVATE "Requires.private: glfw3 osmesa stb tinygltf openmesh\n")
+  set(SGFX_PC_LIBS_PRIVATE "Libs.private: -ldl")
+endif()
 configure_file(cmake/sgfx.pc.in ${PROJECT_BINARY_DIR}/sgfx.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/sgfx.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig COMPONENT dev)
 
@@ -41,6 +51,10 @@ if(TARGET sgfx-view)
 endif()
 
 # ---- Debian packages: cpack -G DEB (from a -DBUILD_SHARED_LIBS=ON build; scripts/package.sh)
+if(NOT BUILD_SHARED_LIBS)
+  # libsgfx0 would be empty and libsgfx-dev would depend on it: packages come from a shared build.
+  return()
+endif()
 set(CPACK_PACKAGE_NAME sgfx)
 set(CPACK_PACKAGE_VENDOR "sgfx developers")
 set(CPACK_PACKAGE_CONTACT "sgfx developers <sgfx@localhost>")
@@ -48,7 +62,10 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Scene graph with effect nodes for trainer
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_GENERATOR DEB)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
-set(CPACK_COMPONENTS_ALL runtime dev tools)
+set(CPACK_COMPONENTS_ALL runtime dev)
+if(TARGET sgfx-view)
+  list(APPEND CPACK_COMPONENTS_ALL tools)
+endif()
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION libs)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)

@@ -46,11 +46,15 @@ for deb in "${debs[@]}"; do
     fi
   done < <(files "$deb")
 done
-files "${names[$runtime]}" | grep -qE '/libsgfx_scenegraph\.so\.[0-9]+$' || fail "$runtime lacks libsgfx_scenegraph.so.N"
-files "${names[libsgfx-dev]}" | grep -q '/usr/include/sgfx/Viewer.h' || fail "libsgfx-dev lacks the headers"
-files "${names[libsgfx-dev]}" | grep -q '/cmake/sgfx/sgfxConfig.cmake' || fail "libsgfx-dev lacks the CMake config"
-files "${names[libsgfx-dev]}" | grep -q '/pkgconfig/sgfx.pc' || fail "libsgfx-dev lacks sgfx.pc"
-files "${names[sgfx-tools]}" | grep -q '^/usr/bin/sgfx-view$' || fail "sgfx-tools lacks /usr/bin/sgfx-view"
+# Listed once each (grep -q on a pipe could end it early: SIGPIPE under pipefail).
+runtimeFiles=$(files "${names[$runtime]}")
+devFiles=$(files "${names[libsgfx-dev]}")
+toolFiles=$(files "${names[sgfx-tools]}")
+grep -qE '/libsgfx_scenegraph\.so\.[0-9]+$' <<<"$runtimeFiles" || fail "$runtime lacks libsgfx_scenegraph.so.N"
+grep -q '/usr/include/sgfx/Viewer.h' <<<"$devFiles" || fail "libsgfx-dev lacks the headers"
+grep -q '/cmake/sgfx/sgfxConfig.cmake' <<<"$devFiles" || fail "libsgfx-dev lacks the CMake config"
+grep -q '/pkgconfig/sgfx.pc' <<<"$devFiles" || fail "libsgfx-dev lacks sgfx.pc"
+grep -q '^/usr/bin/sgfx-view$' <<<"$toolFiles" || fail "sgfx-tools lacks /usr/bin/sgfx-view"
 [ -e /usr/include/KHR/khrplatform.h ] || fail "libgl-dev is not installed: the conflict check needs it (apt-get install libgl-dev)"
 echo "check_deb: $(for d in "${debs[@]}"; do files "$d"; done | wc -l) files, none owned by an installed package (libgl-dev present)"
 
@@ -59,6 +63,20 @@ deps=$(dpkg-deb -f "${names[$runtime]}" Depends)
 for need in libc6 libstdc++6 libosmesa6 libglfw3; do
   grep -q "$need" <<<"$deps" || fail "$runtime does not depend on $need (dpkg-shlibdeps): $deps"
 done
+
+# Every pkg-config module sgfx.pc requires must come from a package libsgfx-dev depends on (else
+# `pkg-config sgfx` fails on a system with only libsgfx-dev installed).
+mkdir -p "$work/dev"
+dpkg-deb -x "${names[libsgfx-dev]}" "$work/dev"
+pc=$(find "$work/dev" -name sgfx.pc)
+devDepends=$(dpkg-deb -f "${names[libsgfx-dev]}" Depends)
+for module in $(sed -n 's/^Requires\(\.private\)\?: *//p' "$pc" | tr ',' ' '); do
+  modulePc=$(pkg-config --path "$module") || fail "sgfx.pc requires $module, which pkg-config cannot find here"
+  provider=$(dpkg -S "$modulePc" | cut -d: -f1)
+  grep -qE "(^|, )$provider( |,|$)" <<<"$devDepends" ||
+    fail "sgfx.pc requires $module ($provider), which libsgfx-dev does not depend on: $devDepends"
+done
+echo "check_deb: sgfx.pc requires $(sed -n 's/^Requires.*: *//p' "$pc" | tr '\n' ' ')- each provided by a libsgfx-dev dependency"
 
 # 4. apt's view: installable together, nothing removed.
 sim=$(apt-get install --simulate --no-install-recommends "${debs[@]}" 2>&1) || { echo "$sim"; fail "apt refuses the packages"; }

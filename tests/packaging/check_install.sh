@@ -17,7 +17,7 @@ fail() { echo "check_install: FAIL: $*" >&2; exit 1; }
 cache() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
 shared=$(cache BUILD_SHARED_LIBS)
 libdir=$(cache CMAKE_INSTALL_LIBDIR)
-case "$shared" in ON | on | 1 | TRUE | true) shared=1 ;; *) shared=0 ;; esac
+case "${shared^^}" in ON | 1 | TRUE | YES | Y) shared=1 ;; *) shared=0 ;; esac
 rm -rf "$work"
 mkdir -p "$work"
 work=$(cd "$work" && pwd) # absolute: CMake reads a relative prefix from its own build folder
@@ -35,13 +35,13 @@ echo "check_install: $(cd "$prefix/include" && find . -type f | wc -l) headers, 
 # 2. Each public header alone in a translation unit, with the warnings sgfx builds with.
 cxxflags=(-std=c++20 -fsyntax-only -Wall -Wextra -Wpedantic -Wshadow -Werror -I"$prefix/include")
 headers=$(cd "$prefix/include" && find sgfx -name '*.h' ! -path 'sgfx/compat/*' | sort)
-export -f fail
 printf '%s\n' $headers | xargs -P "$(nproc)" -I{} sh -c \
   'echo "#include <{}>" | c++ "$@" -x c++ - || { echo "check_install: FAIL: <{}> does not compile on its own" >&2; exit 255; }' \
   sh "${cxxflags[@]}"
 echo "check_install: $(printf '%s\n' $headers | wc -l) public headers compile on their own"
+# Through -isystem, as CMake passes an imported target's include directories.
 for h in $(cd "$prefix/include/sgfx/compat" && find . -name '*.h' | sed 's#^\./##'); do
-  out=$(echo "#include <$h>" | c++ -std=c++20 -fsyntax-only -I"$prefix/include" -I"$prefix/include/sgfx/compat" -x c++ - 2>&1) ||
+  out=$(echo "#include <$h>" | c++ -std=c++20 -fsyntax-only -isystem "$prefix/include" -isystem "$prefix/include/sgfx/compat" -x c++ - 2>&1) ||
     fail "old spelling <$h> no longer compiles: $out"
   grep -q "<$h> is deprecated" <<<"$out" || fail "old spelling <$h> compiles without its deprecation warning"
 done
@@ -68,16 +68,20 @@ find_package(sgfx ${WANT} CONFIG REQUIRED)
 CMAKE
 cmake -S "$work/version" -B "$work/version/ok" -DWANT="$major" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null 2>&1 ||
   fail "find_package(sgfx $major) does not accept the installed $(cache CMAKE_PROJECT_VERSION)"
-if cmake -S "$work/version" -B "$work/version/next" -DWANT="$((major + 1))" -DCMAKE_PREFIX_PATH="$prefix" >/dev/null 2>&1; then
+if out=$(cmake -S "$work/version" -B "$work/version/next" -DWANT="$((major + 1))" -DCMAKE_PREFIX_PATH="$prefix" 2>&1); then
   fail "find_package(sgfx $((major + 1))) accepted the installed $(cache CMAKE_PROJECT_VERSION)"
 fi
+grep -q 'considered but not accepted' <<<"$out" ||
+  fail "find_package(sgfx $((major + 1))) failed, but not for the version: $out"
 echo "check_install: find_package(sgfx $major) finds it, find_package(sgfx $((major + 1))) does not"
 
 # 5. pkg-config.
 export PKG_CONFIG_PATH=$prefix/$libdir/pkgconfig
 static=()
 ((shared)) || static=(--static)
-flags=$(pkg-config "${static[@]}" --cflags --libs sgfx) || fail "pkg-config does not find sgfx.pc"
+# The .pc carries the configured prefix; this staged install moved it.
+flags=$(pkg-config "${static[@]}" --define-variable=prefix="$prefix" --cflags --libs sgfx) ||
+  fail "pkg-config does not find sgfx.pc"
 # shellcheck disable=SC2086 # the flags are words
 c++ -std=c++20 -O1 -o "$work/pc_consumer" "$src/tests/consumer/main.cpp" $flags -Wl,-rpath,"$prefix/$libdir" ||
   fail "building through pkg-config failed (flags: $flags)"

@@ -1,5 +1,5 @@
 #pragma once
-// Deprecated spelling kept for one release (0.2): include <sgfx/nodes/fog/FogNode.h> instead.
-#pragma GCC warning                                                                                          \
-    "<fog/FogNode.h> is deprecated and goes away after sgfx 0.2: include <sgfx/nodes/fog/FogNode.h>"
+// The 0.1 spelling, kept in 0.2 only (removed in 0.3). #warning, not a pragma: it shows through
+// -isystem, which CMake uses for an imported target's include directories.
+#warning "<fog/FogNode.h> is deprecated and removed in sgfx 0.3: include <sgfx/nodes/fog/FogNode.h>"
 #include <sgfx/nodes/fog/FogNode.h>
