@@ -106,7 +106,10 @@ void main() {
     v_worldNormal = sgfx_worldNormal;
 #endif
 #ifdef SGFX_TANGENTS
-    v_worldTangent = vec4(mat3(model) * a_tangent.xyz, a_tangent.w);
+    // A mirroring model flips the frame's handedness: the fragment's cross(N, T) * w needs w times
+    // the determinant's sign to give the mirrored bitangent (glTF 2.0, Meshes: TANGENT.w is the
+    // bitangent's sign).
+    v_worldTangent = vec4(mat3(model) * a_tangent.xyz, a_tangent.w * (determinant(mat3(model)) < 0.0 ? -1.0 : 1.0));
 #endif
 #ifdef SGFX_TEXCOORDS
     v_texcoord = a_texcoord;

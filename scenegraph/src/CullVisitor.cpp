@@ -269,6 +269,7 @@ void CullVisitor::apply(Drawable& d) {
         item.drawable = &d;
         item.features = d.features(*state_.back());
         item.model = model_.back();
+        item.mirrored = RenderItem::isMirroring(item.model);
         item.state = state_.back();
         item.effectSet = effectSet_.back();
         item.depth = std::numeric_limits<float>::max();

@@ -103,9 +103,12 @@ void RenderQueue::sort() {
         return reinterpret_cast<std::uintptr_t>(it.state->material.value ? it.state->material.value->get()
                                                                          : nullptr);
     };
+    // Mirrored copies of a mesh group apart from the plain ones (the other winding is another
+    // batch): the flag takes the pointer's low bit, free by alignment.
     auto meshOf = [](const RenderItem& it) {
-        return it.geometry ? reinterpret_cast<std::uintptr_t>(it.geometry)
-                           : reinterpret_cast<std::uintptr_t>(it.drawable);
+        return (it.geometry ? reinterpret_cast<std::uintptr_t>(it.geometry)
+                            : reinterpret_cast<std::uintptr_t>(it.drawable)) |
+               std::uintptr_t(it.mirrored);
     };
     auto depthKey = [](float depth) {
         std::uint32_t d = std::bit_cast<std::uint32_t>(depth + 0.0f); // -0 sorts as +0

@@ -51,6 +51,10 @@ struct SGFX_API RenderItem {
     /// Which faces this item draws (a double-sided transparent item is queued twice: back faces,
     /// then front faces); AsState = as its state's CullFace says.
     enum class Faces : std::uint8_t { AsState, Back, Front } faces = Faces::AsState;
+    /// The model matrix mirrors (negative determinant): the winding that counts as front flips
+    /// (glTF 2.0, Meshes: the global transform's determinant defines the winding; OpenGL's
+    /// glFrontFace), so culling and two-sided lighting stay right.
+    bool mirrored = false;
 
     RenderItem() = default;
     /// Every field but `order` (0) and `faces` (AsState), so a queue builds items in place.
@@ -66,7 +70,11 @@ struct SGFX_API RenderItem {
         , depthBucket(bucket)
         , sequence(seq)
         , programKey(key)
-        , features(featureBits) {}
+        , features(featureBits)
+        , mirrored(isMirroring(m)) {}
+
+    /// det(upper 3x3) < 0.
+    static bool isMirroring(const glm::mat4& m) { return glm::determinant(glm::mat3(m)) < 0.0f; }
 
     const ShaderProgram* program() const;
     const Node& node() const; ///< the geometry or drawable

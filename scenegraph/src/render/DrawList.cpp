@@ -94,7 +94,8 @@ private:
     void drawBatch(const gl::GeometryBuffers& b, std::size_t count);
     void drawSortedTriangles(const RenderItem& item, const gl::GeometryBuffers& b,
                              const TransparencyDetails& details);
-    static void issueDraw(const gl::GeometryBuffers& b);
+    /// One draw of `b`; `mirrored`: the item's matrix mirrors (its instances' own signs flip it again).
+    void issueDraw(const gl::GeometryBuffers& b, bool mirrored);
 
     Renderer& r;
     Impl& s;
@@ -191,7 +192,8 @@ std::size_t Renderer::DrawList::batchLength(std::span<const RenderItem> items) c
     while (n < items.size()) {
         const RenderItem& it = items[n];
         if (it.geometry != first.geometry || it.state != first.state || it.effectSet != first.effectSet ||
-            it.faces != first.faces || it.programKey != first.programKey || it.features != first.features)
+            it.faces != first.faces || it.mirrored != first.mirrored || it.programKey != first.programKey ||
+            it.features != first.features)
             break;
         ++n;
     }
@@ -378,13 +380,13 @@ void Renderer::DrawList::bindMaterialTextures(const Material& m) {
 void Renderer::DrawList::applyFaces(const RenderItem& item) {
     switch (item.faces) {
     case RenderItem::Faces::Back:
-        s.cache.setCull(CullFace::Front);
+        s.cache.setCull(CullFace::Front, item.mirrored);
         break;
     case RenderItem::Faces::Front:
-        s.cache.setCull(CullFace::Back);
+        s.cache.setCull(CullFace::Back, item.mirrored);
         break;
     case RenderItem::Faces::AsState:
-        s.cache.setCull(state->cullFace.value.value_or(CullFace::Back));
+        s.cache.setCull(state->cullFace.value.value_or(CullFace::Back), item.mirrored);
         break;
     }
 }
@@ -419,7 +421,7 @@ void Renderer::DrawList::drawGeometry(const RenderItem& item, std::size_t run) {
         g.triangleCount() > 0 && g.instances.empty())
         drawSortedTriangles(item, b, *details);
     else
-        issueDraw(b);
+        issueDraw(b, item.mirrored);
     ++r.stats_.drawCalls;
     r.stats_.triangles += g.triangleCount();
 }
@@ -459,12 +461,25 @@ void Renderer::DrawList::drawSortedTriangles(const RenderItem& item, const gl::G
     glVertexArrayElementBuffer(b.vao.get(), b.indexed ? b.indices.get() : 0);
 }
 
-void Renderer::DrawList::issueDraw(const gl::GeometryBuffers& b) {
+void Renderer::DrawList::issueDraw(const gl::GeometryBuffers& b, bool mirrored) {
     if (b.instances) {
-        if (b.indexed)
-            glDrawElementsInstanced(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr, GLsizei(b.instances));
-        else
-            glDrawArraysInstanced(b.mode, 0, GLsizei(b.count), GLsizei(b.instances));
+        // Instances whose own matrix mirrors come last and flip the winding once more.
+        struct Range {
+            std::uint32_t first, count;
+            bool flip;
+        };
+        const std::uint32_t plain = b.instances - b.mirroredInstances;
+        const Range ranges[2] = {{0u, plain, false}, {plain, b.mirroredInstances, true}};
+        for (const Range& range : ranges) {
+            if (range.count == 0) continue;
+            s.cache.setFrontFace(mirrored != range.flip);
+            if (b.indexed)
+                glDrawElementsInstancedBaseInstance(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr,
+                                                    GLsizei(range.count), range.first);
+            else
+                glDrawArraysInstancedBaseInstance(b.mode, 0, GLsizei(b.count), GLsizei(range.count),
+                                                  range.first);
+        }
     } else if (b.indexed) {
         glDrawElements(b.mode, GLsizei(b.count), GL_UNSIGNED_INT, nullptr);
     } else {

@@ -1,6 +1,7 @@
 #include "render/GpuUpload.h"
 
 #include "sgfx/Image.h"
+#include "sgfx/RenderQueue.h"
 
 #include <algorithm>
 #include <cmath>
@@ -105,10 +106,16 @@ gl::GeometryBuffers& buffersFor(const Geometry& g) {
         glVertexArrayAttribBinding(b.vao.get(), location, 6);
         glEnableVertexArrayAttrib(b.vao.get(), location);
     }
+    b.mirroredInstances = 0;
     if (!g.instances.empty()) {
+        // Mirroring instances last, so each winding is one contiguous range of instances.
+        std::vector<glm::mat4> ordered(g.instances);
+        const auto firstMirrored = std::stable_partition(
+            ordered.begin(), ordered.end(), [](const glm::mat4& m) { return !RenderItem::isMirroring(m); });
+        b.mirroredInstances = std::uint32_t(ordered.end() - firstMirrored);
         auto& buf = b.attributes[6];
         if (!buf) buf = gl::createBuffer();
-        glNamedBufferData(buf.get(), GLsizeiptr(g.instances.size() * sizeof(glm::mat4)), g.instances.data(),
+        glNamedBufferData(buf.get(), GLsizeiptr(ordered.size() * sizeof(glm::mat4)), ordered.data(),
                           GL_STATIC_DRAW);
         glVertexArrayVertexBuffer(b.vao.get(), 6, buf.get(), 0, sizeof(glm::mat4));
         glVertexArrayBindingDivisor(b.vao.get(), 6, 1);

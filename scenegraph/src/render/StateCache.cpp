@@ -49,7 +49,15 @@ void StateCache::setBlend(BlendMode m) {
     }
 }
 
-void StateCache::setCull(CullFace c) {
+void StateCache::setFrontFace(bool mirrored) {
+    if (clockwiseFront_ == int(mirrored)) return;
+    clockwiseFront_ = int(mirrored);
+    ++*stateChanges_;
+    glFrontFace(mirrored ? GL_CW : GL_CCW);
+}
+
+void StateCache::setCull(CullFace c, bool mirrored) {
+    setFrontFace(mirrored);
     if (cull_ == int(c)) return;
     cull_ = int(c);
     ++*stateChanges_;
@@ -174,7 +182,7 @@ void StateCache::invalidate() {
     viewport_ = glm::ivec2(-1);
     srgb_ = colourMask_ = -1;
     program_ = 0;
-    blend_ = cull_ = -1;
+    blend_ = cull_ = clockwiseFront_ = -1;
     depthKnown_ = false;
     units_.fill(0);
 }

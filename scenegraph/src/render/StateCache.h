@@ -27,7 +27,12 @@ public:
     bool useProgram(unsigned program);
     void bindTexture(unsigned unit, unsigned texture);
     void setBlend(BlendMode mode);
-    void setCull(CullFace face);
+    /// Culls `face`, with the clockwise winding as the front one when `mirrored` (an item whose
+    /// model matrix has a negative determinant). The winding is set even without culling: it
+    /// decides gl_FrontFacing, which two-sided lighting reads.
+    void setCull(CullFace face, bool mirrored = false);
+    /// Only the winding (the cull face stays): clockwise front faces when `mirrored`.
+    void setFrontFace(bool mirrored);
     void setDepth(const DepthState& depth);
     /// Draws into `fbo` over (0, 0, size); sRGB encoding on write for sRGB targets.
     void bindFramebuffer(unsigned fbo, glm::ivec2 size, bool srgb = true);
@@ -53,6 +58,7 @@ private:
     unsigned program_ = 0;
     int blend_ = -1;
     int cull_ = -1;
+    int clockwiseFront_ = -1;
     DepthState depth_{};
     bool depthKnown_ = false;
     std::array<unsigned, kTrackedUnits> units_{};

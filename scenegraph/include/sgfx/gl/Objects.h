@@ -126,6 +126,9 @@ struct SGFX_API GeometryBuffers {
     /// position, normal, tangent, texcoord, colour, texcoord1, instance matrices (locations 6..9)
     std::array<BufferObject, 7> attributes;
     std::uint32_t instances = 0; ///< 0: not instanced
+    /// The last `mirroredInstances` instance matrices mirror (negative determinant): uploaded after
+    /// the others and drawn with the other winding as front.
+    std::uint32_t mirroredInstances = 0;
     BufferObject indices;
     std::uint64_t revision = 0;
     std::uint32_t count = 0;
