@@ -32,7 +32,7 @@ namespace {
 struct Combo {
     int source;
     int snippets;
-    std::uint32_t features;
+    FeatureMask features;
     DrawMode mode;
     auto tie() const { return std::tuple(source, snippets, features, std::uint8_t(mode)); }
     bool operator<(const Combo& o) const { return tie() < o.tie(); }
@@ -95,9 +95,9 @@ struct Fixture {
 
 // Valid built-in variants whose bits overlap the signature ids in the old packing (light count
 // 12-15 and world position / point lights 16-17 against signature bits 0-5), with a few others.
-std::uint32_t randomFeatures(std::mt19937& rng) {
-    std::uint32_t f = std::uint32_t(rng() % 9) << FeatureLightCountShift;
-    for (std::uint32_t bit : {FeatureWorldPosition, FeaturePointLights, FeatureNormals, FeatureTexCoords})
+FeatureMask randomFeatures(std::mt19937& rng) {
+    FeatureMask f = FeatureMask(rng() % 9) << FeatureLightCountShift;
+    for (FeatureMask bit : {FeatureWorldPosition, FeaturePointLights, FeatureNormals, FeatureTexCoords})
         if (rng() & 1u) f |= bit;
     return f;
 }
@@ -109,7 +109,7 @@ std::vector<Combo> randomCombos(std::mt19937& rng, std::size_t n, std::span<cons
     std::vector<Combo> out;
     while (out.size() < n) {
         const int source = int(rng() % 5), set = int(rng() % kSnippetSets);
-        const std::uint32_t features = ShaderComposer::withWorldPosition(randomFeatures(rng), set != 0);
+        const FeatureMask features = ShaderComposer::withWorldPosition(randomFeatures(rng), set != 0);
         const Combo c{source, set, features, modes[rng() % modes.size()]};
         if (seen.insert(c).second) out.push_back(c);
     }
@@ -117,7 +117,7 @@ std::vector<Combo> randomCombos(std::mt19937& rng, std::size_t n, std::span<cons
 }
 
 // The packing before ProgramKey: program source at 8, features at 32, signature at 44, mode at 60.
-std::uint64_t oldPacking(std::uint64_t program, std::uint32_t signature, std::uint32_t features,
+std::uint64_t oldPacking(std::uint64_t program, std::uint32_t signature, FeatureMask features,
                          DrawMode mode) {
     return (program << 8) ^ (std::uint64_t(signature) << 44) ^ (std::uint64_t(features) << 32) ^
            (std::uint64_t(mode) << 60);
@@ -148,14 +148,14 @@ TEST(ProgramKey, FieldsAreNamedDisjointAndReadBack) {
     EXPECT_EQ(k.source(), ProgramSource::Foreign);
     EXPECT_EQ(k.base(), 5u);
     EXPECT_EQ(k.effects(), 77u);
-    EXPECT_EQ(k.features(), std::uint32_t(FeatureBatched | FeatureBaseMap));
+    EXPECT_EQ(k.features(), FeatureMask(FeatureBatched | FeatureBaseMap));
     EXPECT_EQ(k.mode(), DrawMode::GBuffer);
     EXPECT_EQ(k.with(ProgramKey::Mode, std::uint64_t(DrawMode::Main)).mode(), DrawMode::Main);
     EXPECT_EQ(k.with(ProgramKey::Mode, std::uint64_t(DrawMode::Main)).base(), 5u);
     EXPECT_NE(ProgramKey::none(),
               ProgramKey::make(ProgramSource::Foreign, std::uint32_t(ProgramKey::Base.max()),
                                std::uint32_t(ProgramKey::Effects.max()),
-                               std::uint32_t(ProgramKey::Features.max()), DrawMode::GBuffer));
+                               ProgramKey::Features.max(), DrawMode::GBuffer));
 }
 
 TEST(ProgramKey, FiveHundredRandomCombosAreFiveHundredPrograms) {
@@ -224,9 +224,9 @@ TEST(ProgramKey, OldCollisionIsGone) {
         ids[i] = table.effects(i == 0 ? std::string() : "set" + std::to_string(i) + "\n");
     ASSERT_EQ(ids[16], 16u);
     ASSERT_EQ(ids[64], 64u);
-    const std::uint32_t plain = FeatureNormals | (2u << FeatureLightCountShift);
-    for (const auto& [bit, sig] : {std::pair{std::uint32_t(FeatureWorldPosition), 16},
-                                   std::pair{std::uint32_t(FeatureBlendPremultiplied), 64}}) {
+    const FeatureMask plain = FeatureNormals | (2u << FeatureLightCountShift);
+    for (const auto& [bit, sig] : {std::pair{FeatureMask(FeatureWorldPosition), 16},
+                                   std::pair{FeatureMask(FeatureBlendPremultiplied), 64}}) {
         // The old packing gives both one key: the test looks at a real collision.
         ASSERT_EQ(oldPacking(0, ids[0], plain | bit, DrawMode::Main),
                   oldPacking(0, ids[sig], plain, DrawMode::Main));
@@ -253,10 +253,10 @@ TEST(ProgramKey, FieldOverflowThrows) {
             EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
         }
     };
-    expectThrowNaming([] { (void)ProgramKey::make(ProgramSource::Builtin, 0, 0, 1u << 29); }, "Features");
+    expectThrowNaming([] { (void)ProgramKey::make(ProgramSource::Builtin, 0, 0, ProgramKey::Features.max() + 1); }, "Features");
     expectThrowNaming([] { (void)ProgramKey::make(ProgramSource::Builtin, 0, 0, 0, DrawMode(4)); }, "Mode");
-    expectThrowNaming([] { (void)ProgramKey::make(ProgramSource::Builtin, 0, 1u << 16, 0); }, "Effects");
-    expectThrowNaming([] { (void)ProgramKey::make(ProgramSource::Foreign, 1u << 14, 0, 0); }, "Base");
+    expectThrowNaming([] { (void)ProgramKey::make(ProgramSource::Builtin, 0, std::uint32_t(ProgramKey::Effects.max() + 1), 0); }, "Effects");
+    expectThrowNaming([] { (void)ProgramKey::make(ProgramSource::Foreign, std::uint32_t(ProgramKey::Base.max() + 1), 0, 0); }, "Base");
     expectThrowNaming([] { (void)ProgramKey::make(ProgramSource(4), 0, 0, 0); }, "Source");
     expectThrowNaming([] { (void)ProgramKey().with(ProgramKey::Effects, ProgramKey::Effects.max() + 1); },
                       "Effects");

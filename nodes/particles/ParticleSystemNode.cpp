@@ -386,8 +386,8 @@ const BaseShader& ParticleSystemNode::baseShader() const {
     return *shader_;
 }
 
-std::uint32_t ParticleSystemNode::features(const ResolvedState& state) const {
-    std::uint32_t f = FeatureNormals | FeatureTexCoords | FeatureVertexColor | FeatureWorldPosition;
+FeatureMask ParticleSystemNode::features(const ResolvedState& state) const {
+    FeatureMask f = FeatureNormals | FeatureTexCoords | FeatureVertexColor | FeatureWorldPosition;
     if (const Material* m = state.material.value ? state.material.value->get() : nullptr) {
         if (m->baseColorTexture) f |= FeatureBaseMap;
         if (m->alphaTexture) f |= FeatureAlphaMap;

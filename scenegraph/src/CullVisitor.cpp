@@ -248,7 +248,7 @@ void CullVisitor::apply(Geometry& g) {
     if (state != featuresState_ || &g != featuresGeometry_) {
         const bool transparent = state->transparent();
         features_ = foreign ? ShaderComposer::blendFeatures(transparent, state->blendMode()) |
-                                  (transparent ? std::uint32_t(FeatureBlend) : 0u)
+                                  (transparent ? FeatureMask(FeatureBlend) : 0u)
                             : ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent,
                                                           state->blendMode());
         foreignBase_ = queue_.programKeys.base(foreign);
@@ -300,9 +300,9 @@ void CullVisitor::apply(Drawable& d) {
     pushState(d);
     const ResolvedState* state = state_.back();
     const bool transparent = state->transparent();
-    const std::uint32_t features = d.features(*state) |
+    const FeatureMask features = d.features(*state) |
                                    ShaderComposer::blendFeatures(transparent, state->blendMode()) |
-                                   (transparent ? std::uint32_t(FeatureBlend) : 0u);
+                                   (transparent ? FeatureMask(FeatureBlend) : 0u);
     if (plan_ && plannedDrawables_.insert(&d).second) {
         plan_->drawables.push_back(&d);
     }
@@ -311,7 +311,7 @@ void CullVisitor::apply(Drawable& d) {
     popState(d);
 }
 
-void CullVisitor::queueItem(const Geometry* geometry, const Drawable* drawable, std::uint32_t features,
+void CullVisitor::queueItem(const Geometry* geometry, const Drawable* drawable, FeatureMask features,
                             const ResolvedState& state, const BoundingSphere& vs, ProgramSource source,
                             std::uint32_t base, bool twoPassable) {
     const std::uint32_t effectSet = effectSet_.back();

@@ -42,7 +42,7 @@ void appendChunk(std::string& out, std::vector<std::string>& names, std::string 
     if (!text.empty() && text.back() != '\n') out += '\n';
 }
 
-std::string preamble(std::span<const ShaderSnippet* const> snippets, std::uint32_t features) {
+std::string preamble(std::span<const ShaderSnippet* const> snippets, FeatureMask features) {
     std::string p = ShaderComposer::featureDefines(features);
     for (const ShaderSnippet* s : snippets)
         p += s->defines.empty() ? "" : s->defines + "\n";
@@ -62,7 +62,7 @@ std::string splitVersion(std::string_view& src, std::string_view shaderName) {
 
 // Copies a base stage line by line, expanding hook markers with the snippets' code.
 std::string composeStage(std::string_view name, std::string_view src, std::span<const Hook> hooks,
-                         std::span<const ShaderSnippet* const> snippets, std::uint32_t features,
+                         std::span<const ShaderSnippet* const> snippets, FeatureMask features,
                          std::vector<std::string>& names) {
     std::string out = splitVersion(src, name);
     appendChunk(out, names, "<sgfx preamble>", preamble(snippets, features));
@@ -134,7 +134,7 @@ std::string_view ShaderComposer::fullscreenVertex() {
 
 ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base,
                                                std::span<const ShaderSnippet* const> snippets,
-                                               std::uint32_t features) {
+                                               FeatureMask features) {
     ComposedProgram p;
     const bool geometry = !base.geometrySource.empty();
     p.vertex = composeStage(base.vertexName, base.vertexSource,
@@ -159,8 +159,8 @@ ComposedProgram ShaderComposer::composeBuiltin(const BaseShader& base,
     return p;
 }
 
-std::string ShaderComposer::featureDefines(std::uint32_t f) {
-    static const std::pair<std::uint32_t, const char*> names[] = {
+std::string ShaderComposer::featureDefines(FeatureMask f) {
+    static const std::pair<FeatureMask, const char*> names[] = {
         {FeatureBaseMap, "SGFX_BASE_MAP"},
         {FeatureAlphaMap, "SGFX_ALPHA_MAP"},
         {FeatureNormalMap, "SGFX_NORMAL_MAP"},
@@ -194,14 +194,14 @@ std::string ShaderComposer::featureDefines(std::uint32_t f) {
     return d;
 }
 
-std::uint32_t ShaderComposer::withWorldPosition(std::uint32_t f, bool hasSnippets) {
+FeatureMask ShaderComposer::withWorldPosition(FeatureMask f, bool hasSnippets) {
     const bool derivedNormal = !(f & FeatureNormals) || ((f & FeatureNormalMap) && !(f & FeatureTangents));
     if (hasSnippets || derivedNormal || (f & (FeatureSpecular | FeaturePointLights | FeatureVertexLighting)))
         f |= FeatureWorldPosition;
     return f;
 }
 
-std::uint32_t ShaderComposer::blendFeatures(bool blended, BlendMode blend) {
+FeatureMask ShaderComposer::blendFeatures(bool blended, BlendMode blend) {
     if (!blended) return 0;
     switch (blend) {
     case BlendMode::Premultiplied:
@@ -215,10 +215,10 @@ std::uint32_t ShaderComposer::blendFeatures(bool blended, BlendMode blend) {
     }
 }
 
-std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, bool blended,
+FeatureMask ShaderComposer::featuresFor(const Material* m, const Geometry& g, bool blended,
                                           BlendMode blend) {
     // Only what the material reads is interpolated: every varying costs per fragment.
-    std::uint32_t f = blendFeatures(blended, blend);
+    FeatureMask f = blendFeatures(blended, blend);
     if (!g.normals.empty()) f |= FeatureNormals;
     if (!g.colors.empty()) f |= FeatureVertexColor;
     if (!g.instances.empty()) f |= FeatureInstanced;
@@ -255,7 +255,7 @@ std::uint32_t ShaderComposer::featuresFor(const Material* m, const Geometry& g, 
 
 ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
                                                std::span<const ShaderSnippet* const> snippets,
-                                               std::uint32_t features) {
+                                               FeatureMask features) {
     ComposedProgram p;
     p.description = describe(prog.name, snippets);
     // Vertex stage: the application's, untouched (snippets' vertex code does not apply to it).
@@ -371,13 +371,13 @@ gl::Program& ShaderComposer::cached(std::string key, std::span<const ShaderSnipp
 }
 
 gl::Program& ShaderComposer::program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
-                                     std::uint32_t features) {
+                                     FeatureMask features) {
     return cached("base:" + base.name + ":" + std::to_string(features), snippets,
                   [&] { return composeBuiltin(base, snippets, features); });
 }
 
 gl::Program& ShaderComposer::program(const ShaderProgram* foreign,
-                                     std::span<const ShaderSnippet* const> snippets, std::uint32_t features) {
+                                     std::span<const ShaderSnippet* const> snippets, FeatureMask features) {
     if (!foreign) return program(blinnPhong(), snippets, features);
     // Keyed by identity and text, so editing a ShaderProgram's source yields a new variant.
     std::string key =

@@ -54,7 +54,7 @@ private:
     void traverseWithState(Node& n);
     /// Fills the item's common fields and puts it in the opaque, claimed or transparent list.
     /// `base` is the program source's id in the queue's programKeys (0 = built-in).
-    void queueItem(const Geometry* geometry, const Drawable* drawable, std::uint32_t features,
+    void queueItem(const Geometry* geometry, const Drawable* drawable, FeatureMask features,
                    const ResolvedState& state, const BoundingSphere& viewBound, ProgramSource source,
                    std::uint32_t base, bool twoPassable);
 
@@ -87,7 +87,7 @@ private:
     /// The last Geometry's material features and what they were computed from.
     const ResolvedState* featuresState_ = nullptr;
     const Geometry* featuresGeometry_ = nullptr;
-    std::uint32_t features_ = 0;
+    FeatureMask features_ = 0;
     std::uint32_t foreignBase_ = 0; ///< its foreign program's ProgramKey::Base id (0 = built-in)
     std::uint32_t sequence_ = 0;
 };

@@ -1,6 +1,7 @@
 #pragma once
 #include "sgfx/Export.h"
 #include "sgfx/Node.h"
+#include "sgfx/ProgramKey.h"
 
 #include <cstdint>
 
@@ -29,7 +30,7 @@ public:
     virtual const BaseShader& baseShader() const = 0;
     /// MaterialFeature bits of its variant beyond blending, which the core adds (FeatureBlend and
     /// the blend kind); FeatureGBuffer is added for G-buffer passes. `state` is its resolved state.
-    virtual std::uint32_t features(const ResolvedState& state) const = 0;
+    virtual FeatureMask features(const ResolvedState& state) const = 0;
     /// Its bound in world space when its world matrix is `model`. Drawables whose content lives in
     /// world space (particles) override it; the cull visitor frustum-tests this bound, uses it for
     /// the near/far planes and the transparent sort.

@@ -58,7 +58,7 @@ public:
 
     /// A composed program (cached by the composer).
     gl::Program& program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets = {},
-                         std::uint32_t features = 0);
+                         FeatureMask features = 0);
     /// Draws into these attachments (colour 0.. in order, then depth; an invalid id is skipped);
     /// the viewport covers them. sRGB targets are encoded on write.
     void target(std::initializer_list<ResourceId> colour, ResourceId depth = {});

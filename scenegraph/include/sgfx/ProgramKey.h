@@ -11,6 +11,9 @@ namespace sgfx {
 
 enum class DrawMode : std::uint8_t; // Renderer.h
 
+/// A set of MaterialFeature bits (ShaderComposer.h): which variant of the built-in material.
+using FeatureMask = std::uint64_t;
+
 /// One named bit field of a ProgramKey: `width` bits from bit `shift`.
 struct SGFX_API ProgramKeyField {
     const char* name;
@@ -37,13 +40,15 @@ enum class ProgramSource : std::uint8_t {
 class SGFX_API ProgramKey {
 public:
     /// MaterialFeature bits of the variant (every bit is checked to fit in ShaderComposer.h).
-    static constexpr ProgramKeyField Features{"Features", 0, 29};
+    static constexpr ProgramKeyField Features{"Features", 0, 35};
     /// DrawMode: depth and G-buffer passes draw other variants of the same item.
-    static constexpr ProgramKeyField Mode{"Mode", 29, 2};
+    static constexpr ProgramKeyField Mode{"Mode", 35, 2};
     /// The effects' snippet signature, interned (ProgramKeyTable::effects); 0 = no snippet.
-    static constexpr ProgramKeyField Effects{"Effects", 31, 16};
+    /// 8191 distinct snippet sets per view.
+    static constexpr ProgramKeyField Effects{"Effects", 37, 13};
     /// The foreign program or drawable base shader, interned (ProgramKeyTable::base); 0 = built-in.
-    static constexpr ProgramKeyField Base{"Base", 47, 14};
+    /// 2047 distinct foreign programs per view.
+    static constexpr ProgramKeyField Base{"Base", 50, 11};
     /// ProgramSource: a drawable's base shader never shares a key with a foreign program.
     static constexpr ProgramKeyField Source{"Source", 61, 2};
     static constexpr std::array<ProgramKeyField, 5> kFields{Features, Mode, Effects, Base, Source};
@@ -70,7 +75,7 @@ public:
     /// Throws std::length_error naming the first field a value does not fit. Inline: the cull
     /// makes one per item.
     static constexpr ProgramKey make(ProgramSource source, std::uint32_t base, std::uint32_t effects,
-                                     std::uint32_t features, DrawMode mode = DrawMode{}) {
+                                     FeatureMask features, DrawMode mode = DrawMode{}) {
         return ProgramKey()
             .with(Features, features)
             .with(Mode, std::uint64_t(mode))
@@ -90,7 +95,7 @@ public:
     constexpr std::uint64_t get(const ProgramKeyField& field) const {
         return (bits_ >> field.shift) & field.max();
     }
-    constexpr std::uint32_t features() const { return std::uint32_t(get(Features)); }
+    constexpr FeatureMask features() const { return get(Features); }
     constexpr DrawMode mode() const { return DrawMode(get(Mode)); }
     constexpr std::uint32_t effects() const { return std::uint32_t(get(Effects)); }
     constexpr std::uint32_t base() const { return std::uint32_t(get(Base)); }
@@ -110,11 +115,11 @@ static_assert(ProgramKey::fieldsDisjoint(), "ProgramKey fields overlap or leave 
 static_assert((ProgramKey::usedBits() & ProgramKey::kNoneBit) == 0, "none() must be no item's key");
 static_assert(ProgramKey::Source.fits(std::uint64_t(ProgramSource::Drawable)));
 // Every field reads back what was written at its largest value, untouched by its neighbours.
-static_assert(ProgramKey::make(ProgramSource::Drawable, 0x3fff, 0xffff, 0x1fffffff).base() == 0x3fff &&
-              ProgramKey::make(ProgramSource::Drawable, 0x3fff, 0xffff, 0x1fffffff).effects() == 0xffff &&
-              ProgramKey::make(ProgramSource::Drawable, 0x3fff, 0xffff, 0x1fffffff).features() ==
-                  0x1fffffff &&
-              ProgramKey::make(ProgramSource::Drawable, 0x3fff, 0xffff, 0x1fffffff).source() ==
+static_assert(ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x1fff, 0x7ffffffff).base() == 0x7ff &&
+              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x1fff, 0x7ffffffff).effects() == 0x1fff &&
+              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x1fff, 0x7ffffffff).features() ==
+                  0x7ffffffff &&
+              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x1fff, 0x7ffffffff).source() ==
                   ProgramSource::Drawable);
 
 /// "Features=0x110 Mode=0 Effects=3 Base=1 Source=Foreign" (test failures, logs).

@@ -47,7 +47,7 @@ struct SGFX_API RenderItem {
     std::int8_t depthBucket = 0; ///< floor(log2(depth)): opaque items sort near-to-far by it first
     std::uint32_t sequence = 0;  ///< cull order, keeps sorting stable
     ProgramKey programKey;       ///< equal keys = one program (ids from the queue's programKeys)
-    std::uint32_t features = 0;  ///< built-in material variant (MaterialFeature bits)
+    FeatureMask features = 0;  ///< built-in material variant (MaterialFeature bits)
     /// Which faces this item draws (a double-sided transparent item is queued twice: back faces,
     /// then front faces); AsState = as its state's CullFace says.
     enum class Faces : std::uint8_t { AsState, Back, Front } faces = Faces::AsState;
@@ -60,7 +60,7 @@ struct SGFX_API RenderItem {
     /// Every field but `order` (0) and `faces` (AsState), so a queue builds items in place.
     RenderItem(const Geometry* g, const Drawable* d, const glm::mat4& m, const ResolvedState* s,
                std::uint32_t effects, float viewDepth, std::int8_t bucket, std::uint32_t seq, ProgramKey key,
-               std::uint32_t featureBits)
+               FeatureMask featureBits)
         : geometry(g)
         , drawable(d)
         , model(m)

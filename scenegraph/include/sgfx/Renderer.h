@@ -234,7 +234,7 @@ private:
     void renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan, int depth);
     GraphicsContext& context_;
     Options options_;
-    std::uint32_t viewFeatures_ = 0; ///< variant bits that hold for the whole view (lights, depth test)
+    FeatureMask viewFeatures_ = 0; ///< variant bits that hold for the whole view (lights, depth test)
     ShaderComposer composer_;
     RenderQueue queue_;
     FramePlan plan_;

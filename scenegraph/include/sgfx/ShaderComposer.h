@@ -77,7 +77,7 @@ struct SGFX_API BaseShader {
 /// What a built-in material variant contains; each bit becomes a #define (SGFX_BASE_MAP, ...)
 /// so a plain material carries no texture fetch, no unused varying and no `discard`. A new bit
 /// goes into kAllMaterialFeatures too (it must fit ProgramKey::Features).
-enum MaterialFeature : std::uint32_t {
+enum MaterialFeature : std::uint64_t {
     FeatureBaseMap = 1u << 0,
     FeatureAlphaMap = 1u << 1,
     FeatureNormalMap = 1u << 2,
@@ -116,7 +116,7 @@ enum MaterialFeature : std::uint32_t {
 };
 
 /// Every MaterialFeature bit.
-inline constexpr std::uint32_t kAllMaterialFeatures =
+inline constexpr FeatureMask kAllMaterialFeatures =
     FeatureBaseMap | FeatureAlphaMap | FeatureNormalMap | FeatureVertexColor | FeatureNormals |
     FeatureTangents | FeatureTexCoords | FeatureAlphaMask | FeatureBlend | FeatureSpecular |
     FeatureMetallicRoughness | FeatureVertexLighting | FeatureLightCountMask | FeatureWorldPosition |
@@ -140,18 +140,18 @@ public:
     /// Text only (no GL): testable anywhere.
     static ComposedProgram composeBuiltin(const BaseShader& base,
                                           std::span<const ShaderSnippet* const> snippets,
-                                          std::uint32_t features = 0);
-    static std::string featureDefines(std::uint32_t features);
+                                          FeatureMask features = 0);
+    static std::string featureDefines(FeatureMask features);
     /// The variant a material needs for a geometry (attributes present, textures, mask, blending).
-    static std::uint32_t featuresFor(const Material* material, const Geometry& geometry, bool blended,
+    static FeatureMask featuresFor(const Material* material, const Geometry& geometry, bool blended,
                                      BlendMode blend = BlendMode::Alpha);
     /// The blend-kind bits alone (the only feature bits a foreign shader's wrap uses).
-    static std::uint32_t blendFeatures(bool blended, BlendMode blend);
+    static FeatureMask blendFeatures(bool blended, BlendMode blend);
     /// Adds FeatureWorldPosition where the variant or its snippets read the world position.
-    static std::uint32_t withWorldPosition(std::uint32_t features, bool hasSnippets);
+    static FeatureMask withWorldPosition(FeatureMask features, bool hasSnippets);
     static ComposedProgram composeForeign(const ShaderProgram& program,
                                           std::span<const ShaderSnippet* const> snippets,
-                                          std::uint32_t features = 0);
+                                          FeatureMask features = 0);
     /// Rewrites "S:L(C): msg" / "S(L) : msg" driver lines into "name:line: msg".
     static std::string translateLog(std::string_view log, std::span<const std::string> sourceNames);
 
@@ -164,9 +164,9 @@ public:
 
     /// Compiles on a miss (GL thread). `foreign` null = built-in material.
     gl::Program& program(const ShaderProgram* foreign, std::span<const ShaderSnippet* const> snippets,
-                         std::uint32_t features = 0);
+                         FeatureMask features = 0);
     gl::Program& program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
-                         std::uint32_t features = 0);
+                         FeatureMask features = 0);
 
     std::size_t hits() const { return hits_; }
     std::size_t misses() const { return misses_; }

@@ -33,7 +33,7 @@ enum Unit : unsigned {
 };
 
 // Variant bits that only matter for shading: G-buffer variants leave them out.
-constexpr std::uint32_t kLightingFeatures = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
+constexpr FeatureMask kLightingFeatures = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
                                             FeatureVertexLighting | FeatureLightCountMask |
                                             FeaturePointLights;
 
@@ -108,7 +108,7 @@ private:
     const ResolvedState* state = nullptr;
     const Material* material = nullptr;
     std::uint32_t effectSet = ~0u;
-    std::uint32_t programExtra = 0; // FeatureBatched when the current program draws batches
+    FeatureMask programExtra = 0; // FeatureBatched when the current program draws batches
     bool batchesBound = true;       // the batch matrices are bound at kBatchBinding
     std::size_t batchBase = 0;      // the next batch's first matrix
     std::vector<const ShaderSnippet*> snippets;
@@ -130,7 +130,7 @@ void Renderer::DrawList::draw(std::span<const RenderItem> items) {
         // Repeated meshes: neighbours in the sorted list that differ only in their matrix are
         // drawn as one instanced batch (the trees and buildings of a simulator scene).
         run = batchLength(items.subspan(i));
-        const std::uint32_t extra = run > 1 ? FeatureBatched : 0u;
+        const FeatureMask extra = run > 1 ? FeatureMask(FeatureBatched) : 0u;
         if (selectProgram(item, extra)) {
             state = nullptr;
             material = nullptr;
@@ -234,7 +234,7 @@ bool Renderer::DrawList::selectDrawableProgram(const RenderItem& item) {
     if (!depthOnly)
         for (const EffectNode* e : r.current_->effectSets[item.effectSet].effects)
             snippets.push_back(&e->snippet());
-    const std::uint32_t features = mode == DrawMode::GBuffer
+    const FeatureMask features = mode == DrawMode::GBuffer
                                        ? (item.features & ~kLightingFeatures) | FeatureGBuffer
                                    : mode == DrawMode::DepthOnly ? item.features & ~FeatureBlend
                                                                  : item.features | r.viewFeatures_;
@@ -249,7 +249,7 @@ bool Renderer::DrawList::selectComposedProgram(const RenderItem& item, std::uint
     snippets.clear();
     for (const EffectNode* e : set.effects)
         snippets.push_back(&e->snippet());
-    const std::uint32_t features =
+    const FeatureMask features =
         item.program()
             ? (snippets.empty() ? 0u : item.features) // a foreign wrap uses the blend bits
             : ShaderComposer::withWorldPosition(
@@ -271,7 +271,7 @@ bool Renderer::DrawList::selectDepthProgram(const RenderItem& item, std::uint32_
     const bool builtin = !item.program();
     const bool own = builtin && (mode == DrawMode::GBuffer || extra ||
                                  (item.features & (FeatureAlphaMask | FeatureInstanced)));
-    const std::uint32_t features =
+    const FeatureMask features =
         mode == DrawMode::GBuffer
             ? (item.features & ~kLightingFeatures) | extra | FeatureGBuffer | FeatureWorldPosition
             : ShaderComposer::withWorldPosition((item.features & ~FeatureBlend) | extra | r.viewFeatures_,

@@ -41,7 +41,7 @@ int PassCommands::samples(ResourceId id) const {
 }
 
 gl::Program& PassCommands::program(const BaseShader& base, std::span<const ShaderSnippet* const> snippets,
-                                   std::uint32_t features) {
+                                   FeatureMask features) {
     return renderer_.composer().program(base, snippets, features);
 }
 

@@ -216,9 +216,9 @@ void Renderer::View::uploadFrameBlock() {
         fb.lightVector[i] = queue_.lights[std::size_t(i)].vector;
         fb.lightColor[i] = glm::vec4(queue_.lights[std::size_t(i)].color, 0.0f);
     }
-    std::uint32_t& features = r_.viewFeatures_;
-    features = (std::uint32_t(nLights) << FeatureLightCountShift) |
-               (r_.options_.lighting == RendererOptions::Lighting::PerVertex ? FeatureVertexLighting : 0u);
+    FeatureMask& features = r_.viewFeatures_;
+    features = (FeatureMask(nLights) << FeatureLightCountShift) |
+               (r_.options_.lighting == RendererOptions::Lighting::PerVertex ? FeatureMask(FeatureVertexLighting) : 0u);
     for (int i = 0; i < nLights; ++i)
         if (queue_.lights[std::size_t(i)].vector.w != 0.0f) features |= FeaturePointLights;
     glNamedBufferSubData(s_.frameUbo.get(), 0, sizeof fb, &fb);

@@ -119,7 +119,7 @@ public:
 
     /// Drawable
     const BaseShader& baseShader() const override;
-    std::uint32_t features(const ResolvedState& state) const override;
+    FeatureMask features(const ResolvedState& state) const override;
     BoundingSphere worldBound(const glm::mat4& model) const override;
     void setupFrame(FrameSetup& frame) const override;
     void update(UpdateVisitor& uv) override;

@@ -57,7 +57,7 @@ public:
 
     const BaseShader& baseShader() const override;
     void setupFrame(FrameSetup& frame) const override;
-    std::uint32_t features(const ResolvedState&) const override { return 0; }
+    FeatureMask features(const ResolvedState&) const override { return 0; }
     bool background() const override { return true; }
     void update(UpdateVisitor& uv) override;
     void draw(Renderer& renderer, gl::Program& program, const RenderItem& item) const override;

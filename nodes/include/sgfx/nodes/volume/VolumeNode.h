@@ -104,7 +104,7 @@ public:
     static std::shared_ptr<StateSet> defaultState();
 
     const BaseShader& baseShader() const override;
-    std::uint32_t features(const ResolvedState&) const override { return FeatureWorldPosition; }
+    FeatureMask features(const ResolvedState&) const override { return FeatureWorldPosition; }
     void setupFrame(FrameSetup& frame) const override;
     void compile(Renderer& renderer) const override;
     void draw(Renderer& renderer, gl::Program& program, const RenderItem& item) const override;
