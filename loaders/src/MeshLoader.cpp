@@ -1,12 +1,18 @@
 #include "sgfx/MeshLoader.h"
 
+#include "ObjColour.h"
+
 // OpenMesh wants its IO header before the kernel headers.
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
 
 namespace sgfx {
 
@@ -31,11 +37,68 @@ void checkExtension(const std::filesystem::path& file) {
         fail(file, "'" + ext + "' is not one of .obj, .off, .ply, .stl");
 }
 
+// The OBJ file's vertex colours for the mesh OpenMesh read from it: its vertices are the file's
+// `v` lines in order, then copies of them made for faces that would not fit a manifold mesh
+// (OpenMesh's ImporterT copies the point only), which take the colour of the first file vertex at
+// the same position.
+std::vector<glm::vec4> objColours(const std::filesystem::path& file, const Mesh& mesh,
+                                  const std::vector<glm::vec4>& colours) {
+    if (colours.empty()) return {};
+    if (mesh.n_vertices() < colours.size())
+        fail(file, "OpenMesh read " + std::to_string(mesh.n_vertices()) + " of its " +
+                       std::to_string(colours.size()) + " vertices: their colours cannot be matched");
+    std::vector<glm::vec4> out(colours);
+    std::map<std::array<float, 3>, std::size_t> firstAt;
+    for (std::size_t i = colours.size(); i < mesh.n_vertices(); ++i) {
+        if (firstAt.empty())
+            for (std::size_t k = colours.size(); k-- > 0;) {
+                const auto p = mesh.point(Mesh::VertexHandle(int(k)));
+                firstAt[{p[0], p[1], p[2]}] = k;
+            }
+        const auto p = mesh.point(Mesh::VertexHandle(int(i)));
+        const auto it = firstAt.find({p[0], p[1], p[2]});
+        out.push_back(it == firstAt.end() ? glm::vec4(1.0f) : colours[it->second]);
+    }
+    return out;
+}
+
+struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+// OpenMesh's OBJ writer has no vertex colours: a geometry with colours is written here, in the form
+// that loadMesh and loadMeshModel read back (`v x y z r g b`, sRGB-encoded; ObjColour.h).
+void writeColouredObj(const Geometry& g, const std::filesystem::path& file) {
+    std::unique_ptr<std::FILE, FileCloser> f(std::fopen(file.c_str(), "w"));
+    if (!f) fail(file, "cannot be written");
+    std::fprintf(f.get(), "# written by sgfx\n");
+    for (std::size_t i = 0; i < g.positions.size(); ++i)
+        obj::writeVertex(f.get(), g.positions[i], &g.colors[i]);
+    for (const glm::vec3& n : g.normals)
+        std::fprintf(f.get(), "vn %.6g %.6g %.6g\n", double(n.x), double(n.y), double(n.z));
+    const std::size_t n = g.elementCount();
+    for (std::size_t k = 0; k + 2 < n; k += 3) {
+        std::fprintf(f.get(), "f");
+        for (std::size_t j = k; j < k + 3; ++j) {
+            const std::size_t v = (g.indices.empty() ? j : std::size_t(g.indices[j])) + 1;
+            if (g.normals.empty())
+                std::fprintf(f.get(), " %zu", v);
+            else
+                std::fprintf(f.get(), " %zu//%zu", v, v);
+        }
+        std::fprintf(f.get(), "\n");
+    }
+    if (std::ferror(f.get())) fail(file, "write error");
+}
+
 } // namespace
 
 std::shared_ptr<Geometry> loadMesh(const std::filesystem::path& file) {
     checkExtension(file);
     if (!std::filesystem::is_regular_file(file)) fail(file, "no such file");
+    // OBJ vertex colours: read (and their lines checked) by sgfx, as loadMeshModel reads them.
+    const std::vector<glm::vec4> colours =
+        extensionOf(file) == ".obj" ? obj::readVertexColours(file) : std::vector<glm::vec4>();
     Mesh mesh;
     mesh.request_vertex_normals();
     OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexNormal;
@@ -64,6 +127,7 @@ std::shared_ptr<Geometry> loadMesh(const std::filesystem::path& file) {
     for (const auto f : mesh.faces())
         for (const auto v : mesh.fv_range(f))
             g->indices.push_back(std::uint32_t(v.idx()));
+    g->colors = objColours(file, mesh, colours);
     g->validate();
     return g;
 }
@@ -72,6 +136,7 @@ void writeMesh(const Geometry& g, const std::filesystem::path& file) {
     checkExtension(file);
     if (g.mode != PrimitiveMode::Triangles) fail(file, "only triangle geometry can be written");
     g.validate();
+    if (!g.colors.empty() && extensionOf(file) == ".obj") return writeColouredObj(g, file);
     Mesh mesh;
     mesh.request_vertex_normals();
     std::vector<Mesh::VertexHandle> handles;

@@ -2,7 +2,11 @@
 // tells faces apart by a texture index and colour (materials without map_Kd, or with equal Kd, cannot
 // be told apart; Ks, Ns, Ke and d are lost) and drops faces it cannot add to a manifold mesh, so the
 // faces, their `usemtl` ranges and the MTL file are read here; other formats go through loadMesh.
+// Vertex colours (`v x y z r g b`, ObjColour.h) become Geometry::colors, decoded to linear; loadMesh
+// reads them for its OBJ files through obj::readVertexColours.
 #include "sgfx/MeshLoader.h"
+
+#include "ObjColour.h"
 
 #include <sgfx/Image.h>
 #include <sgfx/Material.h>
@@ -216,6 +220,48 @@ std::map<std::string, MtlMaterial> readMtl(const std::filesystem::path& file) {
     return out;
 }
 
+// Vertex colours as the `v` lines give them (ObjColour.h): the numbers, and which vertices have them.
+struct VertexColours {
+    std::vector<glm::vec3> raw; // one per vertex, (1, 1, 1) for a vertex without a colour
+    std::vector<bool> has;
+    bool any = false;
+    bool bytes = false; // a component above 1: the file's colours are 0..255
+
+    // Linear, alpha 1; white for a vertex without a colour.
+    glm::vec4 linear(std::size_t vertex) const {
+        if (!has[vertex]) return glm::vec4(1.0f);
+        const glm::vec3 s = raw[vertex] / (bytes ? 255.0f : 1.0f);
+        return {obj::srgbToLinear(s.r), obj::srgbToLinear(s.g), obj::srgbToLinear(s.b), 1.0f};
+    }
+};
+
+// A `v` line: x y z; x y z w (the weight of a rational curve's control point: ignored); or
+// x y z r g b, a vertex colour (ObjColour.h). Returns the position, adds the colour.
+glm::vec3 readVertex(const Lines& l, const std::vector<std::string>& t, VertexColours& colours) {
+    if (t.size() != 4 && t.size() != 5 && t.size() != 7)
+        l.fail("'v' takes 3, 4 or 6 numbers (x y z, x y z w or x y z r g b), not " +
+               std::to_string(t.size() - 1));
+    const glm::vec3 p(l.number_(t[1]), l.number_(t[2]), l.number_(t[3]));
+    if (t.size() == 5) (void)l.number_(t[4]);
+    glm::vec3 c(1.0f);
+    if (t.size() == 7) {
+        for (int k = 0; k < 3; ++k) {
+            const std::string& s = t[std::size_t(4 + k)];
+            c[k] = l.number_(s);
+            if (c[k] < 0.0f) l.fail("colour component '" + s + "' is negative");
+            if (c[k] > 255.0f)
+                l.fail("colour component '" + s +
+                       "' is above 255 (colours are 0..1, or 0..255 in a file where "
+                       "any component is above 1)");
+            colours.bytes = colours.bytes || c[k] > 1.0f;
+        }
+        colours.any = true;
+    }
+    colours.raw.push_back(c);
+    colours.has.push_back(t.size() == 7);
+    return p;
+}
+
 // The vertex of one face corner: position, texcoord and normal indices (-1: none).
 using Corner = std::array<long, 3>;
 struct CornerHash {
@@ -229,10 +275,46 @@ struct Group_ {
     std::vector<Corner> corners; // three per triangle
 };
 
+// What the `v`, `vt` and `vn` lines gave, and the smooth normals made for corners without one.
+struct Vertices {
+    const std::vector<glm::vec3>& positions;
+    const std::vector<glm::vec3>& normals;
+    const std::vector<glm::vec2>& texcoords;
+    const std::vector<glm::vec3>& smooth;
+    const VertexColours& colours;
+};
+
+// One vertex per distinct (position, texcoord, normal) of the group's corners: glTF-style
+// attributes. Texcoords when a corner has one, colours when a corner's position has one.
+std::shared_ptr<Geometry> buildGeometry(const Group_& g, const Vertices& v) {
+    auto geometry = Geometry::create();
+    const bool uv =
+        std::any_of(g.corners.begin(), g.corners.end(), [](const Corner& c) { return c[1] >= 0; });
+    const bool coloured =
+        v.colours.any && std::any_of(g.corners.begin(), g.corners.end(),
+                                     [&](const Corner& c) { return v.colours.has[std::size_t(c[0])]; });
+    std::unordered_map<Corner, std::uint32_t, CornerHash> vertexOf;
+    for (const Corner& c : g.corners) {
+        auto [it, added] = vertexOf.try_emplace(c, std::uint32_t(geometry->positions.size()));
+        if (added) {
+            geometry->positions.push_back(v.positions[std::size_t(c[0])]);
+            glm::vec3 n = c[2] >= 0 ? v.normals[std::size_t(c[2])] : v.smooth[std::size_t(c[0])];
+            const float len = glm::length(n);
+            geometry->normals.push_back(len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0, 0, 1));
+            if (uv)
+                geometry->texcoords.push_back(c[1] >= 0 ? v.texcoords[std::size_t(c[1])] : glm::vec2(0.0f));
+            if (coloured) geometry->colors.push_back(v.colours.linear(std::size_t(c[0])));
+        }
+        geometry->indices.push_back(it->second);
+    }
+    return geometry;
+}
+
 std::shared_ptr<Group> loadObj(const std::filesystem::path& file) {
     Lines l = open(file, "OBJ");
     std::vector<glm::vec3> positions, normals;
     std::vector<glm::vec2> texcoords;
+    VertexColours colours;
     std::vector<Group_> groups;
     std::map<std::string, std::size_t> groupOf;
     std::map<std::string, MtlMaterial> materials;
@@ -247,9 +329,7 @@ std::shared_ptr<Group> loadObj(const std::filesystem::path& file) {
         if (t.empty()) continue;
         const std::string& key = t[0];
         if (key == "v") {
-            // x y z [w] or x y z r g b (vertex colours are ignored).
-            if (t.size() != 4 && t.size() != 5 && t.size() != 7) l.fail("'v' takes 3, 4 or 6 numbers");
-            positions.emplace_back(l.number_(t[1]), l.number_(t[2]), l.number_(t[3]));
+            positions.push_back(readVertex(l, t, colours));
         } else if (key == "vt") {
             if (t.size() < 2 || t.size() > 4) l.fail("'vt' takes 1 to 3 numbers");
             const float u = l.number_(t[1]), v = t.size() > 2 ? l.number_(t[2]) : 0.0f;
@@ -340,24 +420,8 @@ std::shared_ptr<Group> loadObj(const std::filesystem::path& file) {
     std::size_t triangles = 0;
     for (const Group_& g : groups) {
         if (g.corners.empty()) continue;
-        auto geometry = Geometry::create();
+        auto geometry = buildGeometry(g, {positions, normals, texcoords, smooth, colours});
         geometry->name = g.material.empty() ? file.filename().string() : g.material;
-        const bool uv =
-            std::any_of(g.corners.begin(), g.corners.end(), [](const Corner& c) { return c[1] >= 0; });
-        // One vertex per distinct (position, texcoord, normal): glTF-style attributes.
-        std::unordered_map<Corner, std::uint32_t, CornerHash> vertexOf;
-        for (const Corner& c : g.corners) {
-            auto [it, added] = vertexOf.try_emplace(c, std::uint32_t(geometry->positions.size()));
-            if (added) {
-                geometry->positions.push_back(positions[std::size_t(c[0])]);
-                glm::vec3 n = c[2] >= 0 ? normals[std::size_t(c[2])] : smooth[std::size_t(c[0])];
-                const float len = glm::length(n);
-                geometry->normals.push_back(len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0, 0, 1));
-                if (uv)
-                    geometry->texcoords.push_back(c[1] >= 0 ? texcoords[std::size_t(c[1])] : glm::vec2(0.0f));
-            }
-            geometry->indices.push_back(it->second);
-        }
         if (const auto m = materials.find(g.material); m != materials.end()) {
             auto state = std::make_shared<StateSet>();
             try {
@@ -379,6 +443,23 @@ std::shared_ptr<Group> loadObj(const std::filesystem::path& file) {
 }
 
 } // namespace
+
+std::vector<glm::vec4> obj::readVertexColours(const std::filesystem::path& file) {
+    Lines l = open(file, "OBJ");
+    VertexColours colours;
+    for (std::string line; l.next(line);) {
+        // Only `v` lines are split: faces and the rest are OpenMesh's to read.
+        const auto first = line.find_first_not_of(" \t");
+        if (first == std::string::npos || line[first] != 'v' || first + 1 >= line.size() ||
+            !std::isspace(static_cast<unsigned char>(line[first + 1])))
+            continue;
+        (void)readVertex(l, split(line), colours);
+    }
+    std::vector<glm::vec4> out;
+    for (std::size_t i = 0; colours.any && i < colours.has.size(); ++i)
+        out.push_back(colours.linear(i));
+    return out;
+}
 
 std::shared_ptr<Group> loadMeshModel(const std::filesystem::path& file) {
     std::string ext = lower(file.extension().string());

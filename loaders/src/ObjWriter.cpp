@@ -1,5 +1,6 @@
 #include "sgfx/ObjWriter.h"
 
+#include "ObjColour.h"
 #include "WorldGeometryVisitor.h"
 
 #include <sgfx/Geometry.h>
@@ -38,10 +39,11 @@ protected:
         std::fprintf(obj_, "o %s_%zu\nusemtl %s\n", g.name.empty() ? "geometry" : g.name.c_str(),
                      result.objects, it->second.c_str());
         const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(world)));
-        for (const auto& p : g.positions) {
-            const glm::vec3 w = glm::vec3(world * glm::vec4(p, 1));
-            std::fprintf(obj_, "v %.6g %.6g %.6g\n", w.x, w.y, w.z);
-        }
+        // Vertex colours as `v x y z r g b`, sRGB-encoded (ObjColour.h); alpha is not written.
+        const bool colours = !g.colors.empty();
+        for (std::size_t i = 0; i < g.positions.size(); ++i)
+            obj::writeVertex(obj_, glm::vec3(world * glm::vec4(g.positions[i], 1)),
+                             colours ? &g.colors[i] : nullptr);
         const bool normals = !g.normals.empty();
         for (const auto& n : g.normals) {
             const glm::vec3 w = glm::normalize(nm * n);
@@ -133,11 +135,14 @@ ObjWriteResult writeObj(Node& root, const std::filesystem::path& path) {
     for (const auto& [m, name] : v.materials) {
         const Material def;
         const Material& mm = m ? *m : def;
-        std::fprintf(
-            mtl.get(),
-            "newmtl %s\nKa %.4g %.4g %.4g\nKd %.4g %.4g %.4g\nKs %.4g %.4g %.4g\nNs %.4g\nd %.4g\n\n",
-            name.c_str(), mm.ambient.r, mm.ambient.g, mm.ambient.b, mm.diffuse.r, mm.diffuse.g, mm.diffuse.b,
-            mm.specular.r, mm.specular.g, mm.specular.b, mm.shininess, mm.diffuse.a);
+        // Linear values, as loadMeshModel reads them back; Ke only when the material glows.
+        std::fprintf(mtl.get(),
+                     "newmtl %s\nKa %.6g %.6g %.6g\nKd %.6g %.6g %.6g\nKs %.6g %.6g %.6g\nNs %.6g\nd %.6g\n",
+                     name.c_str(), mm.ambient.r, mm.ambient.g, mm.ambient.b, mm.diffuse.r, mm.diffuse.g,
+                     mm.diffuse.b, mm.specular.r, mm.specular.g, mm.specular.b, mm.shininess, mm.diffuse.a);
+        if (mm.emissive != glm::vec3(0.0f))
+            std::fprintf(mtl.get(), "Ke %.6g %.6g %.6g\n", mm.emissive.r, mm.emissive.g, mm.emissive.b);
+        std::fprintf(mtl.get(), "\n");
         if (const auto image = diffuseMap(mm)) {
             auto png = path;
             png.replace_filename(path.stem().string() + "_" + name + ".png");
