@@ -1,7 +1,8 @@
 #version 450 core
 // Built-in material, fragment stage, in linear colour: Blinn-Phong, or glTF's metallic-roughness
 // model with SGFX_METALLIC_ROUGHNESS (brdf_metallic_roughness.glsl).
-// Hooks: @sgfx:ambient may change sgfx_ambient; @sgfx:color may change sgfx_color.
+// Hooks: @sgfx:ambient may change sgfx_ambient (ambient light) and sgfx_indirect (scales all
+// indirect light: ambient and environment); @sgfx:color may change sgfx_color.
 // Feature defines (SGFX_BASE_MAP, SGFX_ALPHA_MAP, SGFX_NORMAL_MAP, SGFX_VERTEX_COLOR,
 // SGFX_NORMALS, SGFX_TANGENTS, SGFX_ALPHA_MASK, SGFX_BLEND, ...) are set per variant: a material
 // without an alpha mask has no `discard`, so the rasterizer keeps early depth rejection.
@@ -81,8 +82,9 @@ layout(location = 2) out vec4 sgfx_gPosition; // view-space position
 // @sgfx:fragment_decl
 
 #include "brdf_metallic_roughness.glsl"
+#include "material_environment.glsl"
 
-#ifndef SGFX_VERTEX_LIGHTING
+#if !defined(SGFX_VERTEX_LIGHTING) || defined(SGFX_ENVIRONMENT)
 vec3 surfaceNormal() {
 #ifdef SGFX_NORMALS
     vec3 N = normalize(v_worldNormal);
@@ -166,6 +168,7 @@ void main() {
     vec3 sgfx_worldPos = vec3(0.0); // no snippet or light of this variant reads it
 #endif
     vec3 sgfx_eyePos = sgfx_eye.xyz;
+    float sgfx_indirect = 1.0;
     // @sgfx:ambient
 #ifdef SGFX_METALLIC_ROUGHNESS
     float metallic = sgfx_matMetallicRoughness.x;
@@ -181,12 +184,12 @@ void main() {
     ambientColor = diffuseColor + f0;
 #endif
 #ifdef SGFX_OCCLUSION_MAP
-    // glTF occlusion: darkens indirect (ambient) light only.
-    ambientColor *= 1.0 + sgfx_occlusionStrength * (texture(sgfx_occlusionMap, sgfx_uv(4)).r - 1.0);
+    // glTF occlusion: darkens indirect (ambient and environment) light only.
+    sgfx_indirect *= 1.0 + sgfx_occlusionStrength * (texture(sgfx_occlusionMap, sgfx_uv(4)).r - 1.0);
 #endif
     // Light the surface scatters (scaled by its coverage when the output is premultiplied) and
     // light it adds on top (emission, specular reflection: glass keeps its highlights).
-    vec3 color = sgfx_ambient * ambientColor;
+    vec3 color = sgfx_indirect * sgfx_ambient * ambientColor;
     vec3 added = sgfx_matEmissive;
 #ifdef SGFX_EMISSIVE_MAP
     added *= texture(sgfx_emissiveMap, sgfx_uv(5)).rgb;
@@ -232,6 +235,23 @@ void main() {
 #endif
 #endif
     }
+#endif
+#ifdef SGFX_ENVIRONMENT
+#ifdef SGFX_VERTEX_LIGHTING
+    vec3 envN = surfaceNormal();
+#else
+    vec3 envN = N;
+#endif
+    vec3 envColor = vec3(0.0), envAdded = vec3(0.0);
+#ifdef SGFX_METALLIC_ROUGHNESS
+    environmentMetallicRoughness(envN, normalize(sgfx_eye.xyz - v_worldPos), diffuseColor, f0, roughness, envColor,
+                                 envAdded);
+#else
+    environmentBlinnPhong(envN, normalize(sgfx_eye.xyz - v_worldPos), base.rgb, sgfx_matSpecular, sgfx_matShininess,
+                          envColor, envAdded);
+#endif
+    color += sgfx_indirect * envColor;
+    added += sgfx_indirect * envAdded;
 #endif
     // Premultiplied output (SGFX_BLEND_PREMULTIPLIED): colour effects at the hook below see and
     // keep premultiplied colour.

@@ -3,6 +3,7 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace sgfx {
@@ -45,6 +46,40 @@ Image readPng(const std::filesystem::path& path) {
     img.channels = c;
     img.pixels.assign(data, data + std::size_t(w) * h * c);
     stbi_image_free(data);
+    return img;
+}
+
+namespace {
+float srgbToLinear(std::uint8_t v) {
+    const float c = float(v) / 255.0f;
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+} // namespace
+
+FloatImage readImageLinear(const std::filesystem::path& path) {
+    auto fail = [&](const std::string& why) {
+        return std::runtime_error("sgfx: could not read image " + path.string() + ": " + why);
+    };
+    FloatImage img;
+    int c = 0;
+    if (stbi_is_hdr(path.c_str())) {
+        float* data = stbi_loadf(path.c_str(), &img.width, &img.height, &c, 4);
+        if (!data) throw fail(stbi_failure_reason() ? stbi_failure_reason() : "unknown");
+        img.rgba.assign(data, data + std::size_t(img.width) * img.height * 4);
+        stbi_image_free(data);
+    } else {
+        stbi_uc* data = stbi_load(path.c_str(), &img.width, &img.height, &c, 4);
+        if (!data) throw fail(stbi_failure_reason() ? stbi_failure_reason() : "unknown");
+        img.rgba.resize(std::size_t(img.width) * img.height * 4);
+        for (std::size_t i = 0; i < img.rgba.size(); ++i)
+            img.rgba[i] = i % 4 == 3 ? float(data[i]) / 255.0f : srgbToLinear(data[i]);
+        stbi_image_free(data);
+    }
+    for (std::size_t i = 0; i < img.rgba.size(); ++i)
+        if (!std::isfinite(img.rgba[i]) || img.rgba[i] < 0.0f)
+            throw fail("texel (" + std::to_string(i / 4 % std::size_t(img.width)) + ", " +
+                       std::to_string(i / 4 / std::size_t(img.width)) + ") is " +
+                       std::to_string(img.rgba[i]) + " (not a finite, non-negative value)");
     return img;
 }
 

@@ -30,6 +30,8 @@ Renderer::Renderer(GraphicsContext& context, Options options)
     impl_->emptyVao = gl::createVertexArray();
     glNamedBufferData(impl_->frameUbo.get(), sizeof(render::FrameBlock), nullptr, GL_DYNAMIC_DRAW);
     render::enableDebugOutput(impl_->log);
+    // Cube maps (environment light) filter across face edges, as every GL 4 implementation can.
+    glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
     // Defaults for attributes a geometry leaves out (context state, not VAO state).
     glVertexAttrib3f(1, 0.0f, 0.0f, 1.0f);
     glVertexAttrib4f(2, 1.0f, 0.0f, 0.0f, 1.0f);

@@ -19,17 +19,21 @@ struct DrawContext;
 
 /// A sampler of a snippet that reads a frame resource (the fog's nearest depth, the occlusion
 /// map): the renderer binds the resource published under `resource` to the uniform `uniform` on a
-/// unit it chooses, and the main pass's frame-graph node reads the resource.
+/// unit it chooses, and the main pass's frame-graph node reads the resource. With `nodeTexture`
+/// it binds the node's own texture instead (EffectNode::texture(resource): lookup tables,
+/// environment maps made in compile()), which is no frame resource.
 struct SGFX_API SnippetSampler {
-    std::string uniform;  ///< `uniform sampler2D <uniform>;` in the snippet's declarations
-    std::string resource; ///< blackboard name (see FrameSetup.h)
+    std::string uniform;  ///< `uniform sampler2D <uniform>;` (or samplerCube) in the declarations
+    std::string resource; ///< blackboard name (see FrameSetup.h), or the node's name for it
+    bool nodeTexture = false;
 };
 
 /// GLSL an effect contributes at the material's hook points. Every field may be empty.
 ///  vertexDecl/fragmentDecl: uniforms, varyings, functions (file scope)
 ///  vertexCode:   runs after the world position is known; may read/write
 ///                `vec3 sgfx_worldPos`, `vec3 sgfx_worldNormal`, `vec4 sgfx_viewPos`
-///  ambientCode:  may modify `vec3 sgfx_ambient` (the ambient light term)
+///  ambientCode:  may modify `vec3 sgfx_ambient` (the ambient light term) and `float
+///                sgfx_indirect` (scales all indirect light: ambient and environment)
 ///  colorCode:    may modify `vec4 sgfx_color` (final linear colour, before output);
 ///                `vec3 sgfx_worldPos` and `vec3 sgfx_eyePos` are available.
 struct SGFX_API ShaderSnippet {
@@ -62,6 +66,9 @@ public:
     virtual void compile(Renderer&) const {}
     /// Sets this effect's uniforms on a program that contains its snippet.
     virtual void applyUniforms(gl::Program&, const DrawContext&) const {}
+    /// The GL texture the node made in compile() for a SnippetSampler with `nodeTexture` (0: none
+    /// yet, the sampler reads nothing).
+    virtual unsigned texture(std::string_view /*resource*/) const { return 0; }
     /// Whether this effect draws the blended items below it that use `mode` itself (in a pass of
     /// its own, from RenderQueue::claimed) instead of the main pass's sorted transparent stage.
     virtual bool drawsBlended(BlendMode) const { return false; }

@@ -32,5 +32,10 @@ struct SGFX_API FloatImage {
 /// Throws std::runtime_error with the path and the reason.
 SGFX_API void writePng(const std::filesystem::path& path, const Image& image);
 SGFX_API Image readPng(const std::filesystem::path& path);
+/// Reads any image stb_image reads as linear RGBA: Radiance `.hdr` as stored, 8-bit files
+/// (PNG, JPEG, ...) decoded from sRGB (IEC 61966-2-1), opaque when they have no alpha. Throws
+/// std::runtime_error with the path and the reason; NaN, infinite or negative texels are refused
+/// naming the first one.
+SGFX_API FloatImage readImageLinear(const std::filesystem::path& path);
 
 } // namespace sgfx

@@ -255,7 +255,10 @@ bool Renderer::DrawList::selectComposedProgram(const RenderItem& item, std::uint
             : ShaderComposer::withWorldPosition(
                   item.features | r.viewFeatures_ | extra,
                   std::any_of(snippets.begin(), snippets.end(), [](const ShaderSnippet* sn) {
-                      return !sn->vertexCode.empty() || !sn->ambientCode.empty() || !sn->colorCode.empty();
+                      // Declared functions too: the material calls the environment light's with
+                      // the view direction.
+                      return !sn->vertexCode.empty() || !sn->ambientCode.empty() || !sn->colorCode.empty() ||
+                             !sn->fragmentDecl.empty();
                   }));
     program = &r.composer_.program(item.program(), snippets, features);
     programKey = item.programKey;
@@ -300,8 +303,11 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
                     "sgfx: the effects above '" + item.node().name + "' sample more than " +
                     std::to_string(gl::StateCache::kUnits - render::kFirstFrameResourceUnit) +
                     " frame resources");
-            s.cache.bindTexture(unit,
-                                s.graph ? s.graph->texture(s.graph->blackboard.get(sampler.resource)) : 0);
+            const unsigned texture =
+                sampler.nodeTexture ? e->texture(sampler.resource)
+                : s.graph           ? s.graph->texture(s.graph->blackboard.get(sampler.resource))
+                                    : 0;
+            s.cache.bindTexture(unit, texture);
             program->set(sampler.uniform, int(unit++));
         }
     }

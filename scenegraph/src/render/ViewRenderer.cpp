@@ -407,6 +407,7 @@ Renderer::View::snippetSamplers(std::span<const RenderItem> items) const {
         if (!used[i]) continue;
         for (const EffectNode* e : queue_.effectSets[i].effects)
             for (const SnippetSampler& s : e->snippet().samplers) {
+                if (s.nodeTexture) continue; // the node's own, not the frame graph's
                 if (!graph_.blackboard.has(s.resource))
                     throw std::logic_error("sgfx: effect '" + std::string(e->kind()) + "' samples '" +
                                            s.resource + "', which no pass of the frame makes");

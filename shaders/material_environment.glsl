@@ -1,0 +1,24 @@
+// Image-based light on the built-in material. EnvironmentLightNode's snippet defines
+// SGFX_ENVIRONMENT and the sgfx_environment* functions (nodes/environment/env_light.glsl).
+// Split sum (Karis 2013): the specular lobe reflects E = F0·A + B of the light from everywhere,
+// and the diffuse layer gets what the lobe does not reflect, (1 − E).
+#ifdef SGFX_ENVIRONMENT
+void environmentMetallicRoughness(vec3 N, vec3 V, vec3 diffuseColor, vec3 f0, float roughness,
+                                  inout vec3 color, inout vec3 added) {
+    vec2 ab = sgfx_environmentBrdf(max(dot(N, V), 1e-4), roughness);
+    vec3 e = f0 * ab.x + ab.y;
+    color += diffuseColor * (vec3(1.0) - e) * sgfx_environmentDiffuse(N);
+    added += e * sgfx_environmentRadiance(reflect(-V, N), roughness);
+}
+
+// Blinn-Phong: the diffuse colour under the irradiance, the specular colour on the GGX lobe of
+// the same width (α = √(2/(n+2)), EnvironmentMath.h: roughnessFromShininess) without Fresnel.
+void environmentBlinnPhong(vec3 N, vec3 V, vec3 diffuse, vec3 specular, float shininess,
+                           inout vec3 color, inout vec3 added) {
+    color += diffuse * sgfx_environmentDiffuse(N);
+    if (specular == vec3(0.0)) return;
+    float roughness = sqrt(sqrt(2.0 / (max(shininess, 0.0) + 2.0)));
+    vec2 ab = sgfx_environmentBrdf(max(dot(N, V), 1e-4), roughness);
+    added += specular * (ab.x + ab.y) * sgfx_environmentRadiance(reflect(-V, N), roughness);
+}
+#endif
