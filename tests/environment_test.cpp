@@ -7,6 +7,7 @@
 
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 #include <sgfx/nodes/environment/EnvironmentLightNode.h>
+#include <sgfx/nodes/sky/SkyNode.h>
 
 #include <sgfx/Geometry.h>
 #include <sgfx/Material.h>
@@ -296,9 +297,51 @@ TEST(Environment, FilesLoadAndBadOnesNameTheFileAndTheReason) {
     } catch (const std::invalid_argument& err) {
         EXPECT_NE(std::string(err.what()).find("face 4 texel (2, 3)"), std::string::npos) << err.what();
     }
-    EXPECT_THROW(EnvironmentLightNode::create(nullptr), std::invalid_argument);
+    EXPECT_THROW(EnvironmentLightNode::create(std::shared_ptr<const Environment>()), std::invalid_argument);
+    EXPECT_THROW(EnvironmentLightNode::create(std::shared_ptr<const SkyNode>()), std::invalid_argument);
     auto node = EnvironmentLightNode::create(Environment::uniform(glm::vec3(1.0f)), 2.0f);
     EXPECT_THROW(node->setIntensity(-1.0f), std::invalid_argument);
     EXPECT_EQ(node->intensity(), 2.0f);
     std::filesystem::remove_all(dir);
+}
+
+TEST(Environment, SkyEnvironmentMatchesSkyMathInEveryFaceDirectionAndFollowsTheSun) {
+    SkyParameters p = SkyParameters::atTime(16.0f);
+    auto sky = SkyNode::create(p);
+    auto node = EnvironmentLightNode::create(sky);
+    node->addChild(shapes::sphere(1.0f));
+    auto v = test::orthoTopViewer(16, 2.0f);
+    v->setSceneData(node);
+    auto check = [&](const SkyParameters& now, const char* when) {
+        v->frame();
+        test::expectNoGlErrors(*v);
+        const auto e = node->environment();
+        ASSERT_TRUE(e) << when;
+        const env::CubeImage& c = e->radiance();
+        ASSERT_EQ(c.size, 32);
+        int checked = 0;
+        for (int f = 0; f < 6; ++f)
+            for (int t = 2; t < 32; t += 9)
+                for (int s = 2; s < 32; s += 9) {
+                    const glm::vec3 d =
+                        glm::normalize(env::cubeDirection(f, glm::vec2((s + 0.5f) / 32.0f, (t + 0.5f) / 32.0f)));
+                    const glm::vec3 expected = sky::skyRadiance(now.atmosphere, d, now.sunDirection, now.sunIntensity,
+                                                                now.altitude, now.steps, now.lightSteps);
+                    for (int ch = 0; ch < 3; ++ch)
+                        EXPECT_NEAR(c.texel(f, s, t)[ch], expected[ch], 0.01f * expected[ch] + 1e-4f)
+                            << when << ": face " << f << " texel " << s << "," << t << " channel " << ch;
+                    ++checked;
+                }
+        EXPECT_EQ(checked, 96);
+    };
+    check(p, "afternoon");
+    const auto before = node->environment();
+    p.sunDirection = sky::sunDirection(9.0f, 45.0f, 172);
+    sky->setParameters(p);
+    check(sky->parameters(), "morning");
+    EXPECT_NE(node->environment(), before) << "the sun moved but the environment was not rendered again";
+    v->frame();
+    const auto same = node->environment();
+    v->frame();
+    EXPECT_EQ(node->environment(), same) << "the sun stood still but the environment was rendered again";
 }

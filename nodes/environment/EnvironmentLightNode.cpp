@@ -2,7 +2,11 @@
 
 #include "EmbeddedShaders.h"
 
+#include <sgfx/nodes/sky/SkyNode.h>
+
 #include <sgfx/gl/Objects.h>
+
+#include <optional>
 
 #include <sgfx_glad/gl.h>
 
@@ -97,6 +101,8 @@ std::shared_ptr<const Environment> Environment::load(const std::filesystem::path
 // The GL copies of one environment, remade when the node's environment changes.
 struct EnvironmentLightNode::Gpu {
     std::shared_ptr<const Environment> uploaded; // kept alive: compared by address
+    std::shared_ptr<const Environment> fromSky;  // the followed sky's, when rendered
+    std::optional<SkyParameters> skyParameters;  // what fromSky was rendered from
     gl::TextureObject specular;
     gl::TextureObject brdf;
     int levels = 0;
@@ -114,6 +120,29 @@ EnvironmentLightNode::EnvironmentLightNode()
     : gpu_(std::make_unique<Gpu>()) {}
 
 EnvironmentLightNode::~EnvironmentLightNode() = default;
+
+std::shared_ptr<EnvironmentLightNode> EnvironmentLightNode::create(std::shared_ptr<const SkyNode> sky,
+                                                                   float intensity) {
+    if (!sky) throw std::invalid_argument("sgfx: EnvironmentLightNode: the sky is null");
+    auto n = std::make_shared<EnvironmentLightNode>();
+    n->followSky(std::move(sky));
+    n->setIntensity(intensity);
+    return n;
+}
+
+std::shared_ptr<const Environment> EnvironmentLightNode::environment() const {
+    return sky_ && gpu_->fromSky ? gpu_->fromSky : environment_;
+}
+
+void EnvironmentLightNode::followSky(std::shared_ptr<const SkyNode> sky, int size) {
+    if (size < 8 || size > 512 || (size & (size - 1)))
+        throw std::invalid_argument("sgfx: EnvironmentLightNode::followSky: size " + std::to_string(size) +
+                                    " is not a power of two from 8 to 512");
+    if (!sky && sky_ && gpu_->fromSky) environment_ = gpu_->fromSky; // keep the last
+    sky_ = std::move(sky);
+    skySize_ = size;
+    gpu_->skyParameters.reset();
+}
 
 void EnvironmentLightNode::setEnvironment(std::shared_ptr<const Environment> environment) {
     if (!environment) throw std::invalid_argument("sgfx: EnvironmentLightNode: the environment is null");
@@ -140,7 +169,7 @@ const ShaderSnippet& EnvironmentLightNode::snippet() const {
     return s;
 }
 
-void EnvironmentLightNode::compile(Renderer&) const {
+void EnvironmentLightNode::compile(Renderer& r) const {
     Gpu& g = *gpu_;
     if (!g.brdf) {
         // GL: node-owned data (the split-sum table, computed once by env::brdfTable)
@@ -150,9 +179,15 @@ void EnvironmentLightNode::compile(Renderer&) const {
         glTextureParameteri(g.brdf.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
         glTextureParameteri(g.brdf.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     }
-    if (g.uploaded == environment_ && g.specular) return;
+    if (sky_ && g.skyParameters != sky_->parameters()) {
+        // The sun moved (or the first frame): the sky again, prefiltered on the CPU.
+        g.fromSky = Environment::fromCube(sky_->renderEnvironment(r, skySize_));
+        g.skyParameters = sky_->parameters();
+    }
+    const std::shared_ptr<const Environment> current = environment();
+    if (!current || (g.uploaded == current && g.specular)) return;
     // GL: node-owned data (the prefiltered cube's levels)
-    const std::vector<env::CubeImage>& levels = environment_->specular();
+    const std::vector<env::CubeImage>& levels = current->specular();
     g.specular = gl::createTexture(GL_TEXTURE_CUBE_MAP);
     glTextureStorage2D(g.specular.get(), GLsizei(levels.size()), GL_RGB16F, levels[0].size, levels[0].size);
     for (std::size_t l = 0; l < levels.size(); ++l)
@@ -165,24 +200,28 @@ void EnvironmentLightNode::compile(Renderer&) const {
     for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
         glTextureParameteri(g.specular.get(), wrap, GL_CLAMP_TO_EDGE);
     g.levels = int(levels.size());
-    g.uploaded = environment_;
+    g.uploaded = current;
 }
 
 void EnvironmentLightNode::applyUniforms(gl::Program& program, const DrawContext&) const {
-    const env::Sh9& sh = environment_->irradiance();
+    if (!gpu_->uploaded) return; // nothing compiled yet: the samplers read texture 0 (black)
+    const env::Sh9& sh = gpu_->uploaded->irradiance();
     for (std::size_t i = 0; i < sh.size(); ++i)
         program.set("sgfx_envSh[" + std::to_string(i) + "]", sh[i] * intensity_);
     program.set("sgfx_envParams", glm::vec2(intensity_, float(std::max(gpu_->levels - 1, 0))));
 }
 
 unsigned EnvironmentLightNode::texture(std::string_view resource) const {
-    if (resource == kSpecular) return gpu_->uploaded == environment_ ? gpu_->specular.get() : 0;
+    if (resource == kSpecular) return gpu_->specular.get();
     if (resource == kBrdf) return gpu_->brdf.get();
     return 0;
 }
 
 void EnvironmentLightNode::releaseGLObjects() {
-    *gpu_ = Gpu{};
+    // The CPU copy of the sky's environment stays: only GL objects go.
+    gpu_->uploaded.reset();
+    gpu_->specular = {};
+    gpu_->brdf = {};
 }
 
 } // namespace sgfx

@@ -174,6 +174,36 @@ const BaseShader& SkyNode::baseShader() const {
     return skyShader(parameters_.lookupTable);
 }
 
+env::CubeImage SkyNode::renderEnvironment(Renderer& r, int size) const {
+    if (size < 8 || size > 512 || (size & (size - 1)))
+        throw std::invalid_argument("sgfx: SkyNode::renderEnvironment: size " + std::to_string(size) +
+                                    " is not a power of two from 8 to 512");
+    // GL: node-owned data (a float strip of the six faces, read back for the CPU prefilter)
+    gl::TextureObject strip = gl::createTexture2D(GL_RGBA32F, 6 * size, size);
+    gl::FramebufferObject fbo = gl::createFramebuffer();
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, strip.get(), 0);
+    r.runCommands("sky: environment cube", [&](PassCommands& c) {
+        static const BaseShader cubeShader{"sky_cube", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
+                                           "sky_cube.frag", nodes::shaderWithIncludes("sky_cube.frag")};
+        gl::Program& program = c.program(cubeShader);
+        setSkyUniforms(program, parameters_, 0.0f);
+        program.set("u_faceSize", size);
+        r.beginOffscreen(fbo.get(), {6 * size, size});
+        c.fullscreen(program);
+        r.endOffscreen();
+    });
+    std::vector<float> texels(std::size_t(6) * size * size * 4);
+    glGetTextureImage(strip.get(), 0, GL_RGBA, GL_FLOAT, GLsizei(texels.size() * sizeof(float)), texels.data());
+    env::CubeImage cube = env::CubeImage::filled(size, glm::vec3(0.0f));
+    for (int f = 0; f < 6; ++f)
+        for (int t = 0; t < size; ++t)
+            for (int s = 0; s < size; ++s) {
+                const float* p = &texels[(std::size_t(t) * 6 * size + std::size_t(f) * size + s) * 4];
+                cube.texel(f, s, t) = glm::max(glm::vec3(p[0], p[1], p[2]), glm::vec3(0.0f));
+            }
+    return cube;
+}
+
 void SkyNode::draw(Renderer& r, gl::Program& program, const RenderItem&) const {
     const SkyParameters& p = parameters_;
     setSkyUniforms(program, p, r.frame().eye.z);

@@ -15,6 +15,8 @@
 
 namespace sgfx {
 
+class SkyNode;
+
 /// Radiance around the scene and what the shaders read of it: the specular mip chain (GGX
 /// prefiltered) and the diffuse irradiance (spherical harmonics). Immutable once made, so one
 /// environment may light several nodes and viewers.
@@ -61,12 +63,20 @@ class SGFX_API EnvironmentLightNode : public EffectNode {
 public:
     static std::shared_ptr<EnvironmentLightNode> create(std::shared_ptr<const Environment> environment,
                                                         float intensity = 1.0f);
+    /// Lit by the sky (followSky).
+    static std::shared_ptr<EnvironmentLightNode> create(std::shared_ptr<const SkyNode> sky, float intensity = 1.0f);
     EnvironmentLightNode();
     ~EnvironmentLightNode() override;
 
     /// Throws std::invalid_argument for null and keeps the old environment.
     void setEnvironment(std::shared_ptr<const Environment> environment);
-    const std::shared_ptr<const Environment>& environment() const { return environment_; }
+    /// The environment that lights the subtree: the sky's once rendered when following one.
+    std::shared_ptr<const Environment> environment() const;
+    /// The environment becomes the sky's (SkyNode::renderEnvironment: the sky without the sun's
+    /// disc, `size`² faces), rendered again in compile() whenever the sky's parameters change (the
+    /// sun moves). Null stops following and keeps the last environment. Throws
+    /// std::invalid_argument for a size that is not a power of two from 8 to 512.
+    void followSky(std::shared_ptr<const SkyNode> sky, int size = 32);
     /// Scales the environment's radiance; throws std::invalid_argument for NaN or negative values
     /// and keeps the old one.
     void setIntensity(float intensity);
@@ -82,6 +92,8 @@ public:
 private:
     struct Gpu;
     std::shared_ptr<const Environment> environment_;
+    std::shared_ptr<const SkyNode> sky_;
+    int skySize_ = 32;
     float intensity_ = 1.0f;
     std::unique_ptr<Gpu> gpu_;
 };

@@ -22,6 +22,7 @@ struct SGFX_API Atmosphere {
     float mieHeight = 1200.0f;                       ///< H_M, m
     float mieG = 0.76f;                              ///< Henyey–Greenstein g of the haze
     float mieExtinction = 1.1f;                      ///< extinction / scattering of the haze
+    bool operator==(const Atmosphere&) const = default;
 };
 
 /// Distances along o + t·d (|d| = 1) to a sphere of radius r at the origin: (t0, t1), or (−1, −1).

@@ -5,6 +5,7 @@
 /// disc, time of day by the sun's direction. Its horizon colour can drive a FogNode's colour, so
 /// distant geometry fades into the sky (aerial perspective).
 #include "sgfx/Export.h"
+#include <sgfx/nodes/environment/EnvironmentMath.h>
 #include <sgfx/nodes/sky/SkyMath.h>
 
 #include <sgfx/Drawable.h>
@@ -34,6 +35,7 @@ struct SGFX_API SkyParameters {
     static SkyParameters atTime(float hours, float latitudeDegrees = 45.0f, int dayOfYear = 172);
     /// Throws std::invalid_argument naming the field.
     void validate() const;
+    bool operator==(const SkyParameters&) const = default;
 };
 
 /// The sky behind everything (lecture 12: Rayleigh and Mie single scattering), drawn where
@@ -54,6 +56,11 @@ public:
     void attachFog(std::shared_ptr<FogNode> fog);
     /// The linear radiance of the horizon (1° above it), averaged over 8 azimuths.
     glm::vec3 horizonColor() const;
+    /// The sky seen from sea level + altitude, without the sun's disc (a directional light stands
+    /// for the sun), as a cube map of size² faces: rendered by the sky's own scattering shader
+    /// and read back (EnvironmentLightNode::followSky calls it from compile()). GL must be
+    /// current; size is a power of two from 8 to 512.
+    env::CubeImage renderEnvironment(Renderer& renderer, int size) const;
 
     const BaseShader& baseShader() const override;
     void setupFrame(FrameSetup& frame) const override;
