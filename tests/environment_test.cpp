@@ -323,10 +323,11 @@ TEST(Environment, SkyEnvironmentMatchesSkyMathInEveryFaceDirectionAndFollowsTheS
         for (int f = 0; f < 6; ++f)
             for (int t = 2; t < 32; t += 9)
                 for (int s = 2; s < 32; s += 9) {
-                    const glm::vec3 d =
-                        glm::normalize(env::cubeDirection(f, glm::vec2((s + 0.5f) / 32.0f, (t + 0.5f) / 32.0f)));
-                    const glm::vec3 expected = sky::skyRadiance(now.atmosphere, d, now.sunDirection, now.sunIntensity,
-                                                                now.altitude, now.steps, now.lightSteps);
+                    const glm::vec3 d = glm::normalize(
+                        env::cubeDirection(f, glm::vec2((s + 0.5f) / 32.0f, (t + 0.5f) / 32.0f)));
+                    const glm::vec3 expected =
+                        sky::skyRadiance(now.atmosphere, d, now.sunDirection, now.sunIntensity, now.altitude,
+                                         now.steps, now.lightSteps);
                     for (int ch = 0; ch < 3; ++ch)
                         EXPECT_NEAR(c.texel(f, s, t)[ch], expected[ch], 0.01f * expected[ch] + 1e-4f)
                             << when << ": face " << f << " texel " << s << "," << t << " channel " << ch;

@@ -15,6 +15,7 @@
 #include <sgfx/ObjWriter.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
+#include <sgfx/nodes/environment/EnvironmentLightNode.h>
 #include <sgfx/nodes/sky/SkyNode.h>
 #include <sgfx/nodes/transparency/TransparencyBin.h>
 #include <sgfx/nodes/volume/VolumeNode.h>
@@ -137,6 +138,10 @@ effects:
                       time HOURS (0..24, latitude 45°, midsummer); the scene's sun follows it
                       and the fog takes the sky's horizon colour
   --sky-direct        integrate the sky per pixel instead of through its view table
+  --env sky|none|FILE image-based light instead of the flat sky ambient: the sky's (--sky's,
+                      or one for the scene's sun when the sky is not drawn) or a panorama
+                      file (.hdr, .png, .jpg, twice as wide as high, Z up); default none
+  --env-intensity X   scales the environment's light (default 1)
   --smoke             a raymarched smoke cloud (noise density, single scattering of the sun)
                       over the road ahead of the camera
   --volume-steps N    raymarch steps per ray, 1..4096 (default 64)
@@ -188,6 +193,8 @@ struct Options {
     std::uint32_t rainCount = 200000;
     std::optional<float> skyHours;
     bool skyDirect = false;
+    std::optional<std::string> env; // "sky" or a panorama file
+    float envIntensity = 1.0f;
     bool smoke = false;
     sgfx::VolumeParameters volume = [] {
         sgfx::VolumeParameters p;
@@ -392,6 +399,13 @@ Options parseArgs(int argc, char** argv) {
             o.skyHours = h;
         } else if (arg == "--sky-direct") {
             o.skyDirect = true;
+        } else if (arg == "--env") {
+            const std::string v(value());
+            o.env = v == "none" ? std::nullopt : std::optional<std::string>(v);
+        } else if (arg == "--env-intensity") {
+            o.envIntensity = parseNumber<float>(arg, value());
+            if (!(o.envIntensity >= 0.0f && o.envIntensity <= 1e6f))
+                throw UsageError("--env-intensity: X must be in 0..1e6");
         } else if (arg == "--smoke") {
             o.smoke = true;
         } else if (arg == "--volume-steps") {
@@ -494,12 +508,38 @@ sgfx::NodePtr withSkyAndSmoke(const Options& o, sgfx::NodePtr world, const polyg
     return group;
 }
 
+// --env: image-based light in place of the flat sky ambient light (which would light twice).
+sgfx::NodePtr withEnvironment(const Options& o, sgfx::NodePtr world, const polygon::PolygonScene& scene,
+                              std::shared_ptr<sgfx::SkyNode> sky) {
+    if (!o.env) return world;
+    glm::vec3 toSun(0.0f, 0.0f, 1.0f);
+    for (const auto& child : scene.root->children())
+        if (auto* light = dynamic_cast<sgfx::Light*>(child.get())) {
+            if (light->name == "sun") toSun = -glm::normalize(light->direction);
+            if (light->name == "sky_ambient") light->color = glm::vec3(0.0f);
+        }
+    std::shared_ptr<sgfx::EnvironmentLightNode> env;
+    if (*o.env == "sky") {
+        if (!sky) { // the sky's light, not drawn: the one of the scene's sun
+            sgfx::SkyParameters sp;
+            sp.sunDirection = toSun;
+            sky = sgfx::SkyNode::create(sp);
+        }
+        env = sgfx::EnvironmentLightNode::create(std::shared_ptr<const sgfx::SkyNode>(sky), o.envIntensity);
+    } else {
+        env = sgfx::EnvironmentLightNode::create(sgfx::Environment::load(*o.env), o.envIntensity);
+    }
+    env->addChild(std::move(world));
+    return env;
+}
+
 // The scene with the chosen effects around it.
 sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& scene,
                                std::shared_ptr<const sgfx::Camera> camera) {
     scene.glassBin->setMode(o.transparency);
     std::shared_ptr<sgfx::SkyNode> sky;
     sgfx::NodePtr world = withSkyAndSmoke(o, withRain(o, scene.root, std::move(camera)), scene, sky);
+    world = withEnvironment(o, std::move(world), scene, sky);
     if (o.ao) {
         auto ao = sgfx::AmbientOcclusionNode::create(o.aoParameters);
         ao->addChild(world);

@@ -54,6 +54,8 @@ ViewScene::ViewScene()
     , fog_(sgfx::FogNode::create())
     , ao_(sgfx::AmbientOcclusionNode::create())
     , sky_(sgfx::SkyNode::create())
+    , env_(sgfx::EnvironmentLightNode::create(sky_))
+    , ambient_(sgfx::Light::create(sgfx::LightType::Ambient))
     , sun_(sgfx::Light::create(sgfx::LightType::Directional)) {
     auto quad = sgfx::shapes::quad(1.0f, 1.0f);
     auto m = sgfx::Material::create();
@@ -66,16 +68,16 @@ ViewScene::ViewScene()
     world_->addChild(modelSlot_);
     world_->addChild(ground_);
     world_->addChild(weatherPlace_);
-    ao_->addChild(world_);
+    env_->name = "environment light";
+    env_->addChild(world_);
+    ao_->addChild(env_);
     fog_->addChild(ao_);
     sky_->attachFog(fog_);
     sun_->name = "sun";
     sun_->color = glm::vec3(0.9f);
-    auto ambient = sgfx::Light::create(sgfx::LightType::Ambient);
-    ambient->color = glm::vec3(0.35f);
     auto root = sgfx::Group::create();
     root->addChild(sun_);
-    root->addChild(ambient);
+    root->addChild(ambient_);
     root->addChild(fog_);
     root->addChild(sky_);
     root_ = root;
@@ -158,13 +160,29 @@ void ViewScene::apply(const Settings& s, sgfx::Camera& camera) {
         snow_->nodeMask = s.weather == Weather::Snow ? ~sgfx::NodeMask{0} : 0;
     }
     sky_->nodeMask = s.sky ? ~sgfx::NodeMask{0} : 0;
-    if (s.sky) {
-        sky_->setParameters(sgfx::SkyParameters::atTime(s.skyHours));
-        sun_->direction = -sgfx::sky::sunDirection(s.skyHours);
-    } else {
-        sun_->direction = kSunDirection;
-    }
+    // The sky's sun is the sun light's, drawn or not: the sky environment follows it.
+    sgfx::SkyParameters sky = sgfx::SkyParameters::atTime(s.skyHours);
+    if (!s.sky) sky.sunDirection = -kSunDirection;
+    sky_->setParameters(sky);
+    sun_->direction = -sky.sunDirection;
+    applyEnvironment(s);
     camera.clearColor = {0.72f, 0.76f, 0.82f, 1.0f};
+}
+
+void ViewScene::applyEnvironment(const Settings& s) {
+    env_->enabled = s.env != EnvSource::None;
+    // The environment replaces the flat ambient light (which would light everything twice).
+    ambient_->color = glm::vec3(env_->enabled ? 0.0f : 0.35f);
+    if (s.env == EnvSource::File && envLoaded_ != s.envFile) {
+        auto loaded = sgfx::Environment::load(s.envFile); // throws naming the file
+        env_->followSky(nullptr);
+        env_->setEnvironment(std::move(loaded));
+        envLoaded_ = s.envFile;
+    } else if (s.env == EnvSource::Sky) {
+        env_->followSky(sky_);
+        envLoaded_.clear();
+    }
+    env_->setIntensity(s.envIntensity);
 }
 
 std::string ViewScene::describeEffects(const Settings& s) const {
@@ -180,6 +198,8 @@ std::string ViewScene::describeEffects(const Settings& s) const {
     if (s.weather == Weather::Rain) add("rain");
     if (s.weather == Weather::Snow) add("snow");
     if (s.sky) add("sky");
+    if (s.env == EnvSource::Sky) add("sky light");
+    if (s.env == EnvSource::File) add("environment " + s.envFile);
     return o.str().empty() ? "no effects" : o.str();
 }
 

@@ -3,6 +3,7 @@
 // toggle. All effect nodes stay in the graph; switching one off clears its `enabled` flag or
 // node mask, so toggling costs no rebuild and keeps the nodes' GPU targets.
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/environment/EnvironmentLightNode.h>
 #include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/nodes/particles/ParticleSystemNode.h>
 #include <sgfx/nodes/sky/SkyNode.h>
@@ -18,6 +19,8 @@ namespace view {
 
 enum class FogPreset : unsigned char { Model, Solid, Ground }; // Model: scaled to the model
 enum class Weather : unsigned char { None, Rain, Snow };
+// Image-based light: none, the sky's (whether or not the sky is drawn), or a panorama file.
+enum class EnvSource : unsigned char { None, Sky, File };
 
 struct Settings {
     bool fog = false;
@@ -32,6 +35,9 @@ struct Settings {
     bool sky = false;
     float skyHours = 10.0f; // local solar time
     bool ground = true;
+    EnvSource env = EnvSource::Sky; // metals need something to reflect
+    std::string envFile;            // EnvSource::File: .hdr, .png or .jpg panorama (2:1)
+    float envIntensity = 1.0f;
 };
 
 class ViewScene {
@@ -53,6 +59,8 @@ public:
     sgfx::FogParameters fogParameters(const Settings& s) const;
     sgfx::AmbientOcclusionParameters aoParameters(const Settings& s) const;
     std::string describeEffects(const Settings& s) const;
+    // The image-based light of the settings (a file is loaded once; std::runtime_error names it).
+    void applyEnvironment(const Settings& s);
     // What pixel (x, y) shows, for the panel and --pick: the node path below the viewer's own
     // nodes (each node's name, or its type when unnamed), then the world point and normal.
     std::string describePick(const std::optional<sgfx::PickResult>& pick, double x, double y) const;
@@ -64,6 +72,9 @@ private:
     std::shared_ptr<sgfx::FogNode> fog_;
     std::shared_ptr<sgfx::AmbientOcclusionNode> ao_;
     std::shared_ptr<sgfx::SkyNode> sky_;
+    std::shared_ptr<sgfx::EnvironmentLightNode> env_;
+    std::string envLoaded_; // the file env_ holds, loaded once
+    std::shared_ptr<sgfx::Light> ambient_;
     std::shared_ptr<sgfx::ParticleSystemNode> rain_, snow_;
     std::shared_ptr<sgfx::Light> sun_;
     glm::vec3 min_{-0.5f}, max_{0.5f};

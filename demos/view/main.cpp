@@ -39,6 +39,9 @@ it opens a window; otherwise, or with --headless or --out, it renders a PNG.
                      fxaa-high, taa
   --weather KIND     none, rain or snow particles over the model
   --sky HOURS        physical sky and sun at this solar time (0..24)
+  --env SOURCE       image-based light: sky (default: the sky of --sky's time, drawn or not),
+                     none, or a panorama file (.hdr, .png, .jpg; twice as wide as high, Z up)
+  --env-intensity X  scales the environment's light (default 1)
   --compare          four panels side by side: plain, fog, AO, fog + AO (headless)
   --pick X,Y         headless: print what pixel (X, Y) of the image shows (pixels from its
                      top-left corner, fractions allowed): the node path, the world point and the
@@ -133,6 +136,12 @@ view::Options parse(int argc, char** argv) {
         } else if (arg == "--sky") {
             s.sky = true;
             s.skyHours = number(arg, value(), 0.0f, 24.0f);
+        } else if (arg == "--env") {
+            const std::string v = value();
+            s.env = v == "none" ? view::EnvSource::None : v == "sky" ? view::EnvSource::Sky : view::EnvSource::File;
+            s.envFile = s.env == view::EnvSource::File ? v : std::string();
+        } else if (arg == "--env-intensity") {
+            s.envIntensity = number(arg, value(), 0.0f, 1e6f);
         } else if (arg == "--compare") {
             o.compare = true;
         } else if (arg == "--pick") {

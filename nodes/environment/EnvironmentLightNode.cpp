@@ -138,6 +138,7 @@ void EnvironmentLightNode::followSky(std::shared_ptr<const SkyNode> sky, int siz
     if (size < 8 || size > 512 || (size & (size - 1)))
         throw std::invalid_argument("sgfx: EnvironmentLightNode::followSky: size " + std::to_string(size) +
                                     " is not a power of two from 8 to 512");
+    if (sky == sky_ && size == skySize_) return;                     // already: nothing to render again
     if (!sky && sky_ && gpu_->fromSky) environment_ = gpu_->fromSky; // keep the last
     sky_ = std::move(sky);
     skySize_ = size;

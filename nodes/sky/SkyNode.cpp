@@ -183,8 +183,9 @@ env::CubeImage SkyNode::renderEnvironment(Renderer& r, int size) const {
     gl::FramebufferObject fbo = gl::createFramebuffer();
     glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, strip.get(), 0);
     r.runCommands("sky: environment cube", [&](PassCommands& c) {
-        static const BaseShader cubeShader{"sky_cube", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
-                                           "sky_cube.frag", nodes::shaderWithIncludes("sky_cube.frag")};
+        static const BaseShader cubeShader{"sky_cube", "blit.vert",
+                                           std::string(ShaderComposer::fullscreenVertex()), "sky_cube.frag",
+                                           nodes::shaderWithIncludes("sky_cube.frag")};
         gl::Program& program = c.program(cubeShader);
         setSkyUniforms(program, parameters_, 0.0f);
         program.set("u_faceSize", size);
@@ -193,7 +194,8 @@ env::CubeImage SkyNode::renderEnvironment(Renderer& r, int size) const {
         r.endOffscreen();
     });
     std::vector<float> texels(std::size_t(6) * size * size * 4);
-    glGetTextureImage(strip.get(), 0, GL_RGBA, GL_FLOAT, GLsizei(texels.size() * sizeof(float)), texels.data());
+    glGetTextureImage(strip.get(), 0, GL_RGBA, GL_FLOAT, GLsizei(texels.size() * sizeof(float)),
+                      texels.data());
     env::CubeImage cube = env::CubeImage::filled(size, glm::vec3(0.0f));
     for (int f = 0; f < 6; ++f)
         for (int t = 0; t < size; ++t)

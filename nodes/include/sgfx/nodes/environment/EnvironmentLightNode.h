@@ -64,7 +64,8 @@ public:
     static std::shared_ptr<EnvironmentLightNode> create(std::shared_ptr<const Environment> environment,
                                                         float intensity = 1.0f);
     /// Lit by the sky (followSky).
-    static std::shared_ptr<EnvironmentLightNode> create(std::shared_ptr<const SkyNode> sky, float intensity = 1.0f);
+    static std::shared_ptr<EnvironmentLightNode> create(std::shared_ptr<const SkyNode> sky,
+                                                        float intensity = 1.0f);
     EnvironmentLightNode();
     ~EnvironmentLightNode() override;
 
