@@ -13,6 +13,7 @@
 #include <sgfx/Viewer.h>
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 #include <sgfx/nodes/debugtint/DebugTintNode.h>
+#include <sgfx/nodes/environment/EnvironmentLightNode.h>
 #include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/nodes/particles/ParticleSystemNode.h>
 #include <sgfx/nodes/sky/SkyNode.h>
@@ -253,6 +254,19 @@ void skyUsage(const std::shared_ptr<sgfx::Group>& root, const std::shared_ptr<sg
     sky->attachFog(fogNode);  // the fog's colour follows the horizon, and it leaves sky pixels alone
     sun->direction = -sky->parameters().sunDirection;  // light the scene from the same sun
     // end
+}
+
+void environmentUsage(const sgfx::NodePtr& world, const std::shared_ptr<sgfx::SkyNode>& sky) {
+    // docs: effects/environment.md, usage
+#include <sgfx/nodes/environment/EnvironmentLightNode.h>
+
+    auto studio = sgfx::Environment::load("studio.hdr");       // 2:1 panorama, Z up; prefiltered once
+    auto light = sgfx::EnvironmentLightNode::create(studio);    // every material below it
+    light->addChild(world);
+    light->setIntensity(0.8f);                                  // validated; the old value stays on error
+    auto skyLight = sgfx::EnvironmentLightNode::create(sky);    // the sky's light, again when the sun moves
+    // end
+    skyLight->addChild(world);
 }
 
 } // namespace doc_snippets

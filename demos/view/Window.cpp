@@ -307,6 +307,12 @@ public:
             ImGui::Checkbox("sky (K)", &s_.sky);
             ImGui::SliderFloat("solar time (h)", &s_.skyHours, 4.0f, 20.0f, "%.1f");
             ImGui::Checkbox("ground (G)", &s_.ground);
+            // The file given with --env stays selectable once loaded.
+            int env = int(s_.env);
+            const bool hasFile = !s_.envFile.empty();
+            if (ImGui::Combo("environment light", &env, hasFile ? "none\0sky\0file\0" : "none\0sky\0"))
+                s_.env = EnvSource(env);
+            ImGui::SliderFloat("environment intensity", &s_.envIntensity, 0.0f, 4.0f, "%.2f");
         }
         if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
             if (ImGui::Button(flying_ ? "orbit (V)" : "fly (V)")) toggleFlying();

@@ -138,7 +138,9 @@ view::Options parse(int argc, char** argv) {
             s.skyHours = number(arg, value(), 0.0f, 24.0f);
         } else if (arg == "--env") {
             const std::string v = value();
-            s.env = v == "none" ? view::EnvSource::None : v == "sky" ? view::EnvSource::Sky : view::EnvSource::File;
+            s.env = v == "none"  ? view::EnvSource::None
+                    : v == "sky" ? view::EnvSource::Sky
+                                 : view::EnvSource::File;
             s.envFile = s.env == view::EnvSource::File ? v : std::string();
         } else if (arg == "--env-intensity") {
             s.envIntensity = number(arg, value(), 0.0f, 1e6f);
