@@ -16,9 +16,10 @@ void environmentMetallicRoughness(vec3 N, vec3 V, vec3 diffuseColor, vec3 f0, fl
 void environmentBlinnPhong(vec3 N, vec3 V, vec3 diffuse, vec3 specular, float shininess,
                            inout vec3 color, inout vec3 added) {
     color += diffuse * sgfx_environmentDiffuse(N);
-    if (specular == vec3(0.0)) return;
+#ifdef SGFX_SPECULAR // compiled out, not branched over: llvmpipe would run both sides
     float roughness = sqrt(sqrt(2.0 / (max(shininess, 0.0) + 2.0)));
     vec2 ab = sgfx_environmentBrdf(max(dot(N, V), 1e-4), roughness);
     added += specular * (ab.x + ab.y) * sgfx_environmentRadiance(reflect(-V, N), roughness);
+#endif
 }
 #endif

@@ -10,6 +10,7 @@
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/environment/EnvironmentLightNode.h>
 #include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/nodes/particles/ParticleSystemNode.h>
 #include <sgfx/nodes/sky/SkyNode.h>
@@ -67,6 +68,8 @@ options:
                       aa: MSAA 4x (the docs' first example, and polygon's `--aa msaa`);
                       oit: weighted blended transparency; rain: 200,000 GPU particles;
                       sky: the physical sky at 18:30; smoke: a raymarched cloud; all: every one
+                      of those; env (not in all): the sky's image-based light in place of the
+                      flat ambient light
   --json FILE         also write the results as JSON (machine and driver strings included)
   --plot FILE.png     also write a bar chart (FPS per configuration, grouped by size) through
                       scripts/plot_bench.py (python3 and python3-matplotlib); without --json
@@ -88,6 +91,7 @@ struct Size {
 
 struct Effects {
     bool fog = false, ao = false, aa = false, oit = false, rain = false, sky = false, smoke = false;
+    bool env = false;
 };
 
 struct Config {
@@ -145,11 +149,13 @@ Config parseConfig(std::string_view item) {
             f.sky = true;
         } else if (e == "smoke") {
             f.smoke = true;
+        } else if (e == "env") {
+            f.env = true;
         } else if (e == "all") {
-            f = {true, true, true, true, true, true, true};
+            f = {true, true, true, true, true, true, true, f.env};
         } else {
             throw UsageError("--effects: '" + std::string(e) +
-                             "' is not none, fog, ao, aa, oit, rain, sky, smoke or all");
+                             "' is not none, fog, ao, aa, oit, rain, sky, smoke, env or all");
         }
     }
     return c;
@@ -353,6 +359,16 @@ sgfx::NodePtr withEffects(const BenchScene& s, const Effects& e, std::shared_ptr
         }
         world = group;
     }
+    if (e.env) { // the sky's light (drawn or not) for the scene's sun
+        if (!sky) {
+            sgfx::SkyParameters sp;
+            sp.sunDirection = s.sun ? -glm::normalize(s.sun->direction) : glm::vec3(0, 0, 1);
+            sky = sgfx::SkyNode::create(sp);
+        }
+        auto env = sgfx::EnvironmentLightNode::create(std::shared_ptr<const sgfx::SkyNode>(sky));
+        env->addChild(world);
+        world = env;
+    }
     if (e.ao) {
         sgfx::AmbientOcclusionParameters p;
         if (!s.provingGround) {
@@ -373,7 +389,7 @@ sgfx::NodePtr withEffects(const BenchScene& s, const Effects& e, std::shared_ptr
     }
     auto fog = sgfx::FogNode::create(p, sgfx::FogMode::Forward);
     fog->addChild(world);
-    if (sky) sky->attachFog(fog);
+    if (sky && e.sky) sky->attachFog(fog);
     return fog;
 }
 
