@@ -1,6 +1,8 @@
 #version 450 core
-// Built-in material, fragment stage, in linear colour: Blinn-Phong, or glTF's metallic-roughness
-// model with SGFX_METALLIC_ROUGHNESS (brdf_metallic_roughness.glsl).
+// Built-in material, fragment stage, in linear colour: Blinn-Phong, glTF's metallic-roughness
+// model with SGFX_METALLIC_ROUGHNESS (brdf_metallic_roughness.glsl; its extensions in
+// clearcoat.glsl and specular_ext.glsl), or unlit (SGFX_UNLIT); image-based light with
+// SGFX_ENVIRONMENT (material_environment.glsl).
 // Hooks: @sgfx:ambient may change sgfx_ambient (ambient light) and sgfx_indirect (scales all
 // indirect light: ambient and environment); @sgfx:color may change sgfx_color.
 // Feature defines (SGFX_BASE_MAP, SGFX_ALPHA_MAP, SGFX_NORMAL_MAP, SGFX_VERTEX_COLOR,
@@ -48,18 +50,24 @@ uniform vec2 sgfx_matMetallicRoughness;
 uniform float sgfx_normalScale;
 uniform float sgfx_occlusionStrength;
 
-layout(binding = 0) uniform sampler2D sgfx_baseColorMap;
-layout(binding = 1) uniform sampler2D sgfx_alphaMap;
-layout(binding = 2) uniform sampler2D sgfx_normalMap;
-layout(binding = 3) uniform sampler2D sgfx_metalRoughMap;
-layout(binding = 4) uniform sampler2D sgfx_occlusionMap;
-layout(binding = 5) uniform sampler2D sgfx_emissiveMap;
+// Units (and uv indices) SGFX_MAP_* come from the composer (the renderer's TextureUnits.h).
+layout(binding = SGFX_MAP_BASE_COLOR) uniform sampler2D sgfx_baseColorMap;
+layout(binding = SGFX_MAP_ALPHA) uniform sampler2D sgfx_alphaMap;
+layout(binding = SGFX_MAP_NORMAL) uniform sampler2D sgfx_normalMap;
+layout(binding = SGFX_MAP_METAL_ROUGH) uniform sampler2D sgfx_metalRoughMap;
+layout(binding = SGFX_MAP_OCCLUSION) uniform sampler2D sgfx_occlusionMap;
+layout(binding = SGFX_MAP_EMISSIVE) uniform sampler2D sgfx_emissiveMap;
+layout(binding = SGFX_MAP_CLEARCOAT) uniform sampler2D sgfx_clearcoatMap;
+layout(binding = SGFX_MAP_CLEARCOAT_ROUGHNESS) uniform sampler2D sgfx_clearcoatRoughnessMap;
+layout(binding = SGFX_MAP_CLEARCOAT_NORMAL) uniform sampler2D sgfx_clearcoatNormalMap;
+layout(binding = SGFX_MAP_SPECULAR) uniform sampler2D sgfx_specularMap;
+layout(binding = SGFX_MAP_SPECULAR_COLOR) uniform sampler2D sgfx_specularColorMap;
 
-// Texture coordinates of a map (Material::mappings: 0 base, 1 alpha, 2 normal, 3 metallic-
-// roughness, 4 occlusion, 5 emissive): its set, transformed (KHR_texture_transform).
+// Texture coordinates of a map (Material::mappings, indexed by MaterialMap): its set,
+// transformed (KHR_texture_transform).
 #ifdef SGFX_UV_TRANSFORM
-uniform mat3 sgfx_uvTransform[6];
-uniform int sgfx_uvSet[6];
+uniform mat3 sgfx_uvTransform[11];
+uniform int sgfx_uvSet[11];
 vec2 sgfx_uv(int map) {
 #ifdef SGFX_TEXCOORDS1
     vec2 uv = sgfx_uvSet[map] == 1 ? v_texcoord1 : v_texcoord;
@@ -70,6 +78,18 @@ vec2 sgfx_uv(int map) {
 }
 #else
 #define sgfx_uv(map) v_texcoord
+#endif
+
+// The maps of KHR_materials_clearcoat and _specular are chosen per material by a uniform (bit =
+// MaterialMap index), not per variant; an absent map reads as 1.
+#if defined(SGFX_CLEARCOAT) || defined(SGFX_SPECULAR_EXT)
+uniform int sgfx_extensionMaps;
+vec4 sgfx_extensionMap(sampler2D map, int index) {
+#ifdef SGFX_TEXCOORDS
+    if ((sgfx_extensionMaps & (1 << index)) != 0) return texture(map, sgfx_uv(index));
+#endif
+    return vec4(1.0);
+}
 #endif
 
 layout(location = 0) out vec4 sgfx_fragColor;
@@ -85,7 +105,8 @@ layout(location = 2) out vec4 sgfx_gPosition; // view-space position
 #include "material_environment.glsl"
 
 #if !defined(SGFX_VERTEX_LIGHTING) || defined(SGFX_ENVIRONMENT)
-vec3 surfaceNormal() {
+// The interpolated normal (or the triangle's), not yet turned towards the viewer's side.
+vec3 sgfx_geometricNormal() {
 #ifdef SGFX_NORMALS
     vec3 N = normalize(v_worldNormal);
 #else
@@ -96,7 +117,12 @@ vec3 surfaceNormal() {
     vec3 N = c2 > 1e-30 ? c * inversesqrt(c2) : sgfx_eye.xyz - v_worldPos;
     N = dot(N, N) > 1e-30 ? normalize(N) : vec3(0.0, 0.0, 1.0);
 #endif
-#if defined(SGFX_NORMAL_MAP) && defined(SGFX_TEXCOORDS)
+    return N;
+}
+
+#if defined(SGFX_TEXCOORDS) && (defined(SGFX_NORMAL_MAP) || defined(SGFX_CLEARCOAT))
+// A tangent-space normal map (Material map `index`) applied to the normal N.
+vec3 sgfx_applyNormalMap(vec3 N, sampler2D map, int index, float scale) {
     vec3 T, B;
 #ifdef SGFX_TANGENTS
     T = normalize(v_worldTangent.xyz - N * dot(N, v_worldTangent.xyz));
@@ -104,7 +130,7 @@ vec3 surfaceNormal() {
 #else
     // Tangent frame from screen-space derivatives of position and texcoord.
     vec3 dpdx = dFdx(v_worldPos), dpdy = dFdy(v_worldPos);
-    vec2 dtx = dFdx(sgfx_uv(2)), dty = dFdy(sgfx_uv(2));
+    vec2 dtx = dFdx(sgfx_uv(index)), dty = dFdy(sgfx_uv(index));
     // T = dP/du. glTF's bitangent points up the image, where v falls (v = 0 is the top row), so
     // B = -dP/dv: the same frame as supplied TANGENTs with MikkTSpace's rules.
     float det = dtx.x * dty.y - dty.x * dtx.y;
@@ -112,13 +138,23 @@ vec3 surfaceNormal() {
     T = normalize(t - N * dot(N, t));
     B = cross(N, T) * (det < 0.0 ? 1.0 : -1.0);
 #endif
-    vec3 m = texture(sgfx_normalMap, sgfx_uv(2)).xyz * 2.0 - 1.0;
-    m.xy *= sgfx_normalScale;
-    N = normalize(mat3(T, B, N) * m);
+    vec3 m = texture(map, sgfx_uv(index)).xyz * 2.0 - 1.0;
+    m.xy *= scale;
+    return normalize(mat3(T, B, N) * m);
+}
+#endif
+
+vec3 surfaceNormal() {
+    vec3 N = sgfx_geometricNormal();
+#if defined(SGFX_NORMAL_MAP) && defined(SGFX_TEXCOORDS)
+    N = sgfx_applyNormalMap(N, sgfx_normalMap, SGFX_MAP_NORMAL, sgfx_normalScale);
 #endif
     return gl_FrontFacing ? N : -N;
 }
 #endif
+
+#include "clearcoat.glsl"
+#include "specular_ext.glsl"
 
 void main() {
     vec4 base = sgfx_matDiffuse;
@@ -128,12 +164,12 @@ void main() {
     ambientColor *= v_color.rgb;
 #endif
 #if defined(SGFX_BASE_MAP) && defined(SGFX_TEXCOORDS)
-    vec4 t = texture(sgfx_baseColorMap, sgfx_uv(0));
+    vec4 t = texture(sgfx_baseColorMap, sgfx_uv(SGFX_MAP_BASE_COLOR));
     base *= t;
     ambientColor *= t.rgb;
 #endif
 #if defined(SGFX_ALPHA_MAP) && defined(SGFX_TEXCOORDS)
-    base.a *= texture(sgfx_alphaMap, sgfx_uv(1)).r;
+    base.a *= texture(sgfx_alphaMap, sgfx_uv(SGFX_MAP_ALPHA)).r;
 #endif
     float sgfx_coverage = 1.0; // scales all the surface adds, emission and highlights included
 #if defined(SGFX_BASE_MODIFIER) && !defined(SGFX_GBUFFER)
@@ -152,7 +188,7 @@ void main() {
 #ifdef SGFX_GBUFFER
 #if defined(SGFX_ALPHA_MAP) && defined(SGFX_TEXCOORDS) && !defined(SGFX_ALPHA_MASK)
     // SSAO seed §1: texels of an alpha map below ε cut holes in the G-buffer.
-    if (texture(sgfx_alphaMap, sgfx_uv(1)).r < 1.0 / 255.0) discard;
+    if (texture(sgfx_alphaMap, sgfx_uv(SGFX_MAP_ALPHA)).r < 1.0 / 255.0) discard;
 #endif
     vec4 gView = sgfx_view * vec4(v_worldPos, 1.0);
     sgfx_fragColor = vec4(normalize(mat3(sgfx_view) * surfaceNormal()), 0.0); // seed §1: N_vcs
@@ -170,29 +206,38 @@ void main() {
     vec3 sgfx_eyePos = sgfx_eye.xyz;
     float sgfx_indirect = 1.0;
     // @sgfx:ambient
+#ifdef SGFX_UNLIT
+    // KHR_materials_unlit: the base colour alone, whatever the lights.
+    vec3 color = base.rgb;
+    vec3 added = vec3(0.0);
+#else
 #ifdef SGFX_METALLIC_ROUGHNESS
     float metallic = sgfx_matMetallicRoughness.x;
     float roughness = sgfx_matMetallicRoughness.y;
 #ifdef SGFX_METAL_ROUGH_MAP
-    vec4 metalRough = texture(sgfx_metalRoughMap, sgfx_uv(3));
+    vec4 metalRough = texture(sgfx_metalRoughMap, sgfx_uv(SGFX_MAP_METAL_ROUGH));
     roughness *= metalRough.g;
     metallic *= metalRough.b;
 #endif
     vec3 diffuseColor = mix(base.rgb, vec3(0.0), metallic);
     vec3 f0 = mix(vec3(0.04), base.rgb, metallic);
+    vec3 f90 = vec3(1.0);
+#ifdef SGFX_SPECULAR_EXT
+    specularFresnel(base.rgb, metallic, f0, f90);
+#endif
     // Ambient light has no direction: it lights the diffuse colour plus F0 as a mirror would.
     ambientColor = diffuseColor + f0;
 #endif
 #ifdef SGFX_OCCLUSION_MAP
     // glTF occlusion: darkens indirect (ambient and environment) light only.
-    sgfx_indirect *= 1.0 + sgfx_occlusionStrength * (texture(sgfx_occlusionMap, sgfx_uv(4)).r - 1.0);
+    sgfx_indirect *= 1.0 + sgfx_occlusionStrength * (texture(sgfx_occlusionMap, sgfx_uv(SGFX_MAP_OCCLUSION)).r - 1.0);
 #endif
     // Light the surface scatters (scaled by its coverage when the output is premultiplied) and
     // light it adds on top (emission, specular reflection: glass keeps its highlights).
     vec3 color = sgfx_indirect * sgfx_ambient * ambientColor;
     vec3 added = sgfx_matEmissive;
 #ifdef SGFX_EMISSIVE_MAP
-    added *= texture(sgfx_emissiveMap, sgfx_uv(5)).rgb;
+    added *= texture(sgfx_emissiveMap, sgfx_uv(SGFX_MAP_EMISSIVE)).rgb;
 #endif
 #ifdef SGFX_VERTEX_LIGHTING
 #ifdef SGFX_METALLIC_ROUGHNESS
@@ -210,6 +255,10 @@ void main() {
 #if defined(SGFX_SPECULAR) || defined(SGFX_METALLIC_ROUGHNESS)
     vec3 V = normalize(sgfx_eye.xyz - v_worldPos);
 #endif
+#ifdef SGFX_CLEARCOAT
+    Clearcoat coat = clearcoatLayer(V, sgfx_geometricNormal());
+    vec3 coatLight = sgfx_ambient; // the layer mirrors ambient light like the base's F0 term
+#endif
     // SGFX_LIGHT_COUNT is the number of lights in the view, compiled in so the loop unrolls.
     for (int i = 0; i < SGFX_LIGHT_COUNT; ++i) {
         vec4 lv = sgfx_lightVector[i];
@@ -223,9 +272,17 @@ void main() {
         // Light colours are irradiance over π (a white Lambert surface facing a light shows its
         // colour, as with Blinn-Phong), so both lobes are multiplied by π.
         vec3 F;
-        vec3 specular = brdfSpecular(N, V, L, f0, roughness, F);
-        color += sgfx_lightColor[i].rgb * NdotL * (vec3(1.0) - F) * diffuseColor;
+        vec3 specular = brdfSpecular(N, V, L, f0, f90, roughness, F);
+#ifdef SGFX_SPECULAR_EXT
+        vec3 scattered = vec3(1.0 - max(F.r, max(F.g, F.b))); // the extension's (1 - max(F))
+#else
+        vec3 scattered = vec3(1.0) - F;
+#endif
+        color += sgfx_lightColor[i].rgb * NdotL * scattered * diffuseColor;
         added += sgfx_lightColor[i].rgb * NdotL * specular;
+#ifdef SGFX_CLEARCOAT
+        coatLight += sgfx_lightColor[i].rgb * max(dot(coat.N, L), 0.0) * brdfLobe(coat.N, V, L, coat.roughness);
+#endif
 #else
         color += sgfx_lightColor[i].rgb * base.rgb * NdotL;
 #ifdef SGFX_SPECULAR
@@ -235,6 +292,11 @@ void main() {
 #endif
 #endif
     }
+#ifdef SGFX_CLEARCOAT
+    float coatWeight = coat.weight * coat.fresnel;
+    color *= 1.0 - coatWeight;
+    added = added * (1.0 - coatWeight) + coatWeight * coatLight;
+#endif
 #endif
 #ifdef SGFX_ENVIRONMENT
 #ifdef SGFX_VERTEX_LIGHTING
@@ -242,17 +304,23 @@ void main() {
 #else
     vec3 envN = N;
 #endif
+    vec3 envV = normalize(sgfx_eye.xyz - v_worldPos);
     vec3 envColor = vec3(0.0), envAdded = vec3(0.0);
 #ifdef SGFX_METALLIC_ROUGHNESS
-    environmentMetallicRoughness(envN, normalize(sgfx_eye.xyz - v_worldPos), diffuseColor, f0, roughness, envColor,
-                                 envAdded);
+    environmentMetallicRoughness(envN, envV, diffuseColor, f0, f90, roughness, envColor, envAdded);
 #else
-    environmentBlinnPhong(envN, normalize(sgfx_eye.xyz - v_worldPos), base.rgb, sgfx_matSpecular, sgfx_matShininess,
-                          envColor, envAdded);
+    environmentBlinnPhong(envN, envV, base.rgb, sgfx_matSpecular, sgfx_matShininess, envColor, envAdded);
+#endif
+#if defined(SGFX_CLEARCOAT) && !defined(SGFX_VERTEX_LIGHTING)
+    // The coat darkens the light under it and mirrors the environment at its own normal and
+    // roughness, as it does the lights.
+    envColor *= 1.0 - coatWeight;
+    envAdded = envAdded * (1.0 - coatWeight) + coatWeight * sgfx_environmentRadiance(reflect(-envV, coat.N), coat.roughness);
 #endif
     color += sgfx_indirect * envColor;
     added += sgfx_indirect * envAdded;
 #endif
+#endif // SGFX_UNLIT
     // Premultiplied output (SGFX_BLEND_PREMULTIPLIED): colour effects at the hook below see and
     // keep premultiplied colour.
 #ifdef SGFX_BLEND_PREMULTIPLIED

@@ -346,3 +346,24 @@ TEST(Environment, SkyEnvironmentMatchesSkyMathInEveryFaceDirectionAndFollowsTheS
     v->frame();
     EXPECT_EQ(node->environment(), same) << "the sun stood still but the environment was rendered again";
 }
+
+TEST(Environment, ClearcoatDarkensTheBaseAndMirrorsTheEnvironment) {
+    // Under a uniform environment of radiance 1 a coat of factor 1 (F0 = 0.04, Schlick at the
+    // coat's N.V) takes its Fresnel share of the base's light and reflects that share of the
+    // environment: total = (1 − Fc)·E_base + Fc.
+    const auto white = Environment::uniform(glm::vec3(1.0f));
+    auto m = pbr(glm::vec3(0.0f), 0.0f, 0.5f); // black dielectric: E_base is the lobe's albedo alone
+    m->clearcoat = 1.0f;
+    m->clearcoatRoughness = 0.0f;
+    const FloatImage coated = renderSphere(m, EnvironmentLightNode::create(white));
+    for (double NdotV : {0.98, 0.6}) {
+        const auto [x, n] = pixelAtNdotV(NdotV);
+        const double nv = n.z;
+        const double fc = 0.04 + 0.96 * std::pow(1.0 - nv, 5.0);
+        const double base = directionalAlbedo(nv, 0.04, 0.5, 1200, 1200);
+        const double expected = (1.0 - fc) * base + fc;
+        EXPECT_NEAR(pixel(coated, x, kSize / 2).g, expected, 0.02 * expected + 0.003) << "N.V " << nv;
+        // Without the coat's own reflection the pixel would be (1 − Fc)·E_base: the test sees it.
+        EXPECT_GT(std::abs(expected - (1.0 - fc) * base), 0.035);
+    }
+}

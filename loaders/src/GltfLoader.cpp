@@ -472,6 +472,104 @@ TextureMapping mappingOf(const Context& c, int texCoord, const tinygltf::Extensi
     return t;
 }
 
+// A number as a message shows it ("2", "-0.5").
+std::string numberText(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+// A number member of an extension object that must lie in [0, 1].
+float unitOf(const Context& c, const tinygltf::Value& object, const char* key, double fallback,
+             const std::string& element) {
+    const float v = numberOf(c, object, key, fallback, element);
+    if (!(v >= 0.0f && v <= 1.0f)) c.fail(element + "." + key, numberText(v) + " is outside [0, 1]");
+    return v;
+}
+
+// A textureInfo (or normalTextureInfo) member of an extension object, as tinygltf gives the core's.
+struct ExtensionTexture {
+    int index = -1;
+    int texCoord = 0;
+    double scale = 1.0;
+    tinygltf::ExtensionMap extensions;
+};
+
+ExtensionTexture textureInfoOf(const Context& c, const tinygltf::Value& object, const char* key,
+                               const std::string& element) {
+    ExtensionTexture t;
+    if (!object.Has(key)) return t;
+    const tinygltf::Value& v = object.Get(key);
+    const std::string name = element + "." + key;
+    if (!v.IsObject()) c.fail(name, "must be a textureInfo object");
+    if (!v.Has("index") || !v.Get("index").IsInt() || v.Get("index").GetNumberAsInt() < 0)
+        c.fail(name + ".index", "must be a texture index (an integer >= 0)");
+    t.index = v.Get("index").GetNumberAsInt();
+    if (v.Has("texCoord")) {
+        if (!v.Get("texCoord").IsInt()) c.fail(name + ".texCoord", "must be an integer");
+        t.texCoord = v.Get("texCoord").GetNumberAsInt();
+    }
+    t.scale = numberOf(c, v, "scale", 1.0, name);
+    if (v.Has("extensions")) {
+        const tinygltf::Value& e = v.Get("extensions");
+        if (!e.IsObject()) c.fail(name + ".extensions", "must be an object");
+        for (const std::string& k : e.Keys())
+            t.extensions[k] = e.Get(k);
+    }
+    return t;
+}
+
+// KHR_materials_unlit, _clearcoat and _specular of material `name` (emissive_strength is read
+// with the emissive factor). `texture(info, srgb, map, element)` loads a map and its mapping.
+template <class LoadTexture>
+void readMaterialExtensions(const Context& c, const tinygltf::Material& m, Material& mat,
+                            const std::string& name, LoadTexture&& texture) {
+    const std::string prefix = name + ".extensions.";
+    if (const auto e = m.extensions.find("KHR_materials_unlit"); e != m.extensions.end()) {
+        if (!e->second.IsObject()) c.fail(prefix + "KHR_materials_unlit", "must be an object");
+        mat.model = ShadingModel::Unlit;
+        return; // the spec excludes the others with unlit
+    }
+    if (const auto e = m.extensions.find("KHR_materials_clearcoat"); e != m.extensions.end()) {
+        const std::string ext = prefix + "KHR_materials_clearcoat";
+        const tinygltf::Value& v = e->second;
+        mat.clearcoat = unitOf(c, v, "clearcoatFactor", 0.0, ext);
+        mat.clearcoatRoughness = unitOf(c, v, "clearcoatRoughnessFactor", 0.0, ext);
+        mat.clearcoatTexture = texture(textureInfoOf(c, v, "clearcoatTexture", ext), false,
+                                       MaterialMap::Clearcoat, ext + ".clearcoatTexture");
+        mat.clearcoatRoughnessTexture =
+            texture(textureInfoOf(c, v, "clearcoatRoughnessTexture", ext), false,
+                    MaterialMap::ClearcoatRoughness, ext + ".clearcoatRoughnessTexture");
+        const ExtensionTexture normal = textureInfoOf(c, v, "clearcoatNormalTexture", ext);
+        mat.clearcoatNormalTexture =
+            texture(normal, false, MaterialMap::ClearcoatNormal, ext + ".clearcoatNormalTexture");
+        mat.clearcoatNormalScale = float(normal.scale);
+    }
+    if (const auto e = m.extensions.find("KHR_materials_specular"); e != m.extensions.end()) {
+        const std::string ext = prefix + "KHR_materials_specular";
+        const tinygltf::Value& v = e->second;
+        mat.specularFactor = unitOf(c, v, "specularFactor", 1.0, ext);
+        if (v.Has("specularColorFactor")) {
+            const tinygltf::Value& a = v.Get("specularColorFactor");
+            if (!a.IsArray() || a.ArrayLen() != 3)
+                c.fail(ext + ".specularColorFactor", "must have 3 numbers");
+            for (int k = 0; k < 3; ++k) {
+                const tinygltf::Value& n = a.Get(k);
+                if (!n.IsNumber()) c.fail(ext + ".specularColorFactor", "must have 3 numbers");
+                const double d = n.GetNumberAsDouble();
+                if (!(d >= 0.0 && std::isfinite(d)))
+                    c.fail(ext + ".specularColorFactor",
+                           "[" + std::to_string(k) + "] = " + numberText(d) + " must be finite and >= 0");
+                mat.specularColorFactor[k] = float(d);
+            }
+        }
+        mat.specularTexture = texture(textureInfoOf(c, v, "specularTexture", ext), false,
+                                      MaterialMap::Specular, ext + ".specularTexture");
+        mat.specularColorTexture = texture(textureInfoOf(c, v, "specularColorTexture", ext), true,
+                                           MaterialMap::SpecularColor, ext + ".specularColorTexture");
+    }
+}
+
 bool isGlb(std::span<const std::byte> bytes) {
     return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
 }
@@ -692,15 +790,17 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
     });
     const Context c{path, model, &budget, options.memoryLimit};
     GltfStats st;
-    static const std::set<std::string> supported = {"KHR_texture_transform",
-                                                    "KHR_materials_emissive_strength",
-                                                    "EXT_mesh_gpu_instancing", "KHR_mesh_quantization"};
+    static const std::set<std::string> supported = {
+        "KHR_texture_transform",   "KHR_materials_emissive_strength", "KHR_materials_unlit",
+        "KHR_materials_clearcoat", "KHR_materials_specular",          "EXT_mesh_gpu_instancing",
+        "KHR_mesh_quantization"};
     for (const std::string& required : model.extensionsRequired)
         if (!supported.count(required))
-            c.fail("extensionsRequired", "extension '" + required +
-                                             "' is required but not supported (supported: " +
-                                             "KHR_texture_transform, KHR_materials_emissive_strength, " +
-                                             "EXT_mesh_gpu_instancing, KHR_mesh_quantization)");
+            c.fail("extensionsRequired",
+                   "extension '" + required + "' is required but not supported (supported: " +
+                       "KHR_texture_transform, KHR_materials_emissive_strength, " +
+                       "KHR_materials_unlit, KHR_materials_clearcoat, " +
+                       "KHR_materials_specular, EXT_mesh_gpu_instancing, " + "KHR_mesh_quantization)");
     for (const std::string& used : model.extensionsUsed)
         if (!supported.count(used))
             st.warnings.push_back("extension '" + used + "' is not supported; the model is shown without it");
@@ -741,6 +841,7 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
         mat->occlusionStrength = float(m.occlusionTexture.strength);
         mat->emissiveTexture =
             texture(m.emissiveTexture, true, MaterialMap::Emissive, name + ".emissiveTexture");
+        readMaterialExtensions(c, m, *mat, name, texture);
         auto state = std::make_shared<StateSet>();
         state->material.set(mat);
         if (m.doubleSided) state->cullFace.set(CullFace::None);

@@ -27,9 +27,9 @@ namespace {
 
 using particles::ParticleRecord;
 
-// The vertex-pulling path's buffer textures: units 16.. (a drawable's own, never handed out by the
-// renderer; GL 4.5 guarantees 80 combined units), bound through the renderer at every draw.
-constexpr unsigned kBufferUnit = 16;
+// The vertex-pulling path's buffer textures: a drawable's own units (never handed out by the
+// renderer), bound through the renderer at every draw.
+constexpr unsigned kBufferUnit = Renderer::kFirstDrawableUnit;
 
 // Bytes per particle of each stream: one interleaved record, or (age + P, v, r0, r).
 constexpr std::array<int, 4> kSplitStrides{16, 12, 12, 12};

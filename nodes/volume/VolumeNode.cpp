@@ -22,8 +22,8 @@ namespace sgfx {
 
 namespace {
 
-constexpr unsigned kDensityUnit = 16; // 16..18: a drawable's own units (Renderer::bindTexture)
-constexpr int kMaxBlock = 8;          // voxels per empty-space cell
+constexpr unsigned kDensityUnit = Renderer::kFirstDrawableUnit; // +0..2: a drawable's own units
+constexpr int kMaxBlock = 8;                                    // voxels per empty-space cell
 
 void check(const char* name, float v, double lo, double hi, bool openLow = false) {
     nodes::checkRange("VolumeParameters", name, v, lo, hi, openLow);

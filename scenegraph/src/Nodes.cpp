@@ -552,8 +552,16 @@ void Material::validate() const {
     unit(metallic, "metallic");
     unit(roughness, "roughness");
     unit(occlusionStrength, "occlusionStrength");
+    unit(clearcoat, "clearcoat");
+    unit(clearcoatRoughness, "clearcoatRoughness");
+    unit(specularFactor, "specularFactor");
+    if (!finiteNonNeg(glm::vec4(specularColorFactor, 0)))
+        throw std::invalid_argument("sgfx: Material specularColorFactor must be finite and non-negative");
     if (!std::isfinite(normalScale)) throw std::invalid_argument("sgfx: Material normalScale must be finite");
-    if (model != ShadingModel::BlinnPhong && model != ShadingModel::MetallicRoughness)
+    if (!std::isfinite(clearcoatNormalScale))
+        throw std::invalid_argument("sgfx: Material clearcoatNormalScale must be finite");
+    if (model != ShadingModel::BlinnPhong && model != ShadingModel::MetallicRoughness &&
+        model != ShadingModel::Unlit)
         throw std::invalid_argument("sgfx: Material model " + std::to_string(int(model)) +
                                     " is not a ShadingModel");
     for (std::size_t i = 0; i < mappings.size(); ++i) {

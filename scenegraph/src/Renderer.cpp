@@ -15,11 +15,29 @@
 
 namespace sgfx {
 
+namespace {
+
+// The units render/TextureUnits.h lays out: 32 for a material program's samplers (every desktop
+// GPU and llvmpipe offer 32 per fragment stage), then a drawable's own 16.
+void checkTextureUnits() {
+    GLint fragment = 0, combined = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &fragment);
+    glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &combined);
+    if (fragment < GLint(render::kHandedOutUnits) || combined < GLint(render::kTrackedUnits))
+        throw std::runtime_error(
+            "sgfx: the OpenGL context offers " + std::to_string(fragment) + " fragment and " +
+            std::to_string(combined) + " combined texture units; sgfx needs " +
+            std::to_string(render::kHandedOutUnits) + " and " + std::to_string(render::kTrackedUnits));
+}
+
+} // namespace
+
 Renderer::Renderer(GraphicsContext& context, Options options)
     : context_(context)
     , options_(options)
     , impl_(std::make_unique<Impl>(stats_.stateChanges)) {
     context_.makeCurrent();
+    checkTextureUnits();
     // The error policy is read from the environment once, here, never on the frame path.
     const char* env = std::getenv("SGFX_GL_ERRORS");
     impl_->glErrorsDefault = env && std::string_view(env) == "throw"

@@ -1,6 +1,7 @@
 #include "sgfx/ShaderComposer.h"
 
 #include "EmbeddedShaders.h"
+#include "render/TextureUnits.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Material.h"
 #include "sgfx/gl/Objects.h"
@@ -44,6 +45,10 @@ void appendChunk(std::string& out, std::vector<std::string>& names, std::string 
 
 std::string preamble(std::span<const ShaderSnippet* const> snippets, FeatureMask features) {
     std::string p = ShaderComposer::featureDefines(features);
+    // Each material map's texture unit and uv index (render/TextureUnits.h).
+    for (std::size_t k = 0; k < kMaterialMapCount; ++k)
+        p += std::string("#define ") + render::kMaterialMapDefines[k] + " " +
+             std::to_string(render::materialUnit(MaterialMap(k))) + "\n";
     for (const ShaderSnippet* s : snippets)
         p += s->defines.empty() ? "" : s->defines + "\n";
     p += shaders::embedded("frame_block.glsl");
@@ -107,6 +112,23 @@ std::string composeStage(std::string_view name, std::string_view src, std::span<
         out += lineDirective(line + 1, baseSource);
     }
     return out;
+}
+
+// KHR_materials_clearcoat and KHR_materials_specular: one bit each (their maps are chosen by a
+// uniform), set only when the extension changes the result. `uses` marks the coordinates read.
+template <class Uses> FeatureMask extensionFeatures(const Material& m, Uses& uses) {
+    FeatureMask f = 0;
+    if (m.clearcoat > 0.0f) {
+        f |= FeatureClearcoat;
+        uses(m.clearcoatTexture, MaterialMap::Clearcoat);
+        uses(m.clearcoatRoughnessTexture, MaterialMap::ClearcoatRoughness);
+        if (uses(m.clearcoatNormalTexture, MaterialMap::ClearcoatNormal)) f |= FeatureWorldPosition;
+    }
+    const bool specTex = uses(m.specularTexture, MaterialMap::Specular);
+    const bool colourTex = uses(m.specularColorTexture, MaterialMap::SpecularColor);
+    if (m.specularFactor != 1.0f || m.specularColorFactor != glm::vec3(1.0f) || specTex || colourTex)
+        f |= FeatureSpecularExt;
+    return f;
 }
 
 std::string describe(std::string_view base, std::span<const ShaderSnippet* const> snippets) {
@@ -185,7 +207,10 @@ std::string ShaderComposer::featureDefines(FeatureMask f) {
         {FeatureTexCoords1, "SGFX_TEXCOORDS1"},
         {FeatureUvTransform, "SGFX_UV_TRANSFORM"},
         {FeatureInstanced, "SGFX_INSTANCED"},
-        {FeatureBatched, "SGFX_BATCHED"}};
+        {FeatureBatched, "SGFX_BATCHED"},
+        {FeatureUnlit, "SGFX_UNLIT"},
+        {FeatureClearcoat, "SGFX_CLEARCOAT"},
+        {FeatureSpecularExt, "SGFX_SPECULAR_EXT"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";
@@ -215,8 +240,7 @@ FeatureMask ShaderComposer::blendFeatures(bool blended, BlendMode blend) {
     }
 }
 
-FeatureMask ShaderComposer::featuresFor(const Material* m, const Geometry& g, bool blended,
-                                          BlendMode blend) {
+FeatureMask ShaderComposer::featuresFor(const Material* m, const Geometry& g, bool blended, BlendMode blend) {
     // Only what the material reads is interpolated: every varying costs per fragment.
     FeatureMask f = blendFeatures(blended, blend);
     if (!g.normals.empty()) f |= FeatureNormals;
@@ -241,9 +265,11 @@ FeatureMask ShaderComposer::featuresFor(const Material* m, const Geometry& g, bo
             if (!g.tangents.empty()) f |= FeatureTangents;
         }
         if (m->alphaCutoff) f |= FeatureAlphaMask;
+        if (m->model == ShadingModel::Unlit) return f | FeatureUnlit; // no light: no other map is read
         if (m->model == ShadingModel::MetallicRoughness) {
             f |= FeatureMetallicRoughness | FeatureSpecular; // always a specular lobe
             if (uses(m->metallicRoughnessTexture, MaterialMap::MetallicRoughness)) f |= FeatureMetalRoughMap;
+            f |= extensionFeatures(*m, uses);
         } else if (m->specular != glm::vec3(0.0f)) {
             f |= FeatureSpecular;
         }

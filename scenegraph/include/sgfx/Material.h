@@ -20,13 +20,30 @@ enum class ShadingModel : std::uint8_t {
     /// glTF 2.0's metallic-roughness model (spec appendix B): Lambert diffuse of
     /// mix(base, 0, metallic), GGX distribution, height-correlated Smith visibility, Schlick
     /// Fresnel with F0 = mix(0.04, base, metallic). Uses diffuse (base colour and opacity),
-    /// metallic, roughness and emissive; ambient, specular and shininess are ignored.
+    /// metallic, roughness and emissive; ambient, specular and shininess are ignored. The glTF
+    /// extensions KHR_materials_clearcoat and KHR_materials_specular refine it (fields below).
     MetallicRoughness,
+    /// KHR_materials_unlit: colour = diffuse × base colour map × vertex colour; no light, no
+    /// ambient, no emission. Effects at the colour hook (fog, ...) still apply.
+    Unlit,
 };
 
-/// The textures a material may carry, indexing Material::mappings.
-enum class MaterialMap : std::uint8_t { BaseColor, Alpha, Normal, MetallicRoughness, Occlusion, Emissive };
-inline constexpr std::size_t kMaterialMapCount = 6;
+/// The textures a material may carry, indexing Material::mappings (and, inside the renderer, the
+/// texture unit each is bound to).
+enum class MaterialMap : std::uint8_t {
+    BaseColor,
+    Alpha,
+    Normal,
+    MetallicRoughness,
+    Occlusion,
+    Emissive,
+    Clearcoat,          ///< KHR_materials_clearcoat: clearcoatTexture
+    ClearcoatRoughness, ///< clearcoatRoughnessTexture
+    ClearcoatNormal,    ///< clearcoatNormalTexture
+    Specular,           ///< KHR_materials_specular: specularTexture
+    SpecularColor,      ///< specularColorTexture
+};
+inline constexpr std::size_t kMaterialMapCount = 11;
 
 /// Which texture coordinates a map reads and how they are transformed first
 /// (KHR_texture_transform: uv' = T(offset) * R(rotation) * S(scale) * uv).
@@ -66,6 +83,23 @@ public:
     std::shared_ptr<Texture> emissiveTexture;          ///< multiplies emissive (sRGB)
     float normalScale = 1.0f;       ///< scales the normal map's x and y (glTF normalTexture.scale)
     float occlusionStrength = 1.0f; ///< 0: no occlusion, 1: the texture's full value
+
+    /// KHR_materials_clearcoat (MetallicRoughness only): a GGX layer with F0 = 0.04 over the
+    /// surface, which it darkens by 1 - clearcoat·Fresnel(N_c·V). 0 turns the layer off.
+    float clearcoat = 0.0f;                             ///< [0, 1]
+    float clearcoatRoughness = 0.0f;                    ///< [0, 1], perceptual (α = roughness²)
+    std::shared_ptr<Texture> clearcoatTexture;          ///< R scales clearcoat (linear)
+    std::shared_ptr<Texture> clearcoatRoughnessTexture; ///< G scales clearcoatRoughness (linear)
+    std::shared_ptr<Texture> clearcoatNormalTexture;    ///< the layer's own normal map (linear)
+    float clearcoatNormalScale = 1.0f;                  ///< like normalScale, for the layer
+
+    /// KHR_materials_specular (MetallicRoughness only): the dielectric part's
+    /// F0 = min(0.04·specularColorFactor, 1)·specularFactor and F90 = specularFactor.
+    /// Not Blinn-Phong's `specular` colour.
+    float specularFactor = 1.0f;                   ///< [0, 1]; 0: no highlight on a dielectric
+    glm::vec3 specularColorFactor{1.0f};           ///< finite, >= 0 (may exceed 1)
+    std::shared_ptr<Texture> specularTexture;      ///< A scales specularFactor (linear)
+    std::shared_ptr<Texture> specularColorTexture; ///< RGB scales specularColorFactor (sRGB)
     std::array<TextureMapping, kMaterialMapCount> mappings{};
     TextureMapping& mapping(MaterialMap m) { return mappings[std::size_t(m)]; }
     const TextureMapping& mapping(MaterialMap m) const { return mappings[std::size_t(m)]; }

@@ -162,16 +162,19 @@ public:
     /// that time one step alone, such as a particle simulation).
     void runCommands(std::string_view name, const std::function<void(PassCommands&)>& commands);
     /// The texture of the frame resource published as `resource` while it is alive in the pass
-    /// being drawn (for a drawable to sample on a unit of its own, 16..31), else 0.
+    /// being drawn (for a drawable to sample on a unit of its own, kFirstDrawableUnit..+15), else 0.
     unsigned frameResourceTexture(std::string_view resource) const;
     /// Positions only, transformed by sgfx_model and the frame block; an empty fragment stage.
     gl::Program& depthOnlyProgram();
     /// G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.
     gl::Program& gbufferProgram();
     /// Binds a texture to a unit through the renderer's state cache (effect units: see above).
-    /// Units 16..31 are a drawable's own (buffer textures, volume data): the renderer never hands
-    /// them out, the cache tracks them all the same.
+    /// Units kFirstDrawableUnit..+15 are a drawable's own (buffer textures, volume data): the
+    /// renderer never hands them out, the cache tracks them all the same.
     void bindTexture(unsigned unit, unsigned texture);
+    /// The first of a drawable's own 16 texture units; units below are the renderer's (material
+    /// maps, StateSet textures, frame resources). The context must offer 48 combined units.
+    static constexpr unsigned kFirstDrawableUnit = 32;
     /// Sets the blend state through the cache (full-screen passes that blend onto the target).
     void setBlend(BlendMode mode);
     /// For a Drawable's draw: which faces are culled, through the cache (the renderer sets each

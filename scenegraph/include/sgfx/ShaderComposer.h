@@ -110,6 +110,11 @@ enum MaterialFeature : std::uint64_t {
     /// Automatic instance batch (RendererOptions::autoInstancing): the model matrix of instance i
     /// is sgfx_batchModels[sgfx_batchBase + i], a shader storage buffer at kBatchBinding.
     FeatureBatched = 1u << 28,
+    FeatureUnlit = 1ull << 29, ///< ShadingModel::Unlit (KHR_materials_unlit)
+    /// KHR_materials_clearcoat: the layer and its three maps (each sampled when the material has it).
+    FeatureClearcoat = 1ull << 30,
+    /// KHR_materials_specular: F0 and F90 of the dielectric part from the extension and its two maps.
+    FeatureSpecularExt = 1ull << 31,
     /// Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
@@ -121,7 +126,8 @@ inline constexpr FeatureMask kAllMaterialFeatures =
     FeatureTangents | FeatureTexCoords | FeatureAlphaMask | FeatureBlend | FeatureSpecular |
     FeatureMetallicRoughness | FeatureVertexLighting | FeatureLightCountMask | FeatureWorldPosition |
     FeaturePointLights | FeatureBlendKindMask | FeatureGBuffer | FeatureMetalRoughMap | FeatureOcclusionMap |
-    FeatureEmissiveMap | FeatureTexCoords1 | FeatureUvTransform | FeatureInstanced | FeatureBatched;
+    FeatureEmissiveMap | FeatureTexCoords1 | FeatureUvTransform | FeatureInstanced | FeatureBatched |
+    FeatureUnlit | FeatureClearcoat | FeatureSpecularExt;
 // A program key holds every feature bit (the mask fits only if each bit does).
 static_assert(ProgramKey::Features.fits(kAllMaterialFeatures),
               "a MaterialFeature bit is outside ProgramKey::Features");
@@ -144,7 +150,7 @@ public:
     static std::string featureDefines(FeatureMask features);
     /// The variant a material needs for a geometry (attributes present, textures, mask, blending).
     static FeatureMask featuresFor(const Material* material, const Geometry& geometry, bool blended,
-                                     BlendMode blend = BlendMode::Alpha);
+                                   BlendMode blend = BlendMode::Alpha);
     /// The blend-kind bits alone (the only feature bits a foreign shader's wrap uses).
     static FeatureMask blendFeatures(bool blended, BlendMode blend);
     /// Adds FeatureWorldPosition where the variant or its snippets read the world position.

@@ -4,6 +4,7 @@
 // Full-screen draws (Renderer::drawFullscreen) too.
 #include "render/GpuUpload.h"
 #include "render/RendererImpl.h"
+#include "render/TextureUnits.h"
 #include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
@@ -13,6 +14,7 @@
 #include <sgfx_glad/gl.h>
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -22,20 +24,10 @@ namespace sgfx {
 
 namespace {
 
-enum Unit : unsigned {
-    BaseUnit = 0,
-    AlphaUnit = 1,
-    NormalUnit = 2,
-    MetalRoughUnit = 3,
-    OcclusionUnit = 4,
-    EmissiveUnit = 5,
-    FirstUserUnit = 6
-};
-
 // Variant bits that only matter for shading: G-buffer variants leave them out.
 constexpr FeatureMask kLightingFeatures = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
-                                            FeatureVertexLighting | FeatureLightCountMask |
-                                            FeaturePointLights;
+                                          FeatureVertexLighting | FeatureLightCountMask | FeaturePointLights |
+                                          FeatureUnlit | FeatureClearcoat | FeatureSpecularExt;
 
 // Enum values outside their range (a cast from bad data) would index GL tables out of bounds.
 void validateEnums(const ResolvedState& st, const RenderItem& item) {
@@ -53,6 +45,15 @@ void validateEnums(const ResolvedState& st, const RenderItem& item) {
         bad("CompareFunc", int(st.depth.value->func));
     if (item.geometry && std::uint8_t(item.geometry->mode) > std::uint8_t(PrimitiveMode::TriangleFan))
         bad("PrimitiveMode", int(item.geometry->mode));
+}
+
+// The maps of KHR_materials_clearcoat and KHR_materials_specular, with their MaterialMap.
+std::array<std::pair<const Texture*, MaterialMap>, 5> extensionMaps(const Material& m) {
+    return {{{m.clearcoatTexture.get(), MaterialMap::Clearcoat},
+             {m.clearcoatRoughnessTexture.get(), MaterialMap::ClearcoatRoughness},
+             {m.clearcoatNormalTexture.get(), MaterialMap::ClearcoatNormal},
+             {m.specularTexture.get(), MaterialMap::Specular},
+             {m.specularColorTexture.get(), MaterialMap::SpecularColor}}};
 }
 
 } // namespace
@@ -109,8 +110,8 @@ private:
     const Material* material = nullptr;
     std::uint32_t effectSet = ~0u;
     FeatureMask programExtra = 0; // FeatureBatched when the current program draws batches
-    bool batchesBound = true;       // the batch matrices are bound at kBatchBinding
-    std::size_t batchBase = 0;      // the next batch's first matrix
+    bool batchesBound = true;     // the batch matrices are bound at kBatchBinding
+    std::size_t batchBase = 0;    // the next batch's first matrix
     std::vector<const ShaderSnippet*> snippets;
 };
 
@@ -235,9 +236,9 @@ bool Renderer::DrawList::selectDrawableProgram(const RenderItem& item) {
         for (const EffectNode* e : r.current_->effectSets[item.effectSet].effects)
             snippets.push_back(&e->snippet());
     const FeatureMask features = mode == DrawMode::GBuffer
-                                       ? (item.features & ~kLightingFeatures) | FeatureGBuffer
-                                   : mode == DrawMode::DepthOnly ? item.features & ~FeatureBlend
-                                                                 : item.features | r.viewFeatures_;
+                                     ? (item.features & ~kLightingFeatures) | FeatureGBuffer
+                                 : mode == DrawMode::DepthOnly ? item.features & ~FeatureBlend
+                                                               : item.features | r.viewFeatures_;
     program = &r.composer_.program(item.drawable->baseShader(), snippets, features | FeatureWorldPosition);
     programKey = key;
     return true;
@@ -327,7 +328,7 @@ void Renderer::DrawList::applyItemState(const RenderItem& item) {
             d.write = d.write && state->transparency.value && state->transparency.value->writeDepth;
         s.cache.setDepth(d);
     }
-    unsigned unit = FirstUserUnit;
+    unsigned unit = render::kFirstUserUnit;
     for (const auto& [name, tex] : state->textures) {
         if (!tex.value || !*tex.value || unit >= render::kFirstFrameResourceUnit) continue;
         s.cache.bindTexture(unit, render::textureFor(**tex.value));
@@ -364,6 +365,21 @@ void Renderer::DrawList::setMaterialUniforms(const Material& m, const RenderItem
     }
     program->set("sgfx_normalScale", m.normalScale);
     program->set("sgfx_occlusionStrength", m.occlusionStrength);
+    if (item.features & (FeatureClearcoat | FeatureSpecularExt)) {
+        // Which extension maps are read (bit = MaterialMap index): those the material has whose
+        // coordinates the geometry has (as ShaderComposer::featuresFor); the others read as 1.
+        int maps = 0;
+        for (const auto& [tex, map] : extensionMaps(m))
+            if (tex && item.geometry &&
+                !(m.mapping(map).texCoord == 1 ? item.geometry->texcoords1 : item.geometry->texcoords)
+                     .empty())
+                maps |= 1 << int(map);
+        program->set("sgfx_extensionMaps", maps);
+    }
+    if (item.features & FeatureClearcoat)
+        program->set("sgfx_clearcoat", glm::vec3(m.clearcoat, m.clearcoatRoughness, m.clearcoatNormalScale));
+    if (item.features & FeatureSpecularExt)
+        program->set("sgfx_specularExt", glm::vec4(m.specularColorFactor, m.specularFactor));
     if (item.features & FeatureUvTransform)
         for (std::size_t k = 0; k < kMaterialMapCount; ++k) {
             const std::string index = "[" + std::to_string(k) + "]";
@@ -373,14 +389,17 @@ void Renderer::DrawList::setMaterialUniforms(const Material& m, const RenderItem
 }
 
 void Renderer::DrawList::bindMaterialTextures(const Material& m) {
-    using render::textureFor;
-    if (m.baseColorTexture) s.cache.bindTexture(BaseUnit, textureFor(*m.baseColorTexture));
-    if (m.alphaTexture) s.cache.bindTexture(AlphaUnit, textureFor(*m.alphaTexture));
-    if (m.normalTexture) s.cache.bindTexture(NormalUnit, textureFor(*m.normalTexture));
-    if (m.metallicRoughnessTexture)
-        s.cache.bindTexture(MetalRoughUnit, textureFor(*m.metallicRoughnessTexture));
-    if (m.occlusionTexture) s.cache.bindTexture(OcclusionUnit, textureFor(*m.occlusionTexture));
-    if (m.emissiveTexture) s.cache.bindTexture(EmissiveUnit, textureFor(*m.emissiveTexture));
+    const std::pair<const std::shared_ptr<Texture>*, MaterialMap> maps[] = {
+        {&m.baseColorTexture, MaterialMap::BaseColor},
+        {&m.alphaTexture, MaterialMap::Alpha},
+        {&m.normalTexture, MaterialMap::Normal},
+        {&m.metallicRoughnessTexture, MaterialMap::MetallicRoughness},
+        {&m.occlusionTexture, MaterialMap::Occlusion},
+        {&m.emissiveTexture, MaterialMap::Emissive}};
+    for (const auto& [tex, map] : maps)
+        if (*tex) s.cache.bindTexture(render::materialUnit(map), render::textureFor(**tex));
+    for (const auto& [tex, map] : extensionMaps(m))
+        if (tex) s.cache.bindTexture(render::materialUnit(map), render::textureFor(*tex));
 }
 
 void Renderer::DrawList::applyFaces(const RenderItem& item) {

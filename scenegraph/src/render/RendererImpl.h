@@ -37,9 +37,6 @@ struct FrameBlock {
     glm::vec4 lightColor[8];
 };
 constexpr int kMaxLights = 8;
-// Texture units of a material program: its maps 0..5, the StateSet's textures 6..11, then the
-// frame resources its effects sample and those a drawable binds (Renderer::bindFrameResource).
-constexpr unsigned kFirstFrameResourceUnit = 12;
 } // namespace render
 
 struct Renderer::Impl {

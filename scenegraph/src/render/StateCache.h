@@ -2,6 +2,7 @@
 // The renderer's redundant-state filter (private to the renderer): the program, blend, cull and
 // depth state and the texture units it last set, so an unchanged value costs no GL call. Every real
 // change is counted as a state change (FrameStats::stateChanges).
+#include "render/TextureUnits.h"
 #include "sgfx/StateSet.h"
 
 #include <glm/glm.hpp>
@@ -15,9 +16,9 @@ namespace sgfx::gl {
 
 class StateCache {
 public:
-    static constexpr std::size_t kUnits = 16; ///< texture units the renderer hands out (0..15)
-    /// Units tracked: 16..31 are a drawable's own (buffer textures, volume data), never handed out.
-    static constexpr std::size_t kTrackedUnits = 32;
+    static constexpr std::size_t kUnits = render::kHandedOutUnits; ///< units the renderer hands out
+    /// Units tracked: the renderer's and a drawable's own (buffer textures, volume data).
+    static constexpr std::size_t kTrackedUnits = render::kTrackedUnits;
 
     /// Where real changes are counted (the renderer's FrameStats::stateChanges).
     explicit StateCache(std::size_t& stateChanges)
