@@ -83,6 +83,50 @@ layout(location = 2) out vec4 sgfx_gPosition; // view-space position
 
 #include "brdf_metallic_roughness.glsl"
 #include "material_environment.glsl"
+#include "lights.glsl"
+
+#ifndef SGFX_VERTEX_LIGHTING
+// Adds one light: E, its colour times its attenuation, arriving along the unit vector L.
+// Light colours are irradiance over π (a white Lambert surface facing a light shows its colour,
+// as with Blinn-Phong), so both metallic-roughness lobes are multiplied by π.
+void sgfx_addLight(vec3 E, vec3 L, vec3 N, vec3 V, vec3 albedo, vec3 f0, float roughness, inout vec3 color,
+                   inout vec3 added) {
+    float NdotL = max(dot(N, L), 0.0);
+#ifdef SGFX_METALLIC_ROUGHNESS
+    vec3 F;
+    vec3 specular = brdfSpecular(N, V, L, f0, roughness, F);
+    color += E * NdotL * (vec3(1.0) - F) * albedo;
+    added += E * NdotL * specular;
+#else
+    color += E * albedo * NdotL;
+#ifdef SGFX_SPECULAR
+    vec3 H = normalize(L + V);
+    added += NdotL > 0.0 ? E * sgfx_matSpecular * pow(max(dot(N, H), 0.0), sgfx_matShininess) : vec3(0.0);
+#endif
+#endif
+}
+
+#ifdef SGFX_LIGHT_LIST
+void sgfx_addListedLight(int i, vec3 N, vec3 V, vec3 albedo, vec3 f0, float roughness, inout vec3 color,
+                         inout vec3 added) {
+    vec3 L;
+    float k = sgfx_lightFactor(sgfx_lights[i].vector, sgfx_lights[i].color, sgfx_lights[i].spot,
+                               sgfx_lights[i].params, v_worldPos, L);
+    if (k > 0.0) sgfx_addLight(sgfx_lights[i].color.rgb * k, L, N, V, albedo, f0, roughness, color, added);
+}
+
+// The lights without a range, then the ranged lights listed for this fragment's screen tile.
+void sgfx_addLightList(vec3 N, vec3 V, vec3 albedo, vec3 f0, float roughness, inout vec3 color, inout vec3 added) {
+    for (int i = 0; i < sgfx_lightCount.y; ++i)
+        sgfx_addListedLight(i, N, V, albedo, f0, roughness, color, added);
+    ivec2 tile = ivec2(gl_FragCoord.xy) / sgfx_lightCount.w;
+    int t = tile.y * sgfx_lightCount.z + tile.x;
+    uint first = sgfx_lightTiles[2 * t], count = sgfx_lightTiles[2 * t + 1];
+    for (uint k = 0u; k < count; ++k)
+        sgfx_addListedLight(int(sgfx_lightTiles[first + k]), N, V, albedo, f0, roughness, color, added);
+}
+#endif
+#endif
 
 #if !defined(SGFX_VERTEX_LIGHTING) || defined(SGFX_ENVIRONMENT)
 vec3 surfaceNormal() {
@@ -209,32 +253,33 @@ void main() {
     vec3 N = surfaceNormal();
 #if defined(SGFX_SPECULAR) || defined(SGFX_METALLIC_ROUGHNESS)
     vec3 V = normalize(sgfx_eye.xyz - v_worldPos);
+#else
+    vec3 V = vec3(0.0);
 #endif
+#ifdef SGFX_METALLIC_ROUGHNESS
+    vec3 albedo = diffuseColor;
+#else
+    vec3 albedo = base.rgb, f0 = vec3(0.0);
+    float roughness = 0.0;
+#endif
+#ifdef SGFX_LIGHT_LIST
+    sgfx_addLightList(N, V, albedo, f0, roughness, color, added);
+#else
     // SGFX_LIGHT_COUNT is the number of lights in the view, compiled in so the loop unrolls.
     for (int i = 0; i < SGFX_LIGHT_COUNT; ++i) {
         vec4 lv = sgfx_lightVector[i];
-#ifdef SGFX_POINT_LIGHTS
+        vec3 E = sgfx_lightColor[i].rgb;
+#if defined(SGFX_LIGHT_ATTENUATION)
+        vec3 L;
+        E *= sgfx_lightFactor(lv, sgfx_lights[i].color, sgfx_lights[i].spot, sgfx_lights[i].params, v_worldPos, L);
+#elif defined(SGFX_POINT_LIGHTS)
         vec3 L = normalize(lv.xyz - lv.w * v_worldPos); // w = 0: direction, w = 1: position
 #else
         vec3 L = lv.xyz; // directions come normalised
 #endif
-        float NdotL = max(dot(N, L), 0.0);
-#ifdef SGFX_METALLIC_ROUGHNESS
-        // Light colours are irradiance over π (a white Lambert surface facing a light shows its
-        // colour, as with Blinn-Phong), so both lobes are multiplied by π.
-        vec3 F;
-        vec3 specular = brdfSpecular(N, V, L, f0, roughness, F);
-        color += sgfx_lightColor[i].rgb * NdotL * (vec3(1.0) - F) * diffuseColor;
-        added += sgfx_lightColor[i].rgb * NdotL * specular;
-#else
-        color += sgfx_lightColor[i].rgb * base.rgb * NdotL;
-#ifdef SGFX_SPECULAR
-        vec3 H = normalize(L + V);
-        added += NdotL > 0.0 ? sgfx_lightColor[i].rgb * sgfx_matSpecular * pow(max(dot(N, H), 0.0), sgfx_matShininess)
-                             : vec3(0.0);
-#endif
-#endif
+        sgfx_addLight(E, L, N, V, albedo, f0, roughness, color, added);
     }
+#endif
 #endif
 #ifdef SGFX_ENVIRONMENT
 #ifdef SGFX_VERTEX_LIGHTING

@@ -185,7 +185,9 @@ std::string ShaderComposer::featureDefines(FeatureMask f) {
         {FeatureTexCoords1, "SGFX_TEXCOORDS1"},
         {FeatureUvTransform, "SGFX_UV_TRANSFORM"},
         {FeatureInstanced, "SGFX_INSTANCED"},
-        {FeatureBatched, "SGFX_BATCHED"}};
+        {FeatureBatched, "SGFX_BATCHED"},
+        {FeatureLightAttenuation, "SGFX_LIGHT_ATTENUATION"},
+        {FeatureLightList, "SGFX_LIGHT_LIST"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";
@@ -196,7 +198,9 @@ std::string ShaderComposer::featureDefines(FeatureMask f) {
 
 FeatureMask ShaderComposer::withWorldPosition(FeatureMask f, bool hasSnippets) {
     const bool derivedNormal = !(f & FeatureNormals) || ((f & FeatureNormalMap) && !(f & FeatureTangents));
-    if (hasSnippets || derivedNormal || (f & (FeatureSpecular | FeaturePointLights | FeatureVertexLighting)))
+    if (hasSnippets || derivedNormal ||
+        (f & (FeatureSpecular | FeaturePointLights | FeatureVertexLighting | FeatureLightAttenuation |
+              FeatureLightList)))
         f |= FeatureWorldPosition;
     return f;
 }

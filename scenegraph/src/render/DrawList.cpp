@@ -34,8 +34,8 @@ enum Unit : unsigned {
 
 // Variant bits that only matter for shading: G-buffer variants leave them out.
 constexpr FeatureMask kLightingFeatures = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
-                                            FeatureVertexLighting | FeatureLightCountMask |
-                                            FeaturePointLights;
+                                          FeatureVertexLighting | FeatureLightCountMask | FeaturePointLights |
+                                          FeatureLightAttenuation | FeatureLightList;
 
 // Enum values outside their range (a cast from bad data) would index GL tables out of bounds.
 void validateEnums(const ResolvedState& st, const RenderItem& item) {
