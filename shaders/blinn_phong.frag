@@ -271,7 +271,9 @@ void main() {
         vec3 E = sgfx_lightColor[i].rgb;
 #if defined(SGFX_LIGHT_ATTENUATION)
         vec3 L;
-        E *= sgfx_lightFactor(lv, sgfx_lights[i].color, sgfx_lights[i].spot, sgfx_lights[i].params, v_worldPos, L);
+        float k = sgfx_lightFactor(lv, sgfx_lights[i].color, sgfx_lights[i].spot, sgfx_lights[i].params, v_worldPos, L);
+        if (k <= 0.0) continue; // out of range or outside the cone: no shading
+        E *= k;
 #elif defined(SGFX_POINT_LIGHTS)
         vec3 L = normalize(lv.xyz - lv.w * v_worldPos); // w = 0: direction, w = 1: position
 #else
