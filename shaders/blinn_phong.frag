@@ -103,6 +103,7 @@ layout(location = 2) out vec4 sgfx_gPosition; // view-space position
 
 #include "brdf_metallic_roughness.glsl"
 #include "material_environment.glsl"
+#include "lights.glsl"
 
 #if !defined(SGFX_VERTEX_LIGHTING) || defined(SGFX_ENVIRONMENT)
 // The interpolated normal (or the triangle's), not yet turned towards the viewer's side.
@@ -155,6 +156,64 @@ vec3 surfaceNormal() {
 
 #include "clearcoat.glsl"
 #include "specular_ext.glsl"
+
+#ifndef SGFX_VERTEX_LIGHTING
+// What a light needs of the surface, the same for the unrolled loop and the light list.
+struct SgfxSurface {
+    vec3 N, V, albedo, f0, f90;
+    float roughness;
+    vec3 coatN; // KHR_materials_clearcoat: the layer's normal and roughness (unused without it)
+    float coatRoughness;
+};
+
+// Adds one light: E, its colour times its attenuation, arriving along the unit vector L.
+// Light colours are irradiance over π (a white Lambert surface facing a light shows its colour,
+// as with Blinn-Phong), so both metallic-roughness lobes are multiplied by π. coatLight gathers
+// what the clearcoat layer reflects.
+void sgfx_addLight(vec3 E, vec3 L, SgfxSurface s, inout vec3 color, inout vec3 added, inout vec3 coatLight) {
+    float NdotL = max(dot(s.N, L), 0.0);
+#ifdef SGFX_METALLIC_ROUGHNESS
+    vec3 F;
+    vec3 specular = brdfSpecular(s.N, s.V, L, s.f0, s.f90, s.roughness, F);
+#ifdef SGFX_SPECULAR_EXT
+    vec3 scattered = vec3(1.0 - max(F.r, max(F.g, F.b))); // the extension's (1 - max(F))
+#else
+    vec3 scattered = vec3(1.0) - F;
+#endif
+    color += E * NdotL * scattered * s.albedo;
+    added += E * NdotL * specular;
+#ifdef SGFX_CLEARCOAT
+    coatLight += E * max(dot(s.coatN, L), 0.0) * brdfLobe(s.coatN, s.V, L, s.coatRoughness);
+#endif
+#else
+    color += E * s.albedo * NdotL;
+#ifdef SGFX_SPECULAR
+    vec3 H = normalize(L + s.V);
+    added += NdotL > 0.0 ? E * sgfx_matSpecular * pow(max(dot(s.N, H), 0.0), sgfx_matShininess) : vec3(0.0);
+#endif
+#endif
+}
+
+#ifdef SGFX_LIGHT_LIST
+void sgfx_addListedLight(int i, SgfxSurface s, inout vec3 color, inout vec3 added, inout vec3 coatLight) {
+    vec3 L;
+    float k = sgfx_lightFactor(sgfx_lights[i].vector, sgfx_lights[i].color, sgfx_lights[i].spot,
+                               sgfx_lights[i].params, v_worldPos, L);
+    if (k > 0.0) sgfx_addLight(sgfx_lights[i].color.rgb * k, L, s, color, added, coatLight);
+}
+
+// The lights without a range, then the ranged lights listed for this fragment's screen tile.
+void sgfx_addLightList(SgfxSurface s, inout vec3 color, inout vec3 added, inout vec3 coatLight) {
+    for (int i = 0; i < sgfx_lightCount.y; ++i)
+        sgfx_addListedLight(i, s, color, added, coatLight);
+    ivec2 tile = ivec2(gl_FragCoord.xy) / sgfx_lightCount.w;
+    int t = tile.y * sgfx_lightCount.z + tile.x;
+    uint first = sgfx_lightTiles[2 * t], count = sgfx_lightTiles[2 * t + 1];
+    for (uint k = 0u; k < count; ++k)
+        sgfx_addListedLight(int(sgfx_lightTiles[first + k]), s, color, added, coatLight);
+}
+#endif
+#endif
 
 void main() {
     vec4 base = sgfx_matDiffuse;
@@ -254,50 +313,49 @@ void main() {
     vec3 N = surfaceNormal();
 #if defined(SGFX_SPECULAR) || defined(SGFX_METALLIC_ROUGHNESS)
     vec3 V = normalize(sgfx_eye.xyz - v_worldPos);
+#else
+    vec3 V = vec3(0.0);
 #endif
 #ifdef SGFX_CLEARCOAT
     Clearcoat coat = clearcoatLayer(V, sgfx_geometricNormal());
     vec3 coatLight = sgfx_ambient; // the layer mirrors ambient light like the base's F0 term
+    vec3 coatN = coat.N;
+    float coatRoughness = coat.roughness;
+#else
+    vec3 coatLight = vec3(0.0), coatN = N;
+    float coatRoughness = 1.0;
 #endif
+#ifdef SGFX_METALLIC_ROUGHNESS
+    SgfxSurface surface = SgfxSurface(N, V, diffuseColor, f0, f90, roughness, coatN, coatRoughness);
+#else
+    SgfxSurface surface = SgfxSurface(N, V, base.rgb, vec3(0.0), vec3(1.0), 0.0, coatN, coatRoughness);
+#endif
+#ifdef SGFX_LIGHT_LIST
+    sgfx_addLightList(surface, color, added, coatLight);
+#else
     // SGFX_LIGHT_COUNT is the number of lights in the view, compiled in so the loop unrolls.
     for (int i = 0; i < SGFX_LIGHT_COUNT; ++i) {
         vec4 lv = sgfx_lightVector[i];
-#ifdef SGFX_POINT_LIGHTS
+        vec3 E = sgfx_lightColor[i].rgb;
+#if defined(SGFX_LIGHT_ATTENUATION)
+        vec3 L;
+        float k = sgfx_lightFactor(lv, sgfx_lights[i].color, sgfx_lights[i].spot, sgfx_lights[i].params, v_worldPos, L);
+        if (k <= 0.0) continue; // out of range or outside the cone: no shading
+        E *= k;
+#elif defined(SGFX_POINT_LIGHTS)
         vec3 L = normalize(lv.xyz - lv.w * v_worldPos); // w = 0: direction, w = 1: position
 #else
         vec3 L = lv.xyz; // directions come normalised
 #endif
-        float NdotL = max(dot(N, L), 0.0);
-#ifdef SGFX_METALLIC_ROUGHNESS
-        // Light colours are irradiance over π (a white Lambert surface facing a light shows its
-        // colour, as with Blinn-Phong), so both lobes are multiplied by π.
-        vec3 F;
-        vec3 specular = brdfSpecular(N, V, L, f0, f90, roughness, F);
-#ifdef SGFX_SPECULAR_EXT
-        vec3 scattered = vec3(1.0 - max(F.r, max(F.g, F.b))); // the extension's (1 - max(F))
-#else
-        vec3 scattered = vec3(1.0) - F;
-#endif
-        color += sgfx_lightColor[i].rgb * NdotL * scattered * diffuseColor;
-        added += sgfx_lightColor[i].rgb * NdotL * specular;
-#ifdef SGFX_CLEARCOAT
-        coatLight += sgfx_lightColor[i].rgb * max(dot(coat.N, L), 0.0) * brdfLobe(coat.N, V, L, coat.roughness);
-#endif
-#else
-        color += sgfx_lightColor[i].rgb * base.rgb * NdotL;
-#ifdef SGFX_SPECULAR
-        vec3 H = normalize(L + V);
-        added += NdotL > 0.0 ? sgfx_lightColor[i].rgb * sgfx_matSpecular * pow(max(dot(N, H), 0.0), sgfx_matShininess)
-                             : vec3(0.0);
-#endif
-#endif
+        sgfx_addLight(E, L, surface, color, added, coatLight);
     }
+#endif // SGFX_LIGHT_LIST
 #ifdef SGFX_CLEARCOAT
     float coatWeight = coat.weight * coat.fresnel;
     color *= 1.0 - coatWeight;
     added = added * (1.0 - coatWeight) + coatWeight * coatLight;
 #endif
-#endif
+#endif // SGFX_VERTEX_LIGHTING
 #ifdef SGFX_ENVIRONMENT
 #ifdef SGFX_VERTEX_LIGHTING
     vec3 envN = surfaceNormal();

@@ -42,8 +42,11 @@ out vec2 v_texcoord1;
 out vec4 v_color;
 #endif
 
+#include "lights.glsl"
+
 #ifdef SGFX_VERTEX_LIGHTING
 // Gouraud option: light sums per vertex, for both faces (two-sided surfaces pick per fragment).
+// With the light list (SGFX_LIGHT_LIST) every listed light is summed: a vertex has no tile.
 uniform float sgfx_matShininess;
 out vec3 v_diffuseFront;
 out vec3 v_diffuseBack;
@@ -51,6 +54,17 @@ out vec3 v_diffuseBack;
 out vec3 v_specularFront;
 out vec3 v_specularBack;
 #endif
+// One light: E, its colour times its attenuation, arriving along the unit vector L.
+void vertexLight(vec3 E, vec3 L, vec3 N, vec3 V) {
+    float d = dot(N, L);
+    v_diffuseFront += E * max(d, 0.0);
+    v_diffuseBack += E * max(-d, 0.0);
+#ifdef SGFX_SPECULAR
+    float h = dot(N, normalize(L + V));
+    v_specularFront += d > 0.0 ? E * pow(max(h, 0.0), sgfx_matShininess) : vec3(0.0);
+    v_specularBack += d < 0.0 ? E * pow(max(-h, 0.0), sgfx_matShininess) : vec3(0.0);
+#endif
+}
 void vertexLighting(vec3 P, vec3 N) {
     v_diffuseFront = vec3(0.0);
     v_diffuseBack = vec3(0.0);
@@ -58,19 +72,30 @@ void vertexLighting(vec3 P, vec3 N) {
     v_specularFront = vec3(0.0);
     v_specularBack = vec3(0.0);
     vec3 V = normalize(sgfx_eye.xyz - P);
+#else
+    vec3 V = vec3(0.0);
 #endif
+#ifdef SGFX_LIGHT_LIST
+    for (int i = 0; i < sgfx_lightCount.x; ++i) {
+        vec3 L;
+        float k = sgfx_lightFactor(sgfx_lights[i].vector, sgfx_lights[i].color, sgfx_lights[i].spot,
+                                   sgfx_lights[i].params, P, L);
+        if (k > 0.0) vertexLight(sgfx_lights[i].color.rgb * k, L, N, V);
+    }
+#else
     for (int i = 0; i < SGFX_LIGHT_COUNT; ++i) {
         vec4 lv = sgfx_lightVector[i];
+#ifdef SGFX_LIGHT_ATTENUATION
+        vec3 L;
+        vec3 E = sgfx_lightColor[i].rgb *
+                 sgfx_lightFactor(lv, sgfx_lights[i].color, sgfx_lights[i].spot, sgfx_lights[i].params, P, L);
+#else
         vec3 L = normalize(lv.xyz - lv.w * P);
-        float d = dot(N, L);
-        v_diffuseFront += sgfx_lightColor[i].rgb * max(d, 0.0);
-        v_diffuseBack += sgfx_lightColor[i].rgb * max(-d, 0.0);
-#ifdef SGFX_SPECULAR
-        float h = dot(N, normalize(L + V));
-        v_specularFront += d > 0.0 ? sgfx_lightColor[i].rgb * pow(max(h, 0.0), sgfx_matShininess) : vec3(0.0);
-        v_specularBack += d < 0.0 ? sgfx_lightColor[i].rgb * pow(max(-h, 0.0), sgfx_matShininess) : vec3(0.0);
+        vec3 E = sgfx_lightColor[i].rgb;
 #endif
+        vertexLight(E, L, N, V);
     }
+#endif
 }
 #endif
 

@@ -853,6 +853,7 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     const Terrain terrain(options.seed);
     SplitMix64 rng(options.seed);
     PolygonScene scene;
+    scene.extent = extent;
     scene.root = Group::create();
     scene.root->name = "polygon";
 
@@ -876,6 +877,7 @@ PolygonScene buildPolygonScene(const SceneOptions& options) {
     // Above scale 1 villages and forests spread wider so their density, not their size, stays put.
     const float spread = std::sqrt(std::max(1.0f, s));
     const float ringRadius = 0.45f * half;
+    scene.ringRadius = ringRadius;
     // The benchmark camera circles at this radius, 12 to 42 m up: keep buildings out of its way.
     const float cameraRadius = glm::length(glm::vec2(cameraPose(0.0f, extent).eye));
 

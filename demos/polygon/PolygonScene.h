@@ -103,6 +103,9 @@ struct PolygonScene {
     // invalidates (a second parent of both; root's subtree changes whenever the vehicle moves).
     std::shared_ptr<sgfx::Group> ground;
     std::shared_ptr<sgfx::TransparencyBin> glassBin; // == glass: its mode is the demo's choice
+    // The side of the square ground (SceneOptions::extent) and the ring road's centreline
+    // radius; the cross roads run along the axes.
+    float extent = 0.0f, ringRadius = 0.0f;
     SceneInfo info;
 };
 

@@ -2,6 +2,7 @@
 // through it in a window, benchmarks the shared camera path, or exports it as OBJ.
 #include "CameraPath.h"
 #include "PolygonScene.h"
+#include "StreetLamps.h"
 #include "VehicleDrive.h"
 
 #include <sgfx/GltfWriter.h>
@@ -49,7 +50,8 @@ namespace {
 
 constexpr float kExtent = 800.0f;
 constexpr float kStillTime = 0.1f;
-const glm::vec4 kSkyColor{0.42f, 0.60f, 0.85f, 1.0f}; // linear
+const glm::vec4 kSkyColor{0.42f, 0.60f, 0.85f, 1.0f};  // linear
+const glm::vec4 kDuskColor{0.05f, 0.05f, 0.09f, 1.0f}; // linear, with --lamps
 
 const char* const kUsage = R"(usage: polygon [options]
 
@@ -96,6 +98,8 @@ options:
   --egl               render headless through EGL (GPU) instead of OSMesa
   --lighting pixel|vertex
                       per-pixel Blinn-Phong (default) or per-vertex (Gouraud) lighting
+  --lamps N           dusk (a low, dim sun and a faint sky) with N street lamps along the
+                      roads, 0..100000: spot lights with a range (the light list's benchmark)
   --frames N          with --window: close after N frames (scripted runs)
   --count-fragments   with --bench: also count fragments that pass the depth test (an
                       occlusion query per frame, which itself costs a little time)
@@ -180,6 +184,7 @@ struct Options {
     int benchFrames = 0;
     bool egl = false;
     sgfx::RendererOptions::Lighting lighting = sgfx::RendererOptions::Lighting::PerPixel;
+    std::optional<int> lamps; // --lamps: dusk and this many street lamps
     bool countFragments = false;
     long windowFrames = 0; // --window: quit after this many frames (0 = until closed)
     std::optional<sgfx::FogMode> fog = sgfx::FogMode::Forward;
@@ -446,6 +451,9 @@ Options parseArgs(int argc, char** argv) {
                 o.lighting = sgfx::RendererOptions::Lighting::PerVertex;
             else
                 throw UsageError("--lighting: '" + std::string(v) + "' is not 'pixel' or 'vertex'");
+        } else if (arg == "--lamps") {
+            o.lamps = parseNumber<int>(arg, value());
+            if (*o.lamps < 0 || *o.lamps > 100000) throw UsageError("--lamps: N must be in 0..100000");
         } else {
             throw UsageError("unknown option '" + std::string(arg) + "'");
         }
@@ -567,9 +575,9 @@ polygon::CameraPose startPose(const Options& o, float t) {
     return o.look ? *o.look : polygon::cameraPose(t, kExtent);
 }
 
-void setupCamera(sgfx::Viewer& viewer, const polygon::CameraPose& pose) {
+void setupCamera(const Options& o, sgfx::Viewer& viewer, const polygon::CameraPose& pose) {
     auto& cam = *viewer.camera();
-    cam.clearColor = kSkyColor;
+    cam.clearColor = o.lamps ? kDuskColor : kSkyColor;
     cam.setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
     cam.setLookAt(pose.eye, pose.target, pose.up);
 }
@@ -582,7 +590,7 @@ void reportGlErrors(sgfx::Viewer& viewer) {
 
 int runStill(const Options& o, const polygon::PolygonScene& scene) {
     auto viewer = makeHeadlessViewer(o);
-    setupCamera(*viewer, startPose(o, o.time));
+    setupCamera(o, *viewer, startPose(o, o.time));
     viewer->setSceneData(sceneWithEffects(o, scene, viewer->camera()));
     const int frames = o.aa.mode == sgfx::AntiAliasing::Mode::Taa ? 16 : 1; // TAA's history fills
     for (int i = 0; i < frames; ++i)
@@ -633,7 +641,7 @@ double median(std::vector<double> v) {
 int runBench(const Options& o, const polygon::PolygonScene& scene, std::size_t sceneTriangles) {
     using clock = std::chrono::steady_clock;
     auto viewer = makeHeadlessViewer(o);
-    setupCamera(*viewer, polygon::cameraPose(0.0f, kExtent));
+    setupCamera(o, *viewer, polygon::cameraPose(0.0f, kExtent));
     viewer->setSceneData(sceneWithEffects(o, scene, viewer->camera()));
     for (int i = 0; i < 3; ++i) {
         viewer->frame();
@@ -732,7 +740,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     viewer.renderer().options().autoInstancing = o.autoInstancing;
     viewer.renderer().options().submitTriangles = o.submitTriangles;
     viewer.camera()->setAntiAliasing(o.aa);
-    setupCamera(viewer, startPose(o, o.time));
+    setupCamera(o, viewer, startPose(o, o.time));
     // Fog is always in the graph here so F can cycle it: off, forward, split, post.
     auto fog = sgfx::FogNode::create(o.fogParameters, o.fog.value_or(sgfx::FogMode::Forward));
     fog->enabled = o.fog.has_value();
@@ -857,10 +865,11 @@ int runMode(const Options& o, const polygon::PolygonScene& scene, std::size_t sc
 
 int run(const Options& o) {
     const auto t0 = std::chrono::steady_clock::now();
-    const polygon::PolygonScene scene = polygon::buildPolygonScene(
+    polygon::PolygonScene scene = polygon::buildPolygonScene(
         // Exports hold the full detail without the levels' skirts: what --no-lod renders.
         {kExtent, o.scale, o.seed, o.lod && o.mode != Mode::ExportObj && o.mode != Mode::ExportGltf,
          o.manyDrawables});
+    if (o.lamps) polygon::addDuskAndStreetLamps(scene, *o.lamps, o.seed);
     const double buildMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     sgfx::StatsVisitor stats;

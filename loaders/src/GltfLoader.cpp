@@ -1,5 +1,7 @@
 #include "sgfx/GltfLoader.h"
 
+#include "GltfLights.h"
+
 #include <sgfx/Geometry.h>
 #include <sgfx/Image.h>
 #include <sgfx/Material.h>
@@ -766,6 +768,7 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
     }
     if (jsonDepth(data + jsonBegin, jsonLength) > 256) throw refuse("JSON is nested more than 256 deep");
     checkJson(data + jsonBegin, jsonLength, path);
+    const gltf::PunctualLights punctual = gltf::readPunctualLights(data + jsonBegin, jsonLength, path);
 
     Budget budget{options.memoryLimit};
     FsData fsData{baseDir != nullptr, options.memoryLimit};
@@ -793,14 +796,15 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
     static const std::set<std::string> supported = {
         "KHR_texture_transform",   "KHR_materials_emissive_strength", "KHR_materials_unlit",
         "KHR_materials_clearcoat", "KHR_materials_specular",          "EXT_mesh_gpu_instancing",
-        "KHR_mesh_quantization"};
+        "KHR_mesh_quantization",   "KHR_lights_punctual"};
     for (const std::string& required : model.extensionsRequired)
         if (!supported.count(required))
             c.fail("extensionsRequired",
                    "extension '" + required + "' is required but not supported (supported: " +
                        "KHR_texture_transform, KHR_materials_emissive_strength, " +
                        "KHR_materials_unlit, KHR_materials_clearcoat, " +
-                       "KHR_materials_specular, EXT_mesh_gpu_instancing, " + "KHR_mesh_quantization)");
+                       "KHR_materials_specular, EXT_mesh_gpu_instancing, " +
+                       "KHR_mesh_quantization, KHR_lights_punctual)");
     for (const std::string& used : model.extensionsUsed)
         if (!supported.count(used))
             st.warnings.push_back("extension '" + used + "' is not supported; the model is shown without it");
@@ -1065,6 +1069,11 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
                 t->addChild(copy);
                 st.instances += instances.size();
             }
+        }
+        // KHR_lights_punctual: the light at the node's origin, along its -Z (Light's defaults).
+        if (auto light = punctual.of(std::size_t(index))) {
+            t->addChild(light);
+            ++st.lights;
         }
         for (std::size_t k = 0; k < n.children.size(); ++k)
             t->addChild(buildNode(n.children[k], name + ".children"));

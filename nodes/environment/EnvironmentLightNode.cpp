@@ -173,12 +173,10 @@ const ShaderSnippet& EnvironmentLightNode::snippet() const {
 void EnvironmentLightNode::compile(Renderer& r) const {
     Gpu& g = *gpu_;
     if (!g.brdf) {
-        // GL: node-owned data (the split-sum table, computed once by env::brdfTable)
+        // The split-sum table, computed once by env::brdfTable.
         const std::vector<glm::vec2> table = env::brdfTable(kBrdfSize);
-        g.brdf = gl::createTexture2D(GL_RG32F, kBrdfSize, kBrdfSize);
-        glTextureSubImage2D(g.brdf.get(), 0, 0, 0, kBrdfSize, kBrdfSize, GL_RG, GL_FLOAT, table.data());
-        glTextureParameteri(g.brdf.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTextureParameteri(g.brdf.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        g.brdf = gl::createTexture2D(GL_RG32F, kBrdfSize, kBrdfSize, GL_LINEAR);
+        gl::writeTexture(g.brdf, 0, -1, kBrdfSize, kBrdfSize, GL_RG, GL_FLOAT, table.data());
     }
     if (sky_ && g.skyParameters != sky_->parameters()) {
         // The sun moved (or the first frame): the sky again, prefiltered on the CPU.
@@ -187,19 +185,13 @@ void EnvironmentLightNode::compile(Renderer& r) const {
     }
     const std::shared_ptr<const Environment> current = environment();
     if (!current || (g.uploaded == current && g.specular)) return;
-    // GL: node-owned data (the prefiltered cube's levels)
+    // The prefiltered cube's levels.
     const std::vector<env::CubeImage>& levels = current->specular();
-    g.specular = gl::createTexture(GL_TEXTURE_CUBE_MAP);
-    glTextureStorage2D(g.specular.get(), GLsizei(levels.size()), GL_RGB16F, levels[0].size, levels[0].size);
+    g.specular = gl::createTextureCube(GL_RGB16F, levels[0].size, int(levels.size()));
     for (std::size_t l = 0; l < levels.size(); ++l)
         for (int f = 0; f < 6; ++f)
-            glTextureSubImage3D(g.specular.get(), GLint(l), 0, 0, f, levels[l].size, levels[l].size, 1,
-                                GL_RGB, GL_FLOAT, levels[l].faces[std::size_t(f)].data());
-    glTextureParameteri(g.specular.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(g.specular.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(g.specular.get(), GL_TEXTURE_MAX_LEVEL, GLint(levels.size() - 1));
-    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-        glTextureParameteri(g.specular.get(), wrap, GL_CLAMP_TO_EDGE);
+            gl::writeTexture(g.specular, int(l), f, levels[l].size, levels[l].size, GL_RGB, GL_FLOAT,
+                             levels[l].faces[std::size_t(f)].data());
     g.levels = int(levels.size());
     g.uploaded = current;
 }

@@ -178,10 +178,9 @@ env::CubeImage SkyNode::renderEnvironment(Renderer& r, int size) const {
     if (size < 8 || size > 512 || (size & (size - 1)))
         throw std::invalid_argument("sgfx: SkyNode::renderEnvironment: size " + std::to_string(size) +
                                     " is not a power of two from 8 to 512");
-    // GL: node-owned data (a float strip of the six faces, read back for the CPU prefilter)
+    // A float strip of the six faces, read back for the CPU prefilter.
     gl::TextureObject strip = gl::createTexture2D(GL_RGBA32F, 6 * size, size);
-    gl::FramebufferObject fbo = gl::createFramebuffer();
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, strip.get(), 0);
+    gl::FramebufferObject fbo = gl::createFramebuffer(strip);
     r.runCommands("sky: environment cube", [&](PassCommands& c) {
         static const BaseShader cubeShader{"sky_cube", "blit.vert",
                                            std::string(ShaderComposer::fullscreenVertex()), "sky_cube.frag",
@@ -194,8 +193,7 @@ env::CubeImage SkyNode::renderEnvironment(Renderer& r, int size) const {
         r.endOffscreen();
     });
     std::vector<float> texels(std::size_t(6) * size * size * 4);
-    glGetTextureImage(strip.get(), 0, GL_RGBA, GL_FLOAT, GLsizei(texels.size() * sizeof(float)),
-                      texels.data());
+    gl::readTexture(strip, 0, GL_RGBA, GL_FLOAT, texels.size() * sizeof(float), texels.data());
     env::CubeImage cube = env::CubeImage::filled(size, glm::vec3(0.0f));
     for (int f = 0; f < 6; ++f)
         for (int t = 0; t < size; ++t)

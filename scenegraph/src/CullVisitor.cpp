@@ -189,29 +189,52 @@ void CullVisitor::apply(Light& l) {
     const glm::mat4& m = model_.back();
     const glm::vec3 color = l.color * l.intensity;
     // A light with non-finite or negative colour, or no direction, would put NaN or negative
-    // light into every pixel: it is left out.
+    // light into every pixel: it is left out. Other bad values (cones, range) throw.
     auto finite3 = [](const glm::vec3& v) {
         return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
     };
     const bool finite = finite3(color) && finite3(l.direction) && finite3(l.position) &&
                         glm::all(glm::greaterThanEqual(color, glm::vec3(0.0f)));
-    if (!finite || (l.type == LightType::Directional && !(glm::length(l.direction) > 0.0f))) {
+    const bool directed = l.type == LightType::Directional || l.type == LightType::Spot;
+    if (!finite || (directed && !(glm::length(l.direction) > 0.0f))) {
         ++rejectedLights;
         return;
     }
-    switch (l.type) {
-    case LightType::Ambient:
+    l.validate();
+    if (l.type == LightType::Ambient) {
         queue_.ambientLight += color;
-        break;
-    case LightType::Directional: {
+        return;
+    }
+    if (l.type == LightType::Directional) {
         const glm::vec3 d = glm::normalize(glm::mat3(m) * l.direction);
         queue_.lights.push_back({glm::vec4(-d, 0.0f), color});
-        break;
+        return;
     }
-    case LightType::Point:
-        queue_.lights.push_back({glm::vec4(glm::vec3(m * glm::vec4(l.position, 1.0f)), 1.0f), color});
-        break;
+    LightInfo info{glm::vec4(glm::vec3(m * glm::vec4(l.position, 1.0f)), 1.0f), color};
+    info.range = l.range;
+    info.inverseSquare = l.falloff == LightFalloff::InverseSquare;
+    // A light whose range sphere is outside the view lights nothing that is drawn.
+    if (l.range > 0.0f) {
+        const glm::vec3 c = glm::vec3(view_ * info.vector);
+        for (const Plane& p : viewFrustum_.planes)
+            if (p.distance(c) < -l.range) {
+                ++culledNodes;
+                return;
+            }
     }
+    if (l.type == LightType::Spot) {
+        const glm::vec3 axis = glm::mat3(m) * l.direction;
+        if (!(glm::length(axis) > 0.0f)) {
+            ++rejectedLights;
+            return;
+        }
+        info.spotAxis = glm::normalize(axis);
+        // KHR_lights_punctual's reference code.
+        const float cosInner = std::cos(l.innerConeAngle), cosOuter = std::cos(l.outerConeAngle);
+        info.angleScale = 1.0f / std::max(0.001f, cosInner - cosOuter);
+        info.angleOffset = -cosOuter * info.angleScale;
+    }
+    queue_.lights.push_back(info);
 }
 
 void CullVisitor::apply(EffectNode& e) {

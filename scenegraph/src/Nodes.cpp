@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -476,6 +477,39 @@ glm::vec3 Camera::eyePosition() const {
 
 void Light::accept(NodeVisitor& v) {
     v.apply(*this);
+}
+
+void Light::validate() const {
+    const std::string who = "sgfx: Light '" + (name.empty() ? std::string("<unnamed>") : name) + "': ";
+    auto refuse = [&](const std::string& why) { throw std::invalid_argument(who + why); };
+    auto shown = [](float v) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", double(v));
+        return std::string(text);
+    };
+    if (std::uint8_t(type) > std::uint8_t(LightType::Spot))
+        refuse("type " + std::to_string(int(type)) + " is not a LightType");
+    if (std::uint8_t(falloff) > std::uint8_t(LightFalloff::InverseSquare))
+        refuse("falloff " + std::to_string(int(falloff)) + " is not a LightFalloff");
+    for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(color[i]) || color[i] < 0.0f)
+            refuse("color = (" + shown(color.x) + ", " + shown(color.y) + ", " + shown(color.z) +
+                   ") must be finite and >= 0");
+    if (!std::isfinite(intensity) || intensity < 0.0f)
+        refuse("intensity = " + shown(intensity) + " must be finite and >= 0");
+    if (!std::isfinite(range) || range < 0.0f)
+        refuse("range = " + shown(range) + " must be finite and >= 0 (0: unlimited)");
+    if (!std::isfinite(position.x + position.y + position.z)) refuse("position must be finite");
+    const bool directed = type == LightType::Directional || type == LightType::Spot;
+    if (directed &&
+        !(std::isfinite(direction.x + direction.y + direction.z) && glm::length(direction) > 0.0f))
+        refuse("direction must be finite and not zero");
+    if (type != LightType::Spot) return;
+    if (!(innerConeAngle >= 0.0f))
+        refuse("innerConeAngle = " + shown(innerConeAngle) + " must be >= 0 (radians)");
+    if (!(outerConeAngle > innerConeAngle && outerConeAngle <= 1.5707964f))
+        refuse("outerConeAngle = " + shown(outerConeAngle) + " must be > innerConeAngle (" +
+               shown(innerConeAngle) + ") and <= pi/2 (radians)");
 }
 void EffectNode::accept(NodeVisitor& v) {
     v.apply(*this);

@@ -45,6 +45,8 @@ Renderer::Renderer(GraphicsContext& context, Options options)
                                  : RendererOptions::GlErrorPolicy::Collect;
     if (!options_.glErrors) options_.glErrors = impl_->glErrorsDefault;
     impl_->frameUbo = gl::createBuffer();
+    impl_->lightBuffer = gl::createBuffer();
+    impl_->lightTiles = gl::createBuffer();
     impl_->emptyVao = gl::createVertexArray();
     glNamedBufferData(impl_->frameUbo.get(), sizeof(render::FrameBlock), nullptr, GL_DYNAMIC_DRAW);
     render::enableDebugOutput(impl_->log);

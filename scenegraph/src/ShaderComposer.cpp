@@ -210,7 +210,9 @@ std::string ShaderComposer::featureDefines(FeatureMask f) {
         {FeatureBatched, "SGFX_BATCHED"},
         {FeatureUnlit, "SGFX_UNLIT"},
         {FeatureClearcoat, "SGFX_CLEARCOAT"},
-        {FeatureSpecularExt, "SGFX_SPECULAR_EXT"}};
+        {FeatureSpecularExt, "SGFX_SPECULAR_EXT"},
+        {FeatureLightAttenuation, "SGFX_LIGHT_ATTENUATION"},
+        {FeatureLightList, "SGFX_LIGHT_LIST"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";
@@ -221,7 +223,9 @@ std::string ShaderComposer::featureDefines(FeatureMask f) {
 
 FeatureMask ShaderComposer::withWorldPosition(FeatureMask f, bool hasSnippets) {
     const bool derivedNormal = !(f & FeatureNormals) || ((f & FeatureNormalMap) && !(f & FeatureTangents));
-    if (hasSnippets || derivedNormal || (f & (FeatureSpecular | FeaturePointLights | FeatureVertexLighting)))
+    if (hasSnippets || derivedNormal ||
+        (f & (FeatureSpecular | FeaturePointLights | FeatureVertexLighting | FeatureLightAttenuation |
+              FeatureLightList)))
         f |= FeatureWorldPosition;
     return f;
 }

@@ -47,6 +47,7 @@ struct SGFX_API GltfStats {
     std::size_t opaque = 0, masked = 0, blended = 0; ///< materials by alphaMode
     std::size_t tangentsMade = 0;                    ///< primitives given tangents for their normal maps
     std::size_t instances = 0;                       ///< EXT_mesh_gpu_instancing instances drawn
+    std::size_t lights = 0; ///< KHR_lights_punctual lights placed (each node that carries one)
     /// Optional extensions the loader ignored, and tinygltf's own warnings.
     std::vector<std::string> warnings;
 };
@@ -54,7 +55,8 @@ struct SGFX_API GltfStats {
 /// Loads the file's scene. Shared meshes stay shared (one Geometry per primitive, used by each
 /// node that names the mesh; a node with EXT_mesh_gpu_instancing gets its own instanced copy).
 /// Materials use the metallic-roughness model. Supported extensions: KHR_texture_transform,
-/// KHR_materials_emissive_strength, EXT_mesh_gpu_instancing, KHR_mesh_quantization. A required
+/// KHR_materials_emissive_strength, EXT_mesh_gpu_instancing, KHR_mesh_quantization,
+/// KHR_lights_punctual (Light nodes under their node's Transform; units as sgfx::Light says). A required
 /// extension outside that list is a LoadError; an optional one is skipped with a warning (in
 /// GltfStats::warnings and on stderr unless `stats` is given). Throws LoadError.
 SGFX_API std::shared_ptr<Group> loadGltf(const std::filesystem::path& file, const GltfOptions& options = {},

@@ -126,23 +126,60 @@ private:
     float fovy_ = 45.0f, zNear_ = 0.1f, zFar_ = 1000.0f;
 };
 
-enum class LightType : std::uint8_t { Directional, Point, Ambient };
+/// Directional: parallel light along `direction`; Point: from `position` in every direction;
+/// Ambient: no direction (adds to the ambient term); Spot: from `position` in a cone around
+/// `direction` (KHR_lights_punctual's spot).
+enum class LightType : std::uint8_t { Directional, Point, Ambient, Spot };
+
+/// How a point or spot light's contribution changes with distance d.
+enum class LightFalloff : std::uint8_t {
+    /// Constant (sgfx 0.1's point lights): colour × intensity at any distance, times the range
+    /// window when `range` > 0.
+    None,
+    /// Physical (KHR_lights_punctual): intensity / d², times the range window when `range` > 0.
+    InverseSquare,
+};
 
 /// A light placed in the graph; it illuminates the whole scene (positional state, as in OSG).
+///
+/// Units: sgfx light colours are irradiance over π, so a white Lambert surface facing a
+/// directional light of colour × intensity = c shows c. A glTF directional light of E lux is
+/// intensity E / π here; a glTF point or spot light of I candela is intensity I / π with
+/// LightFalloff::InverseSquare (the loader converts both). With InverseSquare a point light's
+/// value at distance d is colour × intensity / d² × window, window = clamp(1 − (d/range)⁴, 0, 1)
+/// (glTF's recommended range cut-off; 1 without a range). A spot multiplies that by
+/// a², a = clamp((cos θ − cos outer) / (cos inner − cos outer), 0, 1), θ the angle from its axis.
+///
+/// Lights are never frustum-culled with their group: a Light switches culling off for itself
+/// and its ancestors (setCullingActive), so a lamp's light is collected when its lamp post is
+/// out of view; a point or spot light with a range is left out when its range sphere is.
 class SGFX_API Light : public Node {
 public:
+    Light() { setCullingActive(false); }
     static std::shared_ptr<Light> create(LightType t = LightType::Directional) {
         auto l = std::make_shared<Light>();
         l->type = t;
         return l;
     }
     void accept(NodeVisitor& v) override;
+    /// Throws std::invalid_argument naming the light and the field: a type or falloff outside
+    /// its enum, a non-finite or negative colour, intensity or range, a zero or non-finite
+    /// direction for directional and spot lights, cone angles outside 0 <= inner < outer <= π/2.
+    void validate() const;
 
     LightType type = LightType::Directional;
     glm::vec3 color{1.0f}; ///< linear RGB, multiplied by intensity
     float intensity = 1.0f;
-    glm::vec3 direction{0, 0, -1}; ///< direction the light travels (directional), local frame
-    glm::vec3 position{0.0f};      ///< point lights, local frame
+    /// Direction the light travels (directional) or the spot's axis, local frame.
+    glm::vec3 direction{0, 0, -1};
+    glm::vec3 position{0.0f}; ///< point and spot lights, local frame
+    /// Point and spot lights: no light beyond this distance (metres, world units; the node's
+    /// scale does not change it); 0 = unlimited. Ranged lights are what the light list sorts
+    /// into screen tiles, so give lamps a range.
+    float range = 0.0f;
+    float innerConeAngle = 0.0f;                 ///< spot: radians from the axis, full light inside
+    float outerConeAngle = 0.78539816339744831f; ///< spot: radians, no light outside (π/4 as glTF)
+    LightFalloff falloff = LightFalloff::None;   ///< point and spot lights
 };
 
 } // namespace sgfx

@@ -28,10 +28,21 @@ struct SGFX_API EffectSet {
     std::uint32_t signature = 0;
 };
 
-/// A light as the frame block carries it: world position (w = 1) or direction (w = 0), colour.
+/// A light as the frame block carries it: world position (w = 1) or direction (w = 0), colour,
+/// and what attenuates it (Light's range, cone and falloff).
 struct SGFX_API LightInfo {
     glm::vec4 vector{0, 0, 1, 0}; ///< world: direction towards the light (w=0) or position (w=1)
     glm::vec3 color{1.0f};        ///< colour × intensity
+    glm::vec3 spotAxis{0, 0, -1}; ///< world, unit: the direction a spot shines
+    float range = 0.0f;           ///< 0: unlimited
+    /// Spot cone as KHR_lights_punctual's reference code: a = clamp(cos θ · angleScale +
+    /// angleOffset, 0, 1), factor a². Other lights: 0 and 1 (factor 1).
+    float angleScale = 0.0f, angleOffset = 1.0f;
+    bool inverseSquare = false; ///< LightFalloff::InverseSquare
+    /// Anything beyond a plain light of sgfx 0.1 (range, cone, inverse square)?
+    bool attenuated() const {
+        return range > 0.0f || angleScale != 0.0f || angleOffset != 1.0f || inverseSquare;
+    }
 };
 
 /// One draw of the frame: what, with which state, effects and matrix, and its sort keys.

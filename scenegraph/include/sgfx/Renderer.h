@@ -93,6 +93,10 @@ struct SGFX_API RendererOptions {
     /// Per-pixel Blinn-Phong (default) or per-vertex (Gouraud, the fixed-function look and
     /// cost of OpenSceneGraph's default path; normal maps are ignored).
     enum class Lighting : std::uint8_t { PerPixel, PerVertex } lighting = Lighting::PerPixel;
+    /// Views with up to this many lights (0..8) shade them in a loop compiled for their number;
+    /// views with more use the light list (FeatureLightList): every light in a shader storage
+    /// buffer, and per 16×16-pixel screen tile the ranged lights whose range sphere covers it.
+    int maxUnrolledLights = 8;
     /// Count the fragments that pass the depth test in the main pass (FrameStats::fragments);
     /// an occlusion query per view, so off unless profiling.
     bool countFragments = false;

@@ -115,6 +115,13 @@ enum MaterialFeature : std::uint64_t {
     FeatureClearcoat = 1ull << 30,
     /// KHR_materials_specular: F0 and F90 of the dielectric part from the extension and its two maps.
     FeatureSpecularExt = 1ull << 31,
+    /// Some light of the view has a range, a spot cone or inverse-square falloff: the light
+    /// loop evaluates KHR_lights_punctual's attenuation (without it, sgfx 0.1's loop).
+    FeatureLightAttenuation = 1ull << 32,
+    /// More lights than RendererOptions::maxUnrolledLights: every light comes from a shader
+    /// storage buffer, and each fragment shades the lights without a range plus its screen
+    /// tile's list of ranged ones (per-vertex lighting: every light). SGFX_LIGHT_COUNT is 0.
+    FeatureLightList = 1ull << 33,
     /// Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
@@ -127,12 +134,15 @@ inline constexpr FeatureMask kAllMaterialFeatures =
     FeatureMetallicRoughness | FeatureVertexLighting | FeatureLightCountMask | FeatureWorldPosition |
     FeaturePointLights | FeatureBlendKindMask | FeatureGBuffer | FeatureMetalRoughMap | FeatureOcclusionMap |
     FeatureEmissiveMap | FeatureTexCoords1 | FeatureUvTransform | FeatureInstanced | FeatureBatched |
-    FeatureUnlit | FeatureClearcoat | FeatureSpecularExt;
+    FeatureUnlit | FeatureClearcoat | FeatureSpecularExt |
+    FeatureLightAttenuation | FeatureLightList;
 // A program key holds every feature bit (the mask fits only if each bit does).
 static_assert(ProgramKey::Features.fits(kAllMaterialFeatures),
               "a MaterialFeature bit is outside ProgramKey::Features");
 
-constexpr unsigned kBatchBinding = 7; ///< shader storage binding of FeatureBatched's matrices
+constexpr unsigned kBatchBinding = 7;      ///< shader storage binding of FeatureBatched's matrices
+constexpr unsigned kLightsBinding = 8;     ///< shader storage binding of FeatureLightList's lights
+constexpr unsigned kLightTilesBinding = 9; ///< and of its per-tile light lists
 
 class Material;
 class Geometry;

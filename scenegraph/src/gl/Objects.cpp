@@ -94,10 +94,36 @@ TextureObject createTexture2D(unsigned format, int width, int height, int filter
     glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return t;
 }
+TextureObject createTextureCube(unsigned format, int size, int levels) {
+    TextureObject t = createTexture(GL_TEXTURE_CUBE_MAP);
+    glTextureStorage2D(t.get(), levels, format, size, size);
+    glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(t.get(), GL_TEXTURE_MAX_LEVEL, levels - 1);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTextureParameteri(t.get(), wrap, GL_CLAMP_TO_EDGE);
+    return t;
+}
+void writeTexture(const TextureObject& texture, int level, int layer, int width, int height, unsigned format,
+                  unsigned type, const void* data) {
+    if (layer < 0)
+        glTextureSubImage2D(texture.get(), level, 0, 0, width, height, format, type, data);
+    else
+        glTextureSubImage3D(texture.get(), level, 0, 0, layer, width, height, 1, format, type, data);
+}
+void readTexture(const TextureObject& texture, int level, unsigned format, unsigned type, std::size_t bytes,
+                 void* data) {
+    glGetTextureImage(texture.get(), level, format, type, GLsizei(bytes), data);
+}
 FramebufferObject createFramebuffer() {
     GLuint n = 0;
     glCreateFramebuffers(1, &n);
     return FramebufferObject(n);
+}
+FramebufferObject createFramebuffer(const TextureObject& colour) {
+    FramebufferObject f = createFramebuffer();
+    glNamedFramebufferTexture(f.get(), GL_COLOR_ATTACHMENT0, colour.get(), 0);
+    return f;
 }
 QueryObject createQuery(unsigned target) {
     GLuint n = 0;

@@ -27,7 +27,8 @@ namespace {
 // Variant bits that only matter for shading: G-buffer variants leave them out.
 constexpr FeatureMask kLightingFeatures = FeatureBlend | FeatureBlendKindMask | FeatureSpecular |
                                           FeatureVertexLighting | FeatureLightCountMask | FeaturePointLights |
-                                          FeatureUnlit | FeatureClearcoat | FeatureSpecularExt;
+                                          FeatureUnlit | FeatureClearcoat | FeatureSpecularExt |
+                                          FeatureLightAttenuation | FeatureLightList;
 
 // Enum values outside their range (a cast from bad data) would index GL tables out of bounds.
 void validateEnums(const ResolvedState& st, const RenderItem& item) {

@@ -9,6 +9,7 @@
 //   Readback.cpp        reading the scene target back, presenting it to a window
 #include "AntiAliasing.h"
 #include "render/Diagnostics.h"
+#include "render/LightList.h"
 #include "render/ResourcePool.h"
 #include "render/StateCache.h"
 #include "sgfx/Renderer.h"
@@ -71,6 +72,10 @@ struct Renderer::Impl {
     // Model matrices of automatic instance batches (Renderer::DrawList), a shader storage
     // buffer at kBatchBinding.
     gl::BufferObject batchModels;
+    // The view's lights (kLightsBinding) and light list tiles (kLightTilesBinding), rewritten
+    // by every view that needs them; the list is the CPU side, kept for its capacity.
+    gl::BufferObject lightBuffer, lightTiles;
+    render::LightList lightList;
     std::vector<glm::mat4> batchScratch;
     std::uint64_t submittedTriangles = 0; // FrameStats::triangles at the last glFlush
     gl::VertexArrayObject emptyVao;       // full-screen passes take their vertices from gl_VertexID

@@ -39,6 +39,7 @@ public:
     void renderSubCameras(int depth);
     void beginProjection();
     void uploadFrameBlock();
+    void uploadLightList(render::FrameBlock& fb);
     void buildGraph(int depth);
     void compileNodes();
     void executeGraph();
@@ -142,6 +143,9 @@ void Renderer::View::cull() {
     if (std::uint8_t(options.lighting) > std::uint8_t(RendererOptions::Lighting::PerVertex))
         throw std::invalid_argument("sgfx: RendererOptions::lighting has an invalid value " +
                                     std::to_string(int(options.lighting)));
+    if (!(options.maxUnrolledLights >= 0 && options.maxUnrolledLights <= render::kMaxLights))
+        throw std::invalid_argument("sgfx: RendererOptions::maxUnrolledLights = " +
+                                    std::to_string(options.maxUnrolledLights) + " is outside 0..8");
     target_.resize(vp.width, vp.height, formats[colorTarget]);
 
     queue_.clear();
@@ -210,23 +214,61 @@ void Renderer::View::uploadFrameBlock() {
     fb.viewport = glm::vec4(0.0f, 0.0f, float(draw_->width), float(draw_->height));
     fb.ambientLight = glm::vec4(queue_.ambientLight, 0.0f);
     fb.time = glm::vec4(float(frame.time), 0, 0, 0);
-    const int nLights = std::min<int>(int(queue_.lights.size()), render::kMaxLights);
-    fb.lightCount = glm::ivec4(nLights, 0, 0, 0);
-    for (int i = 0; i < nLights; ++i) {
-        fb.lightVector[i] = queue_.lights[std::size_t(i)].vector;
-        fb.lightColor[i] = glm::vec4(queue_.lights[std::size_t(i)].color, 0.0f);
-    }
     FeatureMask& features = r_.viewFeatures_;
-    features = (FeatureMask(nLights) << FeatureLightCountShift) |
-               (r_.options_.lighting == RendererOptions::Lighting::PerVertex ? FeatureMask(FeatureVertexLighting) : 0u);
-    for (int i = 0; i < nLights; ++i)
-        if (queue_.lights[std::size_t(i)].vector.w != 0.0f) features |= FeaturePointLights;
+    features = r_.options_.lighting == RendererOptions::Lighting::PerVertex
+                   ? FeatureMask(FeatureVertexLighting)
+                   : 0u;
+    for (const LightInfo& l : queue_.lights)
+        if (l.vector.w != 0.0f) features |= FeaturePointLights;
+    if (int(queue_.lights.size()) > r_.options_.maxUnrolledLights) {
+        uploadLightList(fb);
+        features |= FeatureLightList;
+    } else {
+        const int nLights = int(queue_.lights.size());
+        fb.lightCount = glm::ivec4(nLights, 0, 0, 0);
+        bool attenuated = false;
+        for (int i = 0; i < nLights; ++i) {
+            const LightInfo& l = queue_.lights[std::size_t(i)];
+            fb.lightVector[i] = l.vector;
+            fb.lightColor[i] = glm::vec4(l.color, 0.0f);
+            attenuated = attenuated || l.attenuated();
+        }
+        features |= FeatureMask(nLights) << FeatureLightCountShift;
+        // Range, cone and falloff come from the lights' buffer.
+        if (attenuated) {
+            std::vector<render::GpuLight>& packed = s_.lightList.lights;
+            packed.clear();
+            for (const LightInfo& l : queue_.lights)
+                packed.push_back(render::packLight(l));
+            glNamedBufferData(s_.lightBuffer.get(), GLsizeiptr(packed.size() * sizeof(render::GpuLight)),
+                              packed.data(), GL_STREAM_DRAW);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, s_.lightBuffer.get());
+            features |= FeatureLightAttenuation;
+        }
+    }
     glNamedBufferSubData(s_.frameUbo.get(), 0, sizeof fb, &fb);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, s_.frameUbo.get());
     s_.cache.invalidate();
     r_.current_ = &queue_;
     s_.current = draw_;
     s_.camera = &camera_;
+}
+
+// More lights than the unrolled loop takes: all of them in one buffer, the ranged ones sorted
+// into screen tiles of the draw target (lights.glsl reads them by gl_FragCoord).
+void Renderer::View::uploadLightList(render::FrameBlock& fb) {
+    render::LightList& list = s_.lightList;
+    list.build(queue_.lights, r_.frame_.view, r_.frame_.projection, draw_->width, draw_->height);
+    fb.lightCount =
+        glm::ivec4(int(list.lights.size()), list.global, list.tilesX, render::LightList::kTileSize);
+    // A buffer is never empty: GL would refuse to bind a zero-sized one.
+    if (list.lights.empty()) list.lights.push_back(render::GpuLight{});
+    glNamedBufferData(s_.lightBuffer.get(), GLsizeiptr(list.lights.size() * sizeof(render::GpuLight)),
+                      list.lights.data(), GL_STREAM_DRAW);
+    glNamedBufferData(s_.lightTiles.get(), GLsizeiptr(list.tiles.size() * sizeof(std::uint32_t)),
+                      list.tiles.data(), GL_STREAM_DRAW);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, s_.lightBuffer.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightTilesBinding, s_.lightTiles.get());
 }
 
 // ---- the view's frame graph

@@ -82,7 +82,19 @@ SGFX_API TextureObject createTexture(unsigned target);
 /// clamped to its edges.
 SGFX_API TextureObject createTexture2D(unsigned format, int width, int height,
                                        int filter = 0x2600 /* GL_NEAREST */);
+/// A cube map of size² faces with `levels` mips, trilinear (seamless where the renderer enables
+/// it) and clamped: node-owned environment maps.
+SGFX_API TextureObject createTextureCube(unsigned format, int size, int levels);
+/// Writes texels into level `level` of a 2D texture (layer < 0) or one face of a cube map
+/// (layer = face, OpenGL's order); `format` and `type` describe `data` (GL_RGB, GL_FLOAT...).
+SGFX_API void writeTexture(const TextureObject& texture, int level, int layer, int width, int height,
+                           unsigned format, unsigned type, const void* data);
+/// Reads level `level` of a texture into `data` (`bytes` long); GL must have finished drawing it.
+SGFX_API void readTexture(const TextureObject& texture, int level, unsigned format, unsigned type,
+                          std::size_t bytes, void* data);
 SGFX_API FramebufferObject createFramebuffer();
+/// A framebuffer drawing into level 0 of `colour`.
+SGFX_API FramebufferObject createFramebuffer(const TextureObject& colour);
 SGFX_API QueryObject createQuery(unsigned target);
 
 /// Linked program with a uniform-location cache.
