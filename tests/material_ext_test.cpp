@@ -264,6 +264,37 @@ TEST(MaterialExt, ClearcoatAddsTheGgxLayerOverTheBase) {
     EXPECT_NEAR(got.r, 0.04 / (4.0 * a2) + base * (1.0 - 0.04), 4e-3);
 }
 
+TEST(MaterialExt, ClearcoatAndSpecularShadeTheLightListAsTheUnrolledLoop) {
+    // Beyond RendererOptions::maxUnrolledLights every light comes from the list (lights.glsl):
+    // the coat and the specular extension's F0 and F90 must shade there as in the unrolled loop,
+    // and both as the spec's layering says.
+    const glm::vec3 sun(-0.3f, -0.2f, -1.0f);
+    auto frameWith = [&](int maxUnrolled) {
+        Scene scene(sun);
+        auto c = metalRough({0.8f, 0.3f, 0.1f}, 0.0f, 0.7f);
+        c->clearcoat = 0.5f;
+        c->clearcoatRoughness = 0.3f;
+        c->specularFactor = 0.5f;
+        c->specularColorFactor = {1.0f, 0.5f, 0.25f};
+        auto v = floatViewer();
+        v->renderer().options().maxUnrolledLights = maxUnrolled;
+        scene.root->addChild(quadWith(c));
+        v->setSceneData(scene.root);
+        v->frame();
+        EXPECT_TRUE(v->renderer().takeGlErrors().empty());
+        return v->renderer().readPixelsLinear();
+    };
+    const FloatImage unrolled = frameWith(8), listed = frameWith(0);
+    const glm::dvec3 L = -glm::normalize(glm::dvec3(sun));
+    const SpecularExt ext{0.5, {1.0, 0.5, 0.25}};
+    auto expected = [&](glm::dvec3 V) {
+        return coat(shade({0.8, 0.3, 0.1}, 0.0, 0.7, ext, kUp, V, L, glm::dvec3(1)), 0.5, 0.3, kUp, V, L,
+                    glm::dvec3(1));
+    };
+    expectPixels(unrolled, expected, "unrolled loop");
+    expectPixels(listed, expected, "light list");
+}
+
 TEST(MaterialExt, ClearcoatMapsScaleTheFactorsAndTiltTheLayer) {
     const Texel weight{{128, 0, 0, 255}, false}, rough{{0, 153, 0, 255}, false};
     const Texel normal{{218, 128, 218, 255}, false}; // tilted about 45° along the tangent
