@@ -318,7 +318,7 @@ void main() {
 #endif
 #ifdef SGFX_CLEARCOAT
     Clearcoat coat = clearcoatLayer(V, sgfx_geometricNormal());
-    vec3 coatLight = sgfx_ambient; // the layer mirrors ambient light like the base's F0 term
+    vec3 coatLight = sgfx_indirect * sgfx_ambient; // the layer mirrors ambient light like the base's F0 term
     vec3 coatN = coat.N;
     float coatRoughness = coat.roughness;
 #else
@@ -371,9 +371,11 @@ void main() {
 #endif
 #if defined(SGFX_CLEARCOAT) && !defined(SGFX_VERTEX_LIGHTING)
     // The coat darkens the light under it and mirrors the environment at its own normal and
-    // roughness, as it does the lights.
+    // roughness, as it does the lights: its lobe without Fresnel reflects A + B of it (split sum).
     envColor *= 1.0 - coatWeight;
-    envAdded = envAdded * (1.0 - coatWeight) + coatWeight * sgfx_environmentRadiance(reflect(-envV, coat.N), coat.roughness);
+    vec2 coatAB = sgfx_environmentBrdf(max(dot(coat.N, envV), 1e-4), coat.roughness);
+    envAdded = envAdded * (1.0 - coatWeight) +
+               coatWeight * (coatAB.x + coatAB.y) * sgfx_environmentRadiance(reflect(-envV, coat.N), coat.roughness);
 #endif
     color += sgfx_indirect * envColor;
     added += sgfx_indirect * envAdded;

@@ -76,7 +76,7 @@ void vertexLighting(vec3 P, vec3 N) {
     vec3 V = vec3(0.0);
 #endif
 #ifdef SGFX_LIGHT_LIST
-    for (int i = 0; i < sgfx_lightCount.x; ++i) {
+    for (int i = 0; i < sgfx_lights.length(); ++i) {
         vec3 L;
         float k = sgfx_lightFactor(sgfx_lights[i].vector, sgfx_lights[i].color, sgfx_lights[i].spot,
                                    sgfx_lights[i].params, P, L);

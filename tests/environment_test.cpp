@@ -18,6 +18,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 using namespace sgfx;
 
@@ -60,9 +61,25 @@ constexpr int kSize = 96;
 constexpr float kHalf = 1.2f;   // ortho half extent
 constexpr float kRadius = 1.0f; // sphere radius
 
+// How the frame is lit besides the environment: per-pixel or per-vertex, and with the light list
+// (a black directional light beyond maxUnrolledLights = 0) or not.
+struct Paths {
+    RendererOptions::Lighting lighting = RendererOptions::Lighting::PerPixel;
+    bool lightList = false;
+};
+
 // Renders a unit sphere with `material` under `node` (its only light) from +Z, orthographic.
-FloatImage renderSphere(const std::shared_ptr<Material>& material, std::shared_ptr<EffectNode> node) {
+FloatImage renderSphere(const std::shared_ptr<Material>& material, std::shared_ptr<EffectNode> node,
+                        Paths paths = {}, std::shared_ptr<Node> extra = nullptr) {
     auto v = test::orthoTopViewer(kSize, kHalf);
+    v->renderer().options().lighting = paths.lighting;
+    if (paths.lightList) {
+        v->renderer().options().maxUnrolledLights = 0;
+        auto black = Light::create(LightType::Directional);
+        black->color = glm::vec3(0.0f);
+        node->addChild(black);
+    }
+    if (extra) node->addChild(extra);
     // The shader's V points at the eye: far away, it is +Z everywhere to 0.05°, as the
     // expectations below assume.
     v->camera()->setLookAt({0, 0, 1000}, {0, 0, 0}, {0, 1, 0});
@@ -176,6 +193,8 @@ TEST(Environment, WhiteFurnaceReturnsTheAnalyticAlbedo) {
     };
     for (const Case& c : {Case{"smooth dielectric", glm::vec3(1.0f), 0.0f, 0.2f},
                           Case{"rough dielectric", glm::vec3(1.0f), 0.0f, 0.9f},
+                          // Not white: the total depends on the table's E (white cancels it).
+                          Case{"grey dielectric", glm::vec3(0.3f, 0.5f, 0.0f), 0.0f, 0.5f},
                           Case{"smooth metal", glm::vec3(0.5f, 0.7f, 0.9f), 1.0f, 0.2f},
                           Case{"rough metal", glm::vec3(0.5f, 0.7f, 0.9f), 1.0f, 0.9f}}) {
         const FloatImage img =
@@ -204,29 +223,81 @@ TEST(Environment, BlinnPhongDiffuseInAUniformEnvironmentIsItsColour) {
     auto m = Material::create();
     m->diffuse = {0.3f, 0.5f, 0.7f, 1.0f};
     m->specular = glm::vec3(0.0f);
-    const FloatImage img =
-        renderSphere(m, EnvironmentLightNode::create(Environment::uniform(glm::vec3(2.0f)), 0.5f));
-    for (double NdotV : {0.95, 0.5}) {
-        const auto [x, n] = pixelAtNdotV(NdotV);
-        const glm::vec3 p = pixel(img, x, kSize / 2);
-        EXPECT_NEAR(p.r, 0.3f, 0.005f);
-        EXPECT_NEAR(p.g, 0.5f, 0.005f);
-        EXPECT_NEAR(p.b, 0.7f, 0.005f);
+    // Every lighting path: per pixel, per vertex (the environment is still per pixel), the list.
+    for (const Paths paths : {Paths{}, Paths{RendererOptions::Lighting::PerVertex, false},
+                              Paths{RendererOptions::Lighting::PerPixel, true},
+                              Paths{RendererOptions::Lighting::PerVertex, true}}) {
+        const FloatImage img =
+            renderSphere(m, EnvironmentLightNode::create(Environment::uniform(glm::vec3(2.0f)), 0.5f), paths);
+        for (double NdotV : {0.95, 0.5}) {
+            const auto [x, n] = pixelAtNdotV(NdotV);
+            const glm::vec3 p = pixel(img, x, kSize / 2);
+            EXPECT_NEAR(p.r, 0.3f, 0.005f)
+                << "per vertex " << int(paths.lighting) << " list " << paths.lightList;
+            EXPECT_NEAR(p.g, 0.5f, 0.005f);
+            EXPECT_NEAR(p.b, 0.7f, 0.005f);
+        }
     }
 }
 
+TEST(Environment, AmbientOcclusionDarkensTheEnvironmentNearContacts) {
+    // A grey sphere resting on a grey ground, lit by a uniform environment alone, seen from above:
+    // without occlusion every ground pixel is 0.6 (irradiance/π = 1 everywhere); ambient occlusion
+    // (through sgfx_indirect) darkens the ground beside the sphere and not the ground far from it.
+    constexpr float kView = 3.0f;
+    auto frame = [&](bool ao) {
+        auto v = test::orthoTopViewer(kSize, kView);
+        v->camera()->setLookAt({0, 0, 1000}, {0, 0, 0}, {0, 1, 0});
+        v->camera()->projectionMatrix = glm::ortho(-kView, kView, -kView, kView, 900.0f, 1100.0f);
+        v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+        auto grey = Material::create();
+        grey->diffuse = {0.6f, 0.6f, 0.6f, 1.0f};
+        auto ball = shapes::sphere(kRadius, 96, 48);
+        ball->getOrCreateStateSet().material.set(grey);
+        auto ground = shapes::quad(2.0f * kView, 2.0f * kView);
+        ground->getOrCreateStateSet().material.set(grey);
+        auto place = Transform::create(glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, -kRadius}));
+        place->addChild(ground);
+        auto env = EnvironmentLightNode::create(Environment::uniform(glm::vec3(1.0f)));
+        env->addChild(ball);
+        env->addChild(place);
+        NodePtr root = env;
+        if (ao) {
+            AmbientOcclusionParameters p;
+            p.radius = 1.0f;
+            p.bias = 0.01f;
+            auto occlusion = AmbientOcclusionNode::create(p);
+            occlusion->addChild(env);
+            root = occlusion;
+        }
+        v->setSceneData(root);
+        v->frame();
+        test::expectNoGlErrors(*v);
+        return v->renderer().readPixelsLinear();
+    };
+    const FloatImage plain = frame(false), occluded = frame(true);
+    auto at = [&](float worldX) { return int((worldX + kView) / (2.0f * kView) * kSize); };
+    const int near = at(1.1f), far = at(2.8f), y = kSize / 2;
+    EXPECT_NEAR(pixel(plain, near, y).g, 0.6f, 0.005f);
+    EXPECT_NEAR(pixel(plain, far, y).g, 0.6f, 0.005f);
+    EXPECT_LT(pixel(occluded, near, y).g, 0.57f) << "ambient occlusion did not reach the environment light";
+    EXPECT_NEAR(pixel(occluded, far, y).g, 0.6f, 0.01f);
+}
+
 TEST(Environment, MirrorSphereReflectsTheCubeTexelItsMirrorDirectionHits) {
-    // Six flat faces of distinct colours; a smooth metal of base 1 reflects the face that
-    // R = reflect(-V, N) hits, times the lobe's albedo (≈ 1 at roughness 0).
-    const glm::vec3 colours[6] = {{1.0f, 0.1f, 0.1f}, {0.1f, 1.0f, 0.1f}, {0.1f, 0.1f, 1.0f},
-                                  {1.0f, 1.0f, 0.1f}, {0.1f, 1.0f, 1.0f}, {1.0f, 0.1f, 1.0f}};
+    // Each texel holds its own (s, t) and its face: a smooth metal of base 1 reflects the texel
+    // that R = reflect(-V, N) hits by GL's own cube sampling, so env::cubeCoord (which names the
+    // expected texel) is checked against the driver's reading of OpenGL's table 8.19, a flipped
+    // s or t on any face included.
     env::CubeImage cube = env::CubeImage::filled(32, glm::vec3(0.0f));
     for (int f = 0; f < 6; ++f)
-        for (glm::vec3& t : cube.faces[std::size_t(f)])
-            t = colours[f];
+        for (int t = 0; t < 32; ++t)
+            for (int s = 0; s < 32; ++s)
+                cube.texel(f, s, t) = glm::vec3((s + 0.5f) / 32.0f, (t + 0.5f) / 32.0f, (f + 1.0f) / 6.0f);
     const FloatImage img = renderSphere(pbr(glm::vec3(1.0f), 1.0f, 0.0f),
                                         EnvironmentLightNode::create(Environment::fromCube(cube)));
     int checked = 0;
+    std::set<int> faces;
     for (int y = 4; y < kSize; y += 7)
         for (int x = 4; x < kSize; x += 7) {
             const double wx = (x + 0.5) / kSize * 2.0 * kHalf - kHalf;
@@ -241,12 +312,15 @@ TEST(Environment, MirrorSphereReflectsTheCubeTexelItsMirrorDirectionHits) {
             // away from the rim: the albedo is 1 (a midpoint rule cannot resolve so narrow a lobe).
             const double albedo = 1.0;
             const glm::vec3 p = pixel(img, x, y);
+            const glm::vec3 texel(c.st.x, c.st.y, (c.face + 1.0f) / 6.0f);
             for (int ch = 0; ch < 3; ++ch)
-                EXPECT_NEAR(p[ch], colours[c.face][ch] * albedo, 0.04)
+                EXPECT_NEAR(p[ch], texel[ch] * albedo, 0.04)
                     << "pixel " << x << "," << y << " reflects face " << c.face << " channel " << ch;
+            faces.insert(c.face);
             ++checked;
         }
     EXPECT_GT(checked, 40);
+    EXPECT_GE(faces.size(), 4u) << "the mirror directions must reach most faces";
 }
 
 TEST(Environment, OcclusionMapsAndIntensityScaleTheEnvironment) {
@@ -350,20 +424,59 @@ TEST(Environment, SkyEnvironmentMatchesSkyMathInEveryFaceDirectionAndFollowsTheS
 TEST(Environment, ClearcoatDarkensTheBaseAndMirrorsTheEnvironment) {
     // Under a uniform environment of radiance 1 a coat of factor 1 (F0 = 0.04, Schlick at the
     // coat's N.V) takes its Fresnel share of the base's light and reflects that share of the
-    // environment: total = (1 − Fc)·E_base + Fc.
+    // environment through its own lobe, whose albedo without Fresnel is a1(N.V, coat roughness):
+    // total = (1 − Fc)·E_base + Fc·a1. A smooth coat has a1 = 1 (F = 1, no masking).
     const auto white = Environment::uniform(glm::vec3(1.0f));
-    auto m = pbr(glm::vec3(0.0f), 0.0f, 0.5f); // black dielectric: E_base is the lobe's albedo alone
-    m->clearcoat = 1.0f;
-    m->clearcoatRoughness = 0.0f;
-    const FloatImage coated = renderSphere(m, EnvironmentLightNode::create(white));
-    for (double NdotV : {0.98, 0.6}) {
-        const auto [x, n] = pixelAtNdotV(NdotV);
-        const double nv = n.z;
-        const double fc = 0.04 + 0.96 * std::pow(1.0 - nv, 5.0);
-        const double base = directionalAlbedo(nv, 0.04, 0.5, 1200, 1200);
-        const double expected = (1.0 - fc) * base + fc;
-        EXPECT_NEAR(pixel(coated, x, kSize / 2).g, expected, 0.02 * expected + 0.003) << "N.V " << nv;
-        // Without the coat's own reflection the pixel would be (1 − Fc)·E_base: the test sees it.
-        EXPECT_GT(std::abs(expected - (1.0 - fc) * base), 0.035);
+    for (float coatRoughness : {0.0f, 0.7f}) {
+        auto m = pbr(glm::vec3(0.0f), 0.0f, 0.5f); // black dielectric: E_base is the lobe's albedo
+        m->clearcoat = 1.0f;
+        m->clearcoatRoughness = coatRoughness;
+        const FloatImage coated = renderSphere(m, EnvironmentLightNode::create(white));
+        for (double NdotV : {0.98, 0.6}) {
+            const auto [x, n] = pixelAtNdotV(NdotV);
+            const double nv = n.z;
+            const double fc = 0.04 + 0.96 * std::pow(1.0 - nv, 5.0);
+            const double base = directionalAlbedo(nv, 0.04, 0.5, 1200, 1200);
+            const double a1 =
+                coatRoughness > 0.0f ? directionalAlbedo(nv, 1.0, coatRoughness, 1200, 1200) : 1.0;
+            const double expected = (1.0 - fc) * base + fc * a1;
+            EXPECT_NEAR(pixel(coated, x, kSize / 2).g, expected, 0.02 * expected + 0.003)
+                << "coat roughness " << coatRoughness << " N.V " << nv;
+            // Without the coat's own reflection the pixel would be (1 − Fc)·E_base: the test sees it.
+            EXPECT_GT(std::abs(expected - (1.0 - fc) * base), 0.02);
+        }
     }
+}
+
+TEST(Environment, ForeignShadersCallTheEnvironment) {
+    // An application's shader declares the environment's functions and calls them under
+    // SGFX_ENVIRONMENT (docs/effects/environment.md): a uniform radiance of 2 gives irradiance/π = 2.
+    static const char* const frag = R"(#version 450 core
+layout(location = 0) out vec4 fragOut;
+#ifdef SGFX_ENVIRONMENT
+vec3 sgfx_environmentDiffuse(vec3 N);
+vec3 sgfx_environmentRadiance(vec3 R, float roughness);
+#endif
+void main() {
+#ifdef SGFX_ENVIRONMENT
+    fragOut = vec4(0.25 * sgfx_environmentDiffuse(vec3(0.0, 0.0, 1.0)).rg,
+                   0.125 * sgfx_environmentRadiance(vec3(1.0, 0.0, 0.0), 0.5).g, 1.0);
+#else
+    fragOut = vec4(1.0, 0.0, 1.0, 1.0);
+#endif
+}
+)";
+    auto v = test::orthoTopViewer(16, 1.0f);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    auto q = shapes::quad(2.0f, 2.0f);
+    q->getOrCreateStateSet().program.set(ShaderProgram::create("app_env", test::kForeignVert, frag));
+    auto env = EnvironmentLightNode::create(Environment::uniform(glm::vec3(2.0f)));
+    env->addChild(q);
+    v->setSceneData(env);
+    v->frame();
+    test::expectNoGlErrors(*v);
+    const glm::vec3 p = pixel(v->renderer().readPixelsLinear(), 8, 8);
+    EXPECT_NEAR(p.r, 0.5f, 0.005f);
+    EXPECT_NEAR(p.g, 0.5f, 0.005f);
+    EXPECT_NEAR(p.b, 0.25f, 0.005f);
 }

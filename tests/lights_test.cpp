@@ -341,3 +341,39 @@ TEST(Lights, LightsAreCollectedWhenTheirGroupIsOutOfView) {
     EXPECT_GT(p.at(worldOfPixel(x, y)).r, 0.05);
     EXPECT_TRUE(near(pixel(img, x, y), p.at(worldOfPixel(x, y))));
 }
+
+TEST(Lights, ForeignShadersSeeTheFirstEightLightsWithTheList) {
+    // Beyond eight lights the built-in material reads the list, but the frame block a foreign
+    // shader declares keeps its meaning: sgfx_lightCount.x <= 8 and those lights filled in.
+    static const char* const frag = R"(#version 450 core
+layout(std140, binding = 0) uniform SgfxFrame {
+    mat4 sgfx_view; mat4 sgfx_projection; mat4 sgfx_viewProjection; mat4 sgfx_invViewProjection;
+    vec4 sgfx_eye; vec4 sgfx_viewport; vec4 sgfx_ambientLight; vec4 sgfx_time; ivec4 sgfx_lightCount;
+    vec4 sgfx_lightVector[8]; vec4 sgfx_lightColor[8];
+};
+layout(location = 0) out vec4 fragOut;
+void main() {
+    float sum = 0.0;
+    for (int i = 0; i < sgfx_lightCount.x; ++i) sum += sgfx_lightColor[i].r;
+    fragOut = vec4(sum / 4.0, float(sgfx_lightCount.x) / 16.0, 0.0, 1.0);
+}
+)";
+    auto v = orthoTopViewer(16, 1.0f);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    auto root = Group::create();
+    for (int i = 0; i < 12; ++i) {
+        auto l = Light::create(LightType::Directional);
+        l->color = glm::vec3(0.05f * float(i + 1));
+        root->addChild(l);
+    }
+    auto q = shapes::quad(2.0f, 2.0f);
+    q->getOrCreateStateSet().program.set(ShaderProgram::create("app_lights", kForeignVert, frag));
+    root->addChild(q);
+    v->setSceneData(root);
+    v->frame();
+    expectNoGlErrors(*v);
+    const FloatImage img = v->renderer().readPixelsLinear();
+    const float* p = &img.rgba[(8 * 16 + 8) * 4];
+    EXPECT_NEAR(p[1], 8.0f / 16.0f, 1e-6f) << "sgfx_lightCount.x";
+    EXPECT_NEAR(p[0], 0.05f * 36.0f / 4.0f, 1e-5f) << "the first eight lights' colours"; // 1 + ... + 8 = 36
+}

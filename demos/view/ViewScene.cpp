@@ -174,9 +174,7 @@ void ViewScene::applyEnvironment(const Settings& s) {
     // The environment replaces the flat ambient light (which would light everything twice).
     ambient_->color = glm::vec3(env_->enabled ? 0.0f : 0.35f);
     if (s.env == EnvSource::File && envLoaded_ != s.envFile) {
-        auto loaded = sgfx::Environment::load(s.envFile); // throws naming the file
-        env_->followSky(nullptr);
-        env_->setEnvironment(std::move(loaded));
+        env_->setEnvironment(sgfx::Environment::load(s.envFile)); // throws naming the file
         envLoaded_ = s.envFile;
     } else if (s.env == EnvSource::Sky) {
         env_->followSky(sky_);

@@ -148,6 +148,7 @@ void EnvironmentLightNode::followSky(std::shared_ptr<const SkyNode> sky, int siz
 void EnvironmentLightNode::setEnvironment(std::shared_ptr<const Environment> environment) {
     if (!environment) throw std::invalid_argument("sgfx: EnvironmentLightNode: the environment is null");
     environment_ = std::move(environment);
+    sky_.reset(); // a given environment replaces a followed sky
 }
 
 void EnvironmentLightNode::setIntensity(float intensity) {

@@ -88,7 +88,8 @@ void Renderer::setBlend(BlendMode mode) {
 }
 
 void Renderer::setCull(CullFace face) {
-    impl_->cache.setCull(face);
+    // The item's winding stays: the renderer set it for a mirrored item before its draw.
+    impl_->cache.setCull(face, impl_->cache.mirroredWinding());
 }
 
 void Renderer::useProgram(gl::Program& program) {

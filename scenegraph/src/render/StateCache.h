@@ -34,6 +34,8 @@ public:
     void setCull(CullFace face, bool mirrored = false);
     /// Only the winding (the cull face stays): clockwise front faces when `mirrored`.
     void setFrontFace(bool mirrored);
+    /// Whether the winding last set is the mirrored (clockwise) one.
+    bool mirroredWinding() const { return clockwiseFront_ == 1; }
     void setDepth(const DepthState& depth);
     /// Draws into `fbo` over (0, 0, size); sRGB encoding on write for sRGB targets.
     void bindFramebuffer(unsigned fbo, glm::ivec2 size, bool srgb = true);

@@ -259,8 +259,13 @@ void Renderer::View::uploadFrameBlock() {
 void Renderer::View::uploadLightList(render::FrameBlock& fb) {
     render::LightList& list = s_.lightList;
     list.build(queue_.lights, r_.frame_.view, r_.frame_.projection, draw_->width, draw_->height);
-    fb.lightCount =
-        glm::ivec4(int(list.lights.size()), list.global, list.tilesX, render::LightList::kTileSize);
+    // The frame block keeps the first 8 lights as without the list: foreign shaders read them.
+    const int inBlock = std::min(int(queue_.lights.size()), render::kMaxLights);
+    for (int i = 0; i < inBlock; ++i) {
+        fb.lightVector[i] = queue_.lights[std::size_t(i)].vector;
+        fb.lightColor[i] = glm::vec4(queue_.lights[std::size_t(i)].color, 0.0f);
+    }
+    fb.lightCount = glm::ivec4(inBlock, list.global, list.tilesX, render::LightList::kTileSize);
     // A buffer is never empty: GL would refuse to bind a zero-sized one.
     if (list.lights.empty()) list.lights.push_back(render::GpuLight{});
     glNamedBufferData(s_.lightBuffer.get(), GLsizeiptr(list.lights.size() * sizeof(render::GpuLight)),

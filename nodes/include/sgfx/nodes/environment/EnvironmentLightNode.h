@@ -56,9 +56,9 @@ private:
 /// Gives every material below it image-based light: diffuse from the irradiance, specular from
 /// the prefiltered chain and the split-sum table, for metallic-roughness and Blinn-Phong alike
 /// (Blinn-Phong's shininess maps to a GGX roughness of the same lobe width). Ambient occlusion
-/// and glTF occlusion maps darken it. Foreign shaders opt in by calling
+/// and glTF occlusion maps darken it. Foreign shaders opt in by declaring and calling
 /// sgfx_environmentDiffuse(N) and sgfx_environmentSpecular(N, V, roughness, F0) under
-/// `#ifdef SGFX_ENVIRONMENT`.
+/// `#ifdef SGFX_ENVIRONMENT` (docs/effects/environment.md lists the prototypes).
 class SGFX_API EnvironmentLightNode : public EffectNode {
 public:
     static std::shared_ptr<EnvironmentLightNode> create(std::shared_ptr<const Environment> environment,
@@ -69,7 +69,8 @@ public:
     EnvironmentLightNode();
     ~EnvironmentLightNode() override;
 
-    /// Throws std::invalid_argument for null and keeps the old environment.
+    /// Lights with `environment` from now on, and stops following a sky. Throws
+    /// std::invalid_argument for null and keeps the old environment.
     void setEnvironment(std::shared_ptr<const Environment> environment);
     /// The environment that lights the subtree: the sky's once rendered when following one.
     std::shared_ptr<const Environment> environment() const;
