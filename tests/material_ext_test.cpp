@@ -479,18 +479,21 @@ TEST(MaterialExt, LoaderReadsEachExtension) {
     EXPECT_FALSE(m.specularTexture->srgb);
     EXPECT_TRUE(m.specularColorTexture->srgb); // RGB, encoded in sRGB (the spec)
 
-    const auto unlit = materialsOf(*loadGltf(gltfQuad(
+    // The loaded graphs stay alive while their materials are read (materialsOf returns pointers).
+    const NodePtr unlitRoot = loadGltf(gltfQuad(
         "sgfx_matext_unlit.gltf",
         R"([{"pbrMetallicRoughness":{"baseColorFactor":[1,0.5,0.25,1]},"extensions":{"KHR_materials_unlit":{}}}])",
-        R"("extensionsUsed":["KHR_materials_unlit"],"extensionsRequired":["KHR_materials_unlit"],)")));
+        R"("extensionsUsed":["KHR_materials_unlit"],"extensionsRequired":["KHR_materials_unlit"],)"));
+    const auto unlit = materialsOf(*unlitRoot);
     ASSERT_EQ(unlit.size(), 1u);
     EXPECT_EQ(unlit[0]->model, ShadingModel::Unlit);
     EXPECT_EQ(unlit[0]->diffuse, glm::vec4(1.0f, 0.5f, 0.25f, 1.0f));
 
     // Defaults when the extension objects are empty: no coat, the core's specular.
-    const auto plain = materialsOf(*loadGltf(
+    const NodePtr plainRoot = loadGltf(
         gltfQuad("sgfx_matext_defaults.gltf",
-                 R"([{"extensions":{"KHR_materials_clearcoat":{},"KHR_materials_specular":{}}}])")));
+                 R"([{"extensions":{"KHR_materials_clearcoat":{},"KHR_materials_specular":{}}}])"));
+    const auto plain = materialsOf(*plainRoot);
     ASSERT_EQ(plain.size(), 1u);
     EXPECT_EQ(plain[0]->clearcoat, 0.0f);
     EXPECT_EQ(plain[0]->clearcoatRoughness, 0.0f);
