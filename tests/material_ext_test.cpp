@@ -490,9 +490,9 @@ TEST(MaterialExt, LoaderReadsEachExtension) {
     EXPECT_EQ(unlit[0]->diffuse, glm::vec4(1.0f, 0.5f, 0.25f, 1.0f));
 
     // Defaults when the extension objects are empty: no coat, the core's specular.
-    const NodePtr plainRoot = loadGltf(
-        gltfQuad("sgfx_matext_defaults.gltf",
-                 R"([{"extensions":{"KHR_materials_clearcoat":{},"KHR_materials_specular":{}}}])"));
+    const NodePtr plainRoot =
+        loadGltf(gltfQuad("sgfx_matext_defaults.gltf",
+                          R"([{"extensions":{"KHR_materials_clearcoat":{},"KHR_materials_specular":{}}}])"));
     const auto plain = materialsOf(*plainRoot);
     ASSERT_EQ(plain.size(), 1u);
     EXPECT_EQ(plain[0]->clearcoat, 0.0f);
