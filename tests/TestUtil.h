@@ -2,6 +2,7 @@
 // Shared helpers for the tests: analytic sRGB encoding and small scene builders.
 #include <sgfx/Camera.h>
 #include <sgfx/Image.h>
+#include <sgfx/Material.h>
 #include <sgfx/Viewer.h>
 
 #include <algorithm>
@@ -52,6 +53,16 @@ inline double srgbEncode(double linear) {
 }
 inline int srgbByte(double linear) {
     return int(std::lround(srgbEncode(linear) * 255.0));
+}
+
+// A glTF metallic-roughness material of these factors (opaque).
+inline std::shared_ptr<Material> metallicRoughness(glm::vec3 base, float metallic, float roughness) {
+    auto m = Material::create();
+    m->model = ShadingModel::MetallicRoughness;
+    m->diffuse = glm::vec4(base, 1.0f);
+    m->metallic = metallic;
+    m->roughness = roughness;
+    return m;
 }
 
 inline glm::ivec4 pixelAt(const Image& img, int x, int y) {

@@ -109,12 +109,7 @@ std::pair<int, glm::dvec3> pixelAtNdotV(double NdotV) {
 }
 
 std::shared_ptr<Material> pbr(glm::vec3 base, float metallic, float roughness) {
-    auto m = Material::create();
-    m->model = ShadingModel::MetallicRoughness;
-    m->diffuse = glm::vec4(base, 1.0f);
-    m->metallic = metallic;
-    m->roughness = roughness;
-    return m;
+    return test::metallicRoughness(base, metallic, roughness);
 }
 
 } // namespace

@@ -156,12 +156,7 @@ FloatImage render(Scene& scene, const std::shared_ptr<Node>& content) {
 }
 
 std::shared_ptr<Material> metalRough(glm::vec3 base, float metallic, float roughness) {
-    auto m = Material::create();
-    m->model = ShadingModel::MetallicRoughness;
-    m->diffuse = glm::vec4(base, 1.0f);
-    m->metallic = metallic;
-    m->roughness = roughness;
-    return m;
+    return metallicRoughness(base, metallic, roughness);
 }
 
 void expectPixels(const FloatImage& img, const std::function<glm::dvec3(glm::dvec3 V)>& expected,
