@@ -2,9 +2,12 @@
 // Built-in material, fragment stage, in linear colour: Blinn-Phong, glTF's metallic-roughness
 // model with SGFX_METALLIC_ROUGHNESS (brdf_metallic_roughness.glsl; its extensions in
 // clearcoat.glsl and specular_ext.glsl), or unlit (SGFX_UNLIT); image-based light with
-// SGFX_ENVIRONMENT (material_environment.glsl).
+// SGFX_ENVIRONMENT (material_environment.glsl); transmission with SGFX_TRANSMISSION
+// (transmission.glsl).
 // Hooks: @sgfx:ambient may change sgfx_ambient (ambient light) and sgfx_indirect (scales all
-// indirect light: ambient and environment); @sgfx:color may change sgfx_color.
+// indirect light: ambient and environment); @sgfx:transmitted may change sgfx_transmitted (the
+// scene seen through a transmissive surface, as the eye sees it, into what reaches the surface:
+// fog takes its own share out); @sgfx:color may change sgfx_color.
 // Feature defines (SGFX_BASE_MAP, SGFX_ALPHA_MAP, SGFX_NORMAL_MAP, SGFX_VERTEX_COLOR,
 // SGFX_NORMALS, SGFX_TANGENTS, SGFX_ALPHA_MASK, SGFX_BLEND, ...) are set per variant: a material
 // without an alpha mask has no `discard`, so the rasterizer keeps early depth rejection.
@@ -62,12 +65,15 @@ layout(binding = SGFX_MAP_CLEARCOAT_ROUGHNESS) uniform sampler2D sgfx_clearcoatR
 layout(binding = SGFX_MAP_CLEARCOAT_NORMAL) uniform sampler2D sgfx_clearcoatNormalMap;
 layout(binding = SGFX_MAP_SPECULAR) uniform sampler2D sgfx_specularMap;
 layout(binding = SGFX_MAP_SPECULAR_COLOR) uniform sampler2D sgfx_specularColorMap;
+layout(binding = SGFX_MAP_TRANSMISSION) uniform sampler2D sgfx_transmissionMap;
+layout(binding = SGFX_MAP_THICKNESS) uniform sampler2D sgfx_thicknessMap;
+uniform float sgfx_dielectricF0; // KHR_materials_ior: ((ior - 1)/(ior + 1))², 0.04 at 1.5
 
 // Texture coordinates of a map (Material::mappings, indexed by MaterialMap): its set,
 // transformed (KHR_texture_transform).
 #ifdef SGFX_UV_TRANSFORM
-uniform mat3 sgfx_uvTransform[11];
-uniform int sgfx_uvSet[11];
+uniform mat3 sgfx_uvTransform[SGFX_MAP_COUNT];
+uniform int sgfx_uvSet[SGFX_MAP_COUNT];
 vec2 sgfx_uv(int map) {
 #ifdef SGFX_TEXCOORDS1
     vec2 uv = sgfx_uvSet[map] == 1 ? v_texcoord1 : v_texcoord;
@@ -80,9 +86,9 @@ vec2 sgfx_uv(int map) {
 #define sgfx_uv(map) v_texcoord
 #endif
 
-// The maps of KHR_materials_clearcoat and _specular are chosen per material by a uniform (bit =
-// MaterialMap index), not per variant; an absent map reads as 1.
-#if defined(SGFX_CLEARCOAT) || defined(SGFX_SPECULAR_EXT)
+// The maps of KHR_materials_clearcoat, _specular, _transmission and _volume are chosen per
+// material by a uniform (bit = MaterialMap index), not per variant; an absent map reads as 1.
+#if defined(SGFX_CLEARCOAT) || defined(SGFX_SPECULAR_EXT) || defined(SGFX_TRANSMISSION)
 uniform int sgfx_extensionMaps;
 vec4 sgfx_extensionMap(sampler2D map, int index) {
 #ifdef SGFX_TEXCOORDS
@@ -105,7 +111,7 @@ layout(location = 2) out vec4 sgfx_gPosition; // view-space position
 #include "material_environment.glsl"
 #include "lights.glsl"
 
-#if !defined(SGFX_VERTEX_LIGHTING) || defined(SGFX_ENVIRONMENT)
+#if !defined(SGFX_VERTEX_LIGHTING) || defined(SGFX_ENVIRONMENT) || defined(SGFX_TRANSMISSION)
 // The interpolated normal (or the triangle's), not yet turned towards the viewer's side.
 vec3 sgfx_geometricNormal() {
 #ifdef SGFX_NORMALS
@@ -156,6 +162,7 @@ vec3 surfaceNormal() {
 
 #include "clearcoat.glsl"
 #include "specular_ext.glsl"
+#include "transmission.glsl"
 
 #ifndef SGFX_VERTEX_LIGHTING
 // What a light needs of the surface, the same for the unrolled loop and the light list.
@@ -279,7 +286,7 @@ void main() {
     metallic *= metalRough.b;
 #endif
     vec3 diffuseColor = mix(base.rgb, vec3(0.0), metallic);
-    vec3 f0 = mix(vec3(0.04), base.rgb, metallic);
+    vec3 f0 = mix(vec3(sgfx_dielectricF0), base.rgb, metallic);
     vec3 f90 = vec3(1.0);
 #ifdef SGFX_SPECULAR_EXT
     specularFresnel(base.rgb, metallic, f0, f90);
@@ -379,6 +386,23 @@ void main() {
 #endif
     color += sgfx_indirect * envColor;
     added += sgfx_indirect * envAdded;
+#endif
+#ifdef SGFX_TRANSMISSION
+    {
+        // The diffuse part lets the scene behind through (transmission.glsl), less what the
+        // surface reflects at this angle (Schlick's F at N·V) and what a clearcoat takes.
+        vec3 tN = surfaceNormal();
+        vec3 tV = normalize(sgfx_eye.xyz - v_worldPos);
+        float inside;
+        vec3 sgfx_transmitted = sgfx_transmissionSample(sgfx_transmissionExit(v_worldPos, tN, tV, inside), roughness);
+        // @sgfx:transmitted
+        vec3 F = f0 + (f90 - f0) * pow(1.0 - max(dot(tN, tV), 0.0), 5.0);
+        vec3 through = (1.0 - F) * diffuseColor * sgfx_volumeAttenuation(sgfx_transmitted, inside);
+#if defined(SGFX_CLEARCOAT) && !defined(SGFX_VERTEX_LIGHTING)
+        through *= 1.0 - coatWeight;
+#endif
+        color = mix(color, through, sgfx_transmissionFactor());
+    }
 #endif
 #endif // SGFX_UNLIT
     // Premultiplied output (SGFX_BLEND_PREMULTIPLIED): colour effects at the hook below see and

@@ -23,6 +23,9 @@ uniform int sgfx_batchBase;
 uniform mat4 sgfx_model;
 uniform mat3 sgfx_normalMatrix;
 
+#ifdef SGFX_TRANSMISSION
+flat out vec3 v_modelScale; // transmission.glsl: the volume's thickness scales with the model
+#endif
 #ifdef SGFX_WORLD_POSITION
 out vec3 v_worldPos;
 #endif
@@ -123,6 +126,9 @@ void main() {
     // @sgfx:vertex
 #ifdef SGFX_WORLD_POSITION
     v_worldPos = sgfx_worldPos;
+#endif
+#ifdef SGFX_TRANSMISSION
+    v_modelScale = vec3(length(model[0].xyz), length(model[1].xyz), length(model[2].xyz));
 #endif
 #ifdef SGFX_VERTEX_LIGHTING
     vertexLighting(sgfx_worldPos, normalize(sgfx_worldNormal));

@@ -225,6 +225,48 @@ TEST(FogGlass, ForwardExponentialMatchesPhysicalCompositing) {
         }
 }
 
+// The glass test with a transmissive pane (KHR_materials_transmission: white, smooth, thin, no
+// light on it): it shows the copy of the opaque scene. Forward fog fogged that copy on [O, P]; the
+// fog's transmitted hook takes the [O, Pn] share out, so the pane's own fog puts it back once.
+// ForwardSplit fogs what is behind the nearest surface on [Pn, P] only, so the copy is already
+// what reaches the pane. Physical either way: (1 − kn)·(1 − F)·mix(wall, fog, kf) + kn·fog.
+// Linear float target.
+TEST(FogGlass, TransmissivePaneMatchesPhysicalCompositing) {
+    const glm::dvec3 cb(0.9, 0.3, 0.1);
+    FogParameters params = testFog(FogResponse::Exponential);
+    params.density = 0.01f;
+    params.falloff = 0.02f;
+    const glm::dvec3 cf(params.color);
+    double sensitivity = 0.0;
+    for (FogMode mode : {FogMode::Forward, FogMode::ForwardSplit})
+        for (auto [gd, wd] : {std::pair{5.0f, 30.0f}, std::pair{20.0f, 80.0f}, std::pair{2.0f, 150.0f}}) {
+            auto v = perspectiveViewer({0, 0, 3}, {0, 10, 3});
+            v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+            auto fogNode = FogNode::create(params, mode);
+            fogNode->addChild(panel(400, 400, facingCamera(wd, 3), flat(glm::vec3(cb))));
+            auto m = metallicRoughness(glm::vec3(1.0f), 0.0f, 0.0f);
+            m->transmission = 1.0f;
+            fogNode->addChild(panel(20, 20, facingCamera(gd, 3), m));
+            v->setSceneData(fogNode);
+            v->frame();
+            expectNoGlErrors(*v);
+            const FloatImage img = v->renderer().readPixelsLinear();
+            const float* p = &img.rgba[(std::size_t(kSize / 2) * std::size_t(kSize) + kSize / 2) * 4];
+            const Ray r = rayThrough(*v->camera(), kSize / 2 + 0.5, kSize / 2 + 0.5);
+            const glm::dvec3 pn = r.origin + r.dir * (gd / r.dir.y), pw = r.origin + r.dir * (wd / r.dir.y);
+            const double kn = kOf(params, r.origin, pn), kf = kOf(params, pn, pw);
+            const double F = 0.04 + 0.96 * std::pow(1.0 - r.dir.y, 5.0); // Schlick at the pane (normal −Y)
+            const glm::dvec3 physical = (1 - kn) * (1 - F) * mixd(cb, cf, kf) + kn * cf;
+            // Fogging the copy's [O, Pn] share twice would give this.
+            const glm::dvec3 twice = (1 - kn) * (1 - F) * mixd(cb, cf, kOf(params, r.origin, pw)) + kn * cf;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(p[c], physical[c], 2e-3)
+                    << modeName(mode) << " glass at " << gd << " channel " << c;
+            sensitivity = std::max(sensitivity, glm::length(physical - twice));
+        }
+    EXPECT_GT(sensitivity, 0.02) << "the cases tell single from double fog";
+}
+
 TEST(FogGlass, PaperModesAreCharacterised) {
     const glm::dvec3 cb(0.9, 0.3, 0.1), cg(0.1, 0.6, 0.3), cf(0.8, 0.8, 0.9);
     for (auto [gd, wd] : {std::pair{5.0f, 30.0f}, std::pair{20.0f, 80.0f}})

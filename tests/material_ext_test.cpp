@@ -1,7 +1,8 @@
 // glTF material extensions: KHR_materials_unlit, KHR_materials_clearcoat, KHR_materials_specular
-// and KHR_materials_emissive_strength. Rendered pixels (linear float targets, 64×64, orthographic
-// from +Z) against the Khronos formulas written out here in double precision; the loader against
-// small files written by the test and against the shared sample models' JSON.
+// and KHR_materials_emissive_strength (transmission's pixels: transmission_test.cpp; its loader here).
+// Rendered pixels (linear float targets, 64×64, orthographic from +Z) against the Khronos formulas written
+// out here in double precision; the loader against small files written by the test and against the shared
+// sample models' JSON.
 #include "TestUtil.h"
 
 #include <sgfx/Geometry.h>
@@ -537,6 +538,86 @@ TEST(MaterialExt, LoaderNamesTheFileAndElementOfBadValues) {
     }
 }
 
+TEST(MaterialExt, LoaderReadsTransmissionVolumeAndIor) {
+    GltfStats st;
+    const NodePtr root = loadGltf(
+        gltfQuad(
+            "sgfx_matext_transmission.gltf",
+            R"([{"extensions":{"KHR_materials_transmission":{"transmissionFactor":0.8,
+  "transmissionTexture":{"index":0}},
+ "KHR_materials_volume":{"thicknessFactor":0.25,"thicknessTexture":{"index":0,"texCoord":0},
+  "attenuationDistance":2.5,"attenuationColor":[0.9,0.5,0]},
+ "KHR_materials_ior":{"ior":1.33}}}])",
+            R"("extensionsUsed":["KHR_materials_transmission","KHR_materials_volume","KHR_materials_ior"],)"),
+        {}, &st);
+    EXPECT_TRUE(st.warnings.empty()) << st.warnings.front();
+    const auto mats = materialsOf(*root);
+    ASSERT_EQ(mats.size(), 1u); // the quad uses materials[0]
+    const Material& m = *mats[0];
+    EXPECT_FLOAT_EQ(m.transmission, 0.8f);
+    EXPECT_FLOAT_EQ(m.thickness, 0.25f);
+    EXPECT_FLOAT_EQ(m.attenuationDistance, 2.5f);
+    EXPECT_FLOAT_EQ(m.ior, 1.33f);
+    EXPECT_FLOAT_EQ(m.attenuationColor.r, 0.9f);
+    EXPECT_GT(m.attenuationColor.b, 0.0f); // 0 absorbs everything: the smallest float stands in
+    EXPECT_LT(m.attenuationColor.b, 1e-30f);
+    ASSERT_TRUE(m.transmissionTexture && m.thicknessTexture);
+    EXPECT_FALSE(m.transmissionTexture->srgb);
+    EXPECT_FALSE(m.thicknessTexture->srgb);
+    EXPECT_NO_THROW(m.validate());
+    // The extensions' defaults (empty objects), and ior 0, which KHR_materials_ior allows.
+    for (int i : {1, 2}) {
+        const NodePtr other = loadGltf(gltfQuad(
+            "sgfx_matext_transmission" + std::to_string(i) + ".gltf",
+            i == 1
+                ? R"([{"extensions":{"KHR_materials_transmission":{},"KHR_materials_volume":{},"KHR_materials_ior":{}}}])"
+                : R"([{"extensions":{"KHR_materials_ior":{"ior":0}}}])"));
+        const auto d = materialsOf(*other);
+        ASSERT_EQ(d.size(), 1u);
+        EXPECT_EQ(d[0]->transmission, 0.0f);
+        EXPECT_EQ(d[0]->thickness, 0.0f);
+        EXPECT_TRUE(std::isinf(d[0]->attenuationDistance));
+        EXPECT_EQ(d[0]->attenuationColor, glm::vec3(1.0f));
+        EXPECT_EQ(d[0]->ior, i == 1 ? 1.5f : 0.0f);
+    }
+}
+
+TEST(MaterialExt, LoaderNamesBadTransmissionVolumeAndIorValues) {
+    const std::string p = "materials[0].extensions.";
+    expectLoadError("sgfx_matext_badt1.gltf",
+                    R"([{"extensions":{"KHR_materials_transmission":{"transmissionFactor":1.5}}}])",
+                    p + "KHR_materials_transmission.transmissionFactor");
+    expectLoadError("sgfx_matext_badt2.gltf", R"([{"extensions":{"KHR_materials_ior":{"ior":0.5}}}])",
+                    p + "KHR_materials_ior.ior");
+    expectLoadError("sgfx_matext_badt3.gltf",
+                    R"([{"extensions":{"KHR_materials_volume":{"thicknessFactor":-1}}}])",
+                    p + "KHR_materials_volume.thicknessFactor");
+    expectLoadError("sgfx_matext_badt4.gltf",
+                    R"([{"extensions":{"KHR_materials_volume":{"attenuationDistance":0}}}])",
+                    p + "KHR_materials_volume.attenuationDistance");
+    expectLoadError("sgfx_matext_badt5.gltf",
+                    R"([{"extensions":{"KHR_materials_volume":{"attenuationColor":[1,2,1]}}}])",
+                    p + "KHR_materials_volume.attenuationColor");
+    expectLoadError("sgfx_matext_badt6.gltf",
+                    R"([{"extensions":{"KHR_materials_transmission":{"transmissionTexture":{"index":9}}}}])",
+                    p + "KHR_materials_transmission.transmissionTexture");
+    for (const auto& [field, set] : std::vector<std::pair<std::string, std::function<void(Material&)>>>{
+             {"transmission", [](Material& x) { x.transmission = -0.1f; }},
+             {"ior", [](Material& x) { x.ior = 0.9f; }},
+             {"thickness", [](Material& x) { x.thickness = std::nanf(""); }},
+             {"attenuationDistance", [](Material& x) { x.attenuationDistance = 0.0f; }},
+             {"attenuationColor", [](Material& x) { x.attenuationColor = glm::vec3(0.0f); }}}) {
+        Material bad;
+        set(bad);
+        try {
+            bad.validate();
+            ADD_FAILURE() << field;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(MaterialExt, UnknownOptionalExtensionWarnsOncePerFile) {
     GltfStats st;
     const std::string sheen = R"({"extensions":{"KHR_materials_sheen":{"sheenColorFactor":[1,0,0]}}})";
@@ -553,7 +634,8 @@ TEST(MaterialExt, SharedSampleModelsLoadTheirDeclaredMaterials) {
     const auto dir = std::filesystem::path(SGFX_SOURCE_DIR) / ".." / "shared" / "assets" / "gltf";
     auto model = [&](const std::string& name) { return dir / name / "glTF" / (name + ".gltf"); };
     if (!optionalPrerequisite(std::filesystem::exists(model("UnlitTest")), "shared glTF set A2")) return;
-    for (const std::string name : {"UnlitTest", "SpecularTest", "ClearCoatCarPaint"}) {
+    for (const std::string name :
+         {"UnlitTest", "SpecularTest", "ClearCoatCarPaint", "TransmissionRoughnessTest"}) {
         SCOPED_TRACE(name);
         nlohmann::json doc;
         std::ifstream(model(name)) >> doc;
@@ -590,6 +672,12 @@ TEST(MaterialExt, SharedSampleModelsLoadTheirDeclaredMaterials) {
                         bool(m.specularColorTexture) != s.contains("specularColorTexture"))
                         return false;
                 }
+                if (m.transmission != ext.value("KHR_materials_transmission", nlohmann::json::object())
+                                          .value("transmissionFactor", 0.0f) ||
+                    m.ior != ext.value("KHR_materials_ior", nlohmann::json::object()).value("ior", 1.5f) ||
+                    m.thickness != ext.value("KHR_materials_volume", nlohmann::json::object())
+                                       .value("thicknessFactor", 0.0f))
+                    return false;
                 return true;
             };
             if (ext.empty()) continue;
@@ -624,7 +712,9 @@ TEST(MaterialExt, ExtensionVariantsCompileWithEveryLightingPath) {
             m->model = model;
             m->clearcoat = 0.5f;
             m->specularFactor = 0.5f;
-            m->clearcoatNormalTexture = m->specularColorTexture =
+            m->transmission = 0.5f;
+            m->thickness = 0.1f;
+            m->clearcoatNormalTexture = m->specularColorTexture = m->thicknessTexture =
                 Texel{{128, 128, 255, 255}, false}.texture();
             m->alphaCutoff = 0.3f;
             auto fog = FogNode::create(FogParameters::ground());

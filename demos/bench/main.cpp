@@ -69,7 +69,8 @@ options:
                       oit: weighted blended transparency; rain: 200,000 GPU particles;
                       sky: the physical sky at 18:30; smoke: a raymarched cloud; all: every one
                       of those; env (not in all): the sky's image-based light in place of the
-                      flat ambient light
+                      flat ambient light; windscreen (not in all): a transmissive glass pane
+                      (KHR_materials_transmission) 1.5 m in front of the eye, filling the view
   --json FILE         also write the results as JSON (machine and driver strings included)
   --plot FILE.png     also write a bar chart (FPS per configuration, grouped by size) through
                       scripts/plot_bench.py (python3 and python3-matplotlib); without --json
@@ -92,6 +93,7 @@ struct Size {
 struct Effects {
     bool fog = false, ao = false, aa = false, oit = false, rain = false, sky = false, smoke = false;
     bool env = false;
+    bool windscreen = false;
 };
 
 struct Config {
@@ -151,11 +153,13 @@ Config parseConfig(std::string_view item) {
             f.smoke = true;
         } else if (e == "env") {
             f.env = true;
+        } else if (e == "windscreen") {
+            f.windscreen = true;
         } else if (e == "all") {
-            f = {true, true, true, true, true, true, true, f.env};
+            f = {true, true, true, true, true, true, true, f.env, f.windscreen};
         } else {
             throw UsageError("--effects: '" + std::string(e) +
-                             "' is not none, fog, ao, aa, oit, rain, sky, smoke, env or all");
+                             "' is not none, fog, ao, aa, oit, rain, sky, smoke, env, windscreen or all");
         }
     }
     return c;
@@ -393,6 +397,24 @@ sgfx::NodePtr withEffects(const BenchScene& s, const Effects& e, std::shared_ptr
     return fog;
 }
 
+// A cockpit's windscreen: thin, slightly tinted, almost smooth glass (KHR_materials_transmission),
+// facing the eye in its own frame (Transform set per frame).
+std::shared_ptr<sgfx::Transform> makeWindscreen() {
+    auto glass = sgfx::Material::create();
+    glass->model = sgfx::ShadingModel::MetallicRoughness;
+    glass->diffuse = {0.92f, 0.96f, 0.94f, 1.0f};
+    glass->metallic = 0.0f;
+    glass->roughness = 0.05f;
+    glass->transmission = 1.0f;
+    glass->thickness = 0.01f;
+    auto pane = sgfx::shapes::quad(4.0f, 2.4f);
+    pane->getOrCreateStateSet().material.set(glass);
+    pane->getOrCreateStateSet().cullFace.set(sgfx::CullFace::None);
+    auto t = sgfx::Transform::create();
+    t->addChild(pane);
+    return t;
+}
+
 struct Result {
     Size size;
     std::string effects;
@@ -432,12 +454,24 @@ Result runOne(const Options& o, const BenchScene& s, const Size& size, const Con
         cam.setPerspective(40.0f, s.distance * 0.02f, s.distance * 20.0f);
     }
     cam.setAntiAliasing(c.effects.aa ? sgfx::AntiAliasing::msaa(4) : sgfx::AntiAliasing::none());
+    // The windscreen rides with the eye: 1.5 m ahead, 4 × 2.4 m (wider than the view).
+    const std::shared_ptr<sgfx::Transform> windscreen = c.effects.windscreen ? makeWindscreen() : nullptr;
     auto look = [&](float t) {
         const polygon::CameraPose p = poseAt(s, t);
         cam.setLookAt(p.eye, p.target, p.up);
+        if (windscreen)
+            windscreen->setMatrix(glm::inverse(cam.viewMatrix) *
+                                  glm::translate(glm::mat4(1.0f), {0.0f, 0.0f, -1.5f}));
     };
     look(0.0f);
-    viewer->setSceneData(withEffects(s, c.effects, viewer->camera()));
+    sgfx::NodePtr scene = withEffects(s, c.effects, viewer->camera());
+    if (windscreen) {
+        auto group = sgfx::Group::create();
+        group->addChild(scene);
+        group->addChild(windscreen);
+        scene = group;
+    }
+    viewer->setSceneData(scene);
     for (int i = 0; i < o.warmup; ++i) {
         viewer->frame();
         glFinish();

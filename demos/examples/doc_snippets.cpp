@@ -269,6 +269,23 @@ void environmentUsage(const sgfx::NodePtr& world, const std::shared_ptr<sgfx::Sk
     skyLight->addChild(world);
 }
 
+// ---- docs/materials.md
+
+sgfx::Material materialsTransmission() {
+    // docs: materials.md, Transmission
+    auto canopy = sgfx::Material::create();
+    canopy->model = sgfx::ShadingModel::MetallicRoughness;
+    canopy->diffuse = {0.95f, 0.97f, 1.0f, 1.0f}; // tints what is seen through it
+    canopy->roughness = 0.05f;
+    canopy->transmission = 1.0f;                  // all of the diffuse part lets light through
+    canopy->ior = 1.5f;                           // F0 = 0.04; how far light bends
+    canopy->thickness = 0.01f;                    // metres in the mesh's own units
+    canopy->attenuationColor = {0.9f, 0.97f, 0.95f};
+    canopy->attenuationDistance = 0.05f;          // Beer–Lambert: 0.9 of red left after 5 cm
+    // end
+    return *canopy;
+}
+
 } // namespace doc_snippets
 
 // Compiled and linked with the build; the snippets are not run (see the top of the file).

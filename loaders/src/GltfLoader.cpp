@@ -521,6 +521,53 @@ ExtensionTexture textureInfoOf(const Context& c, const tinygltf::Value& object, 
     return t;
 }
 
+// KHR_materials_ior, _transmission and _volume of a material (`prefix`: "<material>.extensions.").
+template <class LoadTexture>
+void readTransmission(const Context& c, const tinygltf::Material& m, Material& mat, const std::string& prefix,
+                      LoadTexture&& texture) {
+    if (const auto e = m.extensions.find("KHR_materials_ior"); e != m.extensions.end()) {
+        const std::string ext = prefix + "KHR_materials_ior";
+        mat.ior = numberOf(c, e->second, "ior", 1.5, ext);
+        if (!(mat.ior == 0.0f || mat.ior >= 1.0f))
+            c.fail(ext + ".ior", numberText(mat.ior) + " must be 0 or >= 1");
+    }
+    if (const auto e = m.extensions.find("KHR_materials_transmission"); e != m.extensions.end()) {
+        const std::string ext = prefix + "KHR_materials_transmission";
+        mat.transmission = unitOf(c, e->second, "transmissionFactor", 0.0, ext);
+        mat.transmissionTexture = texture(textureInfoOf(c, e->second, "transmissionTexture", ext), false,
+                                          MaterialMap::Transmission, ext + ".transmissionTexture");
+    }
+    if (const auto e = m.extensions.find("KHR_materials_volume"); e != m.extensions.end()) {
+        const std::string ext = prefix + "KHR_materials_volume";
+        const tinygltf::Value& v = e->second;
+        mat.thickness = numberOf(c, v, "thicknessFactor", 0.0, ext);
+        if (!(mat.thickness >= 0.0f))
+            c.fail(ext + ".thicknessFactor", numberText(mat.thickness) + " must be >= 0");
+        mat.thicknessTexture = texture(textureInfoOf(c, v, "thicknessTexture", ext), false,
+                                       MaterialMap::Thickness, ext + ".thicknessTexture");
+        // Absent: infinity (the medium absorbs nothing).
+        if (v.Has("attenuationDistance")) {
+            mat.attenuationDistance = numberOf(c, v, "attenuationDistance", 0.0, ext);
+            if (!(mat.attenuationDistance > 0.0f))
+                c.fail(ext + ".attenuationDistance", numberText(mat.attenuationDistance) + " must be > 0");
+        }
+        if (v.Has("attenuationColor")) {
+            const tinygltf::Value& a = v.Get("attenuationColor");
+            if (!a.IsArray() || a.ArrayLen() != 3) c.fail(ext + ".attenuationColor", "must have 3 numbers");
+            for (int k = 0; k < 3; ++k) {
+                const tinygltf::Value& n = a.Get(k);
+                const double d = n.IsNumber() ? n.GetNumberAsDouble() : -1.0;
+                // 0 would absorb everything at any depth (log 0): the smallest float stands in.
+                if (!(d >= 0.0 && d <= 1.0))
+                    c.fail(ext + ".attenuationColor",
+                           "[" + std::to_string(k) + "] must be a number in [0, 1], not " +
+                               (n.IsNumber() ? numberText(d) : std::string("a non-number")));
+                mat.attenuationColor[k] = std::max(float(d), std::numeric_limits<float>::min());
+            }
+        }
+    }
+}
+
 // KHR_materials_unlit, _clearcoat and _specular of material `name` (emissive_strength is read
 // with the emissive factor). `texture(info, srgb, map, element)` loads a map and its mapping.
 template <class LoadTexture>
@@ -570,6 +617,7 @@ void readMaterialExtensions(const Context& c, const tinygltf::Material& m, Mater
         mat.specularColorTexture = texture(textureInfoOf(c, v, "specularColorTexture", ext), true,
                                            MaterialMap::SpecularColor, ext + ".specularColorTexture");
     }
+    readTransmission(c, m, mat, prefix, texture);
 }
 
 bool isGlb(std::span<const std::byte> bytes) {
@@ -794,9 +842,12 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
     const Context c{path, model, &budget, options.memoryLimit};
     GltfStats st;
     static const std::set<std::string> supported = {
-        "KHR_texture_transform",   "KHR_materials_emissive_strength", "KHR_materials_unlit",
-        "KHR_materials_clearcoat", "KHR_materials_specular",          "EXT_mesh_gpu_instancing",
-        "KHR_mesh_quantization",   "KHR_lights_punctual"};
+        "KHR_texture_transform",      "KHR_materials_emissive_strength",
+        "KHR_materials_unlit",        "KHR_materials_clearcoat",
+        "KHR_materials_specular",     "EXT_mesh_gpu_instancing",
+        "KHR_mesh_quantization",      "KHR_lights_punctual",
+        "KHR_materials_transmission", "KHR_materials_volume",
+        "KHR_materials_ior"};
     for (const std::string& required : model.extensionsRequired)
         if (!supported.count(required))
             c.fail("extensionsRequired",
@@ -804,7 +855,8 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
                        "KHR_texture_transform, KHR_materials_emissive_strength, " +
                        "KHR_materials_unlit, KHR_materials_clearcoat, " +
                        "KHR_materials_specular, EXT_mesh_gpu_instancing, " +
-                       "KHR_mesh_quantization, KHR_lights_punctual)");
+                       "KHR_mesh_quantization, KHR_lights_punctual, KHR_materials_transmission, " +
+                       "KHR_materials_volume, KHR_materials_ior)");
     for (const std::string& used : model.extensionsUsed)
         if (!supported.count(used))
             st.warnings.push_back("extension '" + used + "' is not supported; the model is shown without it");

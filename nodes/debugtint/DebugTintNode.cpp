@@ -23,6 +23,7 @@ const ShaderSnippet& DebugTintNode::snippet() const {
                                  .fragmentDecl =
                                      std::string(nodes::shaders::embedded("debug_tint_decl.glsl")),
                                  .ambientCode = {},
+                                 .transmittedCode = {},
                                  .colorCode = std::string(nodes::shaders::embedded("debug_tint_color.glsl")),
                                  .samplers = {}};
     return s;

@@ -142,13 +142,13 @@ void FogNode::addSkyPass(FrameSetup& f) const {
         });
 }
 
-// Seed §2's T_depth is the nearest surface of every item, blended ones included (glass is fogged
-// on [O, Pn]): the shared opaque scene depth, plus the blended items' depth drawn over a copy of
-// it when there are any.
+// Seed §2's T_depth is the nearest surface of every item, blended and transmissive ones included
+// (glass is fogged on [O, Pn]): the shared opaque scene depth, plus the other items' depth drawn
+// over a copy of it when there are any.
 void FogNode::addNearestDepth(FrameSetup& f) const {
     f.requestSceneDepth({.when = PassPhase::BeforeMain});
     const RenderQueue& q = f.queue();
-    if (q.transparent.empty() && q.claimed.empty()) {
+    if (q.transparent.empty() && q.claimed.empty() && q.transmissive.empty()) {
         f.addPass("fog: nearest depth", PassPhase::BeforeMain,
                   [](PassBuilder& b) { b.publish(std::string(kNearestDepth), b.get(resources::SceneDepth)); },
                   {});
@@ -167,6 +167,7 @@ void FogNode::addNearestDepth(FrameSetup& f) const {
         [](PassCommands& c, const Data& d) {
             c.copyDepth(d.from, d.to);
             c.target({}, d.to);
+            c.drawQueue(c.queue().transmissive, DrawMode::DepthOnly);
             c.drawQueue(c.queue().transparent, DrawMode::DepthOnly);
             c.drawQueue(c.queue().claimed, DrawMode::DepthOnly);
         });
@@ -199,8 +200,11 @@ void FogNode::setMode(FogMode m) {
 }
 
 const ShaderSnippet& FogNode::snippet() const {
-    static const ShaderSnippet forward =
-        snippetOf("fog", "", text("fog_optical_depth.glsl"), text("fog_forward.glsl"));
+    static const ShaderSnippet forward = [] {
+        ShaderSnippet sn = snippetOf("fog", "", text("fog_optical_depth.glsl"), text("fog_forward.glsl"));
+        sn.transmittedCode = text("fog_forward_transmitted.glsl");
+        return sn;
+    }();
     static const ShaderSnippet split = [] {
         ShaderSnippet sn =
             snippetOf("fog_split", "", text("fog_optical_depth.glsl") + text("fog_split_decl.glsl"),

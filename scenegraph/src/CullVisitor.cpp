@@ -324,8 +324,8 @@ void CullVisitor::apply(Drawable& d) {
     const ResolvedState* state = state_.back();
     const bool transparent = state->transparent();
     const FeatureMask features = d.features(*state) |
-                                   ShaderComposer::blendFeatures(transparent, state->blendMode()) |
-                                   (transparent ? FeatureMask(FeatureBlend) : 0u);
+                                 ShaderComposer::blendFeatures(transparent, state->blendMode()) |
+                                 (transparent ? FeatureMask(FeatureBlend) : 0u);
     if (plan_ && plannedDrawables_.insert(&d).second) {
         plan_->drawables.push_back(&d);
     }
@@ -348,8 +348,10 @@ void CullVisitor::queueItem(const Geometry* geometry, const Drawable* drawable, 
     // Opaque items are built in place, each of their 128 bytes written once (a default-
     // constructed item filled afterwards wrote them twice).
     if (!state.transparent()) {
-        queue_.opaque.emplace_back(geometry, drawable, model_.back(), &state, effectSet, depth, bucket,
-                                   sequence_++, programKey, features);
+        // Transmissive surfaces sample the opaque scene drawn before them: a stage of their own.
+        (features & FeatureTransmission ? queue_.transmissive : queue_.opaque)
+            .emplace_back(geometry, drawable, model_.back(), &state, effectSet, depth, bucket, sequence_++,
+                          programKey, features);
         return;
     }
     RenderItem item(geometry, drawable, model_.back(), &state, effectSet, depth, bucket, sequence_++,

@@ -67,7 +67,17 @@ glm::ivec2 SizeRule::resolve(glm::ivec2 drawSize, glm::ivec2 viewSize) const {
 
 std::size_t ResolvedDesc::bytes() const {
     const FormatInfo* f = formatInfo(format);
-    return std::size_t(f ? f->bytes : 4) * std::size_t(width) * std::size_t(height) * std::size_t(samples);
+    const std::size_t base =
+        std::size_t(f ? f->bytes : 4) * std::size_t(width) * std::size_t(height) * std::size_t(samples);
+    return mipmaps ? base * 4 / 3 : base; // the chain adds a third
+}
+
+int ResolvedDesc::levels() const {
+    if (!mipmaps) return 1;
+    int n = 1;
+    for (int side = std::max(width, height); side > 1; side /= 2)
+        ++n;
+    return n;
 }
 
 std::string formatName(unsigned format) {
@@ -241,7 +251,10 @@ void FrameGraph::planLifetimes() {
 void FrameGraph::compile(glm::ivec2 drawSize, glm::ivec2 viewSize) {
     for (Resource& r : resources_) {
         const glm::ivec2 size = r.desc.size.resolve(drawSize, viewSize);
-        r.resolved = {r.desc.format, size.x, size.y, r.desc.samples, r.desc.filter, r.desc.wrapS};
+        if (r.desc.mipmaps && r.desc.samples > 1)
+            throw std::invalid_argument("sgfx: frame graph resource '" + r.name +
+                                        "' asks for mipmaps and several samples; mipmaps are single-sample");
+        r.resolved = {r.desc.format, size.x, size.y, r.desc.samples, r.desc.filter, r.desc.wrapS, r.desc.mipmaps};
         r.first = ~0u;
         r.last = 0;
         r.slot = -1;

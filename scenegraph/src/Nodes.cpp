@@ -591,6 +591,21 @@ void Material::validate() const {
     unit(specularFactor, "specularFactor");
     if (!finiteNonNeg(glm::vec4(specularColorFactor, 0)))
         throw std::invalid_argument("sgfx: Material specularColorFactor must be finite and non-negative");
+    unit(transmission, "transmission");
+    if (!(ior == 0.0f || (ior >= 1.0f && std::isfinite(ior))))
+        throw std::invalid_argument("sgfx: Material ior must be 0 or a finite value >= 1, not " +
+                                    std::to_string(ior));
+    if (!(thickness >= 0.0f && std::isfinite(thickness)))
+        throw std::invalid_argument("sgfx: Material thickness must be finite and >= 0, not " +
+                                    std::to_string(thickness));
+    if (!(attenuationDistance > 0.0f)) // infinity is allowed: no absorption
+        throw std::invalid_argument("sgfx: Material attenuationDistance must be > 0, not " +
+                                    std::to_string(attenuationDistance));
+    for (int i = 0; i < 3; ++i)
+        if (!(attenuationColor[i] > 0.0f && attenuationColor[i] <= 1.0f))
+            throw std::invalid_argument(
+                "sgfx: Material attenuationColor must be in (0, 1] per channel, not " +
+                std::to_string(attenuationColor[i]));
     if (!std::isfinite(normalScale)) throw std::invalid_argument("sgfx: Material normalScale must be finite");
     if (!std::isfinite(clearcoatNormalScale))
         throw std::invalid_argument("sgfx: Material clearcoatNormalScale must be finite");

@@ -27,6 +27,7 @@ const Node& RenderItem::node() const {
 
 void RenderQueue::clear() {
     opaque.clear();
+    transmissive.clear();
     transparent.clear();
     claimed.clear();
     effectSets.resize(1);
@@ -179,14 +180,19 @@ void RenderQueue::sort() {
     for (const SortKey& k : sortKeys_)
         sortScratch_.push_back(opaque[k.index]);
     opaque.swap(sortScratch_);
-    // Transparent: explicit order first, then back to front; equal depths keep cull order (a
-    // total order, so nothing flickers and the two faces of a double-sided item stay together).
-    // Items are large (a matrix each) and arrive in cull order: a stable LSD radix sort of
-    // (order, depth) keys, then each item moved once.
-    const std::size_t n = transparent.size();
+    sortBackToFront(transmissive);
+    sortBackToFront(transparent);
+}
+
+// Transparent and transmissive: explicit order first, then back to front; equal depths keep cull
+// order (a total order, so nothing flickers and the two faces of a double-sided item stay
+// together). Items are large (a matrix each) and arrive in cull order: a stable LSD radix sort
+// of (order, depth) keys, then each item moved once.
+void RenderQueue::sortBackToFront(std::vector<RenderItem>& items) {
+    const std::size_t n = items.size();
     sortKeys_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        const RenderItem& it = transparent[i];
+        const RenderItem& it = items[i];
         std::uint32_t d = std::bit_cast<std::uint32_t>(it.depth + 0.0f); // -0 sorts as +0
         d ^= (d & 0x80000000u) ? 0xffffffffu : 0x80000000u;              // monotone in depth
         sortKeys_[i] = {(std::uint64_t(std::uint32_t(it.order) ^ 0x80000000u) << 32) | ~d, std::uint32_t(i)};
@@ -195,8 +201,8 @@ void RenderQueue::sort() {
     sortScratch_.clear();
     sortScratch_.reserve(n);
     for (const SortKey& k : sortKeys_)
-        sortScratch_.push_back(transparent[k.index]);
-    transparent.swap(sortScratch_);
+        sortScratch_.push_back(items[k.index]);
+    items.swap(sortScratch_);
 }
 
 } // namespace sgfx

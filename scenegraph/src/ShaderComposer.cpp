@@ -24,6 +24,7 @@ const Hook kVertexHooks[] = {{"vertex_decl", &ShaderSnippet::vertexDecl, "vertex
                              {"vertex", &ShaderSnippet::vertexCode, "vertexCode"}};
 const Hook kFragmentHooks[] = {{"fragment_decl", &ShaderSnippet::fragmentDecl, "fragmentDecl"},
                                {"ambient", &ShaderSnippet::ambientCode, "ambientCode"},
+                               {"transmitted", &ShaderSnippet::transmittedCode, "transmittedCode"},
                                {"color", &ShaderSnippet::colorCode, "colorCode"}};
 
 // Mesa drops the source-string number of #line from its messages, so the source is also
@@ -49,6 +50,8 @@ std::string preamble(std::span<const ShaderSnippet* const> snippets, FeatureMask
     for (std::size_t k = 0; k < kMaterialMapCount; ++k)
         p += std::string("#define ") + render::kMaterialMapDefines[k] + " " +
              std::to_string(render::materialUnit(MaterialMap(k))) + "\n";
+    p += "#define SGFX_MAP_COUNT " + std::to_string(kMaterialMapCount) + "\n";
+    p += "#define SGFX_UNIT_TRANSMISSION " + std::to_string(render::kTransmissionUnit) + "\n";
     for (const ShaderSnippet* s : snippets)
         p += s->defines.empty() ? "" : s->defines + "\n";
     p += shaders::embedded("frame_block.glsl");
@@ -114,8 +117,8 @@ std::string composeStage(std::string_view name, std::string_view src, std::span<
     return out;
 }
 
-// KHR_materials_clearcoat and KHR_materials_specular: one bit each (their maps are chosen by a
-// uniform), set only when the extension changes the result. `uses` marks the coordinates read.
+// KHR_materials_clearcoat, _specular and _transmission (with _volume): one bit each (their maps are chosen by
+// a uniform), set only when the extension changes the result. `uses` marks the coordinates read.
 template <class Uses> FeatureMask extensionFeatures(const Material& m, Uses& uses) {
     FeatureMask f = 0;
     if (m.clearcoat > 0.0f) {
@@ -128,6 +131,12 @@ template <class Uses> FeatureMask extensionFeatures(const Material& m, Uses& use
     const bool colourTex = uses(m.specularColorTexture, MaterialMap::SpecularColor);
     if (m.specularFactor != 1.0f || m.specularColorFactor != glm::vec3(1.0f) || specTex || colourTex)
         f |= FeatureSpecularExt;
+    if (m.transmission > 0.0f) {
+        // The refracted ray starts at the fragment's world position.
+        f |= FeatureTransmission | FeatureWorldPosition;
+        uses(m.transmissionTexture, MaterialMap::Transmission);
+        uses(m.thicknessTexture, MaterialMap::Thickness);
+    }
     return f;
 }
 
@@ -212,7 +221,8 @@ std::string ShaderComposer::featureDefines(FeatureMask f) {
         {FeatureClearcoat, "SGFX_CLEARCOAT"},
         {FeatureSpecularExt, "SGFX_SPECULAR_EXT"},
         {FeatureLightAttenuation, "SGFX_LIGHT_ATTENUATION"},
-        {FeatureLightList, "SGFX_LIGHT_LIST"}};
+        {FeatureLightList, "SGFX_LIGHT_LIST"},
+        {FeatureTransmission, "SGFX_TRANSMISSION"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";

@@ -34,6 +34,11 @@ struct SGFX_API SnippetSampler {
 ///                `vec3 sgfx_worldPos`, `vec3 sgfx_worldNormal`, `vec4 sgfx_viewPos`
 ///  ambientCode:  may modify `vec3 sgfx_ambient` (the ambient light term) and `float
 ///                sgfx_indirect` (scales all indirect light: ambient and environment)
+///  transmittedCode: may modify `vec3 sgfx_transmitted`, the scene seen through a transmissive
+///                surface (Material::transmission) as the copy of the opaque scene shows it, i.e.
+///                as the eye sees it: an effect that changes light between eye and surface takes
+///                its share out here so it is not applied twice (Forward fog does);
+///                `vec3 sgfx_worldPos` and `vec3 sgfx_eyePos` are available.
 ///  colorCode:    may modify `vec4 sgfx_color` (final linear colour, before output);
 ///                `vec3 sgfx_worldPos` and `vec3 sgfx_eyePos` are available.
 struct SGFX_API ShaderSnippet {
@@ -43,6 +48,7 @@ struct SGFX_API ShaderSnippet {
     std::string vertexCode;
     std::string fragmentDecl;
     std::string ambientCode;
+    std::string transmittedCode;
     std::string colorCode;
     std::vector<SnippetSampler> samplers;
 };

@@ -63,6 +63,9 @@ struct SGFX_API TextureDesc {
     int samples = 1;
     Filter filter = Filter::Nearest;
     Wrap wrapS = Wrap::ClampToEdge; ///< across the first coordinate (a table over azimuth repeats)
+    /// A full mip chain (single-sample only; Filter::Linear then filters trilinearly): a copy of
+    /// the scene that rough glass blurs by level. PassCommands::copyColour fills it.
+    bool mipmaps = false;
     bool operator==(const TextureDesc&) const = default;
 };
 
@@ -72,6 +75,9 @@ struct SGFX_API ResolvedDesc {
     int width = 0, height = 0, samples = 1;
     Filter filter = Filter::Nearest;
     Wrap wrapS = Wrap::ClampToEdge;
+    bool mipmaps = false;
+    /// Mip levels: 1, or the full chain down to 1 × 1.
+    int levels() const;
     bool operator==(const ResolvedDesc&) const = default;
     auto operator<=>(const ResolvedDesc&) const = default;
     /// Bytes of GPU memory the texture holds (format size × pixels × samples).

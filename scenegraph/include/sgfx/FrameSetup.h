@@ -51,6 +51,8 @@ inline constexpr std::string_view DrawColour = "draw.colour"; ///< what the main
 inline constexpr std::string_view DrawDepth = "draw.depth";
 inline constexpr std::string_view ViewColour = "view.colour"; ///< the view's single-sample target
 inline constexpr std::string_view ViewDepth = "view.depth";
+/// The opaque scene as the transmissive stage sees it: draw size, mip-mapped, one sample.
+inline constexpr std::string_view TransmissionColour = "transmission.colour";
 } // namespace resources
 
 /// A pass's setup: FrameGraph::Builder plus the view's named resources. Writing the draw or view

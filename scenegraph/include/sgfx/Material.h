@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -42,8 +43,10 @@ enum class MaterialMap : std::uint8_t {
     ClearcoatNormal,    ///< clearcoatNormalTexture
     Specular,           ///< KHR_materials_specular: specularTexture
     SpecularColor,      ///< specularColorTexture
+    Transmission,       ///< KHR_materials_transmission: transmissionTexture
+    Thickness,          ///< KHR_materials_volume: thicknessTexture
 };
-inline constexpr std::size_t kMaterialMapCount = 11;
+inline constexpr std::size_t kMaterialMapCount = 13;
 
 /// Which texture coordinates a map reads and how they are transformed first
 /// (KHR_texture_transform: uv' = T(offset) * R(rotation) * S(scale) * uv).
@@ -100,6 +103,25 @@ public:
     glm::vec3 specularColorFactor{1.0f};           ///< finite, >= 0 (may exceed 1)
     std::shared_ptr<Texture> specularTexture;      ///< A scales specularFactor (linear)
     std::shared_ptr<Texture> specularColorTexture; ///< RGB scales specularColorFactor (sRGB)
+
+    /// KHR_materials_ior (MetallicRoughness only): the dielectric's F0 = ((ior - 1)/(ior + 1))²
+    /// (0.04 at the default 1.5) and, with transmission, how far light bends going in. 1 or
+    /// more, or exactly 0 (F0 = 1, as the extension allows).
+    float ior = 1.5f;
+    /// KHR_materials_transmission (MetallicRoughness only): the fraction of the diffuse part that
+    /// lets the scene behind through (thin glass, a canopy) instead of scattering light. The
+    /// renderer draws such surfaces in the transmissive stage (docs/materials.md): after the opaque
+    /// items and a copy of them, which they sample along the refracted ray, blurred by roughness.
+    float transmission = 0.0f;                    ///< [0, 1]; 0: opaque as usual
+    std::shared_ptr<Texture> transmissionTexture; ///< R scales transmission (linear)
+    /// KHR_materials_volume: the thickness of the medium under the surface, in the mesh's own
+    /// units (the model matrix scales it); 0 is a thin wall (no refraction offset, no absorption).
+    float thickness = 0.0f;                    ///< >= 0
+    std::shared_ptr<Texture> thicknessTexture; ///< G scales thickness (linear)
+    /// The colour white light has after travelling attenuationDistance through the medium
+    /// (Beer–Lambert: T = attenuationColor^(d / attenuationDistance)).
+    glm::vec3 attenuationColor{1.0f};                                   ///< each in (0, 1]
+    float attenuationDistance = std::numeric_limits<float>::infinity(); ///< > 0; infinity: clear
     std::array<TextureMapping, kMaterialMapCount> mappings{};
     TextureMapping& mapping(MaterialMap m) { return mappings[std::size_t(m)]; }
     const TextureMapping& mapping(MaterialMap m) const { return mappings[std::size_t(m)]; }

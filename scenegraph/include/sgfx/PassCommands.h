@@ -94,6 +94,9 @@ public:
     void warn(std::string message);
     /// Copies depth `from` into `to` (a multisample source is resolved, one sample per pixel).
     void copyDepth(ResourceId from, ResourceId to);
+    /// Copies colour `from` into level 0 of `to` (a multisample source is resolved; sizes may
+    /// differ: linear filtering), then fills the rest of `to`'s mip chain when it has one.
+    void copyColour(ResourceId from, ResourceId to);
 
 private:
     unsigned nextUnit();

@@ -58,7 +58,7 @@ struct SGFX_API RenderItem {
     std::int8_t depthBucket = 0; ///< floor(log2(depth)): opaque items sort near-to-far by it first
     std::uint32_t sequence = 0;  ///< cull order, keeps sorting stable
     ProgramKey programKey;       ///< equal keys = one program (ids from the queue's programKeys)
-    FeatureMask features = 0;  ///< built-in material variant (MaterialFeature bits)
+    FeatureMask features = 0;    ///< built-in material variant (MaterialFeature bits)
     /// Which faces this item draws (a double-sided transparent item is queued twice: back faces,
     /// then front faces); AsState = as its state's CullFace says.
     enum class Faces : std::uint8_t { AsState, Back, Front } faces = Faces::AsState;
@@ -95,7 +95,11 @@ struct SGFX_API RenderItem {
 /// Everything the cull traversal found for one view: items by stage, lights, sub-cameras.
 class SGFX_API RenderQueue {
 public:
-    std::vector<RenderItem> opaque;      ///< drawn first; by octave of depth, program, material, mesh, depth
+    std::vector<RenderItem> opaque; ///< drawn first; by octave of depth, program, material, mesh, depth
+    /// Transmissive items (Material::transmission, blending off): drawn after the opaque items
+    /// and the AfterOpaque passes, sampling a copy of what is drawn so far, and before the
+    /// Transparent passes and the transparent items. Sorted like `transparent`.
+    std::vector<RenderItem> transmissive;
     std::vector<RenderItem> transparent; ///< drawn last; sorted by order, then back to front
     /// Blended items an effect above them draws itself (EffectNode::drawsBlended), e.g. an
     /// order-independent transparency pass; not drawn by the main pass. Cull order.
@@ -111,7 +115,9 @@ public:
 
     void clear();
     void sort();
-    std::size_t size() const { return opaque.size() + transparent.size() + claimed.size(); }
+    std::size_t size() const {
+        return opaque.size() + transmissive.size() + transparent.size() + claimed.size();
+    }
     std::uint32_t internEffectSet(std::vector<const EffectNode*> effects);
     /// Keeps `state` in `states` and returns its address, or the address of an equal state
     /// already kept this frame: paths that resolve to the same state share one pointer, so
@@ -129,6 +135,7 @@ private:
     std::vector<std::uint64_t> programRanks_, materialRanks_, meshRanks_, rankScratch_;
     std::vector<std::uint32_t> meshCounts_;
     void radixSort(std::vector<SortKey>& keys);
+    void sortBackToFront(std::vector<RenderItem>& items);
     std::vector<RenderItem> sortScratch_;
 };
 

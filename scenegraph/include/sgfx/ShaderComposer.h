@@ -122,6 +122,9 @@ enum MaterialFeature : std::uint64_t {
     /// storage buffer, and each fragment shades the lights without a range plus its screen
     /// tile's list of ranged ones (per-vertex lighting: every light). SGFX_LIGHT_COUNT is 0.
     FeatureLightList = 1ull << 33,
+    /// KHR_materials_transmission (+ _volume, _ior): the surface samples the copy of the opaque
+    /// scene along its refracted ray (SGFX_UNIT_TRANSMISSION); its two maps as the extensions'.
+    FeatureTransmission = 1ull << 34,
     /// Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
@@ -134,8 +137,8 @@ inline constexpr FeatureMask kAllMaterialFeatures =
     FeatureMetallicRoughness | FeatureVertexLighting | FeatureLightCountMask | FeatureWorldPosition |
     FeaturePointLights | FeatureBlendKindMask | FeatureGBuffer | FeatureMetalRoughMap | FeatureOcclusionMap |
     FeatureEmissiveMap | FeatureTexCoords1 | FeatureUvTransform | FeatureInstanced | FeatureBatched |
-    FeatureUnlit | FeatureClearcoat | FeatureSpecularExt |
-    FeatureLightAttenuation | FeatureLightList;
+    FeatureUnlit | FeatureClearcoat | FeatureSpecularExt | FeatureLightAttenuation | FeatureLightList |
+    FeatureTransmission;
 // A program key holds every feature bit (the mask fits only if each bit does).
 static_assert(ProgramKey::Features.fits(kAllMaterialFeatures),
               "a MaterialFeature bit is outside ProgramKey::Features");

@@ -85,9 +85,9 @@ TextureObject createTexture(unsigned target) {
     glCreateTextures(target, 1, &n);
     return TextureObject(n);
 }
-TextureObject createTexture2D(unsigned format, int width, int height, int filter) {
+TextureObject createTexture2D(unsigned format, int width, int height, int filter, int levels) {
     TextureObject t = createTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(t.get(), 1, format, width, height);
+    glTextureStorage2D(t.get(), levels, format, width, height);
     glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, filter);
     glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, filter);
     glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

@@ -7,6 +7,7 @@
 #include "render/TextureUnits.h"
 #include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
+#include "sgfx/FrameSetup.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Material.h"
 #include "sgfx/TriangleSort.h"
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -48,13 +50,15 @@ void validateEnums(const ResolvedState& st, const RenderItem& item) {
         bad("PrimitiveMode", int(item.geometry->mode));
 }
 
-// The maps of KHR_materials_clearcoat and KHR_materials_specular, with their MaterialMap.
-std::array<std::pair<const Texture*, MaterialMap>, 5> extensionMaps(const Material& m) {
+// The maps of KHR_materials_clearcoat, _specular, _transmission and _volume, with their MaterialMap.
+std::array<std::pair<const Texture*, MaterialMap>, 7> extensionMaps(const Material& m) {
     return {{{m.clearcoatTexture.get(), MaterialMap::Clearcoat},
              {m.clearcoatRoughnessTexture.get(), MaterialMap::ClearcoatRoughness},
              {m.clearcoatNormalTexture.get(), MaterialMap::ClearcoatNormal},
              {m.specularTexture.get(), MaterialMap::Specular},
-             {m.specularColorTexture.get(), MaterialMap::SpecularColor}}};
+             {m.specularColorTexture.get(), MaterialMap::SpecularColor},
+             {m.transmissionTexture.get(), MaterialMap::Transmission},
+             {m.thicknessTexture.get(), MaterialMap::Thickness}}};
 }
 
 } // namespace
@@ -157,6 +161,11 @@ void Renderer::DrawList::begin(std::span<const RenderItem> items) {
         s.cache.setDepth(DepthState{});
         s.firstResourceUnit = render::kFirstFrameResourceUnit; // no effect samplers: drawables bind from here
     }
+    // The copy of the opaque scene transmissive materials sample, on its own unit
+    // (TextureUnits.h), when the frame made one.
+    if (mode == DrawMode::Main && s.graph && s.graph->blackboard.has(resources::TransmissionColour))
+        s.cache.bindTexture(render::kTransmissionUnit,
+                            s.graph->texture(s.graph->blackboard.get(resources::TransmissionColour)));
     // The model matrices of every batch of this list, uploaded at once (one buffer write per
     // list: writing per batch, or changing vertex layouts per batch, stalls llvmpipe).
     s.batchScratch.clear();
@@ -252,16 +261,15 @@ bool Renderer::DrawList::selectComposedProgram(const RenderItem& item, std::uint
     for (const EffectNode* e : set.effects)
         snippets.push_back(&e->snippet());
     const FeatureMask features =
-        item.program()
-            ? (snippets.empty() ? 0u : item.features) // a foreign wrap uses the blend bits
-            : ShaderComposer::withWorldPosition(
-                  item.features | r.viewFeatures_ | extra,
-                  std::any_of(snippets.begin(), snippets.end(), [](const ShaderSnippet* sn) {
-                      // Declared functions too: the material calls the environment light's with
-                      // the view direction.
-                      return !sn->vertexCode.empty() || !sn->ambientCode.empty() || !sn->colorCode.empty() ||
-                             !sn->fragmentDecl.empty();
-                  }));
+        item.program() ? (snippets.empty() ? 0u : item.features) // a foreign wrap uses the blend bits
+                       : ShaderComposer::withWorldPosition(
+                             item.features | r.viewFeatures_ | extra,
+                             std::any_of(snippets.begin(), snippets.end(), [](const ShaderSnippet* sn) {
+                                 // Declared functions too: the material calls the environment light's with
+                                 // the view direction.
+                                 return !sn->vertexCode.empty() || !sn->ambientCode.empty() ||
+                                        !sn->colorCode.empty() || !sn->fragmentDecl.empty();
+                             }));
     program = &r.composer_.program(item.program(), snippets, features);
     programKey = item.programKey;
     programExtra = extra;
@@ -305,10 +313,9 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
                     "sgfx: the effects above '" + item.node().name + "' sample more than " +
                     std::to_string(gl::StateCache::kUnits - render::kFirstFrameResourceUnit) +
                     " frame resources");
-            const unsigned texture =
-                sampler.nodeTexture ? e->texture(sampler.resource)
-                : s.graph           ? s.graph->texture(s.graph->blackboard.get(sampler.resource))
-                                    : 0;
+            const unsigned texture = sampler.nodeTexture ? e->texture(sampler.resource)
+                                     : s.graph ? s.graph->texture(s.graph->blackboard.get(sampler.resource))
+                                               : 0;
             s.cache.bindTexture(unit, texture);
             program->set(sampler.uniform, int(unit++));
         }
@@ -363,10 +370,13 @@ void Renderer::DrawList::setMaterialUniforms(const Material& m, const RenderItem
         // The Gouraud option's specular lobe: the Blinn-Phong exponent of the same width.
         const float a = std::max(m.roughness * m.roughness, 0.03f);
         program->set("sgfx_matShininess", std::min(2.0f / (a * a) - 2.0f, 4096.0f));
+        // KHR_materials_ior: the dielectric's reflectance at normal incidence.
+        const float f = (m.ior - 1.0f) / (m.ior + 1.0f);
+        program->set("sgfx_dielectricF0", f * f);
     }
     program->set("sgfx_normalScale", m.normalScale);
     program->set("sgfx_occlusionStrength", m.occlusionStrength);
-    if (item.features & (FeatureClearcoat | FeatureSpecularExt)) {
+    if (item.features & (FeatureClearcoat | FeatureSpecularExt | FeatureTransmission)) {
         // Which extension maps are read (bit = MaterialMap index): those the material has whose
         // coordinates the geometry has (as ShaderComposer::featuresFor); the others read as 1.
         int maps = 0;
@@ -381,6 +391,12 @@ void Renderer::DrawList::setMaterialUniforms(const Material& m, const RenderItem
         program->set("sgfx_clearcoat", glm::vec3(m.clearcoat, m.clearcoatRoughness, m.clearcoatNormalScale));
     if (item.features & FeatureSpecularExt)
         program->set("sgfx_specularExt", glm::vec4(m.specularColorFactor, m.specularFactor));
+    if (item.features & FeatureTransmission) {
+        program->set("sgfx_transmission",
+                     glm::vec4(m.transmission, m.ior, m.thickness,
+                               std::isinf(m.attenuationDistance) ? 0.0f : m.attenuationDistance));
+        program->set("sgfx_attenuationColor", m.attenuationColor);
+    }
     if (item.features & FeatureUvTransform)
         for (std::size_t k = 0; k < kMaterialMapCount; ++k) {
             const std::string index = "[" + std::to_string(k) + "]";

@@ -29,7 +29,9 @@ unsigned ResourcePool::acquire(const ResolvedDesc& desc, std::string_view name) 
                                       GL_TRUE);
     } else {
         e.texture = gl::createTexture2D(desc.format, desc.width, desc.height,
-                                        desc.filter == Filter::Nearest ? GL_NEAREST : GL_LINEAR);
+                                        desc.filter == Filter::Nearest ? GL_NEAREST : GL_LINEAR, desc.levels());
+        if (desc.mipmaps && desc.filter == Filter::Linear)
+            glTextureParameteri(e.texture.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
         if (desc.wrapS == Wrap::Repeat) glTextureParameteri(e.texture.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
         if (desc.wrapS == Wrap::MirroredRepeat)
             glTextureParameteri(e.texture.get(), GL_TEXTURE_WRAP_S, GL_MIRRORED_REPEAT);

@@ -49,12 +49,15 @@ private:
     void declareSceneDepth(const FrameSetup::DepthNeeds& needs);
     void drawSceneDepth(PassCommands& c, const FrameSetup::DepthNeeds& needs);
     void declareMain(bool opaque);
+    void declareTransmission();
     void declareResolve();
     void declarePostAa();
     std::vector<std::pair<std::string, std::string>> snippetSamplers(std::span<const RenderItem> items) const;
     void legacyState(bool invalidate, const gl::RenderTarget& target);
     void drawOpaque();
+    void drawTransmissive();
     void drawTransparent();
+    void bindDrawTarget();
     void clearTarget();
     void resolve();
 
@@ -319,6 +322,7 @@ void Renderer::View::buildGraph(int depth) {
     declareMain(true);
     if (setup.depthNeeds().any && !setup.depthNeeds().beforeMain) declareSceneDepth(setup.depthNeeds());
     declare(setup, PassPhase::AfterOpaque);
+    declareTransmission();
     declare(setup, PassPhase::Transparent);
     declareMain(false);
     if (draw_ != &target_) declareResolve();
@@ -414,6 +418,8 @@ void Renderer::View::declareMain(bool opaque) {
             // What drawables bind in their draw (FrameSetup::sampleInMainPass): the opaque half
             // reads what is made before it, the transparent half everything, so a producer after
             // the opaque items lives through the Transparent passes and the transparent items.
+            if (!opaque && graph_.blackboard.has(resources::TransmissionColour))
+                pb.sample(resources::TransmissionColour);
             for (const std::string& resource : mainReads_) {
                 if (opaque && !graph_.blackboard.has(resource)) continue;
                 if (!graph_.blackboard.has(resource))
@@ -440,6 +446,46 @@ void Renderer::View::declareMain(bool opaque) {
                 drawTransparent();
         },
         "main");
+}
+
+// Transmissive materials (Material::transmission), as three.js and Filament draw them: a copy of
+// the opaque scene (after the AfterOpaque passes: fog's sky, ...) with a mip chain that rough
+// surfaces read blurred, then the transmissive items, which sample it along their refracted rays
+// and write depth as opaque items do. The Transparent passes (OIT bins) and the transparent items
+// come after them, so glass in front of a transmissive surface blends over it; a transmissive
+// surface sees only the opaque scene through it (docs/materials.md).
+void Renderer::View::declareTransmission() {
+    const auto transmits = [](const RenderItem& it) { return (it.features & FeatureTransmission) != 0; };
+    if (queue_.transmissive.empty() &&
+        std::none_of(queue_.transparent.begin(), queue_.transparent.end(), transmits) &&
+        std::none_of(queue_.claimed.begin(), queue_.claimed.end(), transmits))
+        return;
+    graph_.addPass(
+        "transmission copy",
+        [&](FrameGraph::Builder& b) {
+            PassBuilder pb(b, graph_.blackboard);
+            pb.sample(resources::DrawColour);
+            const TextureDesc desc{.format = draw_->colorFormat, .filter = Filter::Linear, .mipmaps = true};
+            const std::string name(resources::TransmissionColour);
+            pb.publish(name, pb.colour(pb.create(name, desc), 0, false));
+        },
+        [this](PassCommands& c) {
+            c.copyColour(graph_.blackboard.get(resources::DrawColour),
+                         graph_.blackboard.get(resources::TransmissionColour));
+        },
+        "after opaque");
+    if (queue_.transmissive.empty()) return;
+    graph_.addPass(
+        "main: transmissive",
+        [&](FrameGraph::Builder& b) {
+            PassBuilder pb(b, graph_.blackboard);
+            for (const auto& [uniform, resource] : snippetSamplers(queue_.transmissive))
+                pb.sample(pb.get(resource), uniform);
+            pb.sample(resources::TransmissionColour);
+            pb.write(resources::DrawColour);
+            pb.write(resources::DrawDepth);
+        },
+        [this](PassCommands&) { drawTransmissive(); }, "main");
 }
 
 // What the items' effects sample (only sets some item uses: an effect whose subtree drew nothing
@@ -550,8 +596,15 @@ void Renderer::View::drawOpaque() {
     r_.drawItems(queue_.opaque);
 }
 
+void Renderer::View::drawTransmissive() {
+    s_.log.stage = "main pass";
+    bindDrawTarget();
+    r_.drawItems(queue_.transmissive);
+}
+
 void Renderer::View::drawTransparent() {
     s_.log.stage = "main pass";
+    bindDrawTarget(); // passes before it (a copy, an OIT composite) may have bound their own
     r_.drawItems(queue_.transparent);
     if (fragments_) {
         glEndQuery(GL_SAMPLES_PASSED);
@@ -561,9 +614,13 @@ void Renderer::View::drawTransparent() {
     }
 }
 
-void Renderer::View::clearTarget() {
+void Renderer::View::bindDrawTarget() {
     s_.cache.bindFramebuffer(draw_->fbo.get(), {draw_->width, draw_->height}, true);
     s_.cache.setColourMask(true);
+}
+
+void Renderer::View::clearTarget() {
+    bindDrawTarget();
     s_.cache.setDepth(DepthState{}); // depth writes on: a clear obeys the depth mask
     const glm::vec4 cc = camera_.clearColor;
     glClearColor(cc.r, cc.g, cc.b, cc.a);

@@ -78,10 +78,10 @@ using QueryObject = Object<Kind::Query>;
 SGFX_API BufferObject createBuffer();
 SGFX_API VertexArrayObject createVertexArray();
 SGFX_API TextureObject createTexture(unsigned target);
-/// A single-level 2D texture for a pass's own use: `filter` (GL_NEAREST or GL_LINEAR) both ways,
-/// clamped to its edges.
+/// A 2D texture for a pass's own use (`levels` mip levels, 1 by default): `filter` (GL_NEAREST or
+/// GL_LINEAR) both ways, clamped to its edges.
 SGFX_API TextureObject createTexture2D(unsigned format, int width, int height,
-                                       int filter = 0x2600 /* GL_NEAREST */);
+                                       int filter = 0x2600 /* GL_NEAREST */, int levels = 1);
 /// A cube map of size² faces with `levels` mips, trilinear (seamless where the renderer enables
 /// it) and clamped: node-owned environment maps.
 SGFX_API TextureObject createTextureCube(unsigned format, int size, int levels);
