@@ -51,8 +51,9 @@ public:
     }
 };
 
-// A sun, its sky's light on the materials, a grey ground; `content` on top.
-std::shared_ptr<sgfx::Group> lit(const std::shared_ptr<sgfx::Node>& content, float groupSize) {
+// A sun, its sky's light on the materials, a grey ground at z = 0 (none when `groundSize` is 0);
+// `content` on top.
+std::shared_ptr<sgfx::Group> lit(const std::shared_ptr<sgfx::Node>& content, float groundSize) {
     auto root = sgfx::Group::create();
     auto sun = sgfx::Light::create(sgfx::LightType::Directional);
     sun->direction = glm::normalize(glm::vec3(-0.4f, 0.6f, -0.7f));
@@ -60,12 +61,14 @@ std::shared_ptr<sgfx::Group> lit(const std::shared_ptr<sgfx::Node>& content, flo
     root->addChild(sun);
     auto sky = sgfx::SkyNode::create();
     auto env = sgfx::EnvironmentLightNode::create(sky);
-    auto ground = sgfx::shapes::quad(groupSize * 4.0f, groupSize * 4.0f);
-    auto grey = sgfx::Material::create();
-    grey->diffuse = glm::vec4(0.35f, 0.35f, 0.33f, 1.0f);
-    grey->ambient = glm::vec3(0.35f, 0.35f, 0.33f);
-    ground->getOrCreateStateSet().material.set(grey);
-    env->addChild(ground);
+    if (groundSize > 0.0f) {
+        auto ground = sgfx::shapes::quad(groundSize, groundSize);
+        auto grey = sgfx::Material::create();
+        grey->diffuse = glm::vec4(0.35f, 0.35f, 0.33f, 1.0f);
+        grey->ambient = glm::vec3(0.35f, 0.35f, 0.33f);
+        ground->getOrCreateStateSet().material.set(grey);
+        env->addChild(ground);
+    }
     env->addChild(content);
     root->addChild(env);
     return root;
@@ -88,12 +91,13 @@ std::shared_ptr<sgfx::Node> vehiclePair(bool before) {
     auto pair = sgfx::Group::create();
     for (const float sx : {1.0f, -1.0f}) {
         auto vehicle = polygon::buildVehicle();
+        const float apart = vehicle->bound().radius * 0.9f; // side by side, not overlapping
         if (before && sx < 0.0f) {
             ReverseWinding reverse;
             vehicle->accept(reverse);
         }
         auto t = sgfx::Transform::create(
-            glm::scale(glm::translate(glm::mat4(1.0f), {sx * 1.6f, 0.0f, 0.0f}), glm::vec3(sx, 1.0f, 1.0f)));
+            glm::scale(glm::translate(glm::mat4(1.0f), {sx * apart, 0.0f, 0.0f}), glm::vec3(sx, 1.0f, 1.0f)));
         t->addChild(vehicle);
         pair->addChild(t);
     }
@@ -121,9 +125,12 @@ int main(int argc, char** argv) {
         }
     }
     try {
-        for (const bool before : {true, false})
-            shoot(lit(vehiclePair(before), 4.0f), {2.5f, -7.0f, 3.0f}, {0.0f, 0.0f, 0.6f}, width, height,
-                  dir / (before ? "mirror_before.png" : "mirror_after.png"));
+        for (const bool before : {true, false}) {
+            const auto pair = vehiclePair(before);
+            const sgfx::BoundingSphere b = pair->bound();
+            shoot(lit(pair, 8.0f * b.radius), b.center + glm::vec3(0.35f, -1.25f, 0.6f) * b.radius, b.center,
+                  width, height, dir / (before ? "mirror_before.png" : "mirror_after.png"));
+        }
         if (!transmissionModel.empty()) {
             for (const bool before : {true, false}) {
                 auto model = sgfx::loadModel(transmissionModel);
@@ -131,9 +138,10 @@ int main(int argc, char** argv) {
                     DropTransmission drop;
                     model->accept(drop);
                 }
+                // Its own backdrop and floor: no ground; straight on, the tiles filling the width.
                 const sgfx::BoundingSphere b = model->bound();
-                shoot(lit(model, b.radius), b.center + glm::vec3(0.0f, -2.2f, 0.4f) * b.radius, b.center,
-                      width, height, dir / (before ? "transmission_before.png" : "transmission_after.png"));
+                shoot(lit(model, 0.0f), b.center + glm::vec3(0.0f, -1.9f, 0.15f) * b.radius, b.center, width,
+                      height, dir / (before ? "transmission_before.png" : "transmission_after.png"));
             }
         }
     } catch (const std::exception& e) {
