@@ -30,7 +30,7 @@ vec3 sgfx_transmissionExit(vec3 P, vec3 N, vec3 V, out float inside) {
 vec3 sgfx_transmissionSample(vec3 exit, float roughness) {
     vec4 clip = sgfx_viewProjection * vec4(exit, 1.0);
     vec2 uv = clip.xy / max(clip.w, 1e-6) * 0.5 + 0.5;
-    float width = float(textureSize(sgfx_transmissionColour, 0).x);
+    float width = max(float(textureSize(sgfx_transmissionColour, 0).x), 1.0); // no NaN level unbound
     float lod = log2(width) * roughness * clamp(2.0 * sgfx_transmission.y - 2.0, 0.0, 1.0);
     return textureLod(sgfx_transmissionColour, uv, lod).rgb;
 }

@@ -589,6 +589,8 @@ TEST(MaterialExt, LoaderNamesBadTransmissionVolumeAndIorValues) {
                     p + "KHR_materials_transmission.transmissionFactor");
     expectLoadError("sgfx_matext_badt2.gltf", R"([{"extensions":{"KHR_materials_ior":{"ior":0.5}}}])",
                     p + "KHR_materials_ior.ior");
+    expectLoadError("sgfx_matext_badt2b.gltf", R"([{"extensions":{"KHR_materials_ior":{"ior":1e39}}}])",
+                    p + "KHR_materials_ior.ior"); // finite as a double, infinite as a float
     expectLoadError("sgfx_matext_badt3.gltf",
                     R"([{"extensions":{"KHR_materials_volume":{"thicknessFactor":-1}}}])",
                     p + "KHR_materials_volume.thicknessFactor");

@@ -306,13 +306,46 @@ TEST(Transmission, BlendedAndOitGlassComposeOverItInFrontAndAreHiddenBehind) {
     EXPECT_GT(glm::length(over - alone), 0.1); // the cases differ
 }
 
+// A transmissive material that is also blended (under a TransparencyBin: sorted, or drawn by the
+// bin's OIT pass) samples the same copy; opaque alpha composites to what the unblended pane shows.
+TEST(Transmission, BlendedTransmissiveMaterialsSampleTheCopyInTheSortedAndOitStages) {
+    const int x = kSize / 2 + 10, y = kSize / 2 - 7;
+    const glm::dvec3 alone = at(render(scene({rampWall(), pane(glass(1.5f, 1.0f))})), x, y);
+    for (const TransparencyMode mode : {TransparencyMode::Sorted, TransparencyMode::WeightedBlended}) {
+        auto bin = TransparencyBin::create(mode);
+        bin->addChild(pane(glass(1.5f, 1.0f)));
+        const glm::dvec3 got = at(render(scene({rampWall(), bin})), x, y);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(got[c], alone[c], 5e-3) << (mode == TransparencyMode::Sorted ? "sorted" : "OIT");
+    }
+}
+
+// The default target (sRGB, 8 bits) under 4× MSAA: the copy is resolved from the multisample
+// draw target and decoded when sampled; the pane still shows the wall where Snell's law says.
+TEST(Transmission, MultisampledSrgbTargetResolvesTheCopy) {
+    auto v = viewer();
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Srgb8;
+    v->camera()->setAntiAliasing(AntiAliasing::msaa(4));
+    v->setSceneData(scene({rampWall(), pane(glass(1.5f, 2.0f))}));
+    v->frame();
+    EXPECT_TRUE(v->renderer().takeGlErrors().empty());
+    const Image img = v->capture();
+    for (int ox : kOffsets) {
+        const int px = kSize / 2 + ox, py = kSize / 2 + ox / 2;
+        const Expected e = expected(*v->camera(), px, py, 1.5, 2.0, 1.0);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(pixelAt(img, px, py)[c], srgbByte(e.colour[c]), 2) << px << "," << py;
+    }
+}
+
 TEST(Transmission, CopyAndStageExistOnlyWhenSomethingTransmits) {
     Viewer* v = nullptr;
     render(scene({rampWall(), pane(glass(1.5f, 0.1f))}), &v);
     std::string dot = v->renderer().lastFrameGraphDot();
     EXPECT_NE(dot.find("transmission copy"), std::string::npos) << dot;
     EXPECT_NE(dot.find("main: transmissive"), std::string::npos) << dot;
-    EXPECT_GT(v->renderer().renderTargetBytes(), 0u); // the copy with its mip chain
+    // The copy (RGBA32F like the target) with its mip chain: a third more than one level.
+    EXPECT_EQ(v->renderer().renderTargetBytes(), std::size_t(kSize) * kSize * 16 * 4 / 3);
     auto opaque = metallicRoughness(glm::vec3(1.0f), 0.0f, 0.5f);
     render(scene({rampWall(), pane(opaque)}), &v);
     dot = v->renderer().lastFrameGraphDot();

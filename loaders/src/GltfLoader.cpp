@@ -391,6 +391,13 @@ glm::vec3 vec3Of(const Context& c, const std::vector<double>& v, const std::stri
     return {float(v[0]), float(v[1]), float(v[2])};
 }
 
+// A number as a message shows it ("2", "-0.5").
+std::string numberText(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
 // A number member of an extension object, `fallback` when absent.
 float numberOf(const Context& c, const tinygltf::Value& object, const char* key, double fallback,
                const std::string& element) {
@@ -399,7 +406,9 @@ float numberOf(const Context& c, const tinygltf::Value& object, const char* key,
     const tinygltf::Value& v = object.Get(key);
     if (!v.IsNumber()) c.fail(element + "." + key, "must be a number");
     const double d = v.GetNumberAsDouble();
-    if (!std::isfinite(d)) c.fail(element + "." + key, "must be finite");
+    // Finite as a float too: 1e39 would become infinity after the checks.
+    if (!std::isfinite(d) || !std::isfinite(float(d)))
+        c.fail(element + "." + key, numberText(d) + " must be a finite number within float range");
     return float(d);
 }
 
@@ -472,13 +481,6 @@ TextureMapping mappingOf(const Context& c, int texCoord, const tinygltf::Extensi
         c.fail(element + ".texCoord",
                "TEXCOORD_" + std::to_string(t.texCoord) + " is not supported (0 or 1)");
     return t;
-}
-
-// A number as a message shows it ("2", "-0.5").
-std::string numberText(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
 }
 
 // A number member of an extension object that must lie in [0, 1].

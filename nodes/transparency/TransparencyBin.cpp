@@ -128,7 +128,10 @@ void TransparencyBin::addAccumulatePass(FrameSetup& f) const {
             d.reveal = b.colour(
                 b.create("oit.reveal", {.format = r8 ? format::R8 : format::R16F, .samples = samples}), 1,
                 false);
-            d.depth = b.depthTest(b.get(resources::DrawDepth)); // against the opaque depth, never written
+            d.depth =
+                b.depthTest(b.get(resources::DrawDepth)); // opaque and transmissive depth, never written
+            // Transmissive materials in the bin read the copy of the opaque scene.
+            if (b.has(resources::TransmissionColour)) b.sample(resources::TransmissionColour);
             b.publish("oit.accum", d.accum);
             b.publish("oit.reveal", d.reveal);
         },

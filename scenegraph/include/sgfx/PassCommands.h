@@ -94,8 +94,10 @@ public:
     void warn(std::string message);
     /// Copies depth `from` into `to` (a multisample source is resolved, one sample per pixel).
     void copyDepth(ResourceId from, ResourceId to);
-    /// Copies colour `from` into level 0 of `to` (a multisample source is resolved; sizes may
-    /// differ: linear filtering), then fills the rest of `to`'s mip chain when it has one.
+    /// Copies colour `from` into level 0 of `to` (a multisample source is resolved, and must then
+    /// have `to`'s size; single-sample sizes may differ: linear filtering), then fills the rest of
+    /// `to`'s mip chain when it has one. Throws std::logic_error for a multisample source of
+    /// another size.
     void copyColour(ResourceId from, ResourceId to);
 
 private:

@@ -162,8 +162,9 @@ void Renderer::DrawList::begin(std::span<const RenderItem> items) {
         s.firstResourceUnit = render::kFirstFrameResourceUnit; // no effect samplers: drawables bind from here
     }
     // The copy of the opaque scene transmissive materials sample, on its own unit
-    // (TextureUnits.h), when the frame made one.
-    if (mode == DrawMode::Main && s.graph && s.graph->blackboard.has(resources::TransmissionColour))
+    // (TextureUnits.h), when the frame made one: for the main pass's items and for an effect's
+    // pass that draws blended items with their material (OIT).
+    if (!depthOnly && s.graph && s.graph->blackboard.has(resources::TransmissionColour))
         s.cache.bindTexture(render::kTransmissionUnit,
                             s.graph->texture(s.graph->blackboard.get(resources::TransmissionColour)));
     // The model matrices of every batch of this list, uploaded at once (one buffer write per

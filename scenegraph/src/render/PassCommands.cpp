@@ -214,10 +214,15 @@ void PassCommands::copyDepth(ResourceId from, ResourceId to) {
 void PassCommands::copyColour(ResourceId from, ResourceId to) {
     Renderer::Impl& s = *renderer_.impl_;
     const unsigned target = aliveTexture(graph_, to, pass_);
-    const unsigned src = s.pool.framebuffer({{GL_COLOR_ATTACHMENT0, aliveTexture(graph_, from, pass_)}}, pass_);
+    const unsigned src =
+        s.pool.framebuffer({{GL_COLOR_ATTACHMENT0, aliveTexture(graph_, from, pass_)}}, pass_);
     const unsigned dst = s.pool.framebuffer({{GL_COLOR_ATTACHMENT0, target}}, pass_);
     const glm::ivec2 a = size(from), b = size(to);
-    // A multisample resolve must not scale: same sizes blit nearest (exact), others linear.
+    if (a != b && samples(from) > 1)
+        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass_) + "' copies multisample '" +
+                               graph_.resourceName(from) + "' into '" + graph_.resourceName(to) +
+                               "' of another size; GL resolves without scaling only");
+    // Same sizes blit nearest (exact), others linear.
     glBlitNamedFramebuffer(src, dst, 0, 0, a.x, a.y, 0, 0, b.x, b.y, GL_COLOR_BUFFER_BIT,
                            a == b ? GL_NEAREST : GL_LINEAR);
     if (graph_.resolved(to).mipmaps) glGenerateTextureMipmap(target);
