@@ -11,6 +11,9 @@
 
 #include <sgfx/Geometry.h>
 #include <sgfx/Material.h>
+#include <sgfx/ModelLoader.h>
+#include <sgfx/NodeVisitor.h>
+#include <sgfx/Queries.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Texture.h>
 
@@ -18,6 +21,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 
 using namespace sgfx;
@@ -212,6 +216,98 @@ TEST(Environment, WhiteFurnaceReturnsTheAnalyticAlbedo) {
             }
         }
     }
+}
+
+// The shared EnvironmentTest model (rows of white metal, white dielectric and black dielectric
+// spheres, metallic and roughness from a texture) in a uniform white environment. Each sampled
+// pixel is picked (scene query): its sphere row, its normal and its texture coordinates, which give
+// the texel's roughness and metallic. A white dielectric returns 1 whatever its roughness and angle
+// (the diffuse layer gets what the lobe does not reflect); a white metal returns the lobe's
+// directional albedo from the quadrature at that roughness and N·V.
+TEST(Environment, SharedEnvironmentTestModelInTheWhiteFurnace) {
+    const auto file = std::filesystem::path(SGFX_SOURCE_DIR) / ".." / "shared" / "assets" / "gltf" /
+                      "EnvironmentTest" / "glTF" / "EnvironmentTest.gltf";
+    if (!test::optionalPrerequisite(std::filesystem::exists(file), "shared glTF set A2")) return;
+    auto model = loadModel(file);
+    struct Hide : NodeVisitor {
+        Hide()
+            : NodeVisitor(Mode::AllChildren) {}
+        void apply(Node& n) override {
+            if (n.name == "ground_plane_n3d") n.nodeMask = 0; // the spheres alone
+            traverse(n);
+        }
+    } hide;
+    model->accept(hide);
+    auto env = EnvironmentLightNode::create(Environment::uniform(glm::vec3(1.0f)));
+    env->addChild(model);
+    constexpr int w = 200, h = 120;
+    auto v = Viewer::createHeadless(w, h);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    v->camera()->clearColor = glm::vec4(0.0f);
+    const BoundingSphere b = model->bound();
+    const glm::vec3 eye = b.center + glm::vec3(0.0f, -2.0f, 0.2f) * b.radius;
+    v->camera()->setPerspective(35.0f, 0.05f * b.radius, 10.0f * b.radius);
+    v->camera()->setLookAt(eye, b.center, {0, 0, 1});
+    v->camera()->computeNearFar = false;
+    v->setSceneData(env);
+    v->frame();
+    test::expectNoGlErrors(*v);
+    const FloatImage img = v->renderer().readPixelsLinear();
+    std::map<std::pair<int, int>, double> albedo; // (N·V, roughness) in hundredths
+    int dielectric = 0, metal = 0;
+    double metalMin = 1e9, metalMax = -1e9;
+    for (int y = 1; y < h; y += 3)
+        for (int x = 1; x < w; x += 3) {
+            const float* p = &img.rgba[(std::size_t(y) * w + x) * 4];
+            if (p[3] < 0.5f) continue; // background
+            const auto hit = pick(*v, x + 0.5, y + 0.5);
+            if (!hit || !hit->hit.texcoord) continue; // a silhouette pixel the ray misses
+            std::string row;
+            for (const Node* n : hit->hit.nodePath)
+                if (n->name == "Metallic0" || n->name == "Dielectric0") row = n->name;
+            if (row.empty()) continue; // the black row
+            const Material& m = **hit->hit.geometry->stateSet()->material.value;
+            const Image& map = *m.metallicRoughnessTexture->image;
+            const glm::dvec2 uv = glm::fract(*hit->hit.texcoord);
+            const std::uint8_t* t = map.pixel(std::min(int(uv.x * map.width), map.width - 1),
+                                              std::min(int(uv.y * map.height), map.height - 1));
+            const double metallic = t[2] / 255.0, roughness = t[1] / 255.0;
+            if (metallic > 0.05 && metallic < 0.95) continue; // the test's cases are the two ends
+            const double nv = glm::dot(hit->hit.normal, glm::normalize(glm::dvec3(eye) - hit->hit.point));
+            if (nv < 0.15) continue; // grazing: the interpolated normal and the pixel's differ most
+            double expected = 1.0;
+            if (metallic >= 0.95 && roughness < 0.25) {
+                // A near-mirror lobe is too narrow for the midpoint rule; its albedo is near 1.
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_GE(p[c], 0.85) << row << " pixel " << x << "," << y << " roughness " << roughness;
+                    EXPECT_LE(p[c], 1.02) << row << " pixel " << x << "," << y << " roughness " << roughness;
+                }
+                ++metal;
+                continue;
+            }
+            if (metallic >= 0.95) {
+                const std::pair<int, int> key{int(std::lround(nv * 50)), int(std::lround(roughness * 50))};
+                if (!albedo.count(key))
+                    albedo[key] = directionalAlbedo(key.first / 50.0, 1.0, key.second / 50.0, 1200, 600);
+                expected = albedo[key];
+            }
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(p[c], expected, 0.03 + 0.03 * expected)
+                    << row << " pixel " << x << "," << y << " N.V " << nv << " roughness " << roughness
+                    << " metallic " << metallic;
+            if (metallic < 0.05) {
+                ++dielectric;
+            } else {
+                ++metal;
+                metalMin = std::min(metalMin, expected);
+                metalMax = std::max(metalMax, expected);
+            }
+        }
+    std::printf("EnvironmentTest: %d white dielectric and %d white metal samples; metal albedo %.3f..%.3f\n",
+                dielectric, metal, metalMin, metalMax);
+    EXPECT_GT(dielectric, 30);
+    EXPECT_GT(metal, 30);
+    EXPECT_GT(metalMax - metalMin, 0.05) << "the samples cover several roughnesses";
 }
 
 TEST(Environment, BlinnPhongDiffuseInAUniformEnvironmentIsItsColour) {
