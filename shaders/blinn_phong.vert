@@ -46,6 +46,7 @@ out vec4 v_color;
 #endif
 
 #include "lights.glsl"
+#include "pose.glsl"
 
 #ifdef SGFX_VERTEX_LIGHTING
 // Gouraud option: light sums per vertex, for both faces (two-sided surfaces pick per fragment).
@@ -120,8 +121,13 @@ void main() {
     mat4 model = sgfx_model;
     mat3 normalMatrix = sgfx_normalMatrix;
 #endif
-    vec3 sgfx_worldPos = (model * vec4(a_position, 1.0)).xyz;
-    vec3 sgfx_worldNormal = normalMatrix * a_normal;
+    // Skinned and morphed meshes are posed in mesh space first (pose.glsl).
+    vec3 sgfx_meshPos = a_position, sgfx_meshNormal = a_normal, sgfx_meshTangent = a_tangent.xyz;
+#if defined(SGFX_SKINNED) || defined(SGFX_MORPHED)
+    sgfx_pose(sgfx_meshPos, sgfx_meshNormal, sgfx_meshTangent);
+#endif
+    vec3 sgfx_worldPos = (model * vec4(sgfx_meshPos, 1.0)).xyz;
+    vec3 sgfx_worldNormal = normalMatrix * sgfx_meshNormal;
     vec4 sgfx_viewPos = sgfx_view * vec4(sgfx_worldPos, 1.0);
     // @sgfx:vertex
 #ifdef SGFX_WORLD_POSITION
@@ -140,7 +146,7 @@ void main() {
     // A mirroring model flips the frame's handedness: the fragment's cross(N, T) * w needs w times
     // the determinant's sign to give the mirrored bitangent (glTF 2.0, Meshes: TANGENT.w is the
     // bitangent's sign).
-    v_worldTangent = vec4(mat3(model) * a_tangent.xyz, a_tangent.w * (determinant(mat3(model)) < 0.0 ? -1.0 : 1.0));
+    v_worldTangent = vec4(mat3(model) * sgfx_meshTangent, a_tangent.w * (determinant(mat3(model)) < 0.0 ? -1.0 : 1.0));
 #endif
 #ifdef SGFX_TEXCOORDS
     v_texcoord = a_texcoord;

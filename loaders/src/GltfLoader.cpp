@@ -1,7 +1,10 @@
 #include "sgfx/GltfLoader.h"
 
+#include "GltfAccessors.h"
 #include "GltfLights.h"
+#include "GltfSkins.h"
 
+#include <sgfx/Animation.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Image.h>
 #include <sgfx/Material.h>
@@ -35,236 +38,7 @@ namespace sgfx {
 
 namespace {
 
-// What a load may still allocate (GltfOptions::memoryLimit), charged before each allocation that
-// the file's declared sizes drive.
-struct Budget {
-    std::size_t left = 0;
-    bool take(std::size_t bytes) {
-        if (bytes > left) return false;
-        left -= bytes;
-        return true;
-    }
-};
-
-// Bytes a vertex may take in a Geometry: position, normal, tangent, two texcoords, colour.
-constexpr std::size_t vertexBytes = (3 + 3 + 4 + 2 + 2 + 4) * sizeof(float);
-
-// A LoadError naming the file, the element and the reason.
-struct Refusal {
-    const std::string& file;
-    [[noreturn]] void operator()(const std::string& element, const std::string& why) const {
-        throw LoadError("sgfx: glTF '" + file + "': " + element + ": " + why);
-    }
-};
-
-struct Context {
-    std::string file;
-    const tinygltf::Model& model;
-    Budget* budget;
-    std::size_t limit;
-    [[noreturn]] void fail(const std::string& element, const std::string& why) const {
-        throw LoadError("sgfx: glTF '" + file + "': " + element + ": " + why);
-    }
-    // `note` ends the message (" (used by meshes[0]...)" where an accessor is read for an element).
-    void charge(std::size_t count, std::size_t bytesEach, const std::string& element,
-                const std::string& note = {}) const {
-        if ((bytesEach && count > SIZE_MAX / bytesEach) || !budget->take(count * bytesEach))
-            fail(element, "needs more memory than the load's limit of " + std::to_string(limit) +
-                              " bytes (GltfOptions::memoryLimit)" + note);
-    }
-};
-
-std::string at(const char* array, std::size_t i) {
-    return std::string(array) + "[" + std::to_string(i) + "]";
-}
-
-int componentBytes(int type) {
-    switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        return 1;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-        return 2;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-        return 4;
-    default:
-        return 0;
-    }
-}
-
-const char* typeName(int type) {
-    switch (type) {
-    case TINYGLTF_TYPE_SCALAR:
-        return "SCALAR";
-    case TINYGLTF_TYPE_VEC2:
-        return "VEC2";
-    case TINYGLTF_TYPE_VEC3:
-        return "VEC3";
-    case TINYGLTF_TYPE_VEC4:
-        return "VEC4";
-    case TINYGLTF_TYPE_MAT2:
-        return "MAT2";
-    case TINYGLTF_TYPE_MAT3:
-        return "MAT3";
-    case TINYGLTF_TYPE_MAT4:
-        return "MAT4";
-    default:
-        return "unknown";
-    }
-}
-
-int componentsOf(int type) {
-    switch (type) {
-    case TINYGLTF_TYPE_SCALAR:
-        return 1;
-    case TINYGLTF_TYPE_VEC2:
-        return 2;
-    case TINYGLTF_TYPE_VEC3:
-        return 3;
-    case TINYGLTF_TYPE_VEC4:
-    case TINYGLTF_TYPE_MAT2:
-        return 4;
-    case TINYGLTF_TYPE_MAT3:
-        return 9;
-    case TINYGLTF_TYPE_MAT4:
-        return 16;
-    default:
-        return 0;
-    }
-}
-
-// One component at `p` as float, normalised integers mapped as the spec says.
-float component(const unsigned char* p, int type, bool normalized) {
-    switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-        float f;
-        std::memcpy(&f, p, 4);
-        return f;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        return normalized ? float(*p) / 255.0f : float(*p);
-    case TINYGLTF_COMPONENT_TYPE_BYTE: {
-        const auto v = float(static_cast<std::int8_t>(*p));
-        return normalized ? std::max(v / 127.0f, -1.0f) : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        std::uint16_t v;
-        std::memcpy(&v, p, 2);
-        return normalized ? float(v) / 65535.0f : float(v);
-    }
-    case TINYGLTF_COMPONENT_TYPE_SHORT: {
-        std::int16_t v;
-        std::memcpy(&v, p, 2);
-        return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
-    }
-    default: {
-        std::uint32_t v;
-        std::memcpy(&v, p, 4);
-        return float(v);
-    }
-    }
-}
-
-// The bytes of `count` elements of `elementBytes` from a buffer view, checked against its buffer.
-// `element` reads them (accessors[2], accessors[2].sparse.indices); `note` ends each message.
-struct View {
-    const unsigned char* data = nullptr;
-    std::size_t stride = 0;
-};
-View checkedView(const Context& c, int viewIndex, std::size_t offset, std::size_t count,
-                 std::size_t elementBytes, const std::string& element, const std::string& note) {
-    const auto& views = c.model.bufferViews;
-    if (viewIndex < 0 || std::size_t(viewIndex) >= views.size())
-        c.fail(element, "bufferView " + std::to_string(viewIndex) + " does not exist (" +
-                            std::to_string(views.size()) + " buffer views)" + note);
-    const tinygltf::BufferView& v = views[std::size_t(viewIndex)];
-    const std::string viewName = at("bufferViews", std::size_t(viewIndex));
-    if (v.buffer < 0 || std::size_t(v.buffer) >= c.model.buffers.size())
-        c.fail(viewName, "buffer " + std::to_string(v.buffer) + " does not exist" + note);
-    const std::size_t bufferSize = c.model.buffers[std::size_t(v.buffer)].data.size();
-    if (v.byteOffset > bufferSize || v.byteLength > bufferSize - v.byteOffset)
-        c.fail(viewName, "bytes " + std::to_string(v.byteOffset) + ".." +
-                             std::to_string(v.byteOffset + v.byteLength) + " lie outside its buffer of " +
-                             std::to_string(bufferSize) + " bytes" + note);
-    // 4..252 and a multiple of 4 is checked on the JSON (checkJson); here, against the element.
-    const std::size_t stride = v.byteStride ? v.byteStride : elementBytes;
-    if (v.byteStride > 252)
-        c.fail(viewName + ".byteStride", std::to_string(v.byteStride) + " is outside 4..252" + note);
-    if (v.byteStride && v.byteStride < elementBytes)
-        c.fail(viewName + ".byteStride", std::to_string(v.byteStride) + " is less than the " +
-                                             std::to_string(elementBytes) + " bytes of each element of " +
-                                             element + note);
-    if (count > 0 && (offset > v.byteLength || (count - 1) > (v.byteLength - offset) / stride ||
-                      offset + (count - 1) * stride + elementBytes > v.byteLength))
-        c.fail(element, std::to_string(count) + " elements of " + std::to_string(elementBytes) +
-                            " bytes from offset " + std::to_string(offset) + " (stride " +
-                            std::to_string(stride) + ") run past the " + std::to_string(v.byteLength) +
-                            " bytes of " + viewName + note);
-    return {c.model.buffers[std::size_t(v.buffer)].data.data() + v.byteOffset + offset, stride};
-}
-
-// An accessor as floats (count × components), sparse values applied. `element` is what reads it
-// (meshes[0].primitives[1].attributes.POSITION): errors in the accessor name both.
-std::vector<float> readAccessor(const Context& c, int index, const std::string& element,
-                                std::initializer_list<int> types, std::size_t* countOut = nullptr) {
-    const auto& accessors = c.model.accessors;
-    if (index < 0 || std::size_t(index) >= accessors.size())
-        c.fail(element, "accessor " + std::to_string(index) + " does not exist (" +
-                            std::to_string(accessors.size()) + " accessors)");
-    const tinygltf::Accessor& a = accessors[std::size_t(index)];
-    const std::string name = at("accessors", std::size_t(index));
-    const std::string note = " (used by " + element + ")";
-    const int bytes = componentBytes(a.componentType), n = componentsOf(a.type);
-    if (!bytes)
-        c.fail(name,
-               "componentType " + std::to_string(a.componentType) + " is not a glTF component type" + note);
-    if (!n || std::find(types.begin(), types.end(), a.type) == types.end())
-        c.fail(element, "accessor " + std::to_string(index) + " has type " + typeName(a.type) +
-                            ", which this attribute cannot take");
-    if (a.count == 0 || a.count > (std::size_t(1) << 28))
-        c.fail(name, "count " + std::to_string(a.count) + " is out of range" + note);
-    // The view is checked before anything is allocated: the count must fit in the file's bytes.
-    View v;
-    if (a.bufferView >= 0)
-        v = checkedView(c, a.bufferView, a.byteOffset, a.count, std::size_t(bytes * n), name, note);
-    c.charge(a.count, std::size_t(n) * sizeof(float), name, note);
-    std::vector<float> out(a.count * std::size_t(n), 0.0f);
-    if (a.bufferView >= 0) {
-        for (std::size_t i = 0; i < a.count; ++i)
-            for (int k = 0; k < n; ++k)
-                out[i * std::size_t(n) + std::size_t(k)] =
-                    component(v.data + i * v.stride + std::size_t(k * bytes), a.componentType, a.normalized);
-    }
-    if (a.sparse.isSparse) {
-        const auto sc = std::size_t(std::max(a.sparse.count, 0));
-        if (sc == 0 || sc > a.count)
-            c.fail(name + ".sparse", "count " + std::to_string(a.sparse.count) + " is out of range" + note);
-        const int ib = componentBytes(a.sparse.indices.componentType);
-        if (ib == 0 || a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
-            a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
-            a.sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)
-            c.fail(name + ".sparse.indices", "componentType must be an unsigned integer type" + note);
-        const View iv = checkedView(c, a.sparse.indices.bufferView, std::size_t(a.sparse.indices.byteOffset),
-                                    sc, std::size_t(ib), name + ".sparse.indices", note);
-        const View vv = checkedView(c, a.sparse.values.bufferView, std::size_t(a.sparse.values.byteOffset),
-                                    sc, std::size_t(bytes * n), name + ".sparse.values", note);
-        for (std::size_t s = 0; s < sc; ++s) {
-            const auto target =
-                std::size_t(component(iv.data + s * std::size_t(ib), a.sparse.indices.componentType, false));
-            if (target >= a.count)
-                c.fail(name + ".sparse.indices", "index " + std::to_string(target) + " is not below count " +
-                                                     std::to_string(a.count) + note);
-            for (int k = 0; k < n; ++k)
-                out[target * std::size_t(n) + std::size_t(k)] =
-                    component(vv.data + s * std::size_t(bytes * n) + std::size_t(k * bytes), a.componentType,
-                              a.normalized);
-        }
-    }
-    if (countOut) *countOut = a.count;
-    return out;
-}
+using namespace gltf;
 
 // Debian's stb_image (2022 snapshot) trusts PNG chunk lengths and reads past the end of a
 // buffer whose chunks claim more than it holds, so the chunk layout is checked first; and only
@@ -801,6 +575,56 @@ void checkJson(const unsigned char* text, std::size_t size, const std::string& p
 }
 
 // Both entry points: `baseDir` is null for bytes from memory.
+// The geometry a node's use of a mesh primitive draws: the shared one, or for a skinned or morphed
+// node (whose pose is its own) a copy after the first use, with the node's morph weights.
+std::shared_ptr<Geometry> posedUse(const Context& c, const tinygltf::Node& n, const std::string& name,
+                                   const std::shared_ptr<Geometry>& shared) {
+    const bool posed = n.skin >= 0 || !shared->morphTargets.empty();
+    if (n.skin >= 0 && shared->joints0.empty())
+        c.fail(name + ".skin", "is set but mesh primitive '" + shared->name + "' has no JOINTS_0/WEIGHTS_0");
+    if (!posed) return shared;
+    const auto g = shared->parents().empty() ? shared : shared->clone();
+    if (!n.weights.empty() && !g->morphTargets.empty()) {
+        if (n.weights.size() != g->morphTargets.size())
+            c.fail(name + ".weights", std::to_string(n.weights.size()) + " weights for " +
+                                          std::to_string(g->morphTargets.size()) + " morph targets");
+        const std::vector<float> w(n.weights.begin(), n.weights.end());
+        try {
+            g->setMorphWeights(w);
+        } catch (const std::invalid_argument& e) {
+            c.fail(name + ".weights", e.what());
+        }
+    }
+    return g;
+}
+
+// Skins resolved now that every joint node exists, the first pose computed (so bounds are right
+// before any update), and the animations read into the root's player.
+void finishPose(const Context& c, const NodeInstances& nodes,
+                const std::vector<std::pair<std::shared_ptr<Geometry>, int>>& skinUses,
+                const std::shared_ptr<Group>& root, GltfStats& st) {
+    const auto skins = readSkins(c, nodes, root);
+    for (const auto& [g, skin] : skinUses) {
+        if (std::size_t(skin) >= skins.size())
+            c.fail("nodes (mesh '" + g->name + "').skin", "skin " + std::to_string(skin) + " does not exist (" +
+                                                              std::to_string(skins.size()) + " skins)");
+        g->skin = skins[std::size_t(skin)];
+        try {
+            g->validate();
+            g->updateSkin();
+        } catch (const std::invalid_argument& e) {
+            c.fail(at("skins", std::size_t(skin)), e.what());
+        }
+    }
+    st.skins = skins.size();
+    if (auto* player = animationPlayer(*root)) {
+        readAnimations(c, nodes, *player);
+        st.animations = player->animations.size();
+        player->play(0);
+        player->update(0.0);
+    }
+}
+
 std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string& path,
                             const std::string& rootName, const std::filesystem::path* baseDir,
                             const GltfOptions& options, GltfStats* stats) {
@@ -926,6 +750,7 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
     // Meshes: one Geometry per primitive, shared by every node that uses the mesh.
     std::vector<std::vector<std::shared_ptr<Geometry>>> meshes(model.meshes.size());
     std::vector<bool> meshUsed(model.meshes.size(), false);
+    std::size_t unweighted = 0; // skinned vertices without weights
     auto buildMesh = [&](std::size_t mi) {
         const tinygltf::Mesh& mesh = model.meshes[mi];
         for (std::size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
@@ -993,6 +818,19 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
                 }
             }
             g->indices = std::move(indices);
+            readSkinAttributes(c, p, name, n, *g, unweighted);
+            readMorphTargets(c, p, name, n, *g);
+            if (!g->morphTargets.empty() && !mesh.weights.empty()) {
+                if (mesh.weights.size() != g->morphTargets.size())
+                    c.fail(at("meshes", mi) + ".weights", std::to_string(mesh.weights.size()) + " weights for " +
+                                                              std::to_string(g->morphTargets.size()) + " targets");
+                const std::vector<float> w(mesh.weights.begin(), mesh.weights.end());
+                try {
+                    g->setMorphWeights(w);
+                } catch (const std::invalid_argument& e) {
+                    c.fail(at("meshes", mi) + ".weights", e.what());
+                }
+            }
             switch (p.mode) {
             case TINYGLTF_MODE_POINTS:
                 g->mode = PrimitiveMode::Points;
@@ -1058,6 +896,10 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
     };
 
     // Nodes, depth first; a node met again on its own path is a cycle.
+    NodeInstances nodes;
+    nodes.transforms.resize(model.nodes.size());
+    nodes.geometry.resize(model.nodes.size());
+    std::vector<std::pair<std::shared_ptr<Geometry>, int>> skinUses; // resolved once every node exists
     std::vector<int> ancestors;
     std::function<std::shared_ptr<Node>(int, const std::string&)> buildNode = [&](int index,
                                                                                   const std::string& from) {
@@ -1094,6 +936,8 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
             if (!std::isfinite(glm::value_ptr(m)[k])) c.fail(name, "has a NaN or infinite transform");
         auto t = Transform::create(m);
         t->name = n.name.empty() ? name : n.name;
+        nodes.transforms[std::size_t(index)].push_back(t);
+        if (n.mesh < 0) nodes.geometry[std::size_t(index)].emplace_back();
         // A node may be listed as a child many times over: each use is an instance, so a small
         // file can describe exponentially many. Every instance and child link is charged.
         c.charge(1, 256, name);
@@ -1111,9 +955,14 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
                     ? std::vector<glm::mat4>{}
                     : instanceMatrices(c, inst->second, name + ".extensions.EXT_mesh_gpu_instancing");
             c.charge(meshes[std::size_t(n.mesh)].size(), 32, name + ".mesh");
-            for (const auto& g : meshes[std::size_t(n.mesh)]) {
+            auto& attached = nodes.geometry[std::size_t(index)].emplace_back();
+            for (const auto& shared : meshes[std::size_t(n.mesh)]) {
+                // A skinned or morphed use owns its geometry: its pose is its own.
+                const auto g = posedUse(c, n, name, shared);
                 if (instances.empty()) {
                     t->addChild(g);
+                    attached.push_back(g);
+                    if (n.skin >= 0) skinUses.emplace_back(g, n.skin);
                     continue;
                 }
                 // The instances belong to this node: an instanced copy of the shared primitive.
@@ -1121,6 +970,8 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
                 auto copy = g->clone();
                 copy->instances = instances;
                 t->addChild(copy);
+                attached.push_back(copy);
+                if (n.skin >= 0) skinUses.emplace_back(copy, n.skin);
                 st.instances += instances.size();
             }
         }
@@ -1135,7 +986,8 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
         return t;
     };
 
-    auto root = Group::create();
+    // A file with animations loads as an AnimatedGroup, playing its first animation.
+    std::shared_ptr<Group> root = model.animations.empty() ? Group::create() : AnimatedGroup::create();
     root->name = rootName;
     std::vector<int> roots;
     const int sceneIndex = options.scene >= 0 ? options.scene : std::max(model.defaultScene, 0);
@@ -1159,6 +1011,9 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
     }
     for (int r : roots)
         parent->addChild(buildNode(r, at("scenes", std::size_t(sceneIndex)) + ".nodes"));
+    finishPose(c, nodes, skinUses, root, st);
+    if (unweighted)
+        st.warnings.push_back(std::to_string(unweighted) + " skinned vertices have no weight; bound to joint 0");
     std::set<int> texturesUsed;
     for (const auto& [key, tex] : textures)
         texturesUsed.insert(key.first);

@@ -271,7 +271,7 @@ void CullVisitor::apply(Geometry& g) {
     if (state != featuresState_ || &g != featuresGeometry_) {
         const bool transparent = state->transparent();
         features_ = foreign ? ShaderComposer::blendFeatures(transparent, state->blendMode()) |
-                                  (transparent ? FeatureMask(FeatureBlend) : 0u)
+                                  (transparent ? FeatureMask(FeatureBlend) : 0u) | ShaderComposer::poseFeatures(g)
                             : ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent,
                                                           state->blendMode());
         foreignBase_ = queue_.programKeys.base(foreign);

@@ -327,6 +327,13 @@ std::shared_ptr<Geometry> Geometry::clone() const {
     g->indices = indices;
     g->instances = instances;
     g->mode = mode;
+    g->joints0 = joints0;
+    g->joints1 = joints1;
+    g->weights0 = weights0;
+    g->weights1 = weights1;
+    g->skin = skin;
+    g->morphTargets = morphTargets;
+    g->morphWeights_ = morphWeights_;
     g->setStateSet(stateSet());
     return g;
 }
@@ -343,6 +350,11 @@ void Geometry::validate() const {
     check(texcoords.size(), "texcoords");
     check(texcoords1.size(), "texcoords1");
     check(colors.size(), "colors");
+    check(joints0.size(), "joints0");
+    check(weights0.size(), "weights0");
+    check(joints1.size(), "joints1");
+    check(weights1.size(), "weights1");
+    validatePose();
     for (std::size_t i = 0; i < instances.size(); ++i)
         for (int k = 0; k < 16; ++k)
             if (!std::isfinite(instances[i][k / 4][k % 4]))
@@ -358,6 +370,10 @@ void Geometry::validate() const {
 
 BoundingSphere Geometry::computeBound() const {
     BoundingBox box;
+    if (posed()) {
+        box = posedBox();
+        return box.valid() ? BoundingSphere{box.center(), glm::length(box.max - box.min) * 0.5f} : BoundingSphere{};
+    }
     for (const auto& p : positions)
         box.expandBy(p);
     BoundingSphere s;

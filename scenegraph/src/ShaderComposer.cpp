@@ -6,6 +6,7 @@
 #include "sgfx/Material.h"
 #include "sgfx/gl/Objects.h"
 
+#include <cstdlib>
 #include <regex>
 #include <sstream>
 
@@ -44,6 +45,13 @@ void appendChunk(std::string& out, std::vector<std::string>& names, std::string 
     if (!text.empty() && text.back() != '\n') out += '\n';
 }
 
+// The storage-buffer bindings pose.glsl reads (ShaderComposer.h).
+std::string poseDefines() {
+    return "#define SGFX_JOINTS_BINDING " + std::to_string(kJointsBinding) + "\n#define SGFX_MORPH_BINDING " +
+           std::to_string(kMorphBinding) + "\n#define SGFX_MORPH_WEIGHTS_BINDING " +
+           std::to_string(kMorphWeightsBinding) + "\n";
+}
+
 std::string preamble(std::span<const ShaderSnippet* const> snippets, FeatureMask features) {
     std::string p = ShaderComposer::featureDefines(features);
     // Each material map's texture unit and uv index (render/TextureUnits.h).
@@ -52,6 +60,7 @@ std::string preamble(std::span<const ShaderSnippet* const> snippets, FeatureMask
              std::to_string(render::materialUnit(MaterialMap(k))) + "\n";
     p += "#define SGFX_MAP_COUNT " + std::to_string(kMaterialMapCount) + "\n";
     p += "#define SGFX_UNIT_TRANSMISSION " + std::to_string(render::kTransmissionUnit) + "\n";
+    p += poseDefines();
     for (const ShaderSnippet* s : snippets)
         p += s->defines.empty() ? "" : s->defines + "\n";
     p += shaders::embedded("frame_block.glsl");
@@ -147,6 +156,51 @@ std::string describe(std::string_view base, std::span<const ShaderSnippet* const
     return d + "]";
 }
 
+// A foreign vertex shader over a skinned or morphed mesh: its position, normal and tangent inputs
+// (locations 0, 1, 2, as for built-in materials) become globals that a wrapper main fills with
+// the posed values before calling the application's main, so its own arithmetic sees the pose.
+std::string poseForeignVertex(const ShaderProgram& prog, FeatureMask features, std::vector<std::string>& names) {
+    static const std::regex mainRe(R"(\bvoid\s+main\s*\(\s*(void)?\s*\))");
+    static const std::regex inRe(
+        R"(layout\s*\(\s*location\s*=\s*([012])\s*\)\s*in\s+(vec3|vec4)\s+([A-Za-z_][A-Za-z0-9_]*)\s*;)");
+    const std::string& src = prog.vertexSource;
+    if (!std::regex_search(src, mainRe))
+        throw ShaderError("sgfx: foreign vertex shader '" + prog.name + "' has no `void main()` to wrap");
+    std::string inputs[3], types[3];
+    for (auto it = std::sregex_iterator(src.begin(), src.end(), inRe); it != std::sregex_iterator(); ++it) {
+        const int loc = (*it)[1].str()[0] - '0';
+        inputs[loc] = (*it)[3].str();
+        types[loc] = (*it)[2].str();
+    }
+    if (inputs[0].empty())
+        throw ShaderError("sgfx: foreign vertex shader '" + prog.name +
+                          "' declares no `layout(location = 0) in vec3` (or vec4) position for its skinned or "
+                          "morphed mesh to be posed into");
+    std::string_view body = src;
+    std::string out = splitVersion(body, prog.name);
+    // Storage buffers need GLSL 4.30; a core 3.30 shader compiles unchanged as 4.50 core.
+    if (std::atoi(out.c_str() + out.find_first_of("0123456789")) < 430) out = "#version 450 core\n";
+    out += ShaderComposer::featureDefines(features & FeaturePoseMask) + poseDefines();
+    out += lineDirective(2, 0);
+    std::string user = std::regex_replace(std::string(body), mainRe, "void sgfx_user_vertex_main()");
+    user = std::regex_replace(user, inRe, "$2 $3;"); // the inputs become plain globals
+    out += user + "\n";
+    appendChunk(out, names, "pose.glsl", shaders::embedded("pose.glsl"));
+    std::string wrap = "layout(location = 0) in vec3 sgfx_a_position;\nlayout(location = 1) in vec3 sgfx_a_normal;\n"
+                       "layout(location = 2) in vec4 sgfx_a_tangent;\nvoid main() {\n"
+                       "    vec3 p = sgfx_a_position, n = sgfx_a_normal, t = sgfx_a_tangent.xyz;\n"
+                       "    sgfx_pose(p, n, t);\n";
+    const char* posed[3] = {"p", "n", "t"};
+    const char* fourth[3] = {"1.0", "0.0", "sgfx_a_tangent.w"};
+    for (int k = 0; k < 3; ++k)
+        if (!inputs[k].empty())
+            wrap += "    " + inputs[k] + " = " +
+                    (types[k] == "vec4" ? "vec4(" + std::string(posed[k]) + ", " + fourth[k] + ")" : posed[k]) + ";\n";
+    wrap += "    sgfx_user_vertex_main();\n}\n";
+    appendChunk(out, names, "<sgfx pose wrapper>", wrap);
+    return out;
+}
+
 } // namespace
 
 ShaderComposer::ShaderComposer() = default;
@@ -222,7 +276,9 @@ std::string ShaderComposer::featureDefines(FeatureMask f) {
         {FeatureSpecularExt, "SGFX_SPECULAR_EXT"},
         {FeatureLightAttenuation, "SGFX_LIGHT_ATTENUATION"},
         {FeatureLightList, "SGFX_LIGHT_LIST"},
-        {FeatureTransmission, "SGFX_TRANSMISSION"}};
+        {FeatureTransmission, "SGFX_TRANSMISSION"},
+        {FeatureSkinned, "SGFX_SKINNED"},
+        {FeatureMorphed, "SGFX_MORPHED"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";
@@ -238,6 +294,10 @@ FeatureMask ShaderComposer::withWorldPosition(FeatureMask f, bool hasSnippets) {
               FeatureLightList)))
         f |= FeatureWorldPosition;
     return f;
+}
+
+FeatureMask ShaderComposer::poseFeatures(const Geometry& g) {
+    return (g.skin ? FeatureMask(FeatureSkinned) : 0u) | (g.morphTargets.empty() ? 0u : FeatureMask(FeatureMorphed));
 }
 
 FeatureMask ShaderComposer::blendFeatures(bool blended, BlendMode blend) {
@@ -260,6 +320,7 @@ FeatureMask ShaderComposer::featuresFor(const Material* m, const Geometry& g, bo
     if (!g.normals.empty()) f |= FeatureNormals;
     if (!g.colors.empty()) f |= FeatureVertexColor;
     if (!g.instances.empty()) f |= FeatureInstanced;
+    f |= poseFeatures(g);
     if (blended) f |= FeatureBlend;
     if (m) {
         // A map is used when its texture is set and the coordinates it reads exist.
@@ -298,9 +359,10 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
                                                FeatureMask features) {
     ComposedProgram p;
     p.description = describe(prog.name, snippets);
-    // Vertex stage: the application's, untouched (snippets' vertex code does not apply to it).
+    // Vertex stage: the application's, untouched (snippets' vertex code does not apply to it),
+    // unless its mesh is skinned or morphed: then the wrap poses the attributes it reads.
     p.vertexSources = {prog.name + ".vert"};
-    p.vertex = prog.vertexSource;
+    p.vertex = features & FeaturePoseMask ? poseForeignVertex(prog, features, p.vertexSources) : prog.vertexSource;
     if (snippets.empty()) {
         p.fragmentSources = {prog.name + ".frag"};
         p.fragment = prog.fragmentSource;

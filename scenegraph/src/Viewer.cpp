@@ -100,6 +100,7 @@ void Viewer::update(double dt) {
     update_.simulationTime += dt;
     ++update_.frameNumber;
     camera_->accept(update_);
+    update_.updatePoses();
 }
 
 void Viewer::renderFrame() {

@@ -50,6 +50,19 @@ void UpdateVisitor::apply(Node& node) {
     traverse(node);
 }
 
+void UpdateVisitor::apply(Geometry& g) {
+    if (g.skin) skinned_.push_back(&g);
+    apply(static_cast<Node&>(g));
+}
+
+void UpdateVisitor::updatePoses() {
+    std::sort(skinned_.begin(), skinned_.end());
+    skinned_.erase(std::unique(skinned_.begin(), skinned_.end()), skinned_.end());
+    for (Geometry* g : skinned_)
+        g->updateSkin();
+    skinned_.clear();
+}
+
 void UpdateVisitor::apply(Drawable& d) {
     d.update(*this);
     apply(static_cast<Node&>(d));

@@ -48,11 +48,16 @@ struct SGFX_API GltfStats {
     std::size_t tangentsMade = 0;                    ///< primitives given tangents for their normal maps
     std::size_t instances = 0;                       ///< EXT_mesh_gpu_instancing instances drawn
     std::size_t lights = 0; ///< KHR_lights_punctual lights placed (each node that carries one)
+    std::size_t skins = 0;      ///< skins (glTF 2.0 Skins)
+    std::size_t animations = 0; ///< animations, in the root AnimatedGroup's player
     /// Optional extensions the loader ignored, and tinygltf's own warnings.
     std::vector<std::string> warnings;
 };
 
-/// Loads the file's scene. Shared meshes stay shared (one Geometry per primitive, used by each
+/// Loads the file's scene. Animations, skins and morph targets (issue 26): a file with animations
+/// loads as an AnimatedGroup (sgfx/Animation.h) whose player plays the first one, looping, in the
+/// update traversal; skinned and morphed meshes are posed on the GPU; nodes keep their names
+/// (findNode). Shared meshes stay shared (one Geometry per primitive, used by each
 /// node that names the mesh; a node with EXT_mesh_gpu_instancing gets its own instanced copy).
 /// Materials use the metallic-roughness model. Supported extensions: KHR_texture_transform,
 /// KHR_materials_emissive_strength, EXT_mesh_gpu_instancing, KHR_mesh_quantization,

@@ -3,10 +3,13 @@
 #include "sgfx/Node.h"
 
 #include <glm/glm.hpp>
+#include <glm/gtc/type_precision.hpp>
 
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <span>
+#include <string>
 #include <vector>
 
 namespace sgfx {
@@ -17,6 +20,25 @@ namespace gl {
 struct GeometryBuffers;
 }
 class TriangleBvh;
+class Transform;
+
+/// A glTF skin: the joints that pose a skinned geometry and their inverse bind matrices (glTF 2.0,
+/// Skins). Shared by every geometry the skin deforms.
+struct SGFX_API Skin {
+    std::string name;
+    std::vector<std::weak_ptr<Transform>> joints;
+    std::vector<glm::mat4> inverseBindMatrices; ///< one per joint (identity when the file has none)
+    /// Joint matrices are computed from here down (the loaded model's root): above it every
+    /// transform cancels, so a model far from the origin keeps its precision.
+    std::weak_ptr<Node> root;
+};
+
+/// One morph target: per-vertex displacements (empty, or one per position), glTF 2.0 Morph Targets.
+struct SGFX_API MorphTarget {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+    std::vector<glm::vec3> tangents;
+};
 
 /// Vertex arrays plus optional indices: a drawable leaf. Attributes other than positions may be
 /// empty; a non-empty attribute must have one entry per position (checked at draw time).
@@ -46,6 +68,29 @@ public:
     std::vector<glm::mat4> instances;
     PrimitiveMode mode = PrimitiveMode::Triangles;
 
+    /// Skinning (glTF JOINTS_0/WEIGHTS_0 and JOINTS_1/WEIGHTS_1): per vertex up to eight joint
+    /// indices into skin->joints and their weights (normalised at load). Skinned on the GPU in the
+    /// vertex stage, before the model matrix, for built-in materials and foreign shaders alike.
+    std::vector<glm::u16vec4> joints0, joints1;
+    std::vector<glm::vec4> weights0, weights1;
+    std::shared_ptr<Skin> skin;
+    /// Morph targets, applied on the GPU before skinning: position += Σ weight_i · target_i.
+    std::vector<MorphTarget> morphTargets;
+
+    /// The morph weights (one per target; missing ones are 0). Throws std::invalid_argument on a
+    /// NaN or infinite weight or more weights than targets, keeping the old ones.
+    void setMorphWeights(std::span<const float> weights);
+    const std::vector<float>& morphWeights() const { return morphWeights_; }
+    /// Joint matrices of the present pose (mesh space bind pose → mesh space posed), one per joint:
+    /// inverse(world of the geometry's parent) · world of the joint · inverse bind matrix.
+    const std::vector<glm::mat4>& jointMatrices() const { return jointMatrices_; }
+    /// Recomputes jointMatrices() from the joints' transforms (UpdateVisitor::updatePoses does it
+    /// after every update traversal) and dirties the bound when the pose moved.
+    void updateSkin();
+    /// Counts pose changes (joint matrices, morph weights): the GPU copy follows it.
+    std::uint64_t poseRevision() const { return poseRevision_; }
+    bool posed() const { return skin != nullptr || !morphTargets.empty(); }
+
     void dirty();
     std::uint64_t revision() const { return revision_; }
 
@@ -68,7 +113,16 @@ protected:
     BoundingSphere computeBound() const override;
 
 private:
+    BoundingBox posedBox() const;
+    void validatePose() const; ///< validate()'s checks of joints, weights and morph targets
     std::uint64_t revision_ = 1;
+    std::uint64_t poseRevision_ = 1;
+    std::vector<float> morphWeights_;
+    std::vector<glm::mat4> jointMatrices_;
+    /// Per joint, the box of the bind-pose vertices it moves (grown by the morph targets), with
+    /// the revision it was made for: the posed bound is the box of their posed boxes.
+    mutable std::vector<BoundingBox> jointBoxes_;
+    mutable std::uint64_t jointBoxesRevision_ = 0;
     mutable std::unique_ptr<gl::GeometryBuffers> gpu_;
     mutable std::mutex queryMutex_; ///< guards bvh_
     mutable std::shared_ptr<const TriangleBvh> bvh_;

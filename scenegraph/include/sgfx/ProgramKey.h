@@ -40,12 +40,12 @@ enum class ProgramSource : std::uint8_t {
 class SGFX_API ProgramKey {
 public:
     /// MaterialFeature bits of the variant (every bit is checked to fit in ShaderComposer.h).
-    static constexpr ProgramKeyField Features{"Features", 0, 35};
+    static constexpr ProgramKeyField Features{"Features", 0, 37};
     /// DrawMode: depth and G-buffer passes draw other variants of the same item.
-    static constexpr ProgramKeyField Mode{"Mode", 35, 2};
+    static constexpr ProgramKeyField Mode{"Mode", 37, 2};
     /// The effects' snippet signature, interned (ProgramKeyTable::effects); 0 = no snippet.
-    /// 8191 distinct snippet sets per view.
-    static constexpr ProgramKeyField Effects{"Effects", 37, 13};
+    /// 2047 distinct snippet sets per view.
+    static constexpr ProgramKeyField Effects{"Effects", 39, 11};
     /// The foreign program or drawable base shader, interned (ProgramKeyTable::base); 0 = built-in.
     /// 2047 distinct foreign programs per view.
     static constexpr ProgramKeyField Base{"Base", 50, 11};
@@ -115,11 +115,11 @@ static_assert(ProgramKey::fieldsDisjoint(), "ProgramKey fields overlap or leave 
 static_assert((ProgramKey::usedBits() & ProgramKey::kNoneBit) == 0, "none() must be no item's key");
 static_assert(ProgramKey::Source.fits(std::uint64_t(ProgramSource::Drawable)));
 // Every field reads back what was written at its largest value, untouched by its neighbours.
-static_assert(ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x1fff, 0x7ffffffff).base() == 0x7ff &&
-              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x1fff, 0x7ffffffff).effects() == 0x1fff &&
-              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x1fff, 0x7ffffffff).features() ==
-                  0x7ffffffff &&
-              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x1fff, 0x7ffffffff).source() ==
+static_assert(ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x7ff, 0x1fffffffff).base() == 0x7ff &&
+              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x7ff, 0x1fffffffff).effects() == 0x7ff &&
+              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x7ff, 0x1fffffffff).features() ==
+                  0x1fffffffff &&
+              ProgramKey::make(ProgramSource::Drawable, 0x7ff, 0x7ff, 0x1fffffffff).source() ==
                   ProgramSource::Drawable);
 
 /// "Features=0x110 Mode=0 Effects=3 Base=1 Source=Foreign" (test failures, logs).

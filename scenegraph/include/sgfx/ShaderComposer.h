@@ -125,6 +125,13 @@ enum MaterialFeature : std::uint64_t {
     /// KHR_materials_transmission (+ _volume, _ior): the surface samples the copy of the opaque
     /// scene along its refracted ray (SGFX_UNIT_TRANSMISSION); its two maps as the extensions'.
     FeatureTransmission = 1ull << 34,
+    /// Geometry::skin: joint indices and weights at locations 10..13, joint matrices in a storage
+    /// buffer (kJointsBinding); shaders/pose.glsl skins before the model matrix.
+    FeatureSkinned = 1ull << 35,
+    /// Geometry::morphTargets: displacements and weights in storage buffers (kMorphBinding,
+    /// kMorphWeightsBinding), read by gl_VertexID; applied before skinning.
+    FeatureMorphed = 1ull << 36,
+    FeaturePoseMask = FeatureSkinned | FeatureMorphed,
     /// Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,
@@ -138,7 +145,7 @@ inline constexpr FeatureMask kAllMaterialFeatures =
     FeaturePointLights | FeatureBlendKindMask | FeatureGBuffer | FeatureMetalRoughMap | FeatureOcclusionMap |
     FeatureEmissiveMap | FeatureTexCoords1 | FeatureUvTransform | FeatureInstanced | FeatureBatched |
     FeatureUnlit | FeatureClearcoat | FeatureSpecularExt | FeatureLightAttenuation | FeatureLightList |
-    FeatureTransmission;
+    FeatureTransmission | FeatureSkinned | FeatureMorphed;
 // A program key holds every feature bit (the mask fits only if each bit does).
 static_assert(ProgramKey::Features.fits(kAllMaterialFeatures),
               "a MaterialFeature bit is outside ProgramKey::Features");
@@ -146,6 +153,9 @@ static_assert(ProgramKey::Features.fits(kAllMaterialFeatures),
 constexpr unsigned kBatchBinding = 7;      ///< shader storage binding of FeatureBatched's matrices
 constexpr unsigned kLightsBinding = 8;     ///< shader storage binding of FeatureLightList's lights
 constexpr unsigned kLightTilesBinding = 9; ///< and of its per-tile light lists
+constexpr unsigned kJointsBinding = 10;     ///< FeatureSkinned's joint matrices
+constexpr unsigned kMorphBinding = 11;      ///< FeatureMorphed's displacements
+constexpr unsigned kMorphWeightsBinding = 12; ///< and its weights
 
 class Material;
 class Geometry;
@@ -164,6 +174,8 @@ public:
     /// The variant a material needs for a geometry (attributes present, textures, mask, blending).
     static FeatureMask featuresFor(const Material* material, const Geometry& geometry, bool blended,
                                    BlendMode blend = BlendMode::Alpha);
+    /// FeatureSkinned and FeatureMorphed for a geometry (built-in materials and foreign shaders).
+    static FeatureMask poseFeatures(const Geometry& geometry);
     /// The blend-kind bits alone (the only feature bits a foreign shader's wrap uses).
     static FeatureMask blendFeatures(bool blended, BlendMode blend);
     /// Adds FeatureWorldPosition where the variant or its snippets read the world position.

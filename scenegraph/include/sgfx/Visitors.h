@@ -16,10 +16,18 @@ public:
         : NodeVisitor(Mode::ActiveChildren) {}
     void apply(Node& node) override;
     void apply(Drawable& drawable) override;
+    void apply(Geometry& geometry) override; ///< notes skinned geometries for updatePoses()
+
+    /// Recomputes the joint matrices of the skinned geometries the traversal met, once each, after
+    /// every callback has moved its joints (Viewer::update calls it after the traversal).
+    void updatePoses();
 
     double simulationTime = 0.0; ///< seconds
     double deltaTime = 0.0;
     std::uint64_t frameNumber = 0;
+
+private:
+    std::vector<Geometry*> skinned_;
 };
 
 /// World-space bounds of everything below the visited node (accumulating transforms).

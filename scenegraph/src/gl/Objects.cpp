@@ -223,6 +223,11 @@ void Program::setInt3(std::string_view uniform, const glm::ivec3& v) {
     if (loc >= 0) glProgramUniform3i(name_, loc, v.x, v.y, v.z);
 }
 
+void Program::setInt4(std::string_view uniform, const glm::ivec4& v) {
+    const int loc = location(uniform);
+    if (loc >= 0) glProgramUniform4i(name_, loc, v.x, v.y, v.z, v.w);
+}
+
 void Program::set(int loc, const UniformValue& v) {
     if (loc < 0) return;
     std::visit(

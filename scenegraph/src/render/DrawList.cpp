@@ -14,6 +14,8 @@
 
 #include <sgfx_glad/gl.h>
 
+#include <glm/gtc/type_ptr.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -117,6 +119,7 @@ private:
     FeatureMask programExtra = 0; // FeatureBatched when the current program draws batches
     bool batchesBound = true;     // the batch matrices are bound at kBatchBinding
     std::size_t batchBase = 0;    // the next batch's first matrix
+    bool posesBound = false;      // a posed mesh's buffers are bound (unbound by finish)
     std::vector<const ShaderSnippet*> snippets;
 };
 
@@ -187,6 +190,9 @@ void Renderer::DrawList::finish() {
     // Leave no buffer bound to the batch binding: Mesa leaks a buffer still bound to an indexed
     // storage binding when the context is destroyed (LeakSanitizer).
     if (!s.batchScratch.empty()) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBatchBinding, 0);
+    if (posesBound)
+        for (const unsigned binding : {kJointsBinding, kMorphBinding, kMorphWeightsBinding})
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, 0);
     s.cache.setColourMask(true);
     s.log.item = nullptr;
     s.log.program = nullptr;
@@ -198,7 +204,7 @@ std::size_t Renderer::DrawList::batchLength(std::span<const RenderItem> items) c
     // Built-in materials only (a program of the user's does not read instance matrices); blended
     // items keep their one-by-one path (triangle sorting).
     if (!options.autoInstancing || first.drawable || first.program() || !first.geometry->instances.empty() ||
-        (first.features & FeatureBlend))
+        (first.features & (FeatureBlend | FeaturePoseMask)))
         return 1;
     std::size_t n = 1;
     while (n < items.size()) {
@@ -262,7 +268,8 @@ bool Renderer::DrawList::selectComposedProgram(const RenderItem& item, std::uint
     for (const EffectNode* e : set.effects)
         snippets.push_back(&e->snippet());
     const FeatureMask features =
-        item.program() ? (snippets.empty() ? 0u : item.features) // a foreign wrap uses the blend bits
+        // A foreign wrap uses the blend bits, and the pose bits to pose its vertex inputs.
+        item.program() ? (snippets.empty() ? item.features & FeaturePoseMask : item.features)
                        : ShaderComposer::withWorldPosition(
                              item.features | r.viewFeatures_ | extra,
                              std::any_of(snippets.begin(), snippets.end(), [](const ShaderSnippet* sn) {
@@ -283,8 +290,10 @@ bool Renderer::DrawList::selectComposedProgram(const RenderItem& item, std::uint
 // material's G-buffer variant (normal maps, cut-outs).
 bool Renderer::DrawList::selectDepthProgram(const RenderItem& item, std::uint32_t extra) {
     const bool builtin = !item.program();
-    const bool own = builtin && (mode == DrawMode::GBuffer || extra ||
-                                 (item.features & (FeatureAlphaMask | FeatureInstanced)));
+    // Posed meshes too, foreign or not: the override programs read unposed positions.
+    const bool own = (builtin && (mode == DrawMode::GBuffer || extra ||
+                                  (item.features & (FeatureAlphaMask | FeatureInstanced)))) ||
+                     (item.features & FeaturePoseMask);
     const FeatureMask features =
         mode == DrawMode::GBuffer
             ? (item.features & ~kLightingFeatures) | extra | FeatureGBuffer | FeatureWorldPosition
@@ -458,6 +467,11 @@ void Renderer::DrawList::drawGeometry(const RenderItem& item, std::size_t run) {
     }
     program->set("sgfx_model", item.model);
     program->set("sgfx_normalMatrix", glm::mat3(glm::transpose(glm::inverse(item.model))));
+    if (g.posed()) {
+        render::bindPose(g, b);
+        program->setInt4("sgfx_morphLayout", glm::make_vec4(b.morphLayout));
+        posesBound = true;
+    }
     glBindVertexArray(b.vao.get());
     const TransparencyDetails* details = state->transparency.value ? &*state->transparency.value : nullptr;
     if (details && details->sortTriangles && (item.features & FeatureBlend) && !depthOnly &&

@@ -2,6 +2,7 @@
 
 #include "sgfx/Image.h"
 #include "sgfx/RenderQueue.h"
+#include "sgfx/ShaderComposer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -77,7 +78,86 @@ void uploadAttribute(gl::GeometryBuffers& b, GLuint index, const std::vector<T>&
     glEnableVertexArrayAttrib(b.vao.get(), index);
 }
 
+// Joint indices as integers (glVertexArrayAttribIFormat: the shader reads uvec4).
+void uploadJoints(gl::GeometryBuffers& b, GLuint index, const std::vector<glm::u16vec4>& data) {
+    if (data.empty()) {
+        glDisableVertexArrayAttrib(b.vao.get(), index);
+        return;
+    }
+    auto& buf = b.skinAttributes[index - 10];
+    if (!buf) buf = gl::createBuffer();
+    glNamedBufferData(buf.get(), GLsizeiptr(data.size() * sizeof(glm::u16vec4)), data.data(), GL_STATIC_DRAW);
+    glVertexArrayVertexBuffer(b.vao.get(), index, buf.get(), 0, sizeof(glm::u16vec4));
+    glVertexArrayAttribIFormat(b.vao.get(), index, 4, GL_UNSIGNED_SHORT, 0);
+    glVertexArrayAttribBinding(b.vao.get(), index, index);
+    glEnableVertexArrayAttrib(b.vao.get(), index);
+}
+
+void uploadWeights(gl::GeometryBuffers& b, GLuint index, const std::vector<glm::vec4>& data) {
+    if (data.empty()) {
+        glDisableVertexArrayAttrib(b.vao.get(), index);
+        return;
+    }
+    auto& buf = b.skinAttributes[index - 10];
+    if (!buf) buf = gl::createBuffer();
+    glNamedBufferData(buf.get(), GLsizeiptr(data.size() * sizeof(glm::vec4)), data.data(), GL_STATIC_DRAW);
+    glVertexArrayVertexBuffer(b.vao.get(), index, buf.get(), 0, sizeof(glm::vec4));
+    glVertexArrayAttribFormat(b.vao.get(), index, 4, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(b.vao.get(), index, index);
+    glEnableVertexArrayAttrib(b.vao.get(), index);
+}
+
+// Morph displacements in one storage buffer, target-major per attribute (shaders/pose.glsl).
+void uploadMorphTargets(gl::GeometryBuffers& b, const Geometry& g) {
+    const std::size_t n = g.positions.size(), targets = g.morphTargets.size();
+    if (!targets) return;
+    bool normals = false, tangents = false;
+    for (const MorphTarget& t : g.morphTargets) {
+        normals |= !t.normals.empty();
+        tangents |= !t.tangents.empty();
+    }
+    std::vector<glm::vec4> deltas;
+    deltas.reserve(n * targets * (1 + normals + tangents));
+    auto append = [&](std::vector<glm::vec3> MorphTarget::*attribute) {
+        for (const MorphTarget& t : g.morphTargets)
+            for (std::size_t v = 0; v < n; ++v)
+                deltas.emplace_back((t.*attribute).empty() ? glm::vec3(0.0f) : (t.*attribute)[v], 0.0f);
+    };
+    append(&MorphTarget::positions);
+    b.morphLayout[2] = normals ? int(deltas.size()) : -1;
+    if (normals) append(&MorphTarget::normals);
+    b.morphLayout[3] = tangents ? int(deltas.size()) : -1;
+    if (tangents) append(&MorphTarget::tangents);
+    b.morphLayout[0] = int(targets);
+    b.morphLayout[1] = int(n);
+    if (!b.morphDeltas) b.morphDeltas = gl::createBuffer();
+    glNamedBufferData(b.morphDeltas.get(), GLsizeiptr(deltas.size() * sizeof(glm::vec4)), deltas.data(),
+                      GL_STATIC_DRAW);
+}
+
+template <class T>
+void uploadStorage(gl::BufferObject& buffer, const std::vector<T>& data) {
+    if (!buffer) buffer = gl::createBuffer();
+    // An empty array still gets a buffer: a binding without one is undefined to read.
+    const T none{};
+    glNamedBufferData(buffer.get(), GLsizeiptr(std::max<std::size_t>(data.size(), 1) * sizeof(T)),
+                      data.empty() ? &none : data.data(), GL_DYNAMIC_DRAW);
+}
+
 } // namespace
+
+void bindPose(const Geometry& g, gl::GeometryBuffers& b) {
+    if (b.poseRevision != g.poseRevision()) {
+        if (g.skin) uploadStorage(b.jointMatrices, g.jointMatrices());
+        if (!g.morphTargets.empty()) uploadStorage(b.morphWeights, g.morphWeights());
+        b.poseRevision = g.poseRevision();
+    }
+    if (g.skin) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kJointsBinding, b.jointMatrices.get());
+    if (!g.morphTargets.empty()) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMorphBinding, b.morphDeltas.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMorphWeightsBinding, b.morphWeights.get());
+    }
+}
 
 gl::GeometryBuffers& buffersFor(const Geometry& g) {
     auto& gpu = g.gpu();
@@ -120,6 +200,12 @@ gl::GeometryBuffers& buffersFor(const Geometry& g) {
         glVertexArrayVertexBuffer(b.vao.get(), 6, buf.get(), 0, sizeof(glm::mat4));
         glVertexArrayBindingDivisor(b.vao.get(), 6, 1);
     }
+    uploadJoints(b, 10, g.joints0);
+    uploadWeights(b, 11, g.weights0);
+    uploadJoints(b, 12, g.joints1);
+    uploadWeights(b, 13, g.weights1);
+    uploadMorphTargets(b, g);
+    b.poseRevision = 0; // the pose follows at the next bindPose
     b.indexed = !g.indices.empty();
     if (b.indexed) {
         if (!b.indices) b.indices = gl::createBuffer();

@@ -17,6 +17,9 @@ GLint glWrap(Wrap wrap);
 
 /// The geometry's buffers and vertex array, (re)uploaded when its revision changed.
 gl::GeometryBuffers& buffersFor(const Geometry& geometry);
+/// Uploads a skinned or morphed geometry's pose when it changed and binds its storage buffers
+/// (kJointsBinding, kMorphBinding, kMorphWeightsBinding).
+void bindPose(const Geometry& geometry, gl::GeometryBuffers& buffers);
 /// The texture's GL object, (re)created from its image when its revision changed; throws
 /// std::invalid_argument for invalid settings or image data.
 GLuint textureFor(const Texture& texture);

@@ -113,6 +113,7 @@ public:
     /// Types a StateSet's uniforms do not carry: `uint` and `ivec3` uniforms.
     void setUnsigned(std::string_view uniform, std::uint32_t v);
     void setInt3(std::string_view uniform, const glm::ivec3& v);
+    void setInt4(std::string_view uniform, const glm::ivec4& v);
 
     /// Renderer bookkeeping: which frame's per-program uniforms were last uploaded.
     std::uint64_t frameStamp = 0;
@@ -146,6 +147,12 @@ struct SGFX_API GeometryBuffers {
     std::uint32_t count = 0;
     bool indexed = false;
     unsigned mode = 0;
+    /// Posed meshes: joint indices and weights (locations 10..13), morph displacements (static),
+    /// and the joint matrices and morph weights of the pose last uploaded.
+    std::array<BufferObject, 4> skinAttributes;
+    BufferObject morphDeltas, jointMatrices, morphWeights;
+    std::uint64_t poseRevision = 0;
+    int morphLayout[4] = {0, 0, -1, -1}; ///< targets, vertices, first normal, first tangent
 };
 
 /// A colour + depth render target whose attachments are textures (readable by later passes).
