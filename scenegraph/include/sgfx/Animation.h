@@ -55,6 +55,9 @@ struct SGFX_API AnimationTarget {
     glm::vec3 scale{1.0f};
     std::vector<float> weights; ///< rest morph weights (the node's or the mesh's)
     std::string name;           ///< for messages
+    /// The mixed morph weights AnimationPlayer::apply() wrote last (the rest weights when no
+    /// channel drives them).
+    std::vector<float> currentWeights;
 };
 
 /// One channel: sampler `sampler` of its animation drives `path` of target `target` (an index into
@@ -119,24 +122,46 @@ public:
     void apply();
 
 private:
+    /// One animation's clock and weight. Both are functions of the simulation time: the time runs
+    /// from anchorTime at anchorSim_, the weight fades linearly from `weight` at fadeStart.
     struct Track {
-        double anchorTime = 0.0;       ///< animation time at anchorSim
-        float weight = 0.0f;           ///< weight at fadeStart
-        float targetWeight = 0.0f;     ///< weight after the fade
-        double fadeStart = 0.0;        ///< simulation time the fade began
-        double fadeSeconds = 0.0;      ///< 0: no fade
-        double time = 0.0;             ///< after the last update, wrapped
-        float currentWeight = 0.0f;    ///< after the last update
+        double anchorTime = 0.0;    ///< animation time at anchorSim_ (wrapped)
+        float weight = 0.0f;        ///< weight at fadeStart
+        float targetWeight = 0.0f;  ///< weight after the fade
+        double fadeStart = 0.0;     ///< simulation time the fade began
+        double fadeSeconds = 0.0;   ///< 0: no fade
+        double time = 0.0;          ///< after the last update, wrapped
+        float currentWeight = 0.0f; ///< after the last update
+    };
+    /// apply()'s sums for one target, kept between calls so that apply() does not allocate.
+    struct TargetMix {
+        glm::vec3 translation{0.0f};
+        glm::vec4 rotation{0.0f};
+        glm::vec4 firstRotation{0.0f}; ///< the hemisphere the others are aligned to
+        glm::vec3 scale{0.0f};
+        float translationWeight = 0.0f, rotationWeight = 0.0f, scaleWeight = 0.0f, weightsWeight = 0.0f;
+        std::size_t weightsOffset = 0, weightsCount = 0; ///< into weightSums_
     };
     std::vector<Track> tracks_;
-    double anchorSim_ = 0.0;   ///< simulation time the anchors refer to
-    double lastSim_ = 0.0;     ///< simulation time of the last update
+    std::vector<TargetMix> mix_;
+    std::vector<float> weightSums_;
+    std::vector<float> sampled_; ///< one sampled value
+    double anchorSim_ = 0.0;     ///< simulation time the anchors refer to
+    double lastSim_ = 0.0;       ///< simulation time of the last update
     double speed_ = 1.0;
     Wrap wrap_ = Wrap::Loop;
     bool playing_ = false;
+    bool posed_ = false; ///< the last update wrote a pose with a weight > 0
     int current_ = -1;
     void reanchor(); ///< moves every anchor to lastSim_
     Track& track(std::size_t index);
+    const Track& track(std::size_t index) const;
+    void syncTracks();         ///< one track per animation
+    void evaluate(double sim); ///< each track's time and weight at `sim`
+    double trackTime(const Track& tr, std::size_t index, double sim) const;
+    float trackWeight(const Track& tr, double sim) const;
+    void accumulate(std::size_t index); ///< adds animation `index` to mix_
+    void writePose();
 };
 
 /// A Group that plays its animations in the update traversal: what the glTF loader returns for a
