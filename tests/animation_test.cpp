@@ -549,6 +549,27 @@ TEST(AnimationPlayer, MixesWithTheRestPose) {
     EXPECT_NEAR(r.node->matrix()[0][0], 2.0f, 1e-6f);
 }
 
+TEST(AnimationPlayer, RotationMixAlignsHemispheres) {
+    // A turns 90 degrees about z, B the same turn written as -q: mixed, still 90 degrees (a plain
+    // sum would cancel).
+    Rig r({{glm::vec3(0.0f), glm::vec3(0.0f)}, {glm::vec3(0.0f), glm::vec3(0.0f)}});
+    const float h = std::sqrt(0.5f);
+    for (std::size_t a = 0; a < 2; ++a) {
+        const float sign = a ? -1.0f : 1.0f;
+        r.player.animations[a].samplers.push_back(linear3({0.0f}, {0, 0, sign * h, sign * h}));
+        r.player.animations[a].samplers.back().components = 4;
+        r.player.animations[a].channels.push_back({1, 0, AnimationPath::Rotation});
+    }
+    r.player.play(0);
+    r.player.setWeight(0, 0.5f);
+    r.player.setWeight(1, 0.5f);
+    r.player.update(0.5);
+    const glm::mat4 want = glm::rotate(glm::mat4(1.0f), float(M_PI / 2), glm::vec3(0.0f, 0.0f, 1.0f));
+    for (int c = 0; c < 3; ++c)
+        for (int row = 0; row < 3; ++row)
+            EXPECT_NEAR(r.node->matrix()[c][row], want[c][row], 1e-5f) << c << row;
+}
+
 TEST(AnimationPlayer, ArgumentsAreChecked) {
     Rig r({{glm::vec3(0.0f), glm::vec3(1.0f)}, {glm::vec3(0.0f), glm::vec3(1.0f)}});
     try {
