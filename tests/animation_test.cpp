@@ -487,6 +487,26 @@ TEST(AnimationPlayer, CrossFadeIsContinuous) {
     EXPECT_EQ(r.player.weight(1), 1.0f);
 }
 
+TEST(AnimationPlayer, PauseFreezesAFade) {
+    Rig r({{glm::vec3(0.0f), glm::vec3(1.0f)}, {glm::vec3(5.0f), glm::vec3(6.0f)}});
+    r.player.play(0);
+    r.player.update(1.0);
+    r.player.crossFade(1, 1.0);
+    r.player.update(1.25);
+    EXPECT_NEAR(r.player.weight(1), 0.25f, 1e-6f);
+    r.player.pause();
+    r.player.update(3.0);
+    EXPECT_NEAR(r.player.weight(1), 0.25f, 1e-6f);
+    EXPECT_NEAR(r.player.weight(0), 0.75f, 1e-6f);
+    r.player.resume();
+    r.player.update(3.25);
+    EXPECT_NEAR(r.player.weight(1), 0.5f, 1e-6f);
+    EXPECT_NEAR(r.player.time(1), 0.5, 1e-12);
+    r.player.update(4.0);
+    EXPECT_EQ(r.player.weight(1), 1.0f);
+    EXPECT_EQ(r.player.weight(0), 0.0f);
+}
+
 TEST(AnimationPlayer, CrossFadeOfZeroSecondsIsAHardSwitch) {
     Rig r({{glm::vec3(0.0f), glm::vec3(1.0f)}, {glm::vec3(5.0f), glm::vec3(6.0f)}});
     r.player.play(0);

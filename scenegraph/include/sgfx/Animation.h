@@ -91,24 +91,29 @@ public:
     /// The animation named `name`, or -1.
     int find(std::string_view name) const;
 
-    /// Starts animation `index` from its start at weight 1 and stops the others (weight 0).
-    /// Throws std::out_of_range naming the index and the count.
+    /// Starts animation `index` from its start (its end when the speed is negative) at weight 1
+    /// and stops the others (weight 0). Throws std::out_of_range naming the index and the count.
+    /// Like every call that changes the state, it takes effect at the last update's simulation
+    /// time.
     void play(std::size_t index);
-    void pause();  ///< freezes every animation's time
+    void pause();  ///< freezes every animation's time, and the fades
     void resume(); ///< continues from where pause() left them
     bool playing() const { return playing_; }
-    /// Sets the current animation's time (seconds into it).
+    /// Sets the current animation's time (seconds into it). Throws std::invalid_argument on NaN or
+    /// infinity, std::logic_error when no animation was played.
     void seek(double seconds);
     /// Time scale (negative plays backwards); throws std::invalid_argument on NaN or infinity.
     void setSpeed(double speed);
     double speed() const { return speed_; }
     void setWrap(Wrap w) { wrap_ = w; }
     Wrap wrap() const { return wrap_; }
-    /// Weight of animation `index` in the mix (0..1); several animations may play at once.
+    /// Weight of animation `index` in the mix (0..1); several animations may play at once. Throws
+    /// std::invalid_argument on NaN, infinity or a negative weight.
     void setWeight(std::size_t index, float weight);
     float weight(std::size_t index) const;
     /// Fades from the present mix to animation `index` (started from its start) over `seconds`:
-    /// its weight rises linearly from 0 to 1 while the others fall to 0.
+    /// its weight rises linearly from 0 to 1 while the others fall to 0 (seconds of simulation
+    /// time; 0 switches at once; NaN, infinite or negative: std::invalid_argument).
     void crossFade(std::size_t index, double seconds);
     /// The time within animation `index` at the last update (after wrapping).
     double time(std::size_t index) const;
