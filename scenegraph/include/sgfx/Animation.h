@@ -55,6 +55,9 @@ struct SGFX_API AnimationTarget {
     glm::vec3 scale{1.0f};
     std::vector<float> weights; ///< rest morph weights (the node's or the mesh's)
     std::string name;           ///< for messages
+    /// The mixed morph weights AnimationPlayer::apply() wrote last (the rest weights when no
+    /// channel drives them).
+    std::vector<float> currentWeights;
 };
 
 /// One channel: sampler `sampler` of its animation drives `path` of target `target` (an index into
@@ -88,24 +91,29 @@ public:
     /// The animation named `name`, or -1.
     int find(std::string_view name) const;
 
-    /// Starts animation `index` from its start at weight 1 and stops the others (weight 0).
-    /// Throws std::out_of_range naming the index and the count.
+    /// Starts animation `index` from its start (its end when the speed is negative) at weight 1
+    /// and stops the others (weight 0). Throws std::out_of_range naming the index and the count.
+    /// Like every call that changes the state, it takes effect at the last update's simulation
+    /// time.
     void play(std::size_t index);
-    void pause();  ///< freezes every animation's time
+    void pause();  ///< freezes every animation's time, and the fades
     void resume(); ///< continues from where pause() left them
     bool playing() const { return playing_; }
-    /// Sets the current animation's time (seconds into it).
+    /// Sets the current animation's time (seconds into it). Throws std::invalid_argument on NaN or
+    /// infinity, std::logic_error when no animation was played.
     void seek(double seconds);
     /// Time scale (negative plays backwards); throws std::invalid_argument on NaN or infinity.
     void setSpeed(double speed);
     double speed() const { return speed_; }
     void setWrap(Wrap w) { wrap_ = w; }
     Wrap wrap() const { return wrap_; }
-    /// Weight of animation `index` in the mix (0..1); several animations may play at once.
+    /// Weight of animation `index` in the mix (0..1); several animations may play at once. Throws
+    /// std::invalid_argument on NaN, infinity or a negative weight.
     void setWeight(std::size_t index, float weight);
     float weight(std::size_t index) const;
     /// Fades from the present mix to animation `index` (started from its start) over `seconds`:
-    /// its weight rises linearly from 0 to 1 while the others fall to 0.
+    /// its weight rises linearly from 0 to 1 while the others fall to 0 (seconds of simulation
+    /// time; 0 switches at once; NaN, infinite or negative: std::invalid_argument).
     void crossFade(std::size_t index, double seconds);
     /// The time within animation `index` at the last update (after wrapping).
     double time(std::size_t index) const;
@@ -119,24 +127,46 @@ public:
     void apply();
 
 private:
+    /// One animation's clock and weight. Both are functions of the simulation time: the time runs
+    /// from anchorTime at anchorSim_, the weight fades linearly from `weight` at fadeStart.
     struct Track {
-        double anchorTime = 0.0;       ///< animation time at anchorSim
-        float weight = 0.0f;           ///< weight at fadeStart
-        float targetWeight = 0.0f;     ///< weight after the fade
-        double fadeStart = 0.0;        ///< simulation time the fade began
-        double fadeSeconds = 0.0;      ///< 0: no fade
-        double time = 0.0;             ///< after the last update, wrapped
-        float currentWeight = 0.0f;    ///< after the last update
+        double anchorTime = 0.0;    ///< animation time at anchorSim_ (wrapped)
+        float weight = 0.0f;        ///< weight at fadeStart
+        float targetWeight = 0.0f;  ///< weight after the fade
+        double fadeStart = 0.0;     ///< simulation time the fade began
+        double fadeSeconds = 0.0;   ///< 0: no fade
+        double time = 0.0;          ///< after the last update, wrapped
+        float currentWeight = 0.0f; ///< after the last update
+    };
+    /// apply()'s sums for one target, kept between calls so that apply() does not allocate.
+    struct TargetMix {
+        glm::vec3 translation{0.0f};
+        glm::vec4 rotation{0.0f};
+        glm::vec4 firstRotation{0.0f}; ///< the hemisphere the others are aligned to
+        glm::vec3 scale{0.0f};
+        float translationWeight = 0.0f, rotationWeight = 0.0f, scaleWeight = 0.0f, weightsWeight = 0.0f;
+        std::size_t weightsOffset = 0, weightsCount = 0; ///< into weightSums_
     };
     std::vector<Track> tracks_;
-    double anchorSim_ = 0.0;   ///< simulation time the anchors refer to
-    double lastSim_ = 0.0;     ///< simulation time of the last update
+    std::vector<TargetMix> mix_;
+    std::vector<float> weightSums_;
+    std::vector<float> sampled_; ///< one sampled value
+    double anchorSim_ = 0.0;     ///< simulation time the anchors refer to
+    double lastSim_ = 0.0;       ///< simulation time of the last update
     double speed_ = 1.0;
     Wrap wrap_ = Wrap::Loop;
     bool playing_ = false;
+    bool posed_ = false; ///< the last update wrote a pose with a weight > 0
     int current_ = -1;
     void reanchor(); ///< moves every anchor to lastSim_
     Track& track(std::size_t index);
+    const Track& track(std::size_t index) const;
+    void syncTracks();         ///< one track per animation
+    void evaluate(double sim); ///< each track's time and weight at `sim`
+    double trackTime(const Track& tr, std::size_t index, double sim) const;
+    float trackWeight(const Track& tr, double sim) const;
+    void accumulate(std::size_t index); ///< adds animation `index` to mix_
+    void writePose();
 };
 
 /// A Group that plays its animations in the update traversal: what the glTF loader returns for a
