@@ -1,6 +1,8 @@
 #include "GltfSkins.h"
 
+#define GLM_ENABLE_EXPERIMENTAL
 #include <glm/gtc/type_ptr.hpp>
+#include <glm/gtx/matrix_decompose.hpp>
 
 #include <cmath>
 #include <map>
@@ -181,6 +183,12 @@ void readAnimations(const Context& c, const NodeInstances& nodes, AnimationPlaye
             AnimationTarget t;
             t.transform = uses[u];
             t.name = n.name.empty() ? at("nodes", std::size_t(node)) : n.name;
+            if (n.matrix.size() == 16) { // a matrix node: its rest pose as T·R·S (no shear in glTF)
+                glm::vec3 skew;
+                glm::vec4 perspective;
+                glm::decompose(glm::mat4(glm::make_mat4(n.matrix.data())), t.scale, t.rotation, t.translation, skew,
+                               perspective);
+            }
             if (n.translation.size() == 3) t.translation = glm::vec3(n.translation[0], n.translation[1], n.translation[2]);
             if (n.rotation.size() == 4) t.rotation = glm::quat(float(n.rotation[3]), float(n.rotation[0]),
                                                               float(n.rotation[1]), float(n.rotation[2]));

@@ -1,4 +1,5 @@
 #include "sgfx/Animation.h"
+#include "sgfx/Geometry.h"
 
 #include "sgfx/Visitors.h"
 
@@ -424,7 +425,13 @@ void AnimationPlayer::writePose() {
             const float rest = i < target.weights.size() ? target.weights[i] : 0.0f;
             target.currentWeights[i] = mixed(weightSums_[m.weightsOffset + i], m.weightsWeight, rest);
         }
-        // TODO(morph): write currentWeights into each geometry in morphs (Geometry::setMorphWeights).
+        if (m.weightsCount)
+            for (const std::weak_ptr<Geometry>& g : target.morphs)
+                if (const auto geometry = g.lock()) {
+                    // A primitive with fewer targets than the mesh takes the first ones.
+                    const std::size_t n = std::min(target.currentWeights.size(), geometry->morphTargets.size());
+                    geometry->setMorphWeights(std::span<const float>(target.currentWeights.data(), n));
+                }
         if (const std::shared_ptr<Transform> t = target.transform.lock()) {
             const glm::mat4 matrix = glm::translate(glm::mat4(1.0f), translation) * glm::mat4_cast(rotation) *
                                      glm::scale(glm::mat4(1.0f), scale);
