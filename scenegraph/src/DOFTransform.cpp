@@ -24,6 +24,7 @@ bool isScale(DOFTransform::Kind k) {
 
 double limited(const DOFTransform::Axis& a, double v) {
     if (a.limit == DOFTransform::Limit::Clamp) return std::clamp(v, a.min, a.max);
+    if (v >= a.min && v < a.max) return v; // exactly as given: no round trip through fmod
     const double span = a.max - a.min;
     double w = std::fmod(v - a.min, span);
     if (w < 0.0) w += span;
