@@ -6,6 +6,7 @@
 
 #include <sgfx/Billboard.h>
 #include <sgfx/Camera.h>
+#include <sgfx/DOFTransform.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Image.h>
 #include <sgfx/LOD.h>
@@ -692,6 +693,19 @@ std::shared_ptr<Group> makeTree(std::uint64_t seed, bool lod) {
 }
 
 // ------------------------------------------------------------------------------------------ vehicle
+// A wheel that turns about its axle (the vehicle's y through its centre); `shape` has its axis
+// along +Z from z = 0, and is turned onto y and centred across the wheel's width.
+std::shared_ptr<sgfx::DOFTransform> spinningWheel(const VehicleWheel& w, sgfx::NodePtr shape) {
+    auto dof = sgfx::DOFTransform::create();
+    dof->name = w.name;
+    dof->setFrame(translate(w.centre));
+    dof->setBase(translate(w.centre) * rotateX(-glm::half_pi<float>()) * translate({0, 0, -0.125f}));
+    dof->addAxis("spin", sgfx::DOFTransform::Kind::RotateY, 0.0, glm::two_pi<double>(),
+                 sgfx::DOFTransform::Limit::Wrap);
+    dof->addChild(std::move(shape));
+    return dof;
+}
+
 // A tracked robot vehicle, x forward, ground at z = 0, about 6.6 m long.
 std::shared_ptr<Group> makeVehicle() {
     auto v = Group::create();
@@ -730,23 +744,18 @@ std::shared_ptr<Group> makeVehicle() {
     wheel->name = "wheel";
     auto sprocket = sgfx::shapes::cylinder(0.46f, 0.25f, 20);
     sprocket->name = "sprocket";
-    for (float s : {-1.0f, 1.0f}) {
-        const float y = s * 1.9f; // just proud of the track's outer face
-        for (int i = 0; i < 6; ++i) {
-            const float x = -2.2f + 4.4f * float(i) / 5.0f;
-            wheels->addChild(
-                place(translate({x, y, 0.40f}) * rotateX(-glm::half_pi<float>()) * translate({0, 0, -0.125f}),
-                      wheel));
-        }
-        for (float x : {-2.85f, 2.85f})
-            wheels->addChild(
-                place(translate({x, y, 0.62f}) * rotateX(-glm::half_pi<float>()) * translate({0, 0, -0.125f}),
-                      sprocket));
-    }
+    for (const VehicleWheel& w : vehicleWheels())
+        wheels->addChild(spinningWheel(w, w.name.find("sprocket") != std::string::npos ? sprocket : wheel));
 
-    // Turret with gun barrel and a sensor mast, on its own Transform (it could turn).
-    auto turret = Transform::create(translate({-0.4f, 0, 1.84f}) * rotateZ(0.35f));
-    turret->name = "turret";
+    // Turret with gun barrel and a sensor mast: the turret turns about its ring's axis, the gun
+    // about its trunnion at the barrel's breech.
+    const glm::vec3 ring0(-0.4f, 0, 1.84f);
+    auto turret = sgfx::DOFTransform::create();
+    turret->name = kTurretNode;
+    turret->setFrame(translate(ring0));
+    turret->setBase(translate(ring0)); // the children in the ring's frame
+    turret->addAxis("yaw", sgfx::DOFTransform::Kind::RotateZ, -glm::pi<double>(), glm::pi<double>(),
+                    sgfx::DOFTransform::Limit::Wrap, kTurretRestYaw);
     turret->setStateSet(olive);
     auto ring = sgfx::shapes::cylinder(1.15f, 0.75f, 28);
     ring->name = "turret_ring";
@@ -757,7 +766,16 @@ std::shared_ptr<Group> makeVehicle() {
     auto barrel = sgfx::shapes::cylinder(0.09f, 3.4f, 12);
     barrel->name = "gun_barrel";
     barrel->setStateSet(steel);
-    turret->addChild(place(translate({1.35f, 0, 0.42f}) * rotateY(glm::half_pi<float>() - 0.04f), barrel));
+    const glm::vec3 trunnion(1.35f, 0, 0.42f);
+    auto gun = sgfx::DOFTransform::create();
+    gun->name = kGunNode;
+    // Frame axes: x along the trunnion (the turret's -y), y forward, z up (OpenFlight's pitch).
+    gun->setFrame(trunnion, glm::mat3(glm::vec3(0, -1, 0), glm::vec3(1, 0, 0), glm::vec3(0, 0, 1)));
+    gun->setBase(translate(trunnion) * rotateY(glm::half_pi<float>())); // level, along +x
+    gun->addAxis("elevation", sgfx::DOFTransform::Kind::RotateX, kGunMinElevation, kGunMaxElevation,
+                 sgfx::DOFTransform::Limit::Clamp, kGunRestElevation);
+    gun->addChild(barrel);
+    turret->addChild(gun);
     auto mast = sgfx::shapes::cylinder(0.05f, 1.3f, 8);
     mast->name = "mast";
     mast->setStateSet(steel);
@@ -838,6 +856,21 @@ std::shared_ptr<sgfx::TransparencyBin> makeGlass(const Terrain& terrain) {
 }
 
 } // namespace
+
+std::vector<VehicleWheel> vehicleWheels() {
+    std::vector<VehicleWheel> out;
+    for (float s : {-1.0f, 1.0f}) {
+        const std::string side = s > 0.0f ? "l" : "r";
+        const float y = s * 1.9f;   // just proud of the track's outer face
+        for (int i = 0; i < 6; ++i) // six road wheels, rear first, numbered from the front
+            out.push_back({"vehicle.wheel." + side + std::to_string(6 - i),
+                           {-2.2f + 4.4f * float(i) / 5.0f, y, 0.40f},
+                           0.38f});
+        out.push_back({"vehicle.sprocket." + side + "r", {-2.85f, y, 0.62f}, 0.46f});
+        out.push_back({"vehicle.sprocket." + side + "f", {2.85f, y, 0.62f}, 0.46f});
+    }
+    return out;
+}
 
 std::shared_ptr<sgfx::Group> buildVehicle() {
     return makeVehicle();

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace sgfx {
@@ -115,6 +116,23 @@ PolygonScene buildPolygonScene(const SceneOptions& options = {});
 
 // The tracked robot vehicle alone, at the origin, facing +X (for figures and tests).
 std::shared_ptr<sgfx::Group> buildVehicle();
+
+// The vehicle's articulated parts, sgfx::DOFTransforms reached with sgfx::findNode. At rest they
+// pose the vehicle as it always stood: the turret turned 0.35 rad, the gun raised 0.04 rad.
+inline constexpr const char* kTurretNode = "vehicle.turret"; // axis "yaw": RotateZ, wraps in [-pi, pi)
+inline constexpr double kTurretRestYaw = 0.35;
+// Axis "elevation": RotateX in a frame whose X axis is the trunnion (the vehicle's -Y), so a
+// positive value raises the muzzle; clamped to [kGunMinElevation, kGunMaxElevation].
+inline constexpr const char* kGunNode = "vehicle.gun";
+inline constexpr double kGunRestElevation = 0.04, kGunMinElevation = -0.12, kGunMaxElevation = 0.35;
+// Road wheels and sprockets: axis "spin", RotateY about the wheel's centre (positive rolls the
+// vehicle forward), wrapped into [0, 2 pi).
+struct VehicleWheel {
+    std::string name; // "vehicle.wheel.l1" (left, first from the front) .. "vehicle.sprocket.rr"
+    glm::vec3 centre; // in the vehicle frame (x forward, y left, ground at z = 0)
+    float radius;     // metres
+};
+std::vector<VehicleWheel> vehicleWheels();
 
 // `world` and a rain of `count` drops over an area x area square that follows the camera, emitted
 // `above` metres over the eye and falling long enough to reach height `lowest`.

@@ -1,5 +1,7 @@
 #include "VehicleDrive.h"
 
+#include <sgfx/DOFTransform.h>
+#include <sgfx/FindNode.h>
 #include <sgfx/Queries.h>
 #include <sgfx/Visitors.h>
 
@@ -8,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <utility>
 
 namespace polygon {
 
@@ -64,6 +68,53 @@ glm::mat4 poseOnPlane(const RoutePose& p, double a, double b, double c) {
                                 glm::dvec4(p.position, a, 1.0)));
 }
 
+// The vehicle's DOFTransforms, and each wheel's radius.
+struct Articulation {
+    std::vector<std::pair<std::shared_ptr<sgfx::DOFTransform>, double>> wheels;
+    std::shared_ptr<sgfx::DOFTransform> turret, gun;
+};
+
+std::shared_ptr<sgfx::DOFTransform> dofNamed(sgfx::Node& vehicle, const std::string& name) {
+    auto dof = sgfx::findNode<sgfx::DOFTransform>(vehicle, name);
+    if (!dof)
+        throw std::invalid_argument("polygon: driveVehicle: the vehicle has no DOFTransform '" + name + "'");
+    return dof;
+}
+
+Articulation findArticulation(sgfx::Node& vehicle) {
+    Articulation a{{}, dofNamed(vehicle, kTurretNode), dofNamed(vehicle, kGunNode)};
+    for (const VehicleWheel& w : vehicleWheels())
+        a.wheels.emplace_back(dofNamed(vehicle, w.name), double(w.radius));
+    return a;
+}
+
+// From `current` towards `aim` by at most `step`; around the shorter way for an angle that wraps.
+double slew(double current, double aim, double step, bool wraps) {
+    double d = aim - current;
+    if (wraps) d -= glm::two_pi<double>() * std::floor((d + glm::pi<double>()) / glm::two_pi<double>());
+    return current + std::clamp(d, -step, step);
+}
+
+// Wheels from the distance (rolling without slip); turret and gun towards the target from the
+// hull's pose, `dt` seconds after the last frame.
+void articulate(Articulation& a, const glm::dmat4& hull, double dt, const DriveOptions& o, DriveState& s) {
+    for (auto& [wheel, radius] : a.wheels)
+        wheel->set("spin", s.distance / radius);
+    // Yaw: the target's bearing in the hull frame from the turret ring's axis.
+    const glm::dvec3 fromRing =
+        glm::dvec3(glm::inverse(hull) * glm::dvec4(o.target, 1.0)) - glm::dvec3(a.turret->frame()[3]);
+    s.aimYaw = std::atan2(fromRing.y, fromRing.x);
+    s.turretYaw = a.turret->set("yaw", slew(a.turret->value("yaw"), s.aimYaw, o.turretSlewRate * dt, true));
+    // Elevation: in the turret's frame, as it now stands, from the trunnion.
+    const glm::dmat4 turret = hull * glm::dmat4(a.turret->matrix());
+    const glm::dvec3 fromTrunnion =
+        glm::dvec3(glm::inverse(turret) * glm::dvec4(o.target, 1.0)) - glm::dvec3(a.gun->frame()[3]);
+    s.aimElevation = std::clamp(std::atan2(fromTrunnion.z, glm::length(glm::dvec2(fromTrunnion))),
+                                kGunMinElevation, kGunMaxElevation);
+    s.gunElevation =
+        a.gun->set("elevation", slew(a.gun->value("elevation"), s.aimElevation, o.gunSlewRate * dt, false));
+}
+
 } // namespace
 
 std::shared_ptr<const DriveState> driveVehicle(const PolygonScene& scene, const DriveRoute& route,
@@ -72,6 +123,13 @@ std::shared_ptr<const DriveState> driveVehicle(const PolygonScene& scene, const 
         throw std::invalid_argument("polygon: driveVehicle needs the scene's vehicle and ground");
     if (!(options.speed >= 0.0) || !std::isfinite(options.speed))
         throw std::invalid_argument("polygon: the vehicle's speed must be finite and >= 0");
+    for (double rate : {options.turretSlewRate, options.gunSlewRate})
+        if (!(rate >= 0.0) || !std::isfinite(rate))
+            throw std::invalid_argument("polygon: the turret's and gun's slew rates must be finite and >= 0");
+    if (!std::isfinite(options.target.x) || !std::isfinite(options.target.y) ||
+        !std::isfinite(options.target.z))
+        throw std::invalid_argument("polygon: the turret's target must be finite");
+    auto parts = std::make_shared<Articulation>(findArticulation(*scene.vehicle));
     if (!options.ground) {
         // The BVHs are built lazily, tile by tile as the vehicle reaches them: 25 ms on the first
         // frame where sgfx::prepareForQueries would take half a second for every tile and level.
@@ -80,14 +138,17 @@ std::shared_ptr<const DriveState> driveVehicle(const PolygonScene& scene, const 
         };
     }
     auto state = std::make_shared<DriveState>();
-    std::optional<double> start; // simulation time of the first frame
-    // Weak: the vehicle group owns this callback and the pose (no cycle either way).
-    scene.vehicle->updateCallback = [state, start, route, options,
+    std::optional<double> start, last; // simulation time of the first frame and of the last
+    // Weak: the vehicle group owns this callback and the pose (no cycle either way). The parts are
+    // below the vehicle and own nothing above it.
+    scene.vehicle->updateCallback = [state, start, last, route, options, parts,
                                      weakPose = std::weak_ptr<sgfx::Transform>(scene.vehiclePose)](
                                         sgfx::Node&, sgfx::UpdateVisitor& uv) mutable {
         const auto pose = weakPose.lock();
         if (!pose) return;
         if (!start) start = uv.simulationTime;
+        const double dt = std::max(0.0, uv.simulationTime - last.value_or(uv.simulationTime));
+        last = uv.simulationTime;
         state->distance = options.speed * (uv.simulationTime - *start);
         const RoutePose p = route.at(state->distance);
         const glm::dvec2 fwd(std::cos(p.heading), std::sin(p.heading)), left(-fwd.y, fwd.x);
@@ -108,6 +169,7 @@ std::shared_ptr<const DriveState> driveVehicle(const PolygonScene& scene, const 
         a /= double(kTrackContacts.size());
         state->slope = {b / uu, c / vv};
         pose->setMatrix(poseOnPlane(p, a, state->slope.x, state->slope.y));
+        articulate(*parts, glm::dmat4(pose->matrix()), dt, options, *state);
         ++state->frames;
     };
     return state;
