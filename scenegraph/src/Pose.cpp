@@ -127,7 +127,7 @@ void Geometry::validatePose() const {
     auto fail = [&](const std::string& why) {
         throw std::invalid_argument("sgfx: geometry " + labelOf(*this) + " " + why);
     };
-    if ((!joints0.empty() || !joints1.empty()) && !skin) fail("has joints but no skin");
+    // Joints without a skin are allowed (a mesh loaded before its skin is known): they are not drawn posed.
     if (joints0.size() != weights0.size() || joints1.size() != weights1.size())
         fail("has joint indices and weights of different counts");
     if (skin && joints0.empty()) fail("has a skin but no joints0/weights0");
@@ -139,8 +139,10 @@ void Geometry::validatePose() const {
                     fail(std::string(what) + "[" + std::to_string(v) + "] names joint " + std::to_string(js[v][k]) +
                          " of a skin with " + std::to_string(joints));
     };
-    checkJoints(joints0, "joints0");
-    checkJoints(joints1, "joints1");
+    if (skin) {
+        checkJoints(joints0, "joints0");
+        checkJoints(joints1, "joints1");
+    }
     for (std::size_t t = 0; t < morphTargets.size(); ++t) {
         const MorphTarget& m = morphTargets[t];
         for (const auto* a : {&m.positions, &m.normals, &m.tangents})
