@@ -10,11 +10,11 @@
 #include <sgfx/GltfLoader.h>
 #include <sgfx/Group.h>
 #include <sgfx/Material.h>
-#include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
+#include <sgfx/nodes/fog/FogNode.h>
 
 #include <sgfx_glad/gl.h>
 
@@ -164,7 +164,8 @@ Arm makeArm() {
     a.j0->addChild(a.j1);
     a.j1->addChild(a.j2);
     // glTF: the skinned mesh node's own transform does not move the mesh.
-    a.meshNode = Transform::create(glm::translate(glm::scale(glm::mat4(1.0f), {2, 2, 2}), {0.3f, -0.2f, 0.1f}));
+    a.meshNode =
+        Transform::create(glm::translate(glm::scale(glm::mat4(1.0f), {2, 2, 2}), {0.3f, -0.2f, 0.1f}));
     a.root->addChild(a.meshNode);
     Geometry& g = *a.geometry;
     const int rings = 21, segments = 8;
@@ -181,7 +182,8 @@ Arm makeArm() {
         }
     for (int r = 0; r + 1 < rings; ++r)
         for (int s = 0; s < segments; ++s) {
-            const auto i = std::uint32_t(r * segments + s), j = std::uint32_t(r * segments + (s + 1) % segments);
+            const auto i = std::uint32_t(r * segments + s),
+                       j = std::uint32_t(r * segments + (s + 1) % segments);
             g.indices.insert(g.indices.end(), {i, j, i + segments, j, j + segments, i + segments});
         }
     auto skin = std::make_shared<Skin>();
@@ -198,8 +200,9 @@ Arm makeArm() {
 void poseArm(Arm& a, float bend) {
     a.j0->setMatrix(glm::rotate(glm::mat4(1.0f), 0.35f, glm::vec3(0, 1, 0)));
     a.j1->setMatrix(glm::rotate(glm::translate(glm::mat4(1.0f), {1, 0, 0}), bend, glm::vec3(0, 0, 1)));
-    a.j2->setMatrix(glm::scale(glm::rotate(glm::translate(glm::mat4(1.0f), {0.6f, 0, 0}), -0.5f, glm::vec3(0, 0, 1)),
-                               {1.0f, 1.3f, 0.8f})); // uneven scale: the normals need the cofactor
+    a.j2->setMatrix(
+        glm::scale(glm::rotate(glm::translate(glm::mat4(1.0f), {0.6f, 0, 0}), -0.5f, glm::vec3(0, 0, 1)),
+                   {1.0f, 1.3f, 0.8f})); // uneven scale: the normals need the cofactor
 }
 
 std::filesystem::path shared(const std::string& model) {
@@ -221,7 +224,9 @@ TEST(Skinning, TwoBoneCylinderOnTheGpuEqualsCpuSkinning) {
         expectSamePose(gpu, cpu, 1e-5, "bend " + std::to_string(bend));
     }
     // The pose moved the tip: a test that compared a mesh with itself would pass anyway.
-    EXPECT_GT(glm::length(cpuPose(*arm.geometry).positions.back() - glm::dvec3(arm.geometry->positions.back())), 0.5);
+    EXPECT_GT(
+        glm::length(cpuPose(*arm.geometry).positions.back() - glm::dvec3(arm.geometry->positions.back())),
+        0.5);
 }
 
 TEST(Skinning, MorphTargetsThenSkinningEqualCpu) {
@@ -232,8 +237,8 @@ TEST(Skinning, MorphTargetsThenSkinningEqualCpu) {
         MorphTarget m;
         for (std::size_t v = 0; v < g.positions.size(); ++v) {
             const glm::vec3 p = g.positions[v];
-            m.positions.emplace_back(0.1f * float(t + 1) * std::sin(3.0f * p.x + float(t)), 0.05f * p.y * float(t),
-                                     0.07f * std::cos(p.x * float(t + 2)));
+            m.positions.emplace_back(0.1f * float(t + 1) * std::sin(3.0f * p.x + float(t)),
+                                     0.05f * p.y * float(t), 0.07f * std::cos(p.x * float(t + 2)));
             m.normals.emplace_back(0.2f * float(t), 0.0f, -0.1f);
         }
         g.morphTargets.push_back(std::move(m));
@@ -272,11 +277,12 @@ TEST(Skinning, MorphWeightsAreChecked) {
 // The shared skinned and morphed models at several times of their first animation: the GPU's
 // positions against a CPU pose of the same file.
 TEST(Skinning, SharedModelsMatchCpuPosingOfTheFile) {
-    const std::vector<std::string> models = {"RiggedSimple", "RiggedFigure", "SimpleSkin", "AnimatedMorphCube",
-                                             "SimpleMorph"};
+    const std::vector<std::string> models = {"RiggedSimple", "RiggedFigure", "SimpleSkin",
+                                             "AnimatedMorphCube", "SimpleMorph"};
     for (const auto& model : models) {
         const auto file = shared(model);
-        if (!test::optionalPrerequisite(std::filesystem::exists(file), "shared glTF set A2 (" + model + ")")) return;
+        if (!test::optionalPrerequisite(std::filesystem::exists(file), "shared glTF set A2 (" + model + ")"))
+            return;
         auto root = loadGltf(file);
         AnimationPlayer* player = animationPlayer(*root);
         ASSERT_NE(player, nullptr) << model;
@@ -302,8 +308,9 @@ TEST(Skinning, SharedModelsMatchCpuPosingOfTheFile) {
             const Posed cpu = cpuPose(*find.found);
             expectSamePose(gpuPose(*viewer, *find.found), cpu, 1e-5, model + " at t = " + std::to_string(t));
             for (std::size_t v = 0; v < cpu.positions.size(); ++v)
-                moved = std::max(moved, glm::length(cpu.positions[v] - glm::dvec3(worldOf(find.found->parents().front()) *
-                                                                                   glm::dvec4(find.found->positions[v], 1.0))));
+                moved = std::max(moved, glm::length(cpu.positions[v] -
+                                                    glm::dvec3(worldOf(find.found->parents().front()) *
+                                                               glm::dvec4(find.found->positions[v], 1.0))));
         }
         EXPECT_GT(moved, 1e-3) << model << ": the animation never moved a vertex from its bind pose";
     }
@@ -315,7 +322,10 @@ TEST(Skinning, SharedModelsMatchCpuPosingOfTheFile) {
 struct Forearm {
     std::shared_ptr<Transform> shifted, j1;
     std::shared_ptr<Geometry> geometry = Geometry::create();
-    void bend() { j1->setMatrix(glm::rotate(glm::translate(glm::mat4(1.0f), {1, 0, 0}), 1.5707963f, glm::vec3(0, 0, 1))); }
+    void bend() {
+        j1->setMatrix(
+            glm::rotate(glm::translate(glm::mat4(1.0f), {1, 0, 0}), 1.5707963f, glm::vec3(0, 0, 1)));
+    }
 };
 
 Forearm makeForearm() {

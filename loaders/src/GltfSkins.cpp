@@ -38,13 +38,15 @@ AnimationPath pathOf(const Context& c, const std::string& text, const std::strin
 }
 
 // One sampler: key times from `input`, values from `output`, `components` floats per value.
-AnimationSampler readSampler(const Context& c, const tinygltf::AnimationSampler& s, const std::string& element,
-                             std::size_t components) {
+AnimationSampler readSampler(const Context& c, const tinygltf::AnimationSampler& s,
+                             const std::string& element, std::size_t components) {
     AnimationSampler out;
     out.interpolation = interpolationOf(c, s.interpolation, element);
     out.components = components;
     out.times = readAccessor(c, s.input, element + ".input", {TINYGLTF_TYPE_SCALAR});
-    const int type = components == 4 ? TINYGLTF_TYPE_VEC4 : components == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_SCALAR;
+    const int type = components == 4   ? TINYGLTF_TYPE_VEC4
+                     : components == 3 ? TINYGLTF_TYPE_VEC3
+                                       : TINYGLTF_TYPE_SCALAR;
     out.values = readAccessor(c, s.output, element + ".output", {type});
     try {
         out.validate();
@@ -58,13 +60,14 @@ AnimationSampler readSampler(const Context& c, const tinygltf::AnimationSampler&
 
 } // namespace
 
-void readSkinAttributes(const Context& c, const tinygltf::Primitive& p, const std::string& element, std::size_t n,
-                        Geometry& g, std::size_t& unweighted) {
+void readSkinAttributes(const Context& c, const tinygltf::Primitive& p, const std::string& element,
+                        std::size_t n, Geometry& g, std::size_t& unweighted) {
     auto read = [&](const char* key, std::vector<glm::u16vec4>* joints, std::vector<glm::vec4>* weights) {
         const auto it = p.attributes.find(key);
         if (it == p.attributes.end()) return false;
         std::size_t count = 0;
-        const auto v = readAccessor(c, it->second, element + ".attributes." + key, {TINYGLTF_TYPE_VEC4}, &count);
+        const auto v =
+            readAccessor(c, it->second, element + ".attributes." + key, {TINYGLTF_TYPE_VEC4}, &count);
         if (count != n)
             c.fail(element + ".attributes." + key,
                    std::to_string(count) + " values for " + std::to_string(n) + " positions");
@@ -74,10 +77,12 @@ void readSkinAttributes(const Context& c, const tinygltf::Primitive& p, const st
                 for (int k = 0; k < 4; ++k)
                     if (!(x[k] >= 0.0f && x[k] < 65536.0f))
                         c.fail(element + ".attributes." + key, "joint index " + std::to_string(x[k]) +
-                                                                   " at vertex " + std::to_string(i) + " is invalid");
+                                                                   " at vertex " + std::to_string(i) +
+                                                                   " is invalid");
                 joints->push_back(glm::u16vec4(x));
             } else {
-                if (!(glm::all(glm::greaterThanEqual(x, glm::vec4(0.0f))) && std::isfinite(x.x + x.y + x.z + x.w)))
+                if (!(glm::all(glm::greaterThanEqual(x, glm::vec4(0.0f))) &&
+                      std::isfinite(x.x + x.y + x.z + x.w)))
                     c.fail(element + ".attributes." + key,
                            "weights at vertex " + std::to_string(i) + " are negative, NaN or infinite");
                 weights->push_back(x);
@@ -95,8 +100,9 @@ void readSkinAttributes(const Context& c, const tinygltf::Primitive& p, const st
     // glTF 2.0, Skins: the weights of a vertex sum to 1; exporters round, so they are normalised.
     for (std::size_t i = 0; i < g.weights0.size(); ++i) {
         glm::vec4& w0 = g.weights0[i];
-        const float sum = w0.x + w0.y + w0.z + w0.w +
-                          (set1 ? g.weights1[i].x + g.weights1[i].y + g.weights1[i].z + g.weights1[i].w : 0.0f);
+        const float sum =
+            w0.x + w0.y + w0.z + w0.w +
+            (set1 ? g.weights1[i].x + g.weights1[i].y + g.weights1[i].z + g.weights1[i].w : 0.0f);
         if (!(sum > 0.0f)) {
             w0 = glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
             ++unweighted;
@@ -107,21 +113,22 @@ void readSkinAttributes(const Context& c, const tinygltf::Primitive& p, const st
     }
 }
 
-void readMorphTargets(const Context& c, const tinygltf::Primitive& p, const std::string& element, std::size_t n,
-                      Geometry& g) {
+void readMorphTargets(const Context& c, const tinygltf::Primitive& p, const std::string& element,
+                      std::size_t n, Geometry& g) {
     for (std::size_t t = 0; t < p.targets.size(); ++t) {
         MorphTarget target;
         for (const auto& [key, index] : p.targets[t]) {
             const std::string name = element + "." + at("targets", t) + "." + key;
-            std::vector<glm::vec3>* into = key == "POSITION" ? &target.positions
-                                           : key == "NORMAL" ? &target.normals
+            std::vector<glm::vec3>* into = key == "POSITION"  ? &target.positions
+                                           : key == "NORMAL"  ? &target.normals
                                            : key == "TANGENT" ? &target.tangents
                                                               : nullptr;
             if (!into) continue; // TEXCOORD_n and COLOR_n targets: not applied (documented)
             std::size_t count = 0;
             const auto v = readAccessor(c, index, name, {TINYGLTF_TYPE_VEC3}, &count);
             if (count != n)
-                c.fail(name, std::to_string(count) + " displacements for " + std::to_string(n) + " positions");
+                c.fail(name,
+                       std::to_string(count) + " displacements for " + std::to_string(n) + " positions");
             c.charge(n, sizeof(glm::vec3), name);
             for (std::size_t i = 0; i < n; ++i) {
                 if (!std::isfinite(v[3 * i] + v[3 * i + 1] + v[3 * i + 2]))
@@ -161,7 +168,8 @@ std::vector<std::shared_ptr<Skin>> readSkins(const Context& c, const NodeInstanc
             for (std::size_t j = 0; j < count; ++j) {
                 for (std::size_t k = 0; k < 16; ++k)
                     if (!std::isfinite(m[16 * j + k]))
-                        c.fail(element + ".inverseBindMatrices", "matrix " + std::to_string(j) + " has a NaN");
+                        c.fail(element + ".inverseBindMatrices",
+                               "matrix " + std::to_string(j) + " has a NaN");
                 skin->inverseBindMatrices.push_back(glm::make_mat4(m.data() + 16 * j));
             }
         } else {
@@ -186,12 +194,14 @@ void readAnimations(const Context& c, const NodeInstances& nodes, AnimationPlaye
             if (n.matrix.size() == 16) { // a matrix node: its rest pose as T·R·S (no shear in glTF)
                 glm::vec3 skew;
                 glm::vec4 perspective;
-                glm::decompose(glm::mat4(glm::make_mat4(n.matrix.data())), t.scale, t.rotation, t.translation, skew,
-                               perspective);
+                glm::decompose(glm::mat4(glm::make_mat4(n.matrix.data())), t.scale, t.rotation, t.translation,
+                               skew, perspective);
             }
-            if (n.translation.size() == 3) t.translation = glm::vec3(n.translation[0], n.translation[1], n.translation[2]);
-            if (n.rotation.size() == 4) t.rotation = glm::quat(float(n.rotation[3]), float(n.rotation[0]),
-                                                              float(n.rotation[1]), float(n.rotation[2]));
+            if (n.translation.size() == 3)
+                t.translation = glm::vec3(n.translation[0], n.translation[1], n.translation[2]);
+            if (n.rotation.size() == 4)
+                t.rotation = glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]),
+                                       float(n.rotation[2]));
             if (n.scale.size() == 3) t.scale = glm::vec3(n.scale[0], n.scale[1], n.scale[2]);
             for (const auto& g : nodes.geometry[std::size_t(node)][u]) {
                 t.morphs.push_back(g);
@@ -221,16 +231,17 @@ void readAnimations(const Context& c, const NodeInstances& nodes, AnimationPlaye
                 c.fail(name + ".target.node", "node " + std::to_string(ch.target_node) + " does not exist (" +
                                                   std::to_string(c.model.nodes.size()) + " nodes)");
             const AnimationPath path = pathOf(c, ch.target_path, name + ".target.path");
-            const std::size_t components =
-                path == AnimationPath::Rotation  ? 4
-                : path == AnimationPath::Weights ? morphTargetCount(c.model, ch.target_node)
-                                                 : 3;
+            const std::size_t components = path == AnimationPath::Rotation ? 4
+                                           : path == AnimationPath::Weights
+                                               ? morphTargetCount(c.model, ch.target_node)
+                                               : 3;
             if (components == 0)
                 c.fail(name + ".target", "animates the weights of node " + std::to_string(ch.target_node) +
                                              ", whose mesh has no morph targets");
             const std::size_t s = std::size_t(ch.sampler);
             if (samplerPath[s] >= 0 && samplerComponents[s] != components)
-                c.fail(name + ".sampler", "sampler " + std::to_string(s) + " is shared by channels of different value types");
+                c.fail(name + ".sampler",
+                       "sampler " + std::to_string(s) + " is shared by channels of different value types");
             samplerPath[s] = int(path);
             samplerComponents[s] = components;
             for (std::size_t target : targets(ch.target_node))

@@ -16,11 +16,11 @@ namespace sgfx::gltf {
 
 /// JOINTS_0/WEIGHTS_0 and JOINTS_1/WEIGHTS_1 of a primitive into `g` (n vertices), weights
 /// normalised per vertex; a vertex with no weight is bound to joint 0 (and counted in `unweighted`).
-void readSkinAttributes(const Context& c, const tinygltf::Primitive& p, const std::string& element, std::size_t n,
-                        Geometry& g, std::size_t& unweighted);
+void readSkinAttributes(const Context& c, const tinygltf::Primitive& p, const std::string& element,
+                        std::size_t n, Geometry& g, std::size_t& unweighted);
 /// The primitive's morph targets (POSITION, NORMAL, TANGENT displacements) into `g`.
-void readMorphTargets(const Context& c, const tinygltf::Primitive& p, const std::string& element, std::size_t n,
-                      Geometry& g);
+void readMorphTargets(const Context& c, const tinygltf::Primitive& p, const std::string& element,
+                      std::size_t n, Geometry& g);
 
 /// What the loader made for each glTF node: one Transform per use in the scene, and per use the
 /// geometries of its mesh (the node's own copies when skinned or morphed).

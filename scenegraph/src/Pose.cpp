@@ -40,13 +40,15 @@ struct WorldMatrices {
 
 void Geometry::setMorphWeights(std::span<const float> weights) {
     if (weights.size() > morphTargets.size())
-        throw std::invalid_argument("sgfx: geometry " + labelOf(*this) + ": " + std::to_string(weights.size()) +
-                                    " morph weights for " + std::to_string(morphTargets.size()) + " targets");
+        throw std::invalid_argument("sgfx: geometry " + labelOf(*this) + ": " +
+                                    std::to_string(weights.size()) + " morph weights for " +
+                                    std::to_string(morphTargets.size()) + " targets");
     for (std::size_t i = 0; i < weights.size(); ++i)
         if (!std::isfinite(weights[i]))
             throw std::invalid_argument("sgfx: geometry " + labelOf(*this) + ": morph weight " +
                                         std::to_string(i) + " is NaN or infinite");
-    if (morphWeights_.size() == weights.size() && std::equal(weights.begin(), weights.end(), morphWeights_.begin()))
+    if (morphWeights_.size() == weights.size() &&
+        std::equal(weights.begin(), weights.end(), morphWeights_.begin()))
         return;
     morphWeights_.assign(weights.begin(), weights.end());
     ++poseRevision_;
@@ -115,9 +117,10 @@ BoundingBox Geometry::posedBox() const {
         const BoundingBox& b = jointBoxes_[j];
         if (!b.valid()) continue;
         for (int c = 0; c < 8; ++c)
-            all.expandBy(glm::vec3(jointMatrices_[j] * glm::vec4(c & 1 ? b.max.x + hi.x : b.min.x + lo.x,
-                                                                 c & 2 ? b.max.y + hi.y : b.min.y + lo.y,
-                                                                 c & 4 ? b.max.z + hi.z : b.min.z + lo.z, 1.0f)));
+            all.expandBy(
+                glm::vec3(jointMatrices_[j] * glm::vec4(c & 1 ? b.max.x + hi.x : b.min.x + lo.x,
+                                                        c & 2 ? b.max.y + hi.y : b.min.y + lo.y,
+                                                        c & 4 ? b.max.z + hi.z : b.min.z + lo.z, 1.0f)));
     }
     return all;
 }
@@ -136,8 +139,8 @@ void Geometry::validatePose() const {
         for (std::size_t v = 0; v < js.size(); ++v)
             for (int k = 0; k < 4; ++k)
                 if (js[v][k] >= joints)
-                    fail(std::string(what) + "[" + std::to_string(v) + "] names joint " + std::to_string(js[v][k]) +
-                         " of a skin with " + std::to_string(joints));
+                    fail(std::string(what) + "[" + std::to_string(v) + "] names joint " +
+                         std::to_string(js[v][k]) + " of a skin with " + std::to_string(joints));
     };
     if (skin) {
         checkJoints(joints0, "joints0");
