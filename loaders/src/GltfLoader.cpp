@@ -606,7 +606,8 @@ void finishPose(const Context& c, const NodeInstances& nodes,
     const auto skins = readSkins(c, nodes, root);
     for (const auto& [g, skin] : skinUses) {
         if (std::size_t(skin) >= skins.size())
-            c.fail("nodes (mesh '" + g->name + "').skin", "skin " + std::to_string(skin) + " does not exist (" +
+            c.fail("nodes (mesh '" + g->name + "').skin", "skin " + std::to_string(skin) +
+                                                              " does not exist (" +
                                                               std::to_string(skins.size()) + " skins)");
         g->skin = skins[std::size_t(skin)];
         try {
@@ -822,8 +823,9 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
             readMorphTargets(c, p, name, n, *g);
             if (!g->morphTargets.empty() && !mesh.weights.empty()) {
                 if (mesh.weights.size() != g->morphTargets.size())
-                    c.fail(at("meshes", mi) + ".weights", std::to_string(mesh.weights.size()) + " weights for " +
-                                                              std::to_string(g->morphTargets.size()) + " targets");
+                    c.fail(at("meshes", mi) + ".weights",
+                           std::to_string(mesh.weights.size()) + " weights for " +
+                               std::to_string(g->morphTargets.size()) + " targets");
                 const std::vector<float> w(mesh.weights.begin(), mesh.weights.end());
                 try {
                     g->setMorphWeights(w);
@@ -1013,7 +1015,8 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
         parent->addChild(buildNode(r, at("scenes", std::size_t(sceneIndex)) + ".nodes"));
     finishPose(c, nodes, skinUses, root, st);
     if (unweighted)
-        st.warnings.push_back(std::to_string(unweighted) + " skinned vertices have no weight; bound to joint 0");
+        st.warnings.push_back(std::to_string(unweighted) +
+                              " skinned vertices have no weight; bound to joint 0");
     std::set<int> texturesUsed;
     for (const auto& [key, tex] : textures)
         texturesUsed.insert(key.first);

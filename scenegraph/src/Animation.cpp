@@ -429,7 +429,8 @@ void AnimationPlayer::writePose() {
             for (const std::weak_ptr<Geometry>& g : target.morphs)
                 if (const auto geometry = g.lock()) {
                     // A primitive with fewer targets than the mesh takes the first ones.
-                    const std::size_t n = std::min(target.currentWeights.size(), geometry->morphTargets.size());
+                    const std::size_t n =
+                        std::min(target.currentWeights.size(), geometry->morphTargets.size());
                     geometry->setMorphWeights(std::span<const float>(target.currentWeights.data(), n));
                 }
         if (const std::shared_ptr<Transform> t = target.transform.lock()) {

@@ -270,10 +270,11 @@ void CullVisitor::apply(Geometry& g) {
     // The features follow from (state, geometry) alone: instanced leaves ask for the same pair.
     if (state != featuresState_ || &g != featuresGeometry_) {
         const bool transparent = state->transparent();
-        features_ = foreign ? ShaderComposer::blendFeatures(transparent, state->blendMode()) |
-                                  (transparent ? FeatureMask(FeatureBlend) : 0u) | ShaderComposer::poseFeatures(g)
-                            : ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent,
-                                                          state->blendMode());
+        features_ = foreign
+                        ? ShaderComposer::blendFeatures(transparent, state->blendMode()) |
+                              (transparent ? FeatureMask(FeatureBlend) : 0u) | ShaderComposer::poseFeatures(g)
+                        : ShaderComposer::featuresFor(state->materialOrNull().get(), g, transparent,
+                                                      state->blendMode());
         foreignBase_ = queue_.programKeys.base(foreign);
         featuresState_ = state;
         featuresGeometry_ = &g;

@@ -372,7 +372,8 @@ BoundingSphere Geometry::computeBound() const {
     BoundingBox box;
     if (posed()) {
         box = posedBox();
-        return box.valid() ? BoundingSphere{box.center(), glm::length(box.max - box.min) * 0.5f} : BoundingSphere{};
+        return box.valid() ? BoundingSphere{box.center(), glm::length(box.max - box.min) * 0.5f}
+                           : BoundingSphere{};
     }
     for (const auto& p : positions)
         box.expandBy(p);

@@ -159,7 +159,8 @@ std::string describe(std::string_view base, std::span<const ShaderSnippet* const
 // A foreign vertex shader over a skinned or morphed mesh: its position, normal and tangent inputs
 // (locations 0, 1, 2, as for built-in materials) become globals that a wrapper main fills with
 // the posed values before calling the application's main, so its own arithmetic sees the pose.
-std::string poseForeignVertex(const ShaderProgram& prog, FeatureMask features, std::vector<std::string>& names) {
+std::string poseForeignVertex(const ShaderProgram& prog, FeatureMask features,
+                              std::vector<std::string>& names) {
     static const std::regex mainRe(R"(\bvoid\s+main\s*\(\s*(void)?\s*\))");
     static const std::regex inRe(
         R"(layout\s*\(\s*location\s*=\s*([012])\s*\)\s*in\s+(vec3|vec4)\s+([A-Za-z_][A-Za-z0-9_]*)\s*;)");
@@ -173,9 +174,10 @@ std::string poseForeignVertex(const ShaderProgram& prog, FeatureMask features, s
         types[loc] = (*it)[2].str();
     }
     if (inputs[0].empty())
-        throw ShaderError("sgfx: foreign vertex shader '" + prog.name +
-                          "' declares no `layout(location = 0) in vec3` (or vec4) position for its skinned or "
-                          "morphed mesh to be posed into");
+        throw ShaderError(
+            "sgfx: foreign vertex shader '" + prog.name +
+            "' declares no `layout(location = 0) in vec3` (or vec4) position for its skinned or "
+            "morphed mesh to be posed into");
     std::string_view body = src;
     std::string out = splitVersion(body, prog.name);
     // Storage buffers need GLSL 4.30; a core 3.30 shader compiles unchanged as 4.50 core.
@@ -186,16 +188,19 @@ std::string poseForeignVertex(const ShaderProgram& prog, FeatureMask features, s
     user = std::regex_replace(user, inRe, "$2 $3;"); // the inputs become plain globals
     out += user + "\n";
     appendChunk(out, names, "pose.glsl", shaders::embedded("pose.glsl"));
-    std::string wrap = "layout(location = 0) in vec3 sgfx_a_position;\nlayout(location = 1) in vec3 sgfx_a_normal;\n"
-                       "layout(location = 2) in vec4 sgfx_a_tangent;\nvoid main() {\n"
-                       "    vec3 p = sgfx_a_position, n = sgfx_a_normal, t = sgfx_a_tangent.xyz;\n"
-                       "    sgfx_pose(p, n, t);\n";
+    std::string wrap =
+        "layout(location = 0) in vec3 sgfx_a_position;\nlayout(location = 1) in vec3 sgfx_a_normal;\n"
+        "layout(location = 2) in vec4 sgfx_a_tangent;\nvoid main() {\n"
+        "    vec3 p = sgfx_a_position, n = sgfx_a_normal, t = sgfx_a_tangent.xyz;\n"
+        "    sgfx_pose(p, n, t);\n";
     const char* posed[3] = {"p", "n", "t"};
     const char* fourth[3] = {"1.0", "0.0", "sgfx_a_tangent.w"};
     for (int k = 0; k < 3; ++k)
         if (!inputs[k].empty())
-            wrap += "    " + inputs[k] + " = " +
-                    (types[k] == "vec4" ? "vec4(" + std::string(posed[k]) + ", " + fourth[k] + ")" : posed[k]) + ";\n";
+            wrap +=
+                "    " + inputs[k] + " = " +
+                (types[k] == "vec4" ? "vec4(" + std::string(posed[k]) + ", " + fourth[k] + ")" : posed[k]) +
+                ";\n";
     wrap += "    sgfx_user_vertex_main();\n}\n";
     appendChunk(out, names, "<sgfx pose wrapper>", wrap);
     return out;
@@ -297,7 +302,8 @@ FeatureMask ShaderComposer::withWorldPosition(FeatureMask f, bool hasSnippets) {
 }
 
 FeatureMask ShaderComposer::poseFeatures(const Geometry& g) {
-    return (g.skin ? FeatureMask(FeatureSkinned) : 0u) | (g.morphTargets.empty() ? 0u : FeatureMask(FeatureMorphed));
+    return (g.skin ? FeatureMask(FeatureSkinned) : 0u) |
+           (g.morphTargets.empty() ? 0u : FeatureMask(FeatureMorphed));
 }
 
 FeatureMask ShaderComposer::blendFeatures(bool blended, BlendMode blend) {
@@ -362,7 +368,8 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
     // Vertex stage: the application's, untouched (snippets' vertex code does not apply to it),
     // unless its mesh is skinned or morphed: then the wrap poses the attributes it reads.
     p.vertexSources = {prog.name + ".vert"};
-    p.vertex = features & FeaturePoseMask ? poseForeignVertex(prog, features, p.vertexSources) : prog.vertexSource;
+    p.vertex =
+        features & FeaturePoseMask ? poseForeignVertex(prog, features, p.vertexSources) : prog.vertexSource;
     if (snippets.empty()) {
         p.fragmentSources = {prog.name + ".frag"};
         p.fragment = prog.fragmentSource;

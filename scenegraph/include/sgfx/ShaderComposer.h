@@ -153,8 +153,8 @@ static_assert(ProgramKey::Features.fits(kAllMaterialFeatures),
 constexpr unsigned kBatchBinding = 7;      ///< shader storage binding of FeatureBatched's matrices
 constexpr unsigned kLightsBinding = 8;     ///< shader storage binding of FeatureLightList's lights
 constexpr unsigned kLightTilesBinding = 9; ///< and of its per-tile light lists
-constexpr unsigned kJointsBinding = 10;     ///< FeatureSkinned's joint matrices
-constexpr unsigned kMorphBinding = 11;      ///< FeatureMorphed's displacements
+constexpr unsigned kJointsBinding = 10;    ///< FeatureSkinned's joint matrices
+constexpr unsigned kMorphBinding = 11;     ///< FeatureMorphed's displacements
 constexpr unsigned kMorphWeightsBinding = 12; ///< and its weights
 
 class Material;

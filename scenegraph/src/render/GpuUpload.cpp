@@ -135,8 +135,7 @@ void uploadMorphTargets(gl::GeometryBuffers& b, const Geometry& g) {
                       GL_STATIC_DRAW);
 }
 
-template <class T>
-void uploadStorage(gl::BufferObject& buffer, const std::vector<T>& data) {
+template <class T> void uploadStorage(gl::BufferObject& buffer, const std::vector<T>& data) {
     if (!buffer) buffer = gl::createBuffer();
     // An empty array still gets a buffer: a binding without one is undefined to read.
     const T none{};
