@@ -40,6 +40,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <span>
 #include <thread>
 
 using namespace sgfx;
