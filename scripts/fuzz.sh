@@ -51,6 +51,9 @@ PY
     find "$assets" -name '*.gltf' -size -256k -exec cp {} "$seeds/" \;
   fi
 fi
+# Hand-made malformed documents (fuzz/corpus/: animations, skins, morph targets, each breaking one
+# element; tests/GltfAnimDoc.h makes them) reach the loader's deeper checks sooner.
+cp "$root"/fuzz/corpus/* "$seeds/"
 echo "sgfx fuzz: $(ls "$seeds" | wc -l) seeds, ${seconds} s"
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:check_initialization_order=1

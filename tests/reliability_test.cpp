@@ -1,5 +1,6 @@
 // Reliability: GL error discipline, resource accounting over many create/destroy cycles, resize
 // storms, a table-driven sweep of bad inputs, and the GL thread contract.
+#include "GltfAnimDoc.h"
 #include "TestUtil.h"
 
 #include <CameraPath.h>
@@ -39,6 +40,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <span>
 #include <thread>
 
 using namespace sgfx;
@@ -1131,6 +1133,13 @@ TEST(BadInputs, EverySetterAndLoaderRefusesWithAClearMessageAndKeepsItsState) {
                                                                     {"a truncated PNG", truncated},
                                                                     {"a directory", tmp}})
         cases.push_back({"glTF loader", "loadGltf " + label, [=] { (void)loadGltf(path); }, "sgfx: glTF"});
+    // glTF loader: animations, skins and morph targets, one element broken each (GltfAnimDoc.h)
+    for (const AnimBreak& b : animBreaks())
+        cases.push_back({"glTF animation", std::string("loadGltfFromMemory ") + b.label,
+                         [json = animDocument(b.from, b.to)] {
+                             (void)loadGltfFromMemory(std::as_bytes(std::span(json.data(), json.size())), "x.gltf");
+                         },
+                         b.element});
     cases.push_back({"model loader", "loadModel unknown extension", [=] { (void)loadModel(tmp / "x.fbx"); },
                      ".gltf, .glb, .obj, .off, .ply, .stl"});
     cases.push_back({"glTF writer", "writeGltf unwritable path",
