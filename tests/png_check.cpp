@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
                 const std::size_t n = differingPixels(img, sgfx::readPng(argv[++i]));
                 std::printf("png_check: %zu pixels differ from %s\n", n, argv[i]);
                 if ((a == "--same") != (n == 0)) {
-                    std::printf("png_check: FAIL: %s %s\n", a == "--same" ? "not the same as" : "the same as", argv[i]);
+                    std::printf("png_check: FAIL: %s %s\n", a == "--same" ? "not the same as" : "the same as",
+                                argv[i]);
                     status = 1;
                 }
             } else if (a != std::to_string(img.width) + "x" + std::to_string(img.height)) {

@@ -102,7 +102,8 @@ TEST(ViewAnimation, UnknownAnimationListsThem) {
             ADD_FAILURE() << bad << " accepted";
         } catch (const view::AnimationChoiceError& e) {
             const std::string msg = e.what();
-            EXPECT_NE(msg.find(std::string("--animation: no animation '") + bad + "'"), std::string::npos) << msg;
+            EXPECT_NE(msg.find(std::string("--animation: no animation '") + bad + "'"), std::string::npos)
+                << msg;
             EXPECT_NE(msg.find("  0  'walk'  2.000 s"), std::string::npos) << msg;
             EXPECT_NE(msg.find("  1  'run'  4.000 s"), std::string::npos) << msg;
         }

@@ -9,7 +9,8 @@ namespace view {
 
 std::vector<sgfx::AnimationPlayer*> findPlayers(sgfx::Node& root) {
     std::vector<sgfx::AnimationPlayer*> players;
-    for (const sgfx::NodePtr& n : sgfx::findNodesIf(root, [](sgfx::Node& m) { return sgfx::animationPlayer(m); }))
+    for (const sgfx::NodePtr& n :
+         sgfx::findNodesIf(root, [](sgfx::Node& m) { return sgfx::animationPlayer(m); }))
         players.push_back(sgfx::animationPlayer(*n));
     return players;
 }
@@ -84,7 +85,8 @@ std::string chooseAnimation(const std::vector<sgfx::AnimationPlayer*>& players,
         if (!what.empty() || chosen[m] < 0) continue;
         char line[512];
         const double at = time ? p.time(std::size_t(i)) : 0.0;
-        std::snprintf(line, sizeof line, "animation %lld '%s' (%.3f s)", i, p.animations[std::size_t(i)].name.c_str(),
+        std::snprintf(line, sizeof line, "animation %lld '%s' (%.3f s)", i,
+                      p.animations[std::size_t(i)].name.c_str(),
                       double(p.animations[std::size_t(i)].duration()));
         what = line;
         if (time) {

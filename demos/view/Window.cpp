@@ -523,9 +523,9 @@ int runWindow(const Options& o, ViewScene& scene) {
     };
 #endif
     std::printf("window: left click pick, left drag orbit/look, right drag zoom, middle drag pan, wheel "
-                "zoom, WASD/QE move, V "
-                "orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather, K sky, G ground, Space play/pause, "
-                "N next animation, F1 panel, F12 screenshot, Esc quit; drop files to load them\n");
+                "zoom, WASD/QE move, V orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather, "
+                "K sky, G ground, Space play/pause, N next animation, F1 panel, F12 screenshot, Esc "
+                "quit; drop files to load them\n");
     std::fflush(stdout);
 
     const int startW = viewer.context().width(), startH = viewer.context().height();
@@ -588,7 +588,8 @@ int runWindow(const Options& o, ViewScene& scene) {
                     frames, startW, startH, w, h, img.width, img.height, app.flying() ? "fly" : "orbit",
                     scene.describeEffects(app.settings()).c_str(), shot.c_str());
         if (!app.animation().empty())
-            std::printf(", animation %s at %.3f s %s", app.animation().entries()[std::size_t(app.animation().selected())].label.c_str(),
+            std::printf(", animation %s at %.3f s %s",
+                        app.animation().entries()[std::size_t(app.animation().selected())].label.c_str(),
                         app.animation().time(), app.animation().playing() ? "playing" : "paused");
 #if SGFX_VIEW_IMGUI
         std::printf(", panel %zu vertices", uiVertices);
