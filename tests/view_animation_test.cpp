@@ -4,6 +4,7 @@
 
 #include <sgfx/Animation.h>
 #include <sgfx/Group.h>
+#include <sgfx/Visitors.h>
 
 #include <gtest/gtest.h>
 
