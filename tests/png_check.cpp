@@ -1,17 +1,34 @@
-// png_check PNG [WxH] [--min-colors N]: prints the image's size and how many distinct colours it
-// has; exits 1 when the file is unreadable, the size differs or it has fewer colours than asked
-// (a blank or single-colour render). The demos' tests run it on what the demos wrote.
+// png_check PNG [WxH] [--min-colors N] [--same PNG2] [--differs PNG2]: prints the image's size and
+// how many distinct colours it has; exits 1 when the file is unreadable, the size differs or it
+// has fewer colours than asked (a blank or single-colour render), or when it is not pixel for
+// pixel the same as PNG2 (--same) or is (--differs). The demos' tests run it on what they wrote.
 #include <sgfx/Image.h>
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <string>
 #include <unordered_set>
 
+namespace {
+
+// Pixels that differ in any channel; every pixel when the sizes or channel counts differ.
+std::size_t differingPixels(const sgfx::Image& a, const sgfx::Image& b) {
+    const std::size_t all = std::size_t(a.width) * std::size_t(a.height);
+    if (a.width != b.width || a.height != b.height || a.channels != b.channels) return all;
+    std::size_t n = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x)
+            n += std::memcmp(a.pixel(x, y), b.pixel(x, y), std::size_t(a.channels)) != 0;
+    return n;
+}
+
+} // namespace
+
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: png_check PNG [WxH] [--min-colors N]\n");
+        std::fprintf(stderr, "usage: png_check PNG [WxH] [--min-colors N] [--same PNG2] [--differs PNG2]\n");
         return 2;
     }
     try {
@@ -32,6 +49,14 @@ int main(int argc, char** argv) {
                 const std::size_t n = std::strtoul(argv[++i], nullptr, 10);
                 if (colours.size() < n) {
                     std::printf("png_check: FAIL: %zu colours, fewer than %zu (blank?)\n", colours.size(), n);
+                    status = 1;
+                }
+            } else if ((a == "--same" || a == "--differs") && i + 1 < argc) {
+                const std::size_t n = differingPixels(img, sgfx::readPng(argv[++i]));
+                std::printf("png_check: %zu pixels differ from %s\n", n, argv[i]);
+                if ((a == "--same") != (n == 0)) {
+                    std::printf("png_check: FAIL: %s %s\n", a == "--same" ? "not the same as" : "the same as",
+                                argv[i]);
                     status = 1;
                 }
             } else if (a != std::to_string(img.width) + "x" + std::to_string(img.height)) {

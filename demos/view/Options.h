@@ -23,6 +23,9 @@ struct Options {
     int selfTestFrames = 0;         // --self-test N: scripted input in the window, then exit
     std::optional<glm::dvec2> pick; // --pick X,Y: image pixels from the top-left corner
     float yaw = 30.0f, pitch = 25.0f, crease = 0.0f;
+    std::optional<double> time;           // --time SECONDS: the pose at that time, paused
+    std::optional<std::string> animation; // --animation NAME|INDEX
+    bool listAnimations = false;          // --list-animations: print them and exit
 };
 
 // Loads every file under one group (glTF's Y up turned into Z up unless keepYUp). Throws

@@ -3,6 +3,7 @@
 // overlay over the view through the viewer's final draw callback. ImGui's OpenGL backend loads
 // the system libGL itself at run time, and only here, so headless runs never touch it. A left
 // click that does not drag picks (sgfx::pick): the overlay shows what the pixel shows.
+#include "AnimationControls.h"
 #include "Options.h"
 #include "ViewScene.h"
 
@@ -72,6 +73,7 @@ public:
         , viewer_(viewer)
         , win_(win) {
         home();
+        anim_.attach(*scene_.model());
     }
 
     void home() {
@@ -123,6 +125,12 @@ public:
         case GLFW_KEY_F1:
             panel_ = !panel_;
             break;
+        case GLFW_KEY_SPACE:
+            anim_.togglePlay();
+            break;
+        case GLFW_KEY_N:
+            anim_.next();
+            break;
         case GLFW_KEY_F12:
         case GLFW_KEY_P:
             screenshot();
@@ -152,6 +160,7 @@ public:
         try {
             scene_.setModel(loadFiles(files, o_));
             home();
+            anim_.attach(*scene_.model());
             message_ = "loaded " + files.front() + (files.size() > 1 ? " and more" : "");
         } catch (const std::exception& e) {
             message_ = e.what(); // the old model stays
@@ -314,6 +323,7 @@ public:
                 s_.env = EnvSource(env);
             ImGui::SliderFloat("environment intensity", &s_.envIntensity, 0.0f, 4.0f, "%.2f");
         }
+        if (!anim_.empty()) animationUi();
         if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
             if (ImGui::Button(flying_ ? "orbit (V)" : "fly (V)")) toggleFlying();
             ImGui::SameLine();
@@ -325,6 +335,35 @@ public:
                 viewer_.renderer().options().timePasses = timing;
         }
         ImGui::End();
+    }
+
+    // The timeline: which animation, play/pause, a time slider that scrubs (paused while dragged),
+    // speed, loop or clamp.
+    void animationUi() {
+        if (!ImGui::CollapsingHeader("Animation", ImGuiTreeNodeFlags_DefaultOpen)) return;
+        const auto& entries = anim_.entries();
+        const int sel = anim_.selected();
+        if (ImGui::BeginCombo("animation (N)", sel >= 0 ? entries[std::size_t(sel)].label.c_str() : "")) {
+            for (std::size_t e = 0; e < entries.size(); ++e) {
+                ImGui::PushID(int(e));
+                if (ImGui::Selectable(entries[e].label.c_str(), int(e) == sel)) anim_.select(e);
+                ImGui::PopID();
+            }
+            ImGui::EndCombo();
+        }
+        if (ImGui::Button(anim_.playing() ? "pause (Space)" : "play (Space)")) anim_.togglePlay();
+        ImGui::SameLine();
+        bool loop = anim_.loop();
+        if (ImGui::Checkbox("loop (else clamp)", &loop)) anim_.setLoop(loop);
+        float t = float(anim_.time());
+        const float d = std::max(float(anim_.duration()), 1e-3f);
+        const bool moved = ImGui::SliderFloat("time (s)", &t, 0.0f, d, "%.3f");
+        if (ImGui::IsItemActivated()) anim_.beginScrub();
+        if (moved) anim_.scrub(double(t));
+        if (ImGui::IsItemDeactivated()) anim_.endScrub();
+        ImGui::Text("%.3f / %.3f s", anim_.time(), anim_.duration());
+        float speed = float(anim_.speed());
+        if (ImGui::SliderFloat("speed", &speed, -2.0f, 4.0f, "%.2fx")) anim_.setSpeed(double(speed));
     }
 #endif
 
@@ -356,6 +395,23 @@ public:
             s_.fogFalloff = 1e9f; // refused by the fog node: reported, the last settings kept
         }
         if (frame == 10 * step) in.dropped.assign(o_.files.begin(), o_.files.end());
+        if (!anim_.empty()) scriptAnimation(frame, step, in);
+    }
+    // The timeline's controls, on an animated model: pause, scrub, cycle, loop off, play.
+    void scriptAnimation(int frame, int step, Input& in) {
+        if (frame == step) in.keys.push_back(GLFW_KEY_SPACE);
+        if (frame == 2 * step) anim_.beginScrub();
+        if (frame > 2 * step && frame < 3 * step) anim_.scrub(anim_.duration() * (frame - 2 * step) / step);
+        if (frame == 3 * step) anim_.endScrub();
+        if (frame == 4 * step) in.keys.push_back(GLFW_KEY_N);
+        if (frame == 5 * step) {
+            anim_.setLoop(false);
+            anim_.setSpeed(1.5);
+            in.keys.push_back(GLFW_KEY_SPACE);
+        }
+    }
+    const AnimationControls& animation() const {
+        return anim_;
     }
 
     bool resized() const {
@@ -386,6 +442,7 @@ private:
     bool flying_ = false, panel_ = true, haveCursor_ = false, resized_ = false;
     double lastX_ = 0, lastY_ = 0;
     Stats stats_;
+    AnimationControls anim_;
     std::string message_, pick_;
     int shots_ = 0;
 };
@@ -466,9 +523,9 @@ int runWindow(const Options& o, ViewScene& scene) {
     };
 #endif
     std::printf("window: left click pick, left drag orbit/look, right drag zoom, middle drag pan, wheel "
-                "zoom, WASD/QE move, V "
-                "orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather, K sky, G ground, F1 panel, F12 "
-                "screenshot, Esc quit; drop files to load them\n");
+                "zoom, WASD/QE move, V orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather, "
+                "K sky, G ground, Space play/pause, N next animation, F1 panel, F12 screenshot, Esc "
+                "quit; drop files to load them\n");
     std::fflush(stdout);
 
     const int startW = viewer.context().width(), startH = viewer.context().height();
@@ -530,6 +587,10 @@ int runWindow(const Options& o, ViewScene& scene) {
         std::printf("window: %d frames, %dx%d -> %dx%d, capture %dx%d, %s camera, effects: %s, screenshot %s",
                     frames, startW, startH, w, h, img.width, img.height, app.flying() ? "fly" : "orbit",
                     scene.describeEffects(app.settings()).c_str(), shot.c_str());
+        if (!app.animation().empty())
+            std::printf(", animation %s at %.3f s %s",
+                        app.animation().entries()[std::size_t(app.animation().selected())].label.c_str(),
+                        app.animation().time(), app.animation().playing() ? "playing" : "paused");
 #if SGFX_VIEW_IMGUI
         std::printf(", panel %zu vertices", uiVertices);
         if (!windowImage.pixels.empty()) {

@@ -3,6 +3,7 @@
 // --headless or --out, it renders one still to a PNG, optionally a row of panels comparing the
 // effects (plain | fog | AO | both). A click in the window, or --pick X,Y headless, tells what a
 // pixel shows: the node path, the world point and the normal (sgfx::pick).
+#include "AnimationControls.h"
 #include "Options.h"
 #include "ViewScene.h"
 
@@ -20,6 +21,7 @@
 #include <iostream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace {
@@ -51,13 +53,23 @@ it opens a window; otherwise, or with --headless or --out, it renders a PNG.
   --crease DEG       glTF normals made for primitives without them: smooth below DEG (default flat)
   --no-ground        no ground plane under the model
   --keep-y-up        do not turn glTF's Y up into Z up
+  --time SECONDS     the pose at this time (>= 0) of the animation (--animation's, or the
+                     first), paused there; headless, the summary line names both. Times past
+                     the end loop
+  --animation NAME|INDEX
+                     the animation to play: an integer is an index, else a name (an unknown
+                     one is an error listing the files' animations)
+  --list-animations  print each animation's index, name, duration and channels, then exit
   --self-test N      window: N frames of scripted input (both cameras, every toggle, a resize,
                      a screenshot to --out's name), then exit
 Window keys: left click pick (the panel shows the node path, point and normal),
   left drag orbit/look, right drag zoom, middle drag pan, wheel zoom (fly: speed),
   WASD move, Q/E down/up, Shift fast, V orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather,
-  K sky, G ground, F1 panel, F12 or P screenshot, Esc quit; drop files on the window to load them.
-Exit status: 0 written, 1 a file failed to load or render, 2 bad options.
+  K sky, G ground, Space play/pause, N next animation, F1 panel, F12 or P screenshot, Esc quit;
+  drop files on the window to load them. The panel's Animation section has the timeline: the
+  animation, play/pause, a time slider to scrub, the speed and loop or clamp.
+Exit status: 0 written, 1 a file failed to load or render, 2 bad options (an unknown animation
+too).
 )";
 
 struct UsageError : std::runtime_error {
@@ -162,6 +174,18 @@ view::Options parse(int argc, char** argv) {
             s.ground = false;
         } else if (arg == "--keep-y-up") {
             o.keepYUp = true;
+        } else if (arg == "--time") {
+            const std::string v = value();
+            char* end = nullptr;
+            const double t = std::strtod(v.c_str(), &end);
+            if (v.empty() || *end || !std::isfinite(t) || t < 0.0)
+                throw UsageError("--time: '" + v + "' is not a time in seconds (finite, >= 0)");
+            o.time = t;
+        } else if (arg == "--animation") {
+            o.animation = value();
+            if (o.animation->empty()) throw UsageError("--animation needs a name or an index");
+        } else if (arg == "--list-animations") {
+            o.listAnimations = true;
         } else if (arg == "--self-test") {
             o.selfTestFrames = int(number(arg, value(), 4, 100000));
             o.window = true;
@@ -200,12 +224,14 @@ int runPick(const view::Options& o, view::ViewScene& scene) {
     homeCamera(o, scene, *viewer->camera());
     scene.apply(o.settings, *viewer->camera());
     viewer->setSceneData(scene.root());
+    if (o.time) viewer->update(); // the paused pose reaches the transforms
     std::printf("%s\n",
                 scene.describePick(sgfx::pick(*viewer, o.pick->x, o.pick->y), o.pick->x, o.pick->y).c_str());
     return 0;
 }
 
-int runHeadless(const view::Options& o, view::ViewScene& scene, double loadMs) {
+// `animated`: what --time and --animation chose, for the summary line.
+int runHeadless(const view::Options& o, view::ViewScene& scene, double loadMs, const std::string& animated) {
     sgfx::StatsVisitor stats;
     scene.model()->accept(stats);
     std::vector<view::Settings> panels;
@@ -249,9 +275,9 @@ int runHeadless(const view::Options& o, view::ViewScene& scene, double loadMs) {
         std::fprintf(stderr, "sgfx-view: GL: %s\n", e.c_str());
     sgfx::writePng(o.out, out);
     std::printf("wrote %s (%dx%d): %zu triangles, %zu nodes, loaded in %.0f ms, last frame %.0f ms, %u "
-                "draw calls\n",
+                "draw calls%s%s\n",
                 o.out.c_str(), out.width, out.height, stats.triangles, stats.nodes, loadMs, frameMs,
-                unsigned(viewer->stats().drawCalls));
+                unsigned(viewer->stats().drawCalls), animated.empty() ? "" : ", ", animated.c_str());
     return 0;
 }
 
@@ -282,6 +308,19 @@ int main(int argc, char** argv) {
         scene.setModel(view::loadFiles(o.files, o));
         const double loadMs =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        const auto players = view::findPlayers(*scene.model());
+        if (o.listAnimations) {
+            std::printf("%s", view::listAnimations(players).c_str());
+            return 0;
+        }
+        std::string animated;
+        try {
+            animated = view::chooseAnimation(players, o.animation, o.time);
+        } catch (const view::AnimationChoiceError& e) {
+            std::fprintf(stderr, "sgfx-view: %s", e.what());
+            if (!std::string_view(e.what()).ends_with('\n')) std::fprintf(stderr, "\n");
+            return 2; // a bad option, only known once the files are loaded
+        }
         if (!o.headless) {
             try {
                 return view::runWindow(o, scene);
@@ -291,7 +330,7 @@ int main(int argc, char** argv) {
                 std::fprintf(stderr, "sgfx-view: no window: rendering headless to %s\n", o.out.c_str());
             }
         }
-        return o.pick ? runPick(o, scene) : runHeadless(o, scene, loadMs);
+        return o.pick ? runPick(o, scene) : runHeadless(o, scene, loadMs, animated);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sgfx-view: %s\n", e.what());
         return 1;
