@@ -505,7 +505,7 @@ TEST(Queue, PackedOpaqueSortEqualsTheComparisonOrder) {
             it.geometry = meshes[next() % 9].get();
             // Five keys whose fields spread over the whole 64 bits.
             const std::uint32_t p = next() % 5;
-            it.programKey = ProgramKey::make(ProgramSource(p % 3), p, p * 977, p * 0x01234567u);
+            it.programKey = ProgramKey::make(ProgramSource(p % 3), p, p * 409, p * 0x01234567u);
             const float depths[] = {0.5f, 1.0f, -0.0f, 0.0f, 3.0f, 3.0f, 1000.0f};
             it.depth = next() % 4 == 0 ? depths[next() % 7] : float(next() % 100000) * 0.01f;
             it.depthBucket = it.depth > 1.0f ? std::int8_t(std::ilogb(it.depth)) : 0;
