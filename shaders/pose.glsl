@@ -36,13 +36,17 @@ layout(std430, binding = SGFX_JOINTS_BINDING) readonly buffer SgfxJoints {
     mat4 sgfx_jointMatrices[];
 };
 
-// The weighted sum of the vertex's joint matrices (weights sum to 1: normalised at load).
+// The weighted sum of the vertex's joint matrices (weights sum to 1: normalised at load). Joint
+// indices are checked at load; the clamp keeps a stale index inside the buffer all the same.
+mat4 sgfx_joint(uint j) {
+    return sgfx_jointMatrices[min(j, uint(sgfx_jointMatrices.length() - 1))];
+}
 mat4 sgfx_skinMatrix() {
-    mat4 m = a_weights0.x * sgfx_jointMatrices[a_joints0.x] + a_weights0.y * sgfx_jointMatrices[a_joints0.y] +
-             a_weights0.z * sgfx_jointMatrices[a_joints0.z] + a_weights0.w * sgfx_jointMatrices[a_joints0.w];
+    mat4 m = a_weights0.x * sgfx_joint(a_joints0.x) + a_weights0.y * sgfx_joint(a_joints0.y) +
+             a_weights0.z * sgfx_joint(a_joints0.z) + a_weights0.w * sgfx_joint(a_joints0.w);
     if (a_weights1 != vec4(0.0))
-        m += a_weights1.x * sgfx_jointMatrices[a_joints1.x] + a_weights1.y * sgfx_jointMatrices[a_joints1.y] +
-             a_weights1.z * sgfx_jointMatrices[a_joints1.z] + a_weights1.w * sgfx_jointMatrices[a_joints1.w];
+        m += a_weights1.x * sgfx_joint(a_joints1.x) + a_weights1.y * sgfx_joint(a_joints1.y) +
+             a_weights1.z * sgfx_joint(a_joints1.z) + a_weights1.w * sgfx_joint(a_joints1.w);
     return m;
 }
 #endif

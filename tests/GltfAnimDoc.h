@@ -55,6 +55,7 @@ inline std::vector<AnimBlob> animBlobs() {
         animFloats({0, 0, 0, nan, 0, 0}, 2, "VEC3"),                             // 11 a NaN translation
         animJoints({0, 5, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0}),                        // 12 joint 5 of 2
         animFloats({0, 0, 1, 0, 0, 1}, 2, "VEC3"),                               // 13 2 displacements
+        animFloats({0, 0, 0, 1, 0.5f, 0.25f}, 6, "SCALAR"),                      // 14 weights of 3 targets
     };
 }
 

@@ -337,6 +337,22 @@ Rig xRig() {
     return Rig({{glm::vec3(0.0f), glm::vec3(2.0f, 0.0f, 0.0f)}});
 }
 
+// Switching between Loop and Clamp after several loops keeps the present time (no jump to the end).
+TEST(AnimationPlayer, ChangingTheWrapKeepsThePresentTime) {
+    Rig r = xRig(); // duration 2
+    r.player.play(0);
+    r.player.update(6.25); // the fourth loop, 0.25 in
+    EXPECT_NEAR(r.player.time(0), 0.25, 1e-12);
+    r.player.setWrap(AnimationPlayer::Wrap::Clamp);
+    EXPECT_NEAR(r.player.time(0), 0.25, 1e-12);
+    EXPECT_NEAR(r.translation().x, 0.25f, 1e-6f);
+    r.player.update(6.5);
+    EXPECT_NEAR(r.player.time(0), 0.5, 1e-12);
+    r.player.setWrap(AnimationPlayer::Wrap::Loop);
+    r.player.update(6.75);
+    EXPECT_NEAR(r.player.time(0), 0.75, 1e-12);
+}
+
 TEST(AnimationPlayer, LoopWraps) {
     Rig r = xRig();
     r.player.play(0);

@@ -194,6 +194,38 @@ TEST(GltfAnimation, TheValidDocumentLoadsAnimatedSkinnedAndMorphed) {
     EXPECT_NEAR(g->morphWeights()[0], 0.5f, 1e-6f);
 }
 
+// glTF weights outputs are SCALAR whatever the number of targets: three targets read six values.
+TEST(GltfAnimation, WeightsOfThreeTargetsAreScalarOutputs) {
+    std::string doc = animDocument(R"("targets":[{"POSITION":8}])",
+                                   R"("targets":[{"POSITION":8},{"POSITION":8},{"POSITION":8}])");
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{R"("weights":[0.25])", R"("weights":[0.25,0,0])"},
+                                   {R"({"input":1,"output":4})", R"({"input":1,"output":14})"}}) {
+        const auto at = doc.find(from);
+        ASSERT_NE(at, std::string::npos) << from;
+        doc.replace(at, from.size(), to);
+    }
+    const auto root = loadText(doc, "three-targets.gltf", nullptr);
+    updateAt(*root, 0.5); // halfway from (0, 0, 0) to (1, 0.5, 0.25)
+    const auto g = std::dynamic_pointer_cast<Geometry>(findNode<Transform>(*root, "morphed")->child(0));
+    ASSERT_TRUE(g);
+    ASSERT_EQ(g->morphWeights().size(), 3u);
+    EXPECT_NEAR(g->morphWeights()[0], 0.5f, 1e-6f);
+    EXPECT_NEAR(g->morphWeights()[1], 0.25f, 1e-6f);
+    EXPECT_NEAR(g->morphWeights()[2], 0.125f, 1e-6f);
+}
+
+// A mesh used by a skinned node and by a plain node (listed after it): only the skinned use is posed.
+TEST(GltfAnimation, AnUnskinnedUseOfASkinnedMeshStaysUnposed) {
+    const auto root = loadText(animDocument(R"({"name":"plain","mesh":2})", R"({"name":"plain","mesh":0})"),
+                               "shared-mesh.gltf", nullptr);
+    const auto skinned = std::dynamic_pointer_cast<Geometry>(findNode<Transform>(*root, "skinned")->child(0));
+    const auto plain = std::dynamic_pointer_cast<Geometry>(findNode<Transform>(*root, "plain")->child(0));
+    ASSERT_TRUE(skinned && plain);
+    EXPECT_TRUE(skinned->skin);
+    EXPECT_FALSE(plain->skin);
+    EXPECT_NE(skinned.get(), plain.get());
+}
+
 TEST(GltfAnimation, EachBrokenElementIsRefusedNamingIt) {
     for (const AnimBreak& b : animBreaks()) {
         SCOPED_TRACE(b.label);
@@ -274,6 +306,9 @@ void expectNodesFollowTheFile(const char* model) {
     for (const auto& ch : m.animations[0].channels)
         animated.insert(ch.target_node);
     for (const bool loop : {true, false}) {
+        // Each pass from simulation time 0: the animation's time is the simulation time.
+        updateAt(*root, 0.0);
+        player->play(0);
         player->setWrap(loop ? AnimationPlayer::Wrap::Loop : AnimationPlayer::Wrap::Clamp);
         // 20 times from before the start to past the end.
         for (int i = 0; i < 20; ++i) {

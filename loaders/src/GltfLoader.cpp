@@ -577,13 +577,25 @@ void checkJson(const unsigned char* text, std::size_t size, const std::string& p
 // Both entry points: `baseDir` is null for bytes from memory.
 // The geometry a node's use of a mesh primitive draws: the shared one, or for a skinned or morphed
 // node (whose pose is its own) a copy after the first use, with the node's morph weights.
+// Bytes a copy of `g` holds: vertices with joints and weights, indices, morph displacements.
+std::size_t copyBytes(const Geometry& g) {
+    std::size_t morph = 0;
+    for (const MorphTarget& t : g.morphTargets)
+        morph += (t.positions.size() + t.normals.size() + t.tangents.size()) * sizeof(glm::vec3);
+    return g.positions.size() * (vertexBytes + 2 * (sizeof(glm::u16vec4) + sizeof(glm::vec4))) +
+           g.indices.size() * sizeof(std::uint32_t) + morph;
+}
+
 std::shared_ptr<Geometry> posedUse(const Context& c, const tinygltf::Node& n, const std::string& name,
                                    const std::shared_ptr<Geometry>& shared) {
     const bool posed = n.skin >= 0 || !shared->morphTargets.empty();
     if (n.skin >= 0 && shared->joints0.empty())
         c.fail(name + ".skin", "is set but mesh primitive '" + shared->name + "' has no JOINTS_0/WEIGHTS_0");
     if (!posed) return shared;
-    const auto g = shared->parents().empty() ? shared : shared->clone();
+    // Always a copy of the untouched shared primitive: an unposed use of the same mesh keeps the
+    // shared one, and this node's skin and weights stay its own.
+    c.charge(1, copyBytes(*shared), name + ".mesh");
+    const auto g = shared->clone();
     if (!n.weights.empty() && !g->morphTargets.empty()) {
         if (n.weights.size() != g->morphTargets.size())
             c.fail(name + ".weights", std::to_string(n.weights.size()) + " weights for " +
@@ -612,7 +624,6 @@ void finishPose(const Context& c, const NodeInstances& nodes,
         g->skin = skins[std::size_t(skin)];
         try {
             g->validate();
-            g->updateSkin();
         } catch (const std::invalid_argument& e) {
             c.fail(at("skins", std::size_t(skin)), e.what());
         }
@@ -621,9 +632,16 @@ void finishPose(const Context& c, const NodeInstances& nodes,
     if (auto* player = animationPlayer(*root)) {
         readAnimations(c, nodes, *player);
         st.animations = player->animations.size();
-        player->play(0);
-        player->update(0.0);
+        try {
+            player->play(0);
+            player->update(0.0);
+        } catch (const std::exception& e) { // a pose that is not finite
+            c.fail("animations[0]", std::string("cannot pose the model at time 0: ") + e.what());
+        }
     }
+    // The joint matrices of the first pose, so the bounds are right before any update.
+    for (const auto& [g, skin] : skinUses)
+        g->updateSkin();
 }
 
 std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string& path,
@@ -968,7 +986,7 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
                     continue;
                 }
                 // The instances belong to this node: an instanced copy of the shared primitive.
-                c.charge(g->positions.size() + instances.size() * 2, vertexBytes, name + ".mesh");
+                c.charge(1, copyBytes(*g) + instances.size() * 2 * sizeof(glm::mat4), name + ".mesh");
                 auto copy = g->clone();
                 copy->instances = instances;
                 t->addChild(copy);

@@ -39,14 +39,15 @@ AnimationPath pathOf(const Context& c, const std::string& text, const std::strin
 
 // One sampler: key times from `input`, values from `output`, `components` floats per value.
 AnimationSampler readSampler(const Context& c, const tinygltf::AnimationSampler& s,
-                             const std::string& element, std::size_t components) {
+                             const std::string& element, AnimationPath path, std::size_t components) {
     AnimationSampler out;
     out.interpolation = interpolationOf(c, s.interpolation, element);
     out.components = components;
     out.times = readAccessor(c, s.input, element + ".input", {TINYGLTF_TYPE_SCALAR});
-    const int type = components == 4   ? TINYGLTF_TYPE_VEC4
-                     : components == 3 ? TINYGLTF_TYPE_VEC3
-                                       : TINYGLTF_TYPE_SCALAR;
+    // Weights are SCALAR however many targets there are (glTF 2.0, Animations).
+    const int type = path == AnimationPath::Rotation  ? TINYGLTF_TYPE_VEC4
+                     : path == AnimationPath::Weights ? TINYGLTF_TYPE_SCALAR
+                                                      : TINYGLTF_TYPE_VEC3;
     out.values = readAccessor(c, s.output, element + ".output", {type});
     try {
         out.validate();
@@ -187,6 +188,7 @@ void readAnimations(const Context& c, const NodeInstances& nodes, AnimationPlaye
         if (!added) return it->second;
         const tinygltf::Node& n = c.model.nodes[std::size_t(node)];
         const auto& uses = nodes.transforms[std::size_t(node)];
+        c.charge(uses.size(), sizeof(AnimationTarget) + 64, at("nodes", std::size_t(node)));
         for (std::size_t u = 0; u < uses.size(); ++u) {
             AnimationTarget t;
             t.transform = uses[u];
@@ -194,8 +196,12 @@ void readAnimations(const Context& c, const NodeInstances& nodes, AnimationPlaye
             if (n.matrix.size() == 16) { // a matrix node: its rest pose as T·R·S (no shear in glTF)
                 glm::vec3 skew;
                 glm::vec4 perspective;
-                glm::decompose(glm::mat4(glm::make_mat4(n.matrix.data())), t.scale, t.rotation, t.translation,
-                               skew, perspective);
+                const bool ok = glm::decompose(glm::mat4(glm::make_mat4(n.matrix.data())), t.scale, t.rotation,
+                                               t.translation, skew, perspective);
+                const glm::vec4 q(t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w);
+                if (!ok || !std::isfinite(glm::dot(q, q) + glm::dot(t.scale, t.translation)))
+                    c.fail(at("nodes", std::size_t(node)) + ".matrix",
+                           "is animated but is not a translation, rotation and scale (glTF 2.0 asks for TRS)");
             }
             if (n.translation.size() == 3)
                 t.translation = glm::vec3(n.translation[0], n.translation[1], n.translation[2]);
@@ -239,19 +245,26 @@ void readAnimations(const Context& c, const NodeInstances& nodes, AnimationPlaye
                 c.fail(name + ".target", "animates the weights of node " + std::to_string(ch.target_node) +
                                              ", whose mesh has no morph targets");
             const std::size_t s = std::size_t(ch.sampler);
-            if (samplerPath[s] >= 0 && samplerComponents[s] != components)
+            // Translation and scale share vec3 values; rotation and weights have their own.
+            const auto kind = [](int pth) {
+                return pth == int(AnimationPath::Scale) ? int(AnimationPath::Translation) : pth;
+            };
+            if (samplerPath[s] >= 0 && (kind(samplerPath[s]) != kind(int(path)) || samplerComponents[s] != components))
                 c.fail(name + ".sampler",
                        "sampler " + std::to_string(s) + " is shared by channels of different value types");
             samplerPath[s] = int(path);
             samplerComponents[s] = components;
-            for (std::size_t target : targets(ch.target_node))
+            const auto& uses = targets(ch.target_node);
+            c.charge(uses.size(), sizeof(AnimationChannel), name);
+            for (std::size_t target : uses)
                 out.channels.push_back({s, target, path});
         }
         for (std::size_t s = 0; s < anim.samplers.size(); ++s) {
             const std::string name = element + "." + at("samplers", s);
             // A sampler no channel uses is not read (its value type is unknown).
             out.samplers.push_back(samplerComponents[s]
-                                       ? readSampler(c, anim.samplers[s], name, samplerComponents[s])
+                                       ? readSampler(c, anim.samplers[s], name, AnimationPath(samplerPath[s]),
+                                                     samplerComponents[s])
                                        : AnimationSampler{});
         }
         player.animations.push_back(std::move(out));

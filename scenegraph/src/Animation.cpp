@@ -271,6 +271,12 @@ void AnimationPlayer::seek(double seconds) {
     evaluate(lastSim_);
 }
 
+void AnimationPlayer::setWrap(Wrap w) {
+    reanchor();
+    wrap_ = w;
+    evaluate(lastSim_);
+}
+
 void AnimationPlayer::setSpeed(double speed) {
     checkFinite("setSpeed", speed, false);
     reanchor();

@@ -372,13 +372,13 @@ BoundingSphere Geometry::computeBound() const {
     BoundingBox box;
     if (posed()) {
         box = posedBox();
-        return box.valid() ? BoundingSphere{box.center(), glm::length(box.max - box.min) * 0.5f}
-                           : BoundingSphere{};
+    } else {
+        for (const auto& p : positions)
+            box.expandBy(p);
     }
-    for (const auto& p : positions)
-        box.expandBy(p);
     BoundingSphere s;
     if (!box.valid()) return s;
+    if (posed() && instances.empty()) return BoundingSphere{box.center(), glm::length(box.max - box.min) * 0.5f};
     if (!instances.empty()) {
         // The box of every instance's transformed box: cheap, and tight enough for culling.
         BoundingBox all;

@@ -67,7 +67,11 @@ void Geometry::updateSkin() {
     // glTF 2.0, Skins: the mesh node's own transform is replaced by the joints'; the renderer
     // applies the model matrix after skinning, so it is taken out here.
     const Node* meshNode = parents().empty() ? nullptr : parents().front();
-    const glm::dmat4 toMesh = glm::inverse(world.of(meshNode));
+    // A singular mesh node (scale 0: legal, since glTF ignores it) would make every matrix NaN;
+    // its model matrix then collapses the mesh anyway, so the joints' own matrices are kept.
+    const glm::dmat4 meshWorld = world.of(meshNode);
+    const double det = glm::determinant(meshWorld);
+    const glm::dmat4 toMesh = std::isfinite(det) && std::abs(det) > 1e-300 ? glm::inverse(meshWorld) : glm::dmat4(1.0);
     std::vector<glm::mat4> next(n);
     for (std::size_t j = 0; j < n; ++j) {
         const auto joint = skin->joints[j].lock();
@@ -81,39 +85,45 @@ void Geometry::updateSkin() {
 }
 
 // The box of the posed vertices, without visiting them: each joint's bind-pose box (of the
-// vertices it weighs, grown by the largest morph displacement) moved by its joint matrix. A
-// skinned vertex is a convex mix of its joints' moved copies, so it lies in the union's box.
-BoundingBox Geometry::posedBox() const {
-    BoundingBox base;
+// vertices it weighs, grown by the morph range) moved by its joint matrix. A skinned vertex is a
+// convex mix of its joints' moved copies, so it lies in the union's box. The bind-pose boxes are
+// made once per revision of the arrays (and skin size), so a new pose costs a few boxes.
+void Geometry::updatePoseBoxes() const {
+    const std::size_t joints = skin ? skin->joints.size() : 0;
+    if (poseBoxesRevision_ == revision_ && jointBoxes_.size() == joints) return;
+    baseBox_ = BoundingBox{};
     for (const auto& p : positions)
-        base.expandBy(p);
-    if (!base.valid()) return base;
+        baseBox_.expandBy(p);
+    morphBoxes_.assign(morphTargets.size(), BoundingBox{});
+    for (std::size_t t = 0; t < morphTargets.size(); ++t)
+        for (const auto& v : morphTargets[t].positions)
+            morphBoxes_[t].expandBy(v);
+    jointBoxes_.assign(joints, BoundingBox{});
+    auto add = [&](const std::vector<glm::u16vec4>& js, const std::vector<glm::vec4>& ws) {
+        for (std::size_t v = 0; v < js.size() && v < ws.size() && v < positions.size(); ++v)
+            for (int k = 0; k < 4; ++k)
+                if (ws[v][k] > 0.0f && js[v][k] < joints) jointBoxes_[js[v][k]].expandBy(positions[v]);
+    };
+    add(joints0, weights0);
+    add(joints1, weights1);
+    poseBoxesRevision_ = revision_;
+}
+
+BoundingBox Geometry::posedBox() const {
+    updatePoseBoxes();
+    if (!baseBox_.valid()) return baseBox_;
     // Morphs: Σ w_i·d_i lies in the box summed over the targets of w_i times each target's box.
     glm::vec3 lo(0.0f), hi(0.0f);
-    for (std::size_t t = 0; t < morphTargets.size() && t < morphWeights_.size(); ++t) {
-        BoundingBox d;
-        for (const auto& v : morphTargets[t].positions)
-            d.expandBy(v);
+    for (std::size_t t = 0; t < morphBoxes_.size() && t < morphWeights_.size(); ++t) {
+        const BoundingBox& d = morphBoxes_[t];
         if (!d.valid()) continue;
         const float w = morphWeights_[t];
         lo += glm::min(d.min * w, d.max * w);
         hi += glm::max(d.min * w, d.max * w);
     }
-    if (!skin || jointMatrices_.empty()) return BoundingBox{base.min + lo, base.max + hi};
-    if (jointBoxesRevision_ != revision_) {
-        jointBoxes_.assign(jointMatrices_.size(), BoundingBox{});
-        auto add = [&](const std::vector<glm::u16vec4>& joints, const std::vector<glm::vec4>& weights) {
-            for (std::size_t v = 0; v < joints.size() && v < weights.size() && v < positions.size(); ++v)
-                for (int k = 0; k < 4; ++k)
-                    if (weights[v][k] > 0.0f && joints[v][k] < jointBoxes_.size())
-                        jointBoxes_[joints[v][k]].expandBy(positions[v]);
-        };
-        add(joints0, weights0);
-        add(joints1, weights1);
-        jointBoxesRevision_ = revision_;
-    }
+    if (!skin || jointMatrices_.size() != jointBoxes_.size()) return BoundingBox{baseBox_.min + lo, baseBox_.max + hi};
     BoundingBox all;
-    for (std::size_t j = 0; j < jointBoxes_.size() && j < jointMatrices_.size(); ++j) {
+    for (std::size_t j = 0; j < jointBoxes_.size(); ++j) {
         const BoundingBox& b = jointBoxes_[j];
         if (!b.valid()) continue;
         for (int c = 0; c < 8; ++c)

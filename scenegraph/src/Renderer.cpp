@@ -57,6 +57,12 @@ Renderer::Renderer(GraphicsContext& context, Options options)
     glVertexAttrib4f(2, 1.0f, 0.0f, 0.0f, 1.0f);
     glVertexAttrib2f(3, 0.0f, 0.0f);
     glVertexAttrib4f(4, 1.0f, 1.0f, 1.0f, 1.0f);
+    // A skin without JOINTS_1/WEIGHTS_1 reads joint 0 at weight 0 there (GL's own default is
+    // (0, 0, 0, 1), and an integer input read from a float default is undefined).
+    glVertexAttribI4ui(10, 0, 0, 0, 0);
+    glVertexAttrib4f(11, 0.0f, 0.0f, 0.0f, 0.0f);
+    glVertexAttribI4ui(12, 0, 0, 0, 0);
+    glVertexAttrib4f(13, 0.0f, 0.0f, 0.0f, 0.0f);
 }
 
 Renderer::~Renderer() {

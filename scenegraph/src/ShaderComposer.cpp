@@ -181,7 +181,8 @@ std::string poseForeignVertex(const ShaderProgram& prog, FeatureMask features,
     std::string_view body = src;
     std::string out = splitVersion(body, prog.name);
     // Storage buffers need GLSL 4.30; a core 3.30 shader compiles unchanged as 4.50 core.
-    if (std::atoi(out.c_str() + out.find_first_of("0123456789")) < 430) out = "#version 450 core\n";
+    const std::size_t digits = out.find_first_of("0123456789");
+    if (digits == std::string::npos || std::atoi(out.c_str() + digits) < 430) out = "#version 450 core\n";
     out += ShaderComposer::featureDefines(features & FeaturePoseMask) + poseDefines();
     out += lineDirective(2, 0);
     std::string user = std::regex_replace(std::string(body), mainRe, "void sgfx_user_vertex_main()");

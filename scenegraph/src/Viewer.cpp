@@ -99,6 +99,7 @@ void Viewer::update(double dt) {
     update_.deltaTime = dt;
     update_.simulationTime += dt;
     ++update_.frameNumber;
+    update_.updatePoses(); // what an interrupted traversal left (the list holds weak pointers)
     camera_->accept(update_);
     update_.updatePoses();
 }

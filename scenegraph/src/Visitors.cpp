@@ -51,16 +51,19 @@ void UpdateVisitor::apply(Node& node) {
 }
 
 void UpdateVisitor::apply(Geometry& g) {
-    if (g.skin) skinned_.push_back(&g);
+    if (g.skin) skinned_.push_back(g.weak_from_this());
     apply(static_cast<Node&>(g));
 }
 
 void UpdateVisitor::updatePoses() {
-    std::sort(skinned_.begin(), skinned_.end());
-    skinned_.erase(std::unique(skinned_.begin(), skinned_.end()), skinned_.end());
-    for (Geometry* g : skinned_)
-        g->updateSkin();
+    std::vector<std::shared_ptr<Node>> live;
+    for (const auto& w : skinned_)
+        if (auto g = w.lock()) live.push_back(std::move(g));
     skinned_.clear();
+    std::sort(live.begin(), live.end());
+    live.erase(std::unique(live.begin(), live.end()), live.end()); // shared geometries pose once
+    for (const auto& g : live)
+        static_cast<Geometry&>(*g).updateSkin();
 }
 
 void UpdateVisitor::apply(Drawable& d) {
@@ -84,6 +87,17 @@ void ComputeBoundsVisitor::apply(Drawable& d) {
 }
 
 void ComputeBoundsVisitor::apply(Geometry& g) {
+    if (g.posed()) { // the present pose: its bound's box (the arrays hold the bind pose)
+        const BoundingSphere s = g.bound();
+        if (!s.valid()) return;
+        for (int c = 0; c < 8; ++c) {
+            const glm::vec3 corner = s.center + s.radius * glm::vec3(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1);
+            const glm::vec3 w = glm::vec3(matrix_ * glm::vec4(corner, 1.0f));
+            min = glm::min(min, w);
+            max = glm::max(max, w);
+        }
+        return;
+    }
     for (std::size_t i = 0; i < g.instanceCount(); ++i) {
         const glm::mat4 m = g.instances.empty() ? matrix_ : matrix_ * g.instances[i];
         for (const auto& p : g.positions) {

@@ -105,7 +105,8 @@ public:
     /// Time scale (negative plays backwards); throws std::invalid_argument on NaN or infinity.
     void setSpeed(double speed);
     double speed() const { return speed_; }
-    void setWrap(Wrap w) { wrap_ = w; }
+    /// Loop or Clamp from the present time on (the times are re-anchored, so nothing jumps).
+    void setWrap(Wrap w);
     Wrap wrap() const { return wrap_; }
     /// Weight of animation `index` in the mix (0..1); several animations may play at once. Throws
     /// std::invalid_argument on NaN, infinity or a negative weight.

@@ -119,10 +119,12 @@ private:
     std::uint64_t poseRevision_ = 1;
     std::vector<float> morphWeights_;
     std::vector<glm::mat4> jointMatrices_;
-    /// Per joint, the box of the bind-pose vertices it moves (grown by the morph targets), with
-    /// the revision it was made for: the posed bound is the box of their posed boxes.
-    mutable std::vector<BoundingBox> jointBoxes_;
-    mutable std::uint64_t jointBoxesRevision_ = 0;
+    /// Bind-pose boxes the posed bound is made from (updatePoseBoxes): all positions, each morph
+    /// target's displacements, and per joint the vertices it moves; with the revision they are for.
+    void updatePoseBoxes() const;
+    mutable BoundingBox baseBox_;
+    mutable std::vector<BoundingBox> morphBoxes_, jointBoxes_;
+    mutable std::uint64_t poseBoxesRevision_ = 0;
     mutable std::unique_ptr<gl::GeometryBuffers> gpu_;
     mutable std::mutex queryMutex_; ///< guards bvh_
     mutable std::shared_ptr<const TriangleBvh> bvh_;

@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace sgfx {
@@ -27,7 +28,8 @@ public:
     std::uint64_t frameNumber = 0;
 
 private:
-    std::vector<Geometry*> skinned_;
+    /// Weak: a callback may drop a subtree, or a traversal stop on an exception, before updatePoses.
+    std::vector<std::weak_ptr<Node>> skinned_;
 };
 
 /// World-space bounds of everything below the visited node (accumulating transforms).
