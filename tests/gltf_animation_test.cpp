@@ -198,8 +198,9 @@ TEST(GltfAnimation, TheValidDocumentLoadsAnimatedSkinnedAndMorphed) {
 TEST(GltfAnimation, WeightsOfThreeTargetsAreScalarOutputs) {
     std::string doc = animDocument(R"("targets":[{"POSITION":8}])",
                                    R"("targets":[{"POSITION":8},{"POSITION":8},{"POSITION":8}])");
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{R"("weights":[0.25])", R"("weights":[0.25,0,0])"},
-                                   {R"({"input":1,"output":4})", R"({"input":1,"output":14})"}}) {
+    for (const auto& [from, to] :
+         {std::pair<std::string, std::string>{R"("weights":[0.25])", R"("weights":[0.25,0,0])"},
+          {R"({"input":1,"output":4})", R"({"input":1,"output":14})"}}) {
         const auto at = doc.find(from);
         ASSERT_NE(at, std::string::npos) << from;
         doc.replace(at, from.size(), to);

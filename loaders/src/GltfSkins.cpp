@@ -196,12 +196,13 @@ void readAnimations(const Context& c, const NodeInstances& nodes, AnimationPlaye
             if (n.matrix.size() == 16) { // a matrix node: its rest pose as T·R·S (no shear in glTF)
                 glm::vec3 skew;
                 glm::vec4 perspective;
-                const bool ok = glm::decompose(glm::mat4(glm::make_mat4(n.matrix.data())), t.scale, t.rotation,
-                                               t.translation, skew, perspective);
+                const bool ok = glm::decompose(glm::mat4(glm::make_mat4(n.matrix.data())), t.scale,
+                                               t.rotation, t.translation, skew, perspective);
                 const glm::vec4 q(t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w);
                 if (!ok || !std::isfinite(glm::dot(q, q) + glm::dot(t.scale, t.translation)))
-                    c.fail(at("nodes", std::size_t(node)) + ".matrix",
-                           "is animated but is not a translation, rotation and scale (glTF 2.0 asks for TRS)");
+                    c.fail(
+                        at("nodes", std::size_t(node)) + ".matrix",
+                        "is animated but is not a translation, rotation and scale (glTF 2.0 asks for TRS)");
             }
             if (n.translation.size() == 3)
                 t.translation = glm::vec3(n.translation[0], n.translation[1], n.translation[2]);
@@ -249,7 +250,8 @@ void readAnimations(const Context& c, const NodeInstances& nodes, AnimationPlaye
             const auto kind = [](int pth) {
                 return pth == int(AnimationPath::Scale) ? int(AnimationPath::Translation) : pth;
             };
-            if (samplerPath[s] >= 0 && (kind(samplerPath[s]) != kind(int(path)) || samplerComponents[s] != components))
+            if (samplerPath[s] >= 0 &&
+                (kind(samplerPath[s]) != kind(int(path)) || samplerComponents[s] != components))
                 c.fail(name + ".sampler",
                        "sampler " + std::to_string(s) + " is shared by channels of different value types");
             samplerPath[s] = int(path);

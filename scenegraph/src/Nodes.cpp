@@ -378,7 +378,8 @@ BoundingSphere Geometry::computeBound() const {
     }
     BoundingSphere s;
     if (!box.valid()) return s;
-    if (posed() && instances.empty()) return BoundingSphere{box.center(), glm::length(box.max - box.min) * 0.5f};
+    if (posed() && instances.empty())
+        return BoundingSphere{box.center(), glm::length(box.max - box.min) * 0.5f};
     if (!instances.empty()) {
         // The box of every instance's transformed box: cheap, and tight enough for culling.
         BoundingBox all;

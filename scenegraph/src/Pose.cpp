@@ -71,7 +71,8 @@ void Geometry::updateSkin() {
     // its model matrix then collapses the mesh anyway, so the joints' own matrices are kept.
     const glm::dmat4 meshWorld = world.of(meshNode);
     const double det = glm::determinant(meshWorld);
-    const glm::dmat4 toMesh = std::isfinite(det) && std::abs(det) > 1e-300 ? glm::inverse(meshWorld) : glm::dmat4(1.0);
+    const glm::dmat4 toMesh =
+        std::isfinite(det) && std::abs(det) > 1e-300 ? glm::inverse(meshWorld) : glm::dmat4(1.0);
     std::vector<glm::mat4> next(n);
     for (std::size_t j = 0; j < n; ++j) {
         const auto joint = skin->joints[j].lock();
@@ -121,7 +122,8 @@ BoundingBox Geometry::posedBox() const {
         lo += glm::min(d.min * w, d.max * w);
         hi += glm::max(d.min * w, d.max * w);
     }
-    if (!skin || jointMatrices_.size() != jointBoxes_.size()) return BoundingBox{baseBox_.min + lo, baseBox_.max + hi};
+    if (!skin || jointMatrices_.size() != jointBoxes_.size())
+        return BoundingBox{baseBox_.min + lo, baseBox_.max + hi};
     BoundingBox all;
     for (std::size_t j = 0; j < jointBoxes_.size(); ++j) {
         const BoundingBox& b = jointBoxes_[j];

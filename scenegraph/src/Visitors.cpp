@@ -91,7 +91,8 @@ void ComputeBoundsVisitor::apply(Geometry& g) {
         const BoundingSphere s = g.bound();
         if (!s.valid()) return;
         for (int c = 0; c < 8; ++c) {
-            const glm::vec3 corner = s.center + s.radius * glm::vec3(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1);
+            const glm::vec3 corner =
+                s.center + s.radius * glm::vec3(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1);
             const glm::vec3 w = glm::vec3(matrix_ * glm::vec4(corner, 1.0f));
             min = glm::min(min, w);
             max = glm::max(max, w);
