@@ -45,6 +45,12 @@ void appendChunk(std::string& out, std::vector<std::string>& names, std::string 
     if (!text.empty() && text.back() != '\n') out += '\n';
 }
 
+// `void main()` of an application's shader, which the wraps rename.
+const std::regex& mainPattern() {
+    static const std::regex re(R"(\bvoid\s+main\s*\(\s*(void)?\s*\))");
+    return re;
+}
+
 // The storage-buffer bindings pose.glsl reads (ShaderComposer.h).
 std::string poseDefines() {
     return "#define SGFX_JOINTS_BINDING " + std::to_string(kJointsBinding) + "\n#define SGFX_MORPH_BINDING " +
@@ -161,7 +167,7 @@ std::string describe(std::string_view base, std::span<const ShaderSnippet* const
 // the posed values before calling the application's main, so its own arithmetic sees the pose.
 std::string poseForeignVertex(const ShaderProgram& prog, FeatureMask features,
                               std::vector<std::string>& names) {
-    static const std::regex mainRe(R"(\bvoid\s+main\s*\(\s*(void)?\s*\))");
+    const std::regex& mainRe = mainPattern();
     static const std::regex inRe(
         R"(layout\s*\(\s*location\s*=\s*([012])\s*\)\s*in\s+(vec3|vec4)\s+([A-Za-z_][A-Za-z0-9_]*)\s*;)");
     const std::string& src = prog.vertexSource;
@@ -376,7 +382,7 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
         p.fragment = prog.fragmentSource;
         return p;
     }
-    static const std::regex mainRe(R"(\bvoid\s+main\s*\(\s*(void)?\s*\))");
+    const std::regex& mainRe = mainPattern();
     static const std::regex outRe(
         R"((layout\s*\(\s*location\s*=\s*0\s*\)\s*)?out\s+vec4\s+([A-Za-z_][A-Za-z0-9_]*)\s*;)");
     const std::string& src = prog.fragmentSource;

@@ -63,48 +63,37 @@ GLint glWrap(Wrap w) {
 
 namespace {
 
+// One vertex attribute in its own buffer, or disabled when the array is empty. `integer`:
+// glVertexArrayAttribIFormat, for inputs the shader reads as integers (joint indices).
 template <class T>
-void uploadAttribute(gl::GeometryBuffers& b, GLuint index, const std::vector<T>& data, GLint components) {
+void uploadAttribute(gl::GeometryBuffers& b, gl::BufferObject& buf, GLuint index, const std::vector<T>& data,
+                     GLint components, GLenum type = GL_FLOAT, bool integer = false) {
     if (data.empty()) {
         glDisableVertexArrayAttrib(b.vao.get(), index);
         return;
     }
-    auto& buf = b.attributes[index];
     if (!buf) buf = gl::createBuffer();
     glNamedBufferData(buf.get(), GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STATIC_DRAW);
     glVertexArrayVertexBuffer(b.vao.get(), index, buf.get(), 0, sizeof(T));
-    glVertexArrayAttribFormat(b.vao.get(), index, components, GL_FLOAT, GL_FALSE, 0);
+    if (integer)
+        glVertexArrayAttribIFormat(b.vao.get(), index, components, type, 0);
+    else
+        glVertexArrayAttribFormat(b.vao.get(), index, components, type, GL_FALSE, 0);
     glVertexArrayAttribBinding(b.vao.get(), index, index);
     glEnableVertexArrayAttrib(b.vao.get(), index);
 }
 
-// Joint indices as integers (glVertexArrayAttribIFormat: the shader reads uvec4).
-void uploadJoints(gl::GeometryBuffers& b, GLuint index, const std::vector<glm::u16vec4>& data) {
-    if (data.empty()) {
-        glDisableVertexArrayAttrib(b.vao.get(), index);
-        return;
-    }
-    auto& buf = b.skinAttributes[index - 10];
-    if (!buf) buf = gl::createBuffer();
-    glNamedBufferData(buf.get(), GLsizeiptr(data.size() * sizeof(glm::u16vec4)), data.data(), GL_STATIC_DRAW);
-    glVertexArrayVertexBuffer(b.vao.get(), index, buf.get(), 0, sizeof(glm::u16vec4));
-    glVertexArrayAttribIFormat(b.vao.get(), index, 4, GL_UNSIGNED_SHORT, 0);
-    glVertexArrayAttribBinding(b.vao.get(), index, index);
-    glEnableVertexArrayAttrib(b.vao.get(), index);
+template <class T>
+void uploadAttribute(gl::GeometryBuffers& b, GLuint index, const std::vector<T>& data, GLint components) {
+    uploadAttribute(b, b.attributes[index], index, data, components);
 }
 
-void uploadWeights(gl::GeometryBuffers& b, GLuint index, const std::vector<glm::vec4>& data) {
-    if (data.empty()) {
-        glDisableVertexArrayAttrib(b.vao.get(), index);
-        return;
-    }
-    auto& buf = b.skinAttributes[index - 10];
-    if (!buf) buf = gl::createBuffer();
-    glNamedBufferData(buf.get(), GLsizeiptr(data.size() * sizeof(glm::vec4)), data.data(), GL_STATIC_DRAW);
-    glVertexArrayVertexBuffer(b.vao.get(), index, buf.get(), 0, sizeof(glm::vec4));
-    glVertexArrayAttribFormat(b.vao.get(), index, 4, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(b.vao.get(), index, index);
-    glEnableVertexArrayAttrib(b.vao.get(), index);
+// Skinning inputs at locations 10..13: joint indices as integers (the shader reads uvec4), weights.
+void uploadSkin(gl::GeometryBuffers& b, const Geometry& g) {
+    uploadAttribute(b, b.skinAttributes[0], 10, g.joints0, 4, GL_UNSIGNED_SHORT, true);
+    uploadAttribute(b, b.skinAttributes[1], 11, g.weights0, 4);
+    uploadAttribute(b, b.skinAttributes[2], 12, g.joints1, 4, GL_UNSIGNED_SHORT, true);
+    uploadAttribute(b, b.skinAttributes[3], 13, g.weights1, 4);
 }
 
 // Morph displacements in one storage buffer, target-major per attribute (shaders/pose.glsl).
@@ -199,10 +188,7 @@ gl::GeometryBuffers& buffersFor(const Geometry& g) {
         glVertexArrayVertexBuffer(b.vao.get(), 6, buf.get(), 0, sizeof(glm::mat4));
         glVertexArrayBindingDivisor(b.vao.get(), 6, 1);
     }
-    uploadJoints(b, 10, g.joints0);
-    uploadWeights(b, 11, g.weights0);
-    uploadJoints(b, 12, g.joints1);
-    uploadWeights(b, 13, g.weights1);
+    uploadSkin(b, g);
     uploadMorphTargets(b, g);
     b.poseRevision = 0; // the pose follows at the next bindPose
     b.indexed = !g.indices.empty();
