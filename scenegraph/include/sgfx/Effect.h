@@ -26,6 +26,14 @@ struct SGFX_API SnippetSampler {
     std::string uniform;  ///< `uniform sampler2D <uniform>;` (or samplerCube) in the declarations
     std::string resource; ///< blackboard name (see FrameSetup.h), or the node's name for it
     bool nodeTexture = false;
+    /// A depth resource read with hardware comparison (shadow maps): it is bound with the
+    /// renderer's depth-comparison sampler object (GL_TEXTURE_COMPARE_MODE =
+    /// GL_COMPARE_REF_TO_TEXTURE, GL_LEQUAL: 1 where the reference is at most the stored depth;
+    /// GL_LINEAR both ways, a 2×2 percentage-closer filter; clamped to the edges), so `uniform` is a
+    /// `sampler2DShadow`. The same resource may be listed again without it for a plain read
+    /// (`sampler2D`, blocker search): that unit gets no sampler object and reads with the
+    /// texture's own state (its TextureDesc filter, nearest by default).
+    bool comparison = false;
 };
 
 /// GLSL an effect contributes at the material's hook points. Every field may be empty.

@@ -68,6 +68,10 @@ public:
     void bind(gl::Program& program, std::string_view sampler, ResourceId id);
     /// The same for a texture the pass's node owns (a lookup table, a noise texture).
     void bindTexture(gl::Program& program, std::string_view sampler, unsigned texture);
+    /// Binds a depth resource to a `sampler2DShadow` uniform through the renderer's depth-comparison
+    /// sampler object (see SnippetSampler::comparison); bind() of the same resource to another
+    /// uniform reads it plainly in the same draw.
+    void bindComparison(gl::Program& program, std::string_view sampler, ResourceId id);
     /// One full-screen triangle (vertex stage: ShaderComposer::fullscreenVertex()).
     void fullscreen(gl::Program& program, const FullscreenState& state = {});
     /// Draws queue items as the main pass would (Main), or their depth (DepthOnly) or G-buffer

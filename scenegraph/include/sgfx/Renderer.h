@@ -172,7 +172,8 @@ public:
     gl::Program& depthOnlyProgram();
     /// G-buffer outputs (see FeatureGBuffer) with flat normals, for items the composer cannot vary.
     gl::Program& gbufferProgram();
-    /// Binds a texture to a unit through the renderer's state cache (effect units: see above).
+    /// Binds a texture to a unit through the renderer's state cache (effect units: see above), read
+    /// with the texture's own sampling state (a sampler object left on the unit is unbound).
     /// Units kFirstDrawableUnit..+15 are a drawable's own (buffer textures, volume data): the
     /// renderer never hands them out, the cache tracks them all the same.
     void bindTexture(unsigned unit, unsigned texture);

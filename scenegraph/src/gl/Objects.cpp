@@ -53,6 +53,9 @@ template <Kind K> void Object<K>::reset() {
         case Kind::Query:
             glDeleteQueries(1, &name_);
             break;
+        case Kind::Sampler:
+            glDeleteSamplers(1, &name_);
+            break;
         case Kind::Count:
             break;
         }
@@ -69,6 +72,7 @@ template class Object<Kind::Renderbuffer>;
 template class Object<Kind::Shader>;
 template class Object<Kind::Program>;
 template class Object<Kind::Query>;
+template class Object<Kind::Sampler>;
 
 BufferObject createBuffer() {
     GLuint n = 0;
@@ -129,6 +133,21 @@ QueryObject createQuery(unsigned target) {
     GLuint n = 0;
     glCreateQueries(target, 1, &n);
     return QueryObject(n);
+}
+SamplerObject createSampler() {
+    GLuint n = 0;
+    glCreateSamplers(1, &n);
+    return SamplerObject(n);
+}
+SamplerObject createComparisonSampler() {
+    SamplerObject s = createSampler();
+    glSamplerParameteri(s.get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glSamplerParameteri(s.get(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    glSamplerParameteri(s.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(s.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glSamplerParameteri(s.get(), wrap, GL_CLAMP_TO_EDGE);
+    return s;
 }
 
 // ---------------------------------------------------------------- Program

@@ -326,7 +326,9 @@ void Renderer::DrawList::applyEffects(const RenderItem& item) {
             const unsigned texture = sampler.nodeTexture ? e->texture(sampler.resource)
                                      : s.graph ? s.graph->texture(s.graph->blackboard.get(sampler.resource))
                                                : 0;
-            s.cache.bindTexture(unit, texture);
+            // A comparison sampler reads through the renderer's sampler object; every other one
+            // unbinds whatever sampler object the unit had (the texture's own state).
+            s.cache.bindTexture(unit, texture, sampler.comparison ? s.comparisonSampler() : 0);
             program->set(sampler.uniform, int(unit++));
         }
     }

@@ -101,7 +101,19 @@ void PassCommands::bind(gl::Program& program, std::string_view sampler, Resource
 
 void PassCommands::bindTexture(gl::Program& program, std::string_view sampler, unsigned texture) {
     const unsigned unit = nextUnit();
-    renderer_.impl_->cache.bindTexture(unit, texture);
+    renderer_.impl_->cache.bindTexture(unit, texture); // and no sampler object: the texture's state
+    program.set(sampler, int(unit));
+}
+
+void PassCommands::bindComparison(gl::Program& program, std::string_view sampler, ResourceId id) {
+    const unsigned texture = aliveTexture(graph_, id, pass_);
+    if (samples(id) != 1)
+        throw std::logic_error("sgfx: frame graph pass '" + std::string(pass_) +
+                               "' binds the multisampled '" + graph_.resourceName(id) +
+                               "' for depth comparison");
+    Renderer::Impl& s = *renderer_.impl_;
+    const unsigned unit = nextUnit();
+    s.cache.bindTexture(unit, texture, s.comparisonSampler());
     program.set(sampler, int(unit));
 }
 

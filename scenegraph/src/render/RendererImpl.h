@@ -1,7 +1,8 @@
 #pragma once
 // Renderer::Impl, the renderer's private state, shared by the files of scenegraph/src/render/:
 //   Renderer.cpp        construction, small accessors
-//   StateCache.*        the redundant-state filter (program, blend, cull, depth, texture units)
+//   StateCache.*        the redundant-state filter (program, blend, cull, depth, texture units and
+//                       their sampler objects)
 //   GpuUpload.*         geometry, texture and render-target uploads, GL enum mappings
 //   DrawList.cpp        drawing a list of render items (Renderer::drawItems), full-screen draws
 //   ViewRenderer.cpp    a frame: cull, sub-cameras, frame block, passes, main pass, resolve
@@ -91,6 +92,13 @@ struct Renderer::Impl {
         std::size_t firstTimer = 0, timers = 0;
     };
     std::vector<ViewGraph> graphs;
+    // The depth-comparison sampler object of SnippetSampler::comparison and
+    // PassCommands::bindComparison, made at its first use (GL current); 0 until then.
+    gl::SamplerObject comparison;
+    unsigned comparisonSampler() {
+        if (!comparison) comparison = gl::createComparisonSampler();
+        return comparison.get();
+    }
     unsigned nextResourceUnit = 0;  // the next unit bindFrameResource gives in the item being drawn
     unsigned firstResourceUnit = 0; // after the snippet samplers of the current effect set
 };

@@ -14,10 +14,26 @@ bool StateCache::useProgram(unsigned program) {
     return true;
 }
 
-void StateCache::bindTexture(unsigned unit, unsigned texture) {
+void StateCache::bindTexture(unsigned unit, unsigned texture, unsigned sampler) {
+    bindSampler(unit, sampler);
     if (units_[unit] == texture) return;
     glBindTextureUnit(unit, texture);
     units_[unit] = texture;
+    ++*stateChanges_;
+}
+
+void StateCache::bindSampler(unsigned unit, unsigned sampler) {
+    if (!samplersKnown_) {
+        // After invalidate(): no unit is assumed free of a sampler object; one call frees them all
+        // (the renderer requires kTrackedUnits combined units).
+        glBindSamplers(0, GLsizei(kTrackedUnits), nullptr);
+        samplers_.fill(0);
+        samplersKnown_ = true;
+        ++*stateChanges_;
+    }
+    if (samplers_[unit] == sampler) return;
+    glBindSampler(unit, sampler);
+    samplers_[unit] = sampler;
     ++*stateChanges_;
 }
 
@@ -185,6 +201,7 @@ void StateCache::invalidate() {
     blend_ = cull_ = clockwiseFront_ = -1;
     depthKnown_ = false;
     units_.fill(0);
+    samplersKnown_ = false;
 }
 
 } // namespace sgfx::gl

@@ -1,7 +1,7 @@
 #pragma once
 // The renderer's redundant-state filter (private to the renderer): the program, blend, cull and
-// depth state and the texture units it last set, so an unchanged value costs no GL call. Every real
-// change is counted as a state change (FrameStats::stateChanges).
+// depth state and the texture units (texture and sampler object) it last set, so an unchanged
+// value costs no GL call. Every real change is counted as a state change (FrameStats::stateChanges).
 #include "render/TextureUnits.h"
 #include "sgfx/StateSet.h"
 
@@ -26,7 +26,12 @@ public:
 
     /// glUseProgram unless `program` is current; true when it changed (counted).
     bool useProgram(unsigned program);
-    void bindTexture(unsigned unit, unsigned texture);
+    /// Binds `texture` to `unit`, read through sampler object `sampler`; 0 (the default) reads it
+    /// with the texture's own sampling state, so a sampler object left on the unit (a comparison
+    /// sampler) is unbound. Texture and sampler each cost a GL call only when they change.
+    void bindTexture(unsigned unit, unsigned texture, unsigned sampler = 0);
+    /// Only `unit`'s sampler object (0: none), glBindSampler when it changes (counted).
+    void bindSampler(unsigned unit, unsigned sampler);
     void setBlend(BlendMode mode);
     /// Culls `face`, with the clockwise winding as the front one when `mirrored` (an item whose
     /// model matrix has a negative determinant). The winding is set even without culling: it
@@ -54,7 +59,9 @@ public:
     void endOffscreen();
     /// The depth state was set behind the cache (glDepthMask before a clear).
     void forgetDepth() { depthKnown_ = false; }
-    /// Forgets everything: GL state was changed behind the cache (a pass, another library).
+    /// Forgets everything: GL state was changed behind the cache (a pass, another library). The
+    /// units' sampler objects become unknown: the next texture or sampler bind first unbinds the
+    /// sampler objects of every tracked unit (one glBindSamplers).
     void invalidate();
 
 private:
@@ -65,6 +72,8 @@ private:
     DepthState depth_{};
     bool depthKnown_ = false;
     std::array<unsigned, kTrackedUnits> units_{};
+    std::array<unsigned, kTrackedUnits> samplers_{}; // sampler objects, valid while samplersKnown_
+    bool samplersKnown_ = false;                     // false: whatever was bound behind the cache
     unsigned framebuffer_ = ~0u;
     glm::ivec2 viewport_{-1};
     int srgb_ = -1, colourMask_ = -1, scissor_ = -1;

@@ -28,6 +28,7 @@ enum class Kind : std::uint8_t {
     Shader,
     Program,
     Query,
+    Sampler,
     Count
 };
 
@@ -74,6 +75,7 @@ using TextureObject = Object<Kind::Texture>;
 using FramebufferObject = Object<Kind::Framebuffer>;
 using RenderbufferObject = Object<Kind::Renderbuffer>;
 using QueryObject = Object<Kind::Query>;
+using SamplerObject = Object<Kind::Sampler>;
 
 SGFX_API BufferObject createBuffer();
 SGFX_API VertexArrayObject createVertexArray();
@@ -96,6 +98,13 @@ SGFX_API FramebufferObject createFramebuffer();
 /// A framebuffer drawing into level 0 of `colour`.
 SGFX_API FramebufferObject createFramebuffer(const TextureObject& colour);
 SGFX_API QueryObject createQuery(unsigned target);
+/// A sampler object with GL's default state (bound to a unit, it overrides the sampling state of
+/// whatever texture is bound there).
+SGFX_API SamplerObject createSampler();
+/// A depth-comparison sampler (shadow maps read as `sampler2DShadow`): GL_COMPARE_REF_TO_TEXTURE
+/// with GL_LEQUAL (1 where the reference is at most the stored depth), GL_LINEAR both ways (2×2
+/// percentage-closer filtering of the comparisons), clamped to the edges.
+SGFX_API SamplerObject createComparisonSampler();
 
 /// Linked program with a uniform-location cache.
 class SGFX_API Program {
