@@ -4,7 +4,8 @@
 //
 //   osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize] [--osg-culling]
 //               [--osg-stats] [--linear-png] [--sun-dir X,Y,Z] [--sun R,G,B] [--ambient R,G,B]
-//               [--clear R,G,B]
+//               [--clear R,G,B] [--fog DENSITY] [--shadows N] [--shadow-map S] [--shadow-distance M]
+//               [--check-shadow]
 //
 // Headless, no display: we create the OSMesa context ourselves and run osgViewer::Viewer
 // "embedded" in it (GraphicsWindowEmbedded, single-threaded), calling viewer.frame() ourselves.
@@ -20,6 +21,21 @@
 //     point 1 covers it (it does not go through glXGetProcAddressARB in this build).
 // Both are checked at start-up; on failure the program stops rather than time a context that
 // draws nothing. If a different link line ever puts libGL first, LD_PRELOAD=libOSMesa.so.8 fixes it.
+//
+// Shadows (--shadows N, the peer of sgfx's cascaded sun shadows): the root becomes an
+// osgShadow::ShadowedScene with a ViewDependentShadowMap (orthographic maps of S x S texels up to M
+// metres from the eye, near/far computed from primitives, light 0, maps on texture units 1 and up);
+// the sun becomes an osg::LightSource inside it, lighting exactly as the view's SKY_LIGHT does, and
+// the view adds no light (NO_LIGHT). Everything casts and receives (default masks). With OSG 3.6.5 on
+// OSMesa (Mesa 22.3, llvmpipe), checked with --check-shadow (frame 0 without, then with, the technique):
+//  - VDSM renders at most two shadow maps per light: its cull falls back to 2 ("numShadowMapsPerLight
+//    of N is greater than maximum supported") and its split is hard-wired for two; the CASCADED hint
+//    is not read by 3.6's VDSM. --shadows 3 and 4 therefore run with 2 (said on stderr).
+//  - its receiver shading does not work as shipped: the default ShaderHint, NO_SHADERS, shades
+//    through fixed-function texture units, which multiply the whole lit colour, ambient included, by
+//    the depth comparison (black shadows); its own GLSL (PROVIDE_FRAGMENT_SHADER) does not compile on
+//    Mesa (gl_TexCoord indexed by a uniform). MesaViewDependentShadowMap supplies the same shader with
+//    constant indices: shadows keep the ambient light, lit pixels match the unshadowed image.
 #include <GL/osmesa.h>
 
 #include <osg/AlphaFunc>
@@ -30,11 +46,16 @@
 #include <osg/Geometry>
 #include <osg/Light>
 #include <osg/LightModel>
+#include <osg/LightSource>
 #include <osg/Material>
 #include <osg/NodeVisitor>
+#include <osg/Program>
 #include <osg/Texture2D>
 #include <osg/TriangleFunctor>
 #include <osgDB/ReadFile>
+#include <osgShadow/ShadowSettings>
+#include <osgShadow/ShadowedScene>
+#include <osgShadow/ViewDependentShadowMap>
 #include <osgUtil/Optimizer>
 #include <osgUtil/SceneView>
 #include <osgUtil/Statistics>
@@ -70,6 +91,11 @@ struct Options {
     bool linearPng = false;  // write the PNG as rendered (linear) instead of sRGB-encoding it
     bool osgStats = false;   // collect OSG's per-camera cull/draw CPU times (osg::Stats)
     float fogDensity = 0.0f; // > 0: osg::Fog (EXP, fixed-function distance fog) with this density
+    // Shadows: osgShadow::ViewDependentShadowMap (see the header comment).
+    int shadows = 0;              // > 0: this many cascades (OSG 3.6 renders at most 2)
+    int shadowMap = 2048;         // shadow map size in texels (square)
+    float shadowDistance = 200.f; // shadows up to this distance from the eye (metres)
+    bool checkShadow = false;     // render frame 0 without and with shadows and compare them
     // Lighting defaults follow demos/polygon/PolygonScene.cpp: a directional sun at azimuth -35 deg,
     // elevation 50 deg, colour (1, 0.95, 0.86) x 1.1, and an ambient light (0.30, 0.34, 0.42).
     osg::Vec3 toSun{0.5266f, -0.3687f, 0.7660f}; // towards the light (minus the travel direction)
@@ -84,7 +110,8 @@ struct Options {
         stderr,
         "usage: osg_polygon FILE.obj [--size WxH] [--frames N] [--out FILE.png] [--optimize]\n"
         "                   [--osg-culling] [--osg-stats] [--linear-png] [--sun-dir X,Y,Z] [--sun R,G,B]\n"
-        "                   [--ambient R,G,B] [--clear R,G,B] [--fog DENSITY]\n"
+        "                   [--ambient R,G,B] [--clear R,G,B] [--fog DENSITY] [--shadows N]\n"
+        "                   [--shadow-map S] [--shadow-distance M] [--check-shadow]\n"
         "  --size WxH      viewport (default 1280x720)\n"
         "  --frames N      timed frames, one camera-path lap (default 300), after 3 warm-up frames\n"
         "  --out FILE.png  write the last frame (sRGB-encoded like sgfx's output unless --linear-png)\n"
@@ -94,7 +121,14 @@ struct Options {
         "  --sun-dir X,Y,Z direction towards the sun (default 0.527,-0.369,0.766, the demo's)\n"
         "  --sun R,G,B     sun colour (default 1.1,1.045,0.946); --ambient R,G,B (0.30,0.34,0.42)\n"
         "  --clear R,G,B   linear clear colour (default 0.42,0.60,0.85)\n"
-        "  --fog DENSITY   osg::Fog in EXP mode (distance only, no height) over the whole scene\n");
+        "  --fog DENSITY   osg::Fog in EXP mode (distance only, no height) over the whole scene\n"
+        "  --shadows N     sun shadows through osgShadow::ViewDependentShadowMap with N cascades\n"
+        "                  (0 = off, the default; 1..4, OSG 3.6 renders at most 2, see the header)\n"
+        "  --shadow-map S  shadow map size in texels (default 2048)\n"
+        "  --shadow-distance M\n"
+        "                  shadows up to M metres from the eye (default 200)\n"
+        "  --check-shadow  render frame 0 without and with shadows (needs --shadows N) and print\n"
+        "                  SHADOW_CHECK darker_fraction=X; exit 1 if X < 0.001\n");
     std::exit(msg ? 2 : 0);
 }
 
@@ -124,6 +158,18 @@ Options parse(int argc, char** argv) {
         } else if (a == "--fog") {
             o.fogDensity = float(std::atof(next().c_str()));
             if (!(o.fogDensity > 0.0f)) usage("--fog expects a positive density");
+        } else if (a == "--shadows") {
+            o.shadows = std::atoi(next().c_str());
+            if (o.shadows < 0 || o.shadows > 4) usage("--shadows expects 0 (off) to 4 cascades");
+        } else if (a == "--shadow-map") {
+            o.shadowMap = std::atoi(next().c_str());
+            if (o.shadowMap < 16 || o.shadowMap > 16384)
+                usage("--shadow-map expects a size from 16 to 16384");
+        } else if (a == "--shadow-distance") {
+            o.shadowDistance = float(std::atof(next().c_str()));
+            if (!(o.shadowDistance > 0.0f)) usage("--shadow-distance expects a positive distance");
+        } else if (a == "--check-shadow") {
+            o.checkShadow = true;
         } else if (a == "--osg-stats") {
             o.osgStats = true;
         } else if (a == "--sun-dir" || a == "--sun" || a == "--ambient" || a == "--clear") {
@@ -145,6 +191,7 @@ Options parse(int argc, char** argv) {
         }
     }
     if (o.file.empty()) usage("no OBJ file given");
+    if (o.checkShadow && o.shadows == 0) usage("--check-shadow needs --shadows N with N > 0");
     return o;
 }
 
@@ -238,6 +285,50 @@ bool isMesa(const std::string& lib) {
     return lib.find("libOSMesa") != std::string::npos || lib.find("libglapi") != std::string::npos;
 }
 
+// osgShadow::ViewDependentShadowMap with a receiver shader that Mesa compiles. OSG 3.6.5's VDSM
+// defaults to ShadowSettings::NO_SHADERS: its shadow maps then act through fixed-function texture
+// units (depth compare, GL_MODULATE), which multiply the whole lit colour, ambient included, by 0
+// in shadow: black shadows. Its own shader (PROVIDE_FRAGMENT_SHADER), which keeps the ambient and
+// emissive part (gl_FrontLightModelProduct.sceneColor) in shadow, indexes gl_TexCoord with uniform
+// ints; gl_TexCoord is an unsized array in GLSL 1.10, which allows constant indices only, so Mesa
+// rejects it ("unsized array index must be constant"), the program fails to link and the black
+// fixed-function shadows come back. This is the same shader with the units as constants (base
+// texture on unit 0, shadow maps on BaseShadowTextureUnit + i), plus --fog's EXP fog, which a
+// fragment shader has to apply itself.
+class MesaViewDependentShadowMap : public osgShadow::ViewDependentShadowMap {
+public:
+    explicit MesaViewDependentShadowMap(bool fog)
+        : fog_(fog) {}
+
+protected:
+    void createShaders() override {
+        // casting state, uniforms (baseTexture, shadowTextureI), the white fallback base texture
+        osgShadow::ViewDependentShadowMap::createShaders();
+        const osgShadow::ShadowSettings* settings = getShadowedScene()->getShadowSettings();
+        const unsigned maps = settings->getNumShadowMapsPerLight();
+        std::string fs = "uniform sampler2D baseTexture;\n";
+        std::string lit = "1.0";
+        for (unsigned i = 0; i < maps; ++i) {
+            const std::string n = std::to_string(i);
+            const std::string unit = std::to_string(settings->getBaseShadowTextureUnit() + i);
+            fs += "uniform sampler2DShadow shadowTexture" + n + ";\n";
+            lit += " * shadow2DProj(shadowTexture" + n + ", gl_TexCoord[" + unit + "]).r";
+        }
+        fs += "void main(void) {\n    float lit = " + lit + ";\n";
+        fs += "    vec4 color = texture2D(baseTexture, gl_TexCoord[0].xy) *\n"
+              "                 mix(gl_FrontLightModelProduct.sceneColor, gl_Color, lit);\n";
+        if (fog_)
+            fs += "    float f = clamp(exp(-gl_Fog.density * gl_FogFragCoord), 0.0, 1.0);\n"
+                  "    color.rgb = mix(gl_Fog.color.rgb, color.rgb, f);\n";
+        fs += "    gl_FragColor = color;\n}\n";
+        _program = new osg::Program;
+        _program->addShader(new osg::Shader(osg::Shader::FRAGMENT, fs));
+    }
+
+private:
+    bool fog_;
+};
+
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
@@ -322,9 +413,39 @@ int main(int argc, char** argv) {
         std::printf("osgUtil::Optimizer: not run (scene graph as loaded; --optimize to run it)\n");
     }
 
+    // ---- shadows (--shadows N): the root becomes an osgShadow::ShadowedScene with a
+    // ViewDependentShadowMap. Casters and receivers are selected by ShadowSettings' default traversal
+    // masks (~0), which every node's default mask (~0) matches: everything casts and receives.
+    osg::ref_ptr<osgShadow::ShadowedScene> shadowedScene;
+    osg::ref_ptr<osgShadow::ViewDependentShadowMap> vdsm;
+    // OSG 3.6's VDSM renders at most two shadow maps per light (its cull falls back to 2, and its
+    // shaders sample one map unless exactly two are asked for): ask for what it can do.
+    const int shadowMaps = std::min(opt.shadows, 2);
+    if (opt.shadows > 2)
+        std::fprintf(stderr,
+                     "osg_polygon: note: OSG 3.6's ViewDependentShadowMap renders at most 2 shadow maps per "
+                     "light: --shadows %d runs with 2\n",
+                     opt.shadows);
+    if (opt.shadows > 0) {
+        shadowedScene = new osgShadow::ShadowedScene;
+        osgShadow::ShadowSettings* settings = shadowedScene->getShadowSettings();
+        settings->setTextureSize(osg::Vec2s(short(opt.shadowMap), short(opt.shadowMap)));
+        settings->setNumShadowMapsPerLight(unsigned(shadowMaps));
+        settings->setMultipleShadowMapHint(osgShadow::ShadowSettings::CASCADED);
+        settings->setShadowMapProjectionHint(osgShadow::ShadowSettings::ORTHOGRAPHIC_SHADOW_MAP);
+        settings->setComputeNearFarModeOverride(osg::CullSettings::COMPUTE_NEAR_FAR_USING_PRIMITIVES);
+        settings->setMaximumShadowMapDistance(opt.shadowDistance);
+        settings->setLightNum(0);
+        settings->setBaseShadowTextureUnit(1);
+        settings->setShaderHint(osgShadow::ShadowSettings::PROVIDE_FRAGMENT_SHADER); // ours, see above
+        vdsm = new MesaViewDependentShadowMap(opt.fogDensity > 0.0f);
+        // --check-shadow renders its first frame without the technique (attached after it)
+        if (!opt.checkShadow) shadowedScene->setShadowTechnique(vdsm.get());
+    }
+
     // ---- global state: lighting on, one-sided, back faces culled (sgfx's default), local viewer like
     // sgfx's Blinn-Phong (which uses the true view vector)
-    osg::ref_ptr<osg::Group> root = new osg::Group;
+    osg::ref_ptr<osg::Group> root = shadowedScene ? shadowedScene.get() : new osg::Group;
     root->addChild(model.get());
     osg::StateSet* ss = root->getOrCreateStateSet();
     osg::ref_ptr<osg::LightModel> lightModel = new osg::LightModel;
@@ -349,14 +470,37 @@ int main(int argc, char** argv) {
     viewer.setSceneData(root.get());
     // Sun: one directional light fixed in world space (SKY_LIGHT); its position (w = 0) points
     // towards the light. Its ambient is 0: the ambient light lives in the LightModel, as in sgfx.
-    viewer.setLightingMode(osg::View::SKY_LIGHT);
-    osg::Light* sun = viewer.getLight();
+    // With shadows the same light is an osg::LightSource at the top of the ShadowedScene instead (VDSM
+    // finds its light among the positional state the cull collected) and the view adds none (NO_LIGHT).
+    // RELATIVE_RF, not ABSOLUTE_RF: under the root the model-view matrix is the view matrix, which is
+    // what SKY_LIGHT positions its light with, and VDSM maps the light's direction to world space with
+    // it. An ABSOLUTE_RF light source is positioned with no matrix at all, i.e. in eye space: GL would
+    // light the scene with a camera-fixed sun while VDSM cast the shadows along the world direction.
+    osg::Light* sun = nullptr;
+    if (shadowedScene) {
+        viewer.setLightingMode(osg::View::NO_LIGHT);
+        osg::ref_ptr<osg::LightSource> sunSource = new osg::LightSource;
+        sunSource->setReferenceFrame(osg::LightSource::RELATIVE_RF);
+        sun = sunSource->getLight();
+        sun->setLightNum(0);
+        sunSource->setStateSetModes(*ss, osg::StateAttribute::ON); // GL_LIGHT0 on
+        root->insertChild(0, sunSource.get());
+    } else {
+        viewer.setLightingMode(osg::View::SKY_LIGHT);
+        sun = viewer.getLight();
+    }
     osg::Vec3 toSun = opt.toSun;
     toSun.normalize();
     sun->setPosition(osg::Vec4(toSun, 0.0f));
     sun->setAmbient(osg::Vec4(0, 0, 0, 1));
     sun->setDiffuse(osg::Vec4(opt.sun, 1));
     sun->setSpecular(osg::Vec4(opt.sun, 1));
+    if (shadowedScene) {
+        std::printf(
+            "shadows: osgShadow::ViewDependentShadowMap, %d shadow map(s) of %dx%d texels, up to %g m, "
+            "light 0, texture units 1..%d\n",
+            shadowMaps, opt.shadowMap, opt.shadowMap, double(opt.shadowDistance), shadowMaps);
+    }
 
     osg::Camera* camera = viewer.getCamera();
     camera->setClearColor(osg::Vec4(opt.clear, 1.0f));
@@ -398,6 +542,42 @@ int main(int argc, char** argv) {
         }
         return false;
     };
+
+    // ---- --check-shadow: frame 0 without the shadow technique (the ShadowedScene then traverses
+    // its children like a plain group, same light and state), then with it; shadows must darken some
+    // of the image and brighten (almost) none of it
+    if (opt.checkShadow) {
+        auto readLuminance = [&]() {
+            std::vector<unsigned char> px(std::size_t(opt.width) * std::size_t(opt.height) * 3);
+            glPixelStorei(GL_PACK_ALIGNMENT, 1);
+            glReadPixels(0, 0, opt.width, opt.height, GL_RGB, GL_UNSIGNED_BYTE, px.data());
+            std::vector<float> lum(px.size() / 3);
+            for (std::size_t i = 0; i < lum.size(); ++i) // linear Rec. 709 luminance, 0..255
+                lum[i] = 0.2126f * px[3 * i] + 0.7152f * px[3 * i + 1] + 0.0722f * px[3 * i + 2];
+            return lum;
+        };
+        setPose(0);
+        frame();
+        const std::vector<float> off = readLuminance();
+        shadowedScene->setShadowTechnique(vdsm.get());
+        frame();
+        const std::vector<float> on = readLuminance();
+        std::size_t darker = 0, brighter = 0;
+        for (std::size_t i = 0; i < on.size(); ++i) {
+            // a drop of more than 20 % (and of more than one 8-bit step, so near-black noise does not count)
+            if (on[i] < 0.8f * off[i] && off[i] - on[i] > 1.0f) ++darker;
+            if (on[i] > 1.2f * off[i] && on[i] - off[i] > 1.0f) ++brighter;
+        }
+        const double darkerFraction = double(darker) / double(on.size());
+        std::printf(
+            "SHADOW_CHECK darker_fraction=%.4f brighter_fraction=%.4f (frame 0, luminance change > 20 %%)\n",
+            darkerFraction, double(brighter) / double(on.size()));
+        if (darkerFraction < 0.001) {
+            std::fprintf(stderr, "osg_polygon: --check-shadow: the shadow technique darkens no part of the "
+                                 "image, shadows are not drawn\n");
+            return 1;
+        }
+    }
 
     // ---- warm-up at t = 0 like `polygon --bench` (GL objects are compiled on first draw), then the
     // timed lap
@@ -449,10 +629,14 @@ int main(int argc, char** argv) {
                     "before glFinish)\n",
                     timeFrames, cullSum / timeFrames, drawSum / timeFrames);
     std::printf("BENCH osg ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f size=%dx%d drawables=%.0f "
-                "triangles=%.0f cull_ms=%.3f\n",
+                "triangles=%.0f cull_ms=%.3f",
                 mean, 1000.0 / mean, opt.frames, med, opt.width, opt.height,
                 statFrames ? drawablesSum / statFrames : 0.0, statFrames ? trianglesSum / statFrames : 0.0,
                 timeFrames ? cullSum / timeFrames : -1.0);
+    if (shadowedScene)
+        std::printf(" shadows=%d shadow_maps=%d shadow_map=%d shadow_distance=%g", opt.shadows, shadowMaps,
+                    opt.shadowMap, double(opt.shadowDistance));
+    std::printf("\n");
 
     // ---- the last frame as PNG, top row first
     if (!opt.out.empty()) {
