@@ -201,12 +201,27 @@ void sgfx_addLight(vec3 E, vec3 L, SgfxSurface s, inout vec3 color, inout vec3 a
 #endif
 }
 
+#ifdef SGFX_LIGHT_VISIBILITY
+// The share of light `light` (its index in the view) that reaches this point, from an effect's
+// sgfx_lightVisibility (shadows). It gets the interpolated normal turned towards the light, the
+// direction its normal offset moves the point along; normal maps do not move shadows.
+float sgfx_visibility(int light, vec3 L) {
+    vec3 Ng = sgfx_geometricNormal();
+    return sgfx_lightVisibility(light, v_worldPos, dot(Ng, L) < 0.0 ? -Ng : Ng);
+}
+#endif
+
 #ifdef SGFX_LIGHT_LIST
 void sgfx_addListedLight(int i, SgfxSurface s, inout vec3 color, inout vec3 added, inout vec3 coatLight) {
     vec3 L;
     float k = sgfx_lightFactor(sgfx_lights[i].vector, sgfx_lights[i].color, sgfx_lights[i].spot,
                                sgfx_lights[i].params, v_worldPos, L);
-    if (k > 0.0) sgfx_addLight(sgfx_lights[i].color.rgb * k, L, s, color, added, coatLight);
+    if (k <= 0.0) return;
+    vec3 E = sgfx_lights[i].color.rgb * k;
+#ifdef SGFX_LIGHT_VISIBILITY
+    if (dot(s.N, L) > 0.0) E *= sgfx_visibility(int(sgfx_lights[i].params.z), L);
+#endif
+    sgfx_addLight(E, L, s, color, added, coatLight);
 }
 
 // The lights without a range, then the ranged lights listed for this fragment's screen tile.
@@ -353,6 +368,9 @@ void main() {
         vec3 L = normalize(lv.xyz - lv.w * v_worldPos); // w = 0: direction, w = 1: position
 #else
         vec3 L = lv.xyz; // directions come normalised
+#endif
+#ifdef SGFX_LIGHT_VISIBILITY
+        if (dot(surface.N, L) > 0.0) E *= sgfx_visibility(i, L);
 #endif
         sgfx_addLight(E, L, surface, color, added, coatLight);
     }

@@ -8,7 +8,7 @@ struct SgfxLight {
     vec4 vector; // as sgfx_lightVector
     vec4 color;  // rgb: colour x intensity; w: 1 / range (0: unlimited)
     vec4 spot;   // xyz: the axis a spot shines along; w: cone scale (0: no cone)
-    vec4 params; // x: cone offset (1: no cone); y: 1 = inverse-square falloff
+    vec4 params; // x: cone offset (1: no cone); y: 1 = inverse-square falloff; z: index in the view
 };
 layout(std430, binding = 8) readonly buffer SgfxLights { // sgfx::kLightsBinding
     SgfxLight sgfx_lights[];

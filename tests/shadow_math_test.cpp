@@ -11,6 +11,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -433,4 +434,63 @@ TEST(ShadowMath, SpotTexelSizeMatchesItsProjection) {
     const glm::dvec4 below = down * glm::dvec4(pos + glm::dvec3(0, 0, -2), 1.0);
     EXPECT_NEAR(below.z, -2.0, 1e-12);
     EXPECT_NEAR(glm::length(glm::dvec2(below)), 0.0, 1e-12);
+}
+
+// The PCF disc: 16 points in the unit disc, the 4 early-out probes first (radius 0.95, one per
+// quadrant), and well spread: no two closer than 0.25 (a 16-point Poisson disc of the unit disc
+// packs at about 0.3; clumps of random points come far closer).
+TEST(ShadowMath, PoissonDiscIsInsideTheDiscAndSpread) {
+    const auto& p = shadow::poissonDisc();
+    ASSERT_EQ(p.size(), 16u);
+    for (const glm::dvec2& q : p)
+        EXPECT_LE(glm::length(q), 1.0);
+    std::set<int> quadrants;
+    for (int k = 0; k < 4; ++k) {
+        EXPECT_NEAR(glm::length(p[std::size_t(k)]), 0.95, 1e-12);
+        quadrants.insert((p[std::size_t(k)].x > 0 ? 1 : 0) + (p[std::size_t(k)].y > 0 ? 2 : 0));
+    }
+    EXPECT_EQ(quadrants.size(), 4u);
+    double closest = 4.0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (std::size_t j = i + 1; j < p.size(); ++j)
+            closest = std::min(closest, glm::distance(p[i], p[j]));
+    EXPECT_GE(closest, 0.25);
+    EXPECT_EQ(&shadow::poissonDisc(), &p); // one table, made once
+}
+
+TEST(ShadowMath, AtlasLayoutPutsTilesInRowsWithinTheLimit) {
+    const shadow::AtlasLayout one = shadow::atlasLayout(3, 2048, 16384);
+    EXPECT_EQ(one.size, glm::ivec2(6144, 2048));
+    ASSERT_EQ(one.tiles.size(), 3u);
+    EXPECT_EQ(one.tiles[2], glm::ivec4(4096, 0, 2048, 2048));
+    const shadow::AtlasLayout two = shadow::atlasLayout(4, 4096, 8192); // two per row
+    EXPECT_EQ(two.size, glm::ivec2(8192, 8192));
+    EXPECT_EQ(two.tiles[3], glm::ivec4(4096, 4096, 4096, 4096));
+    EXPECT_NE(thrown([] { shadow::atlasLayout(0, 512, 4096); }), "");
+    EXPECT_NE(thrown([] { shadow::atlasLayout(2, 8192, 4096); }), "");
+    EXPECT_NE(thrown([] { shadow::atlasLayout(5, 4096, 8192); }), ""); // three rows do not fit
+}
+
+// World to atlas: the fitted square's corners land on the tile's corners, the nearest depth of
+// the range (towards the light) on 0 and the farthest on 1; built by hand from V_L.
+TEST(ShadowMath, AtlasMatrixMapsTheCascadeSquareOntoItsTile) {
+    const glm::dvec3 L = glm::normalize(glm::dvec3(0.3, -0.5, 0.8));
+    const glm::dmat3 V = shadow::lightRotation(L);
+    const shadow::CascadeFit fit = shadow::fitCascade(V, {10, 20, 0}, 30.0, 1024, 3);
+    const glm::dmat4 P = shadow::cascadeProjection(fit, -50.0, 70.0);
+    const glm::ivec4 tile(1024, 0, 1024, 1024);
+    const glm::dmat4 M = shadow::atlasMatrix(tile, {3072, 1024}, P, V);
+    const glm::dmat3 Vt = glm::transpose(V); // light to world
+    for (int corner = 0; corner < 4; ++corner) {
+        const double sx = corner & 1 ? 1.0 : -1.0, sy = corner & 2 ? 1.0 : -1.0;
+        const glm::dvec2 light = fit.centre + glm::dvec2(sx, sy) * fit.halfExtent;
+        for (const double z : {-50.0, 70.0}) {
+            const glm::dvec3 world = Vt * glm::dvec3(light, z);
+            const glm::dvec4 a = M * glm::dvec4(world, 1.0);
+            EXPECT_NEAR(a.x, (1024.0 + (sx > 0 ? 1024.0 : 0.0)) / 3072.0, 1e-9);
+            EXPECT_NEAR(a.y, sy > 0 ? 1.0 : 0.0, 1e-9);
+            EXPECT_NEAR(a.z, z == 70.0 ? 0.0 : 1.0, 1e-9);
+            EXPECT_NEAR(a.w, 1.0, 1e-12);
+        }
+    }
 }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <string>
 
 namespace sgfx::shadow {
@@ -115,6 +116,65 @@ CascadeFit fitCascade(const glm::dmat3& rotation, const glm::dvec3& worldCentre,
     const glm::dvec2 c = glm::dvec2(rotation * worldCentre);
     fit.centre = snap ? snapToTexels(c, fit.texel) : c;
     return fit;
+}
+
+glm::dmat4 cascadeProjection(const CascadeFit& fit, double zMin, double zMax) {
+    requireSlice(zMin, zMax);
+    const double r = fit.halfExtent;
+    // View space looks down −Z: distance −z runs from −zMax (nearest the light) to −zMin.
+    return glm::ortho(fit.centre.x - r, fit.centre.x + r, fit.centre.y - r, fit.centre.y + r, -zMax, -zMin);
+}
+
+AtlasLayout atlasLayout(int count, int tileSize, int maxSize) {
+    require(count >= 1, "count", count, "[1, inf)");
+    require(tileSize >= 1 && tileSize <= maxSize, "tileSize", tileSize, "[1, maxSize]");
+    const int columns = std::min(count, maxSize / tileSize);
+    const int rows = (count + columns - 1) / columns;
+    require(rows * tileSize <= maxSize, "count", count, "(tiles beyond maxSize)");
+    AtlasLayout a;
+    a.size = {columns * tileSize, rows * tileSize};
+    for (int i = 0; i < count; ++i)
+        a.tiles.emplace_back((i % columns) * tileSize, (i / columns) * tileSize, tileSize, tileSize);
+    return a;
+}
+
+glm::dmat4 atlasMatrix(const glm::ivec4& tile, const glm::ivec2& atlasSize, const glm::dmat4& projection,
+                       const glm::dmat3& rotation) {
+    // Clip xy in [−1, 1] to the tile's atlas coordinates; z in [−1, 1] to [0, 1].
+    const glm::dvec2 scale = glm::dvec2(tile.z, tile.w) / glm::dvec2(atlasSize) * 0.5;
+    const glm::dvec2 origin = glm::dvec2(tile.x, tile.y) / glm::dvec2(atlasSize) + scale;
+    glm::dmat4 toTile(1.0);
+    toTile[0][0] = scale.x;
+    toTile[1][1] = scale.y;
+    toTile[2][2] = 0.5;
+    toTile[3] = glm::dvec4(origin, 0.5, 1.0);
+    return toTile * projection * glm::dmat4(rotation);
+}
+
+const std::array<glm::dvec2, kPoissonTaps>& poissonDisc() {
+    static const std::array<glm::dvec2, kPoissonTaps> disc = [] {
+        std::array<glm::dvec2, kPoissonTaps> p{};
+        const double d = 0.95 / std::numbers::sqrt2;
+        p[0] = {d, d}, p[1] = {-d, d}, p[2] = {-d, -d}, p[3] = {d, -d};
+        std::mt19937 rng(20061u); // fixed: the table is part of the filter's definition
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        for (int k = 4; k < kPoissonTaps; ++k) {
+            double best = -1.0;
+            for (int c = 0; c < 64; ++c) { // best of 64 candidates in the disc
+                glm::dvec2 q(u(rng), u(rng));
+                if (glm::dot(q, q) > 1.0) {
+                    --c;
+                    continue;
+                }
+                double nearest = 4.0;
+                for (int j = 0; j < k; ++j)
+                    nearest = std::min(nearest, glm::distance(q, p[size_t(j)]));
+                if (nearest > best) best = nearest, p[size_t(k)] = q;
+            }
+        }
+        return p;
+    }();
+    return disc;
 }
 
 double smoothstep(double e0, double e1, double x) {

@@ -27,14 +27,19 @@ int exponentOf(float x) {
 } // namespace
 
 CullVisitor::CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* plan)
+    : CullVisitor(
+          CullView{camera.viewMatrix, camera.projectionMatrix, camera.viewport.height, camera.cullingEnabled},
+          queue, plan) {}
+
+CullVisitor::CullVisitor(const CullView& view, RenderQueue& queue, FramePlan* plan)
     : NodeVisitor(Mode::ActiveChildren)
     , queue_(queue)
     , plan_(plan)
-    , view_(camera.viewMatrix)
-    , projection_(camera.projectionMatrix)
-    , viewportHeight_(camera.viewport.height)
-    , viewFrustum_(Frustum::fromMatrix(camera.projectionMatrix))
-    , culling_(camera.cullingEnabled) {
+    , view_(view.view)
+    , projection_(view.projection)
+    , viewportHeight_(view.viewportHeight)
+    , viewFrustum_(Frustum::fromMatrix(view.projection))
+    , culling_(view.culling) {
     modelView_.push_back(view_);
     scale_.push_back(maxAxisScale(view_));
     similar_.push_back(isSimilarity(view_));
@@ -49,6 +54,24 @@ void CullVisitor::run(Camera& camera) {
     pushState(camera);
     traverse(camera);
     popState(camera);
+}
+
+void CullVisitor::runFrom(Node& node, const glm::mat4& model, const ResolvedState& state) {
+    enterFrame(model, maxAxisScale(model), isSimilarity(model));
+    state_.push_back(&state);
+    if (accepts(node) && cullTest(node)) {
+        traverseWithState(node);
+        planeMask_.pop_back();
+    }
+    state_.pop_back();
+    leaveFrame();
+}
+
+void CullVisitor::setReferenceView(const glm::mat4& view, const glm::mat4& projection, int viewportHeight) {
+    hasReference_ = true;
+    referenceView_ = view;
+    referenceProjection_ = projection;
+    referenceHeight_ = viewportHeight;
 }
 
 BoundingSphere CullVisitor::toView(const BoundingSphere& local) const {
@@ -90,7 +113,23 @@ bool CullVisitor::cullTest(const Node& n, BoundingSphere* viewBound) {
     return true;
 }
 
+// A restricting effect (EffectNode::subtreeMask) whose mask shares no bit with the node's mask
+// leaves the node's subtree: the rest of the set is interned as the subtree's effects.
+void CullVisitor::dropRestrictedEffects(const Node& n) {
+    const auto dropped = [&](const Restriction& r) { return (n.nodeMask & r.mask) == 0; };
+    if (std::none_of(restricting_.begin(), restricting_.end(), dropped)) return;
+    drops_.push_back({&n, restricting_});
+    std::vector<const EffectNode*> set;
+    for (const EffectNode* e : queue_.effectSets[effectSet_.back()].effects)
+        if (std::none_of(restricting_.begin(), restricting_.end(),
+                         [&](const Restriction& r) { return r.effect == e && dropped(r); }))
+            set.push_back(e);
+    std::erase_if(restricting_, dropped);
+    effectSet_.push_back(queue_.internEffectSet(std::move(set)));
+}
+
 void CullVisitor::pushState(const Node& n) {
+    if (!restricting_.empty()) dropRestrictedEffects(n);
     const StateSet* set = n.stateSet().get();
     if (!set) return;
     const ResolvedState* inherited = state_.back();
@@ -105,6 +144,11 @@ void CullVisitor::pushState(const Node& n) {
 
 void CullVisitor::popState(const Node& n) {
     if (n.stateSet()) state_.pop_back();
+    if (!drops_.empty() && drops_.back().node == &n) {
+        restricting_ = std::move(drops_.back().restricting);
+        drops_.pop_back();
+        effectSet_.pop_back();
+    }
 }
 
 void CullVisitor::traverseWithState(Node& n) {
@@ -146,7 +190,8 @@ void CullVisitor::apply(Transform& t) {
 void CullVisitor::apply(Billboard& b) {
     if (!cullTest(b)) return;
     // The eye and the view's up in the billboard's frame; the turn is a rotation.
-    const glm::mat4 toLocal = glm::inverse(modelView_.back());
+    const glm::mat4 toLocal =
+        glm::inverse(hasReference_ ? referenceView_ * model_.back() : modelView_.back());
     enterFrame(b.orientation(glm::vec3(toLocal[3]), glm::vec3(toLocal[1])), 1.0f, true);
     traverseWithState(b);
     leaveFrame();
@@ -157,7 +202,10 @@ void CullVisitor::apply(LOD& lod) {
     if (!cullTest(lod)) return;
     const BoundingSphere local = lod.selectionSphere();
     float pixels = 0.0f;
-    if (local.valid()) {
+    if (local.valid() && hasReference_) {
+        const BoundingSphere s = local.transformed(referenceView_ * model_.back());
+        pixels = pixelSize(s.center, s.radius, referenceProjection_, referenceHeight_);
+    } else if (local.valid()) {
         const BoundingSphere s = toView(local);
         pixels = pixelSize(s.center, s.radius, projection_, viewportHeight_);
     }
@@ -207,11 +255,14 @@ void CullVisitor::apply(Light& l) {
     }
     if (l.type == LightType::Directional) {
         const glm::vec3 d = glm::normalize(glm::mat3(m) * l.direction);
-        queue_.lights.push_back({glm::vec4(-d, 0.0f), color});
+        LightInfo info{glm::vec4(-d, 0.0f), color};
+        info.source = &l;
+        queue_.lights.push_back(info);
         return;
     }
     LightInfo info{glm::vec4(glm::vec3(m * glm::vec4(l.position, 1.0f)), 1.0f), color};
     info.range = l.range;
+    info.source = &l;
     info.inverseSquare = l.falloff == LightFalloff::InverseSquare;
     // A light whose range sphere is outside the view lights nothing that is drawn.
     if (l.range > 0.0f) {
@@ -254,7 +305,20 @@ void CullVisitor::apply(EffectNode& e) {
     if (plan_ && planned_.insert(&e).second) {
         plan_->effects.push_back(&e);
     }
+    if (plan_) plan_->places.push_back({&e, model_.back(), state_.back()});
+    // The restrictions of the effects this node replaces end here.
+    const NodeMask mask = e.subtreeMask();
+    const bool restricts = mask != ~NodeMask{0} ||
+                           std::any_of(restricting_.begin(), restricting_.end(),
+                                       [&](const Restriction& r) { return r.effect->kind() == e.kind(); });
+    std::vector<Restriction> outer;
+    if (restricts) {
+        outer = restricting_;
+        std::erase_if(restricting_, [&](const Restriction& r) { return r.effect->kind() == e.kind(); });
+        if (mask != ~NodeMask{0}) restricting_.push_back({&e, mask});
+    }
     traverseWithState(e);
+    if (restricts) restricting_ = std::move(outer);
     effectSet_.pop_back();
     planeMask_.pop_back();
 }

@@ -1,5 +1,9 @@
 #include "sgfx/FrameSetup.h"
 
+#include "sgfx/CullVisitor.h"
+#include "sgfx/Effect.h"
+#include "sgfx/Renderer.h"
+
 #include <stdexcept>
 #include <string>
 
@@ -19,6 +23,26 @@ std::string_view phaseName(PassPhase phase) {
         return "after resolve";
     }
     return "?";
+}
+
+void FrameSetup::cullForLight(const EffectNode& effect, const LightCull& light, RenderQueue& into) const {
+    if (!plan_) throw std::logic_error("sgfx: FrameSetup::cullForLight needs the view's frame plan");
+    CullVisitor visitor(CullView{light.view, light.projection, view_.viewSize.y, true}, into);
+    visitor.traversalMask = light.traversalMask;
+    visitor.setReferenceView(view_.view, view_.projection, view_.viewSize.y);
+    for (const FramePlan::Place& place : plan_->places)
+        if (place.node == &effect)
+            // The cull reads the scene; the node is the application's, reached through the plan.
+            visitor.runFrom(const_cast<EffectNode&>(effect), place.model, *place.state);
+    into.sort();
+}
+
+BoundingSphere FrameSetup::worldBound(const EffectNode& effect) const {
+    BoundingSphere b;
+    if (plan_)
+        for (const FramePlan::Place& place : plan_->places)
+            if (place.node == &effect) b.expandBy(effect.bound().transformed(place.model));
+    return b;
 }
 
 ResourceId PassBuilder::write(std::string_view name, bool keep) {

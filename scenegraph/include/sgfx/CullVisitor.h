@@ -12,11 +12,21 @@ namespace sgfx {
 class Camera;
 class FramePlan;
 
+/// What a cull sees from: world to view, the projection whose frustum culls, and the viewport
+/// height LODs measure pixels in. A camera's, or a light's (FrameSetup::cullForLight).
+struct SGFX_API CullView {
+    glm::mat4 view{1.0f};
+    glm::mat4 projection{1.0f};
+    int viewportHeight = 1;
+    bool culling = true; ///< false: nothing is frustum-culled
+};
+
 /// Walks the scene under a camera: frustum-culls bounding spheres, honours node masks,
 /// accumulates transforms, state and active effects, and fills a RenderQueue.
 class SGFX_API CullVisitor : public NodeVisitor {
 public:
     CullVisitor(const Camera& camera, RenderQueue& queue, FramePlan* plan = nullptr);
+    CullVisitor(const CullView& view, RenderQueue& queue, FramePlan* plan = nullptr);
 
     void apply(Node& node) override;
     void apply(Transform& t) override;
@@ -32,6 +42,13 @@ public:
 
     /// Visits the camera's children.
     void run(Camera& camera);
+    /// Visits `node` as if reached with world matrix `model` and inherited state `state` (a
+    /// place FramePlan::places recorded in the camera's cull), e.g. from a light.
+    void runFrom(Node& node, const glm::mat4& model, const ResolvedState& state);
+    /// LODs measure their size, and billboards turn, in this view instead of the cull's own, so
+    /// a cull from a light keeps what the camera draws (OSG ViewDependentShadowMap's reference
+    /// view point).
+    void setReferenceView(const glm::mat4& view, const glm::mat4& projection, int viewportHeight);
 
     /// Nearest/farthest view depth of what was drawn (valid after traversal when anything was).
     float computedNear = std::numeric_limits<float>::max();
@@ -73,6 +90,22 @@ private:
     std::vector<const EffectNode*> effects_;
     std::vector<std::uint32_t> effectSet_;
     std::vector<std::uint8_t> planeMask_;
+    /// Active effects whose EffectNode::subtreeMask() is not ~0: a node sharing no bit with one
+    /// drops that effect for its subtree. `drops_` remembers the nodes that dropped some.
+    struct Restriction {
+        const EffectNode* effect;
+        NodeMask mask;
+    };
+    std::vector<Restriction> restricting_;
+    struct Drop {
+        const Node* node;
+        std::vector<Restriction> restricting; ///< what was active before the node
+    };
+    std::vector<Drop> drops_;
+    void dropRestrictedEffects(const Node& n);
+    bool hasReference_ = false;
+    glm::mat4 referenceView_{1.0f}, referenceProjection_{1.0f};
+    int referenceHeight_ = 1;
     std::unordered_set<const EffectNode*> planned_;
     std::unordered_set<const Drawable*> plannedDrawables_;
     /// This frame's merges by (inherited state, StateSet), direct-mapped: nodes that share a

@@ -86,6 +86,9 @@ public:
     /// Whether this effect draws the blended items below it that use `mode` itself (in a pass of
     /// its own, from RenderQueue::claimed) instead of the main pass's sorted transparent stage.
     virtual bool drawsBlended(BlendMode) const { return false; }
+    /// The node masks this effect applies to: a node below it whose nodeMask shares no bit with
+    /// this mask drops the effect for its own subtree (a shadow's "receives" bit). ~0: every node.
+    virtual NodeMask subtreeMask() const { return ~NodeMask{0}; }
     /// Deletes the GL objects the node's passes made (targets, noise textures) while their context
     /// is current; the next frame, in whatever viewer, makes them again. Called by ~Viewer, so a
     /// scene may outlive the viewer that drew it and be drawn by another (OSG's releaseGLObjects).

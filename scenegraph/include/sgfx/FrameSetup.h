@@ -6,6 +6,7 @@
 // the textures and binds every sampler to a unit it chooses.
 #include "sgfx/Export.h"
 #include "sgfx/FrameGraph.h"
+#include "sgfx/Math.h"
 
 #include <glm/glm.hpp>
 
@@ -22,6 +23,9 @@
 namespace sgfx {
 
 class RenderQueue;
+class EffectNode;
+class FramePlan;
+using NodeMask = std::uint32_t;
 
 /// Where a pass runs in the view's frame. Compute and BeforeMain come before the main pass;
 /// AfterOpaque between its opaque and transparent items (the background is final); Transparent
@@ -91,6 +95,22 @@ struct SGFX_API ViewInfo {
     int samples = 1;        ///< of the draw target
     std::uint64_t frameNumber = 0;
     int depth = 0; ///< 0: the main view; 1..: nested render-to-texture cameras
+    /// The camera's view and projection, without anti-aliasing's jitter (what it draws with,
+    /// computed near and far planes included).
+    glm::mat4 view{1.0f}, projection{1.0f};
+    /// The camera's own (setPerspective) planes and angles, not the ones fitted to what was culled
+    /// this frame: what depends on them (shadow cascades) then depends on the camera alone.
+    float nominalNear = 0.1f, nominalFar = 1000.0f;
+    float fovy = 45.0f;      ///< degrees; of the nominal perspective (perspective == true)
+    float aspect = 1.0f;     ///< width / height of the view
+    bool perspective = true; ///< false: `projection` is some other (orthographic) matrix
+};
+
+/// A cull from a light (FrameSetup::cullForLight): the light's view and projection, and the node
+/// masks it keeps.
+struct SGFX_API LightCull {
+    glm::mat4 view{1.0f}, projection{1.0f};
+    NodeMask traversalMask = ~NodeMask{0};
 };
 
 /// One view's frame being set up (see the file comment).
@@ -104,11 +124,21 @@ public:
         FrameGraph::Execute execute;
     };
 
-    FrameSetup(const ViewInfo& view, const RenderQueue& queue)
+    FrameSetup(const ViewInfo& view, const RenderQueue& queue, const FramePlan* plan = nullptr)
         : view_(view)
-        , queue_(queue) {}
+        , queue_(queue)
+        , plan_(plan) {}
     const ViewInfo& view() const { return view_; }
     const RenderQueue& queue() const { return queue_; }
+    /// Fills `into` with what lies below `effect` (from every place the camera's cull reached it)
+    /// inside the light's frustum: the casters of a shadow map, say. LODs pick, and billboards
+    /// turn, as in the camera's view, so they cast what is drawn; items are sorted front to back
+    /// from the light. Items' states may point into the view's queue: `into` is good for this
+    /// frame.
+    void cullForLight(const EffectNode& effect, const LightCull& light, RenderQueue& into) const;
+    /// The effect node's bound in world space over every place the cull reached it (invalid when
+    /// it was not reached).
+    BoundingSphere worldBound(const EffectNode& effect) const;
     /// True the first time `key` is asked this frame: nested nodes of one kind call it so that
     /// the outermost node's view-wide pass wins (cull visits outer nodes first).
     bool once(std::string_view key) { return once_.emplace(key).second; }
@@ -151,6 +181,7 @@ public:
 private:
     ViewInfo view_;
     const RenderQueue& queue_;
+    const FramePlan* plan_;
     std::set<std::string, std::less<>> once_;
     std::vector<DeclaredPass> passes_;
     std::vector<std::string> mainReads_;

@@ -84,6 +84,13 @@ public:
     void depthState(const DepthState& depth);
     /// Limits the pass's draws to (x, y, width, height) in pixels; reset when the pass ends.
     void scissor(const glm::ivec4& rect);
+    /// Draws into (x, y, width, height) of the current target (call after target(), which
+    /// covers the whole target again); with scissor(rect) too, clearDepth clears only that part.
+    void viewport(const glm::ivec4& rect);
+    /// Later draws of the pass see the world from `view` through `projection` (a light's, for a
+    /// shadow map): the frame block (binding 0) is the view's with these matrices and their
+    /// product and inverse; the eye, viewport, time and lights stay the view's. Ends with the pass.
+    void setView(const glm::mat4& view, const glm::mat4& projection);
     /// Runs `program` over `count` points from `first` of `vertexArray` with rasterization off,
     /// capturing its vertex outputs into `outputs` (transform feedback; GPU particle simulation).
     void transformFeedback(gl::Program& program, unsigned vertexArray,

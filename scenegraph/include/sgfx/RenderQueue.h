@@ -19,6 +19,7 @@ class Node;
 class EffectNode;
 class ShaderProgram;
 class Camera;
+class Light;
 
 /// The effects active above an item, ordered by EffectNode::order(); interned per frame so items
 /// share one entry. `signature` is equal for sets whose snippets are equal (same program variant):
@@ -39,6 +40,7 @@ struct SGFX_API LightInfo {
     /// angleOffset, 0, 1), factor a². Other lights: 0 and 1 (factor 1).
     float angleScale = 0.0f, angleOffset = 1.0f;
     bool inverseSquare = false; ///< LightFalloff::InverseSquare
+    const Light* source = nullptr; ///< the node it came from (effects find their light by it)
     /// Anything beyond a plain light of sgfx 0.1 (range, cone, inverse square)?
     bool attenuated() const {
         return range > 0.0f || angleScale != 0.0f || angleOffset != 1.0f || inverseSquare;

@@ -59,9 +59,19 @@ public:
     void clear() {
         effects.clear();
         drawables.clear();
+        places.clear();
     }
     std::vector<const EffectNode*> effects;
     std::vector<const Drawable*> drawables;
+    /// Every place the cull reached an effect node (a node with two parents has two): its world
+    /// matrix and the state inherited there, so a cull from a light can start at the node
+    /// (FrameSetup::cullForLight). `state` lives as long as the view's queue.
+    struct Place {
+        const EffectNode* node = nullptr;
+        glm::mat4 model{1.0f};
+        const ResolvedState* state = nullptr;
+    };
+    std::vector<Place> places;
 };
 
 /// What the last frame drew and how long the CPU and (with timePasses) the GPU took.

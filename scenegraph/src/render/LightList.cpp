@@ -5,12 +5,12 @@
 
 namespace sgfx::render {
 
-GpuLight packLight(const LightInfo& l) {
+GpuLight packLight(const LightInfo& l, int index) {
     GpuLight g;
     g.vector = l.vector;
     g.color = glm::vec4(l.color, l.range > 0.0f ? 1.0f / l.range : 0.0f);
     g.spot = glm::vec4(l.spotAxis, l.angleScale);
-    g.params = glm::vec4(l.angleOffset, l.inverseSquare ? 1.0f : 0.0f, 0.0f, 0.0f);
+    g.params = glm::vec4(l.angleOffset, l.inverseSquare ? 1.0f : 0.0f, float(index), 0.0f);
     return g;
 }
 
@@ -47,15 +47,16 @@ void LightList::build(std::span<const LightInfo> all, const glm::mat4& view, con
     tilesY = (height + kTileSize - 1) / kTileSize;
     lights.clear();
     rects_.clear();
-    for (const LightInfo& l : all)
-        if (!(l.range > 0.0f)) lights.push_back(packLight(l));
+    for (std::size_t i = 0; i < all.size(); ++i)
+        if (!(all[i].range > 0.0f)) lights.push_back(packLight(all[i], int(i)));
     global = int(lights.size());
-    for (const LightInfo& l : all) {
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        const LightInfo& l = all[i];
         glm::ivec4 px;
         if (!(l.range > 0.0f) ||
             !sphereScreenRect(glm::vec3(view * l.vector), l.range, projection, width, height, px))
             continue;
-        lights.push_back(packLight(l));
+        lights.push_back(packLight(l, int(i)));
         rects_.push_back(px / kTileSize);
     }
     // Counts, then each tile's start, then the lists.

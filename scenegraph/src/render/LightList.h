@@ -16,9 +16,11 @@ struct GpuLight {
     glm::vec4 vector; ///< as LightInfo::vector
     glm::vec4 color;  ///< rgb: colour × intensity, w: 1 / range (0: unlimited)
     glm::vec4 spot;   ///< xyz: spot axis, w: cone scale
-    glm::vec4 params; ///< x: cone offset, y: 1 = inverse square
+    glm::vec4 params; ///< x: cone offset, y: 1 = inverse square, z: the light's index in the view
 };
-GpuLight packLight(const LightInfo& light);
+/// `index`: its place in the view's lights (RenderQueue::lights, the frame block's order), which
+/// the list reorders: effects that name a light (shadows) name it by this index.
+GpuLight packLight(const LightInfo& light, int index);
 
 /// Pixels [x0, x1] × [y0, y1] (inclusive, origin bottom left, as gl_FragCoord) that hold the
 /// image of a view-space sphere under `projection` (perspective or orthographic), widened by a

@@ -156,6 +156,28 @@ void PassCommands::scissor(const glm::ivec4& rect) {
     renderer_.impl_->cache.setScissor(true, rect);
 }
 
+void PassCommands::viewport(const glm::ivec4& rect) {
+    renderer_.impl_->cache.setViewport(rect);
+}
+
+void PassCommands::setView(const glm::mat4& view, const glm::mat4& projection) {
+    Renderer::Impl& s = *renderer_.impl_;
+    render::FrameBlock fb = s.frameBlock;
+    fb.view = view;
+    fb.projection = projection;
+    fb.viewProjection = projection * view;
+    fb.invViewProjection = glm::inverse(fb.viewProjection);
+    // A buffer per call in the frame: a GPU may still read the previous one.
+    if (s.passViewBlocksUsed == s.passViewBlocks.size()) {
+        s.passViewBlocks.push_back(gl::createBuffer());
+        glNamedBufferData(s.passViewBlocks.back().get(), sizeof fb, nullptr, GL_DYNAMIC_DRAW);
+    }
+    const unsigned buffer = s.passViewBlocks[s.passViewBlocksUsed++].get();
+    glNamedBufferSubData(buffer, 0, sizeof fb, &fb);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, buffer);
+    s.passViewBound = true;
+}
+
 void PassCommands::transformFeedback(gl::Program& program, unsigned vertexArray,
                                      std::span<const FeedbackBuffer> outputs, std::uint32_t first,
                                      std::uint32_t count) {

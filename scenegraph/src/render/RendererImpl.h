@@ -70,6 +70,12 @@ struct Renderer::Impl {
     render::PassTimers timers;          // RendererOptions::timePasses: queries of this frame
     gl::RenderTarget* current = &scene; // target of the view being drawn
     gl::BufferObject frameUbo;
+    render::FrameBlock frameBlock{}; // what frameUbo holds for the view being drawn
+    // Frame blocks of passes that draw from another view (PassCommands::setView), one per call
+    // in a frame; the view's own block is bound again after such a pass.
+    std::vector<gl::BufferObject> passViewBlocks;
+    std::size_t passViewBlocksUsed = 0;
+    bool passViewBound = false;
     // Model matrices of automatic instance batches (Renderer::DrawList), a shader storage
     // buffer at kBatchBinding.
     gl::BufferObject batchModels;

@@ -133,6 +133,11 @@ void StateCache::setBlendPerAttachment(const std::vector<std::pair<unsigned, uns
     ++*stateChanges_;
 }
 
+void StateCache::setViewport(const glm::ivec4& rect) {
+    glViewport(rect.x, rect.y, rect.z, rect.w);
+    viewport_ = glm::ivec2(-1); // not a whole target: unknown to bindFramebuffer
+}
+
 void StateCache::setScissor(bool on, const glm::ivec4& rect) {
     if (int(on) == scissor_ && (!on || rect == scissorRect_)) return;
     if (on) {

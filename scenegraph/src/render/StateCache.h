@@ -50,6 +50,9 @@ public:
     /// glBlendFunci per attachment (source, destination factors as GL enums); the next setBlend
     /// sets every attachment again.
     void setBlendPerAttachment(const std::vector<std::pair<unsigned, unsigned>>& factors);
+    /// A viewport of part of the bound framebuffer (x, y, w, h); the next bindFramebuffer sets the
+    /// whole target again, whichever framebuffer it binds.
+    void setViewport(const glm::ivec4& rect);
     /// Scissor test on `rect` (x, y, w, h), or off when `on` is false.
     void setScissor(bool on, const glm::ivec4& rect = glm::ivec4(0));
     /// Draws into `fbo` over (0, 0, size) with blending off, keeping the sRGB setting (a drawable's

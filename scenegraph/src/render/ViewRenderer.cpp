@@ -70,6 +70,7 @@ private:
     FramePlan& plan_;
     const clock::time_point t0_ = clock::now();
     float computedNear_ = 0.0f, computedFar_ = 0.0f; // the cull's depth range of what it kept
+    glm::mat4 unjittered_{1.0f};                     // the projection before TAA's jitter
     aa::ViewState* aa_ = nullptr;
     gl::RenderTarget* draw_ = nullptr; // where the view is drawn (target_, or a larger/multisample one)
     FrameGraph graph_;
@@ -95,6 +96,7 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     });
     impl_->timers.clear();
     impl_->graphs.clear();
+    impl_->passViewBlocksUsed = 0;
     renderView(camera, impl_->scene, queue_, plan_, 0);
     impl_->log.stage = "outside a frame";
     impl_->timers.collect(stats_.passTimes);
@@ -193,6 +195,7 @@ void Renderer::View::beginProjection() {
     aa::begin(aa, camera_, projection * camera_.viewMatrix, target_.width, target_.height, s_.warnings);
     aa_ = &aa;
     draw_ = &aa::drawTarget(aa, target_);
+    unjittered_ = projection;
     projection = aa.jitter * projection;
     FrameData& frame = r_.frame_;
     frame.view = camera_.viewMatrix;
@@ -241,8 +244,8 @@ void Renderer::View::uploadFrameBlock() {
         if (attenuated) {
             std::vector<render::GpuLight>& packed = s_.lightList.lights;
             packed.clear();
-            for (const LightInfo& l : queue_.lights)
-                packed.push_back(render::packLight(l));
+            for (std::size_t i = 0; i < queue_.lights.size(); ++i)
+                packed.push_back(render::packLight(queue_.lights[i], int(i)));
             glNamedBufferData(s_.lightBuffer.get(), GLsizeiptr(packed.size() * sizeof(render::GpuLight)),
                               packed.data(), GL_STREAM_DRAW);
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kLightsBinding, s_.lightBuffer.get());
@@ -251,6 +254,7 @@ void Renderer::View::uploadFrameBlock() {
     }
     glNamedBufferSubData(s_.frameUbo.get(), 0, sizeof fb, &fb);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, s_.frameUbo.get());
+    s_.frameBlock = fb;
     s_.cache.invalidate();
     r_.current_ = &queue_;
     s_.current = draw_;
@@ -296,12 +300,19 @@ void importTarget(FrameGraph& g, const gl::RenderTarget& t, std::string_view col
 
 // What the visible effects declare, interleaved with the renderer's own passes in frame order.
 void Renderer::View::buildGraph(int depth) {
-    const ViewInfo info{{draw_->width, draw_->height},
-                        {target_.width, target_.height},
-                        draw_->samples,
-                        r_.frame_.frameNumber,
-                        depth};
-    FrameSetup setup(info, queue_);
+    ViewInfo info{{draw_->width, draw_->height},
+                  {target_.width, target_.height},
+                  draw_->samples,
+                  r_.frame_.frameNumber,
+                  depth};
+    info.view = camera_.viewMatrix;
+    info.projection = unjittered_;
+    info.nominalNear = camera_.zNear();
+    info.nominalFar = camera_.zFar();
+    info.fovy = camera_.fovy();
+    info.aspect = camera_.viewport.aspect();
+    info.perspective = camera_.perspective();
+    FrameSetup setup(info, queue_, &plan_);
     for (const EffectNode* e : plan_.effects)
         e->setupFrame(setup);
     for (const Drawable* d : plan_.drawables)
@@ -564,6 +575,10 @@ void Renderer::View::executeGraph() {
             PassCommands commands(r_, graph_, name);
             execute(commands);
             s_.cache.setScissor(false);
+            if (s_.passViewBound) { // the pass drew from another view (PassCommands::setView)
+                glBindBufferBase(GL_UNIFORM_BUFFER, 0, s_.frameUbo.get());
+                s_.passViewBound = false;
+            }
         }
         s_.timers.end(timing);
     });
@@ -639,6 +654,7 @@ void Renderer::View::resolve() {
     const glm::vec4 viewport(0.0f, 0.0f, float(target_.width), float(target_.height));
     glNamedBufferSubData(s_.frameUbo.get(), offsetof(render::FrameBlock, viewport), sizeof viewport,
                          &viewport);
+    s_.frameBlock.viewport = viewport;
 }
 
 } // namespace sgfx

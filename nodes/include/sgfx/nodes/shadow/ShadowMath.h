@@ -65,6 +65,30 @@ glm::dvec2 snapToTexels(const glm::dvec2& c, double texel);
 CascadeFit fitCascade(const glm::dmat3& lightRotation, const glm::dvec3& worldCentre, double radius,
                       int mapSize, int marginTexels, bool snap = true);
 
+/// The light-space orthographic projection of a fitted cascade: x and y over centre ± halfExtent,
+/// light-space z (along L, towards the light) over [zMin, zMax], zMax mapping to depth 0.
+glm::dmat4 cascadeProjection(const CascadeFit& fit, double zMin, double zMax);
+
+/// Where each map lies in the shadow atlas: tiles of tileSize² in rows of at most
+/// maxSize / tileSize, so the atlas stays within GL_MAX_TEXTURE_SIZE.
+struct AtlasLayout {
+    glm::ivec2 size{0};            ///< atlas texels
+    std::vector<glm::ivec4> tiles; ///< x, y, width, height in texels
+};
+/// Throws std::invalid_argument when a tile does not fit (tileSize > maxSize) or count < 1.
+AtlasLayout atlasLayout(int count, int tileSize, int maxSize);
+
+/// World to atlas: xy the atlas coordinates in [0, 1] of the tile's part, z the depth in [0, 1]
+/// (the shadow map's), for a tile under `projection` after `rotation` (V_L).
+glm::dmat4 atlasMatrix(const glm::ivec4& tile, const glm::ivec2& atlasSize, const glm::dmat4& projection,
+                       const glm::dmat3& rotation);
+
+/// The PCF disc: 16 points in the unit disc. The first 4 are the early-out probes, at radius 0.95
+/// on the diagonals; the other 12 are Mitchell's best-candidate points (fixed seed) farthest from
+/// those before them, so the set is well spread (tests check the spacing).
+inline constexpr int kPoissonTaps = 16;
+const std::array<glm::dvec2, kPoissonTaps>& poissonDisc();
+
 /// Hermite smoothstep, as GLSL: 0 below e0, 1 above e1 (a step at e0 when e0 == e1).
 double smoothstep(double e0, double e1, double x);
 

@@ -1,0 +1,183 @@
+#include <sgfx/nodes/shadow/ShadowNode.h>
+
+#include "ParameterChecks.h"
+#include "ShadowPlan.h"
+
+#include <sgfx/Camera.h>
+#include <sgfx/FrameSetup.h>
+#include <sgfx/PassCommands.h>
+#include <sgfx/RenderQueue.h>
+#include <sgfx/Renderer.h>
+#include <sgfx/gl/Objects.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+namespace sgfx {
+
+namespace {
+
+constexpr std::string_view kOwner = "ShadowOptions";
+void checkRange(const char* name, float v, double lo, double hi, bool openLow = false) {
+    nodes::checkRange(kOwner, name, v, lo, hi, openLow);
+}
+
+// The PCF disc as a GLSL constant, from the one table ShadowMath keeps.
+std::string discConstant() {
+    std::string s = "const vec2 sgfx_shadowDisc[16] = vec2[16](";
+    const auto& disc = shadow::poissonDisc();
+    for (std::size_t k = 0; k < disc.size(); ++k) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%svec2(%.9f, %.9f)", k ? ", " : "", disc[k].x, disc[k].y);
+        s += buf;
+    }
+    return s + ");\n";
+}
+
+} // namespace
+
+void ShadowOptions::validate() const {
+    if (cascades < 1 || cascades > shadow::kMaxCascades)
+        nodes::refuse(kOwner, "cascades = " + std::to_string(cascades) + " is outside [1, 4]");
+    if (mapSize < 256 || mapSize > 4096 || mapSize % 64 != 0)
+        nodes::refuse(kOwner,
+                      "mapSize = " + std::to_string(mapSize) + " must be a multiple of 64 in [256, 4096]");
+    checkRange("maxDistance", maxDistance, 0.0, 1e6, true);
+    checkRange("splitLambda", splitLambda, 0.0, 1.0);
+    checkRange("blendBand", blendBand, 0.0, 0.5);
+    checkRange("fadeBand", fadeBand, 0.0, 0.5);
+    if (std::uint8_t(filter) > std::uint8_t(ShadowFilter::Pcf))
+        nodes::refuse(kOwner, "filter has an invalid value " + std::to_string(int(filter)));
+    checkRange("pcfRadius", pcfRadius, 0.5, 8.0);
+    checkRange("constantBias", constantBias, 0.0, 16.0);
+    checkRange("slopeBias", slopeBias, 0.0, 16.0);
+    checkRange("maxSlope", maxSlope, 0.0, 100.0);
+    checkRange("normalOffset", normalOffset, 0.0, 16.0);
+    checkRange("density", density, 0.0, 1.0);
+    if (castMask == 0) nodes::refuse(kOwner, "castMask is 0: nothing could cast");
+    if (receiveMask == 0) nodes::refuse(kOwner, "receiveMask is 0: nothing could receive");
+    if (std::uint8_t(debugView) > std::uint8_t(ShadowDebugView::Cascades))
+        nodes::refuse(kOwner, "debugView has an invalid value " + std::to_string(int(debugView)));
+}
+
+// ------------------------------------------------------------------------------ node
+
+std::shared_ptr<ShadowNode> ShadowNode::create(std::shared_ptr<Light> sun, const ShadowOptions& options) {
+    auto n = std::make_shared<ShadowNode>();
+    n->setOptions(options);
+    n->setSun(std::move(sun));
+    return n;
+}
+
+ShadowNode::ShadowNode()
+    : shared_(std::make_shared<Shared>()) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "shadow.atlas@%p", static_cast<const void*>(this));
+    atlasName_ = buf;
+    rebuildSnippet();
+}
+
+ShadowNode::~ShadowNode() = default;
+
+void ShadowNode::setSun(std::shared_ptr<Light> sun) {
+    if (sun && sun->type != LightType::Directional)
+        throw std::invalid_argument("sgfx: ShadowNode '" + name + "': setSun needs a Directional light; '" +
+                                    sun->name + "' is not one");
+    sun_ = std::move(sun);
+}
+
+void ShadowNode::setOptions(const ShadowOptions& options) {
+    options.validate();
+    options_ = options;
+    rebuildSnippet();
+}
+
+ShadowFrameInfo ShadowNode::lastFrame() const {
+    return shared_->current ? shared_->current->info : ShadowFrameInfo{};
+}
+
+void ShadowNode::rebuildSnippet() {
+    const bool pcf = options_.filter == ShadowFilter::Pcf;
+    const bool debug = options_.debugView == ShadowDebugView::Cascades;
+    ShaderSnippet s;
+    s.name = std::string("shadow_") + (pcf ? "pcf" : "hard") + (debug ? "_debug" : "");
+    s.defines = "#define SGFX_LIGHT_VISIBILITY 1\n#define SGFX_SHADOW_SUN 1\n";
+    SnippetSampler map;
+    map.uniform = "sgfx_shadowMap";
+    map.resource = atlasName_;
+    map.comparison = true;
+    s.samplers = {map};
+    s.fragmentDecl = nodes::shaderText("shadow_decl.glsl") +
+                     (pcf ? discConstant() + nodes::shaderText("shadow_pcf.glsl")
+                          : nodes::shaderText("shadow_hard.glsl")) +
+                     nodes::shaderText("shadow_visibility.glsl");
+    if (debug) s.colorCode = nodes::shaderText("shadow_debug.glsl");
+    snippet_ = std::move(s);
+}
+
+void ShadowNode::setupFrame(FrameSetup& f) const {
+    if (!f.once(atlasName_)) return;
+    addPasses(f, shadow::planSun(f, *this));
+}
+
+// A pass per cascade into its tile of the atlas: the casters' depth seen from the sun. Without a
+// sun the one pass clears a 1×1 atlas that the materials bind and never read.
+void ShadowNode::addPasses(FrameSetup& f, const std::shared_ptr<const Plan>& plan) const {
+    struct Data {
+        ResourceId atlas;
+    };
+    const TextureDesc desc{.format = format::Depth32F,
+                           .size = SizeRule::fixedSize(plan->atlasSize.x, plan->atlasSize.y)};
+    const int passes = plan->info.active ? int(plan->casters.size()) : 1;
+    for (int i = 0; i < passes; ++i)
+        f.addPass<Data>(
+            "shadow: cascade " + std::to_string(i), PassPhase::BeforeMain,
+            [i, desc, name = atlasName_](PassBuilder& b, Data& d) {
+                d.atlas = i == 0 ? b.depth(b.create(name, desc), false) : b.depth(b.get(name), true);
+                b.publish(name, d.atlas);
+            },
+            [i, plan, shared = shared_](PassCommands& c, const Data& d) {
+                if (i == 0) shared->current = plan;
+                const glm::ivec4 tile = plan->tiles[std::size_t(i)];
+                c.target({}, d.atlas);
+                c.viewport(tile);
+                c.scissor(tile);
+                c.clearDepth();
+                if (!plan->info.active) return;
+                c.setView(plan->lightView, plan->projections[std::size_t(i)]);
+                c.drawQueue(plan->casters[std::size_t(i)], DrawMode::DepthOnly);
+            });
+}
+
+void ShadowNode::applyUniforms(gl::Program& program, const DrawContext&) const {
+    static const std::array<std::string, shadow::kMaxCascades> matrix = {
+        "sgfx_shadowMatrix[0]", "sgfx_shadowMatrix[1]", "sgfx_shadowMatrix[2]", "sgfx_shadowMatrix[3]"};
+    static const std::array<std::string, shadow::kMaxCascades> tile = {
+        "sgfx_shadowTile[0]", "sgfx_shadowTile[1]", "sgfx_shadowTile[2]", "sgfx_shadowTile[3]"};
+    const Plan* plan = shared_->current.get();
+    const bool active = plan && plan->info.active;
+    const int cascades = active ? int(plan->casters.size()) : 0;
+    program.setInt4("sgfx_shadowSun",
+                    glm::ivec4(active ? plan->info.sunLight : -1, cascades, options_.pcfEarlyOut ? 1 : 0, 0));
+    if (!active) return;
+    for (int i = 0; i < cascades; ++i) {
+        program.set(matrix[std::size_t(i)], plan->matrices[std::size_t(i)]);
+        program.set(tile[std::size_t(i)], plan->tileRects[std::size_t(i)]);
+    }
+    program.set("sgfx_shadowSplits", plan->splits);
+    program.set("sgfx_shadowBandStart", plan->bandStart);
+    program.set("sgfx_shadowTexel", plan->texels);
+    program.set("sgfx_shadowRotation", plan->rotation);
+    program.set("sgfx_shadowLight", plan->light);
+    program.set("sgfx_shadowBias", glm::vec4(options_.constantBias, options_.slopeBias, options_.maxSlope,
+                                             options_.normalOffset));
+    const float radius = options_.filter == ShadowFilter::Pcf ? options_.pcfRadius : 1.0f;
+    program.set("sgfx_shadowFilter", glm::vec4(radius, 1.0f / float(plan->atlasSize.x),
+                                               1.0f / float(plan->atlasSize.y), options_.density));
+}
+
+} // namespace sgfx

@@ -1,0 +1,162 @@
+#include "ShadowPlan.h"
+
+#include <sgfx/Camera.h>
+#include <sgfx/Drawable.h>
+#include <sgfx/FrameSetup.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace sgfx::shadow {
+
+namespace {
+
+// Atlases stay within what GL 4.5 guarantees for a texture side (llvmpipe: 16384 too).
+constexpr int kMaxAtlasSize = 16384;
+
+// The camera's depth range the cascades cover, and where each slice's sphere lies.
+struct CameraSlices {
+    double near = 0.1, far = 1.0;
+    glm::dmat4 cameraToWorld{1.0};
+    bool perspective = true;
+    double fovy = 0.8, aspect = 1.0;             // perspective
+    glm::dvec2 orthoCentre{0.0}, orthoHalf{1.0}; // orthographic, camera space
+
+    SliceSphere sphere(double a, double b) const {
+        return perspective ? perspectiveSliceSphere(fovy, aspect, a, b)
+                           : orthoSliceSphere(orthoHalf.x, orthoHalf.y, a, b);
+    }
+    glm::dvec3 centre(const SliceSphere& s) const {
+        const glm::dvec2 xy = perspective ? glm::dvec2(0.0) : orthoCentre;
+        return glm::dvec3(cameraToWorld * glm::dvec4(xy, -s.centreDistance, 1.0));
+    }
+};
+
+// The nominal planes (not the ones fitted to this frame's content), so cascades depend on the
+// camera alone.
+CameraSlices cameraSlices(const ViewInfo& v, double maxDistance) {
+    CameraSlices c;
+    c.cameraToWorld = glm::inverse(glm::dmat4(v.view));
+    c.perspective = v.perspective;
+    if (v.perspective) {
+        c.near = v.nominalNear;
+        c.far = v.nominalFar;
+        c.fovy = glm::radians(double(v.fovy));
+        c.aspect = v.aspect;
+    } else {
+        // glm::ortho: P22 = −2/(f − n), P32 = −(f + n)/(f − n); P00 = 2/(r − l), P30 = −(r + l)/(r − l).
+        const glm::dmat4 p(v.projection);
+        c.near = (p[3][2] + 1.0) / p[2][2];
+        c.far = (p[3][2] - 1.0) / p[2][2];
+        c.orthoHalf = {1.0 / p[0][0], 1.0 / p[1][1]};
+        c.orthoCentre = {-p[3][0] / p[0][0], -p[3][1] / p[1][1]};
+    }
+    // The split scheme needs 0 < n < f (an ortho camera may start at or behind its plane).
+    c.near = std::max(c.near, 1e-3);
+    c.far = std::min(c.far, maxDistance);
+    if (!(c.far > c.near)) c.far = c.near * 2.0;
+    return c;
+}
+
+int sunIndex(const RenderQueue& queue, const Light* sun) {
+    for (std::size_t i = 0; sun && i < queue.lights.size(); ++i) {
+        const LightInfo& l = queue.lights[i];
+        if (l.source == sun && l.vector.w == 0.0f && glm::any(glm::greaterThan(l.color, glm::vec3(0.0f))))
+            return int(i);
+    }
+    return -1;
+}
+
+// The tile's atlas rectangle half a texel in, so bilinear taps never read a neighbour.
+glm::vec4 tileRect(const glm::ivec4& t, const glm::ivec2& atlas) {
+    const glm::vec2 a(atlas);
+    return {(float(t.x) + 0.5f) / a.x, (float(t.y) + 0.5f) / a.y, (float(t.x + t.z) - 0.5f) / a.x,
+            (float(t.y + t.w) - 0.5f) / a.y};
+}
+
+bool casts(const RenderItem& item, const ShadowOptions& o) {
+    if (item.drawable) return o.drawablesCast && !item.drawable->background();
+    return true;
+}
+
+// Each cascade's casters: the items whose bound, in light space, overlaps its square.
+void splitCasters(ShadowNode::Plan& plan, const std::vector<CascadeFit>& fits, const glm::dmat3& rotation,
+                  const ShadowOptions& o) {
+    plan.casters.assign(fits.size(), {});
+    const auto take = [&](const RenderItem& item) {
+        if (!casts(item, o)) return;
+        const BoundingSphere b = item.worldBound();
+        if (!b.valid()) return;
+        const glm::dvec3 c = rotation * glm::dvec3(b.center);
+        for (std::size_t i = 0; i < fits.size(); ++i) {
+            const double reach = fits[i].halfExtent + double(b.radius);
+            if (std::abs(c.x - fits[i].centre.x) <= reach && std::abs(c.y - fits[i].centre.y) <= reach)
+                plan.casters[i].push_back(item);
+        }
+    };
+    for (const RenderItem& item : plan.casterQueue.opaque)
+        take(item);
+    if (o.transmissiveCast)
+        for (const RenderItem& item : plan.casterQueue.transmissive)
+            take(item);
+}
+
+} // namespace
+
+// Plan §5: practical splits, a sphere per slice, texel-snapped fits under V_L, the node's bound
+// for the depth range; one cull from the light over the union of the cascades' boxes.
+std::shared_ptr<ShadowNode::Plan> planSun(const FrameSetup& f, const ShadowNode& node) {
+    auto plan = std::make_shared<ShadowNode::Plan>();
+    const ShadowOptions& o = node.options();
+    const int sun = sunIndex(f.queue(), node.sun().get());
+    const BoundingSphere bound = f.worldBound(node);
+    plan->info.sunLight = sun;
+    if (sun < 0 || !bound.valid() || !(bound.radius > 0.0f)) return plan;
+    const glm::dvec3 L = glm::normalize(glm::dvec3(f.queue().lights[std::size_t(sun)].vector));
+    const CameraSlices cam = cameraSlices(f.view(), o.maxDistance);
+    const int n = o.cascades;
+    const std::vector<double> splits = practicalSplits(cam.near, cam.far, n, o.splitLambda);
+    const double kernel = o.filter == ShadowFilter::Pcf ? double(o.pcfRadius) : 1.0;
+    const glm::dmat3 rotation = lightRotation(L);
+    const double zc = glm::dot(L, glm::dvec3(bound.center)), zr = double(bound.radius) * 1.001;
+    const AtlasLayout atlas = atlasLayout(n, o.mapSize, kMaxAtlasSize);
+    plan->atlasSize = atlas.size;
+    plan->tiles = atlas.tiles;
+    plan->rotation = glm::mat3(rotation);
+    plan->lightView = glm::mat4(glm::dmat4(rotation));
+    plan->light = glm::vec4(glm::vec3(L), float(1.0 / (2.0 * zr)));
+    std::vector<CascadeFit> fits;
+    glm::dvec2 lo(INFINITY), hi(-INFINITY);
+    for (int i = 0; i < n; ++i) {
+        const SliceSphere s = cam.sphere(sliceStart(splits, i, o.blendBand), splits[std::size_t(i) + 1]);
+        const CascadeFit fit =
+            fitCascade(rotation, cam.centre(s), s.radius, o.mapSize, marginTexels(kernel), o.snapToTexels);
+        fits.push_back(fit);
+        lo = glm::min(lo, fit.centre - fit.halfExtent);
+        hi = glm::max(hi, fit.centre + fit.halfExtent);
+        const glm::dmat4 projection = cascadeProjection(fit, zc - zr, zc + zr);
+        plan->projections.push_back(glm::mat4(projection));
+        plan->matrices[std::size_t(i)] =
+            glm::mat4(atlasMatrix(atlas.tiles[std::size_t(i)], atlas.size, projection, rotation));
+        plan->tileRects[std::size_t(i)] = tileRect(atlas.tiles[std::size_t(i)], atlas.size);
+        const double end = splits[std::size_t(i) + 1], start = splits[std::size_t(i)];
+        plan->splits[i] = float(end);
+        plan->bandStart[i] = float(end - (i + 1 < n ? o.blendBand : o.fadeBand) * (end - start));
+        plan->texels[i] = float(fit.texel);
+        plan->info.radii.push_back(fit.halfExtent);
+        plan->info.texels.push_back(fit.texel);
+    }
+    // One cull over the union of the cascades' boxes (same V_L), split per cascade after.
+    const glm::dmat4 cullBox = glm::ortho(lo.x, hi.x, lo.y, hi.y, -(zc + zr), -(zc - zr));
+    f.cullForLight(node, LightCull{plan->lightView, glm::mat4(cullBox), o.castMask}, plan->casterQueue);
+    splitCasters(*plan, fits, rotation, o);
+    plan->info.active = true;
+    plan->info.splits = splits;
+    for (const auto& c : plan->casters)
+        plan->info.casters.push_back(c.size());
+    return plan;
+}
+
+} // namespace sgfx::shadow

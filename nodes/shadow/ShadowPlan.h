@@ -1,0 +1,45 @@
+#pragma once
+// Internal to ShadowNode: one view's sun shadow, planned in setupFrame (no GL) and read by the
+// cascade passes and, once they ran, by applyUniforms.
+#include <sgfx/RenderQueue.h>
+#include <sgfx/nodes/shadow/ShadowNode.h>
+
+#include <glm/glm.hpp>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace sgfx {
+
+class FrameSetup;
+
+/// Cascades fitted to the camera, their tiles in the atlas, the matrices, and each map's casters.
+struct ShadowNode::Plan {
+    ShadowFrameInfo info;
+    glm::ivec2 atlasSize{1};
+    std::vector<glm::ivec4> tiles{glm::ivec4(0, 0, 1, 1)};
+    glm::mat4 lightView{1.0f}; ///< V_L (a rotation)
+    std::vector<glm::mat4> projections;
+    std::array<glm::mat4, shadow::kMaxCascades> matrices{}; ///< world to atlas
+    std::array<glm::vec4, shadow::kMaxCascades> tileRects{};
+    glm::mat3 rotation{1.0f};
+    glm::vec4 splits{0.0f}, bandStart{0.0f}, texels{0.0f};
+    glm::vec4 light{0.0f};   ///< xyz towards the sun, w: 1 / depth range
+    RenderQueue casterQueue; ///< what the cull from the light found (owns the casters' states)
+    std::vector<std::vector<RenderItem>> casters; ///< per cascade
+};
+
+/// The plan the passes last ran, for applyUniforms and lastFrame (one view at a time: a nested
+/// view finishes before its parent's setupFrame).
+struct ShadowNode::Shared {
+    std::shared_ptr<const Plan> current;
+};
+
+namespace shadow {
+/// Plans `node`'s sun for the view being set up: inactive (no passes draw) when the sun is not
+/// among the view's lights or gives no light.
+std::shared_ptr<ShadowNode::Plan> planSun(const FrameSetup& f, const ShadowNode& node);
+} // namespace shadow
+
+} // namespace sgfx
