@@ -411,3 +411,322 @@ TEST(ShadowRender, NoSunMeansNoShadow) {
     EXPECT_EQ(c.wrong, 0);
     EXPECT_FALSE(scene.shadows->lastFrame().active);
 }
+
+// Test 2 of the plan: no acne. A lone plane, lit at 0°..80° from its normal, shadows nothing of
+// itself: seen from above (one cascade) every pixel is cos θ within 2/255, and seen from a low
+// camera over 4 cascades every pixel equals the same view without the ShadowNode within 2/255.
+// Negative control: with no bias and no normal offset the same planes do show acne.
+TEST(ShadowRender, PlaneLitAtAnyAngleHasNoAcne) {
+    for (const bool unbiased : {false, true})
+        for (const ShadowFilter filter : {ShadowFilter::Hard2x2, ShadowFilter::Pcf})
+            for (int tilt = unbiased ? 40 : 0; tilt <= (unbiased ? 70 : 80); tilt += unbiased ? 30 : 10) {
+                SCOPED_TRACE(::testing::Message()
+                             << "filter " << int(filter) << ", tilt " << tilt << ", unbiased " << unbiased);
+                const glm::dvec3 L = sunVector(25.0 + tilt, 90.0 - tilt);
+                auto sun = sunLight(L);
+                ShadowOptions o;
+                o.cascades = 1;
+                o.filter = filter;
+                if (unbiased) o.constantBias = o.slopeBias = o.normalOffset = 0.0f;
+                auto shadows = ShadowNode::create(sun, o);
+                shadows->addChild(lambert(shapes::quad(12.0f, 12.0f)));
+                auto root = Group::create();
+                root->addChild(sun);
+                root->addChild(shadows);
+                auto v = topViewer();
+                const FloatImage img = render(*v, root);
+                int acne = 0;
+                for (int y = 0; y < kSize; ++y)
+                    for (int x = 0; x < kSize; ++x)
+                        if (std::abs(red(img, x, y) - L.z) > 2.0 / 255.0 && ++acne <= 3 && !unbiased)
+                            ADD_FAILURE()
+                                << "pixel " << x << "," << y << ": " << red(img, x, y) << ", want " << L.z;
+                if (unbiased) {
+                    EXPECT_GT(acne, kSize * kSize / 20);
+                } else {
+                    EXPECT_EQ(acne, 0);
+                }
+            }
+}
+
+namespace {
+
+// A camera `height` metres over the plane looking along +Y, pitched down by `pitch` degrees.
+void lowCamera(Viewer& v, double height, double pitchDeg, float fovy, float zFar) {
+    Camera& c = *v.camera();
+    const glm::vec3 eye(0.0f, 0.0f, float(height));
+    const glm::vec3 dir(0.0f, float(std::cos(deg(pitchDeg))), -float(std::sin(deg(pitchDeg))));
+    c.setLookAt(eye, eye + dir, {0, 0, 1});
+    c.setPerspective(fovy, 0.1f, zFar);
+}
+
+// The red channels of a render with the shadow node and one with it disabled: v per pixel.
+struct Pair {
+    FloatImage shadowed, plain;
+    double visibility(int x, int y) const {
+        const double p = red(plain, x, y);
+        return p > 1e-4 ? red(shadowed, x, y) / p : 1.0;
+    }
+};
+
+Pair renderPair(Viewer& v, const std::shared_ptr<Group>& root, ShadowNode& node) {
+    Pair p;
+    p.shadowed = render(v, root);
+    node.enabled = false;
+    p.plain = render(v, root);
+    node.enabled = true;
+    return p;
+}
+
+} // namespace
+
+TEST(ShadowRender, GrazingViewOverFourCascadesHasNoAcne) {
+    for (const ShadowFilter filter : {ShadowFilter::Hard2x2, ShadowFilter::Pcf})
+        for (int tilt : {0, 40, 70, 80}) {
+            SCOPED_TRACE(::testing::Message() << "filter " << int(filter) << ", tilt " << tilt);
+            const glm::dvec3 L = sunVector(60.0, 90.0 - tilt);
+            auto sun = sunLight(L);
+            ShadowOptions o;
+            o.cascades = 4;
+            o.filter = filter;
+            o.maxDistance = 150.0f;
+            auto shadows = ShadowNode::create(sun, o);
+            shadows->addChild(lambert(shapes::quad(400.0f, 400.0f)));
+            auto root = Group::create();
+            root->addChild(sun);
+            root->addChild(shadows);
+            auto v = Viewer::createHeadless(160, 120);
+            v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+            lowCamera(*v, 1.7, 8.0, 50.0f, 300.0f);
+            const Pair p = renderPair(*v, root, *shadows);
+            int acne = 0;
+            for (int y = 0; y < 120; ++y)
+                for (int x = 0; x < 160; ++x)
+                    if (red(p.plain, x, y) - red(p.shadowed, x, y) > 2.0 / 255.0 && ++acne <= 3)
+                        ADD_FAILURE() << "pixel " << x << "," << y << ": " << red(p.shadowed, x, y)
+                                      << " against " << red(p.plain, x, y);
+            EXPECT_EQ(acne, 0);
+            EXPECT_EQ(shadows->lastFrame().casters.size(), 4u);
+        }
+}
+
+// Test 4 of the plan: a pole's long shadow runs away from a low camera across all 4 cascades
+// with no gap (every point of its predicted centreline is dark) and no double (every image row
+// that crosses it has one dark run), also at each split depth.
+TEST(ShadowRender, PoleShadowIsContinuousAcrossCascades) {
+    const glm::dvec3 L = glm::normalize(glm::dvec3(0.0, -std::cos(deg(10.0)), std::sin(deg(10.0))));
+    for (const ShadowFilter filter : {ShadowFilter::Hard2x2, ShadowFilter::Pcf}) {
+        SCOPED_TRACE(::testing::Message() << "filter " << int(filter));
+        auto sun = sunLight(L);
+        ShadowOptions o;
+        o.cascades = 4;
+        o.filter = filter;
+        auto shadows = ShadowNode::create(sun, o);
+        shadows->addChild(lambert(shapes::quad(400.0f, 400.0f)));
+        const glm::dvec3 base(3.0, 12.0, 0.0);
+        shadows->addChild(placed(lambert(shapes::box({1.5f, 1.5f, 30.0f})),
+                                 glm::translate(glm::mat4(1.0f), glm::vec3(base) + glm::vec3(0, 0, 15))));
+        auto root = Group::create();
+        root->addChild(sun);
+        root->addChild(shadows);
+        constexpr int W = 256, H = 256;
+        auto v = Viewer::createHeadless(W, H);
+        v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+        lowCamera(*v, 1.7, 3.0, 40.0f, 400.0f);
+        const Pair p = renderPair(*v, root, *shadows);
+        const glm::dmat4 vp = glm::dmat4(v->camera()->projectionMatrix) * glm::dmat4(v->camera()->viewMatrix);
+        const auto toPixel = [&](const glm::dvec3& w) {
+            const glm::dvec4 c = vp * glm::dvec4(w, 1.0);
+            return glm::ivec2(int((c.x / c.w * 0.5 + 0.5) * W), int((0.5 - c.y / c.w * 0.5) * H));
+        };
+        // The centreline: the pole's axis projected along L, from where the pole stops hiding it
+        // (4 m behind) to 150 m.
+        int gaps = 0;
+        for (double s = 6.0; s <= 150.0; s += 0.25) {
+            const glm::ivec2 q = toPixel(base + glm::dvec3(0.0, s, 0.0));
+            if (p.visibility(q.x, q.y) >= 0.5 && ++gaps <= 5)
+                ADD_FAILURE() << "gap at " << s << " m behind the pole, pixel " << q.x << "," << q.y
+                              << ": v = " << p.visibility(q.x, q.y);
+        }
+        EXPECT_EQ(gaps, 0);
+        const int first = toPixel(base + glm::dvec3(0, 150.0, 0)).y,
+                  last = toPixel(base + glm::dvec3(0, 6.0, 0)).y;
+        ASSERT_LT(first + 20, last);
+        int doubles = 0;
+        for (int y = first; y <= last; ++y) {
+            int runs = 0;
+            for (int x = 1; x < W; ++x)
+                runs += p.visibility(x, y) < 0.5 && !(p.visibility(x - 1, y) < 0.5);
+            if (runs != 1 && ++doubles <= 5) ADD_FAILURE() << "row " << y << " has " << runs << " dark runs";
+        }
+        EXPECT_EQ(doubles, 0);
+        const ShadowFrameInfo info = shadows->lastFrame();
+        ASSERT_EQ(info.splits.size(), 5u);
+        EXPECT_LT(info.splits[3], 150.0); // the checked stretch crosses every split
+    }
+}
+
+namespace {
+
+// A top view of a white plane at z = 0 under the sun straight above, with a slab that the camera
+// does not see (above its near plane) casting a straight edge at x = edgeX: v(x) is read per
+// column. The camera spans [−half, half]² over `size` pixels, depth [9, 11] from z = 10.
+struct EdgeScene {
+    std::shared_ptr<Group> root = Group::create();
+    std::shared_ptr<ShadowNode> shadows;
+
+    EdgeScene(double edgeX, const ShadowOptions& o, const glm::dvec3& L = {0, 0, 1}) {
+        auto sun = sunLight(L);
+        root->addChild(sun);
+        shadows = ShadowNode::create(sun, o);
+        shadows->addChild(lambert(shapes::quad(6.0f, 6.0f)));
+        shadows->addChild(
+            placed(lambert(shapes::box({5.0f, 6.0f, 0.2f})),
+                   glm::translate(glm::mat4(1.0f), glm::vec3(float(edgeX) - 2.5f, 0.0f, 2.0f))));
+        root->addChild(shadows);
+    }
+};
+
+std::unique_ptr<Viewer> edgeViewer(int size, float half, const glm::vec2& shift = glm::vec2(0.0f)) {
+    auto v = Viewer::createHeadless(size, size);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    Camera& c = *v->camera();
+    c.setLookAt(glm::vec3(shift, 10.0f), glm::vec3(shift, 0.0f), {0, 1, 0});
+    c.projectionMatrix = glm::ortho(-half, half, -half, half, 9.0f, 11.0f);
+    return v;
+}
+
+// Mean red over rows [y0, y1) per column.
+std::vector<double> columnMeans(const FloatImage& img, int y0, int y1) {
+    std::vector<double> m(std::size_t(img.width), 0.0);
+    for (int x = 0; x < img.width; ++x) {
+        for (int y = y0; y < y1; ++y)
+            m[std::size_t(x)] += red(img, x, y);
+        m[std::size_t(x)] /= (y1 - y0);
+    }
+    return m;
+}
+
+// Distance in pixels between where a rising profile crosses 0.1 and 0.9 (linear between columns).
+double width1090(const std::vector<double>& v) {
+    const auto cross = [&](double level) {
+        for (std::size_t x = 1; x < v.size(); ++x)
+            if (v[x - 1] < level && v[x] >= level)
+                return double(x - 1) + (level - v[x - 1]) / (v[x] - v[x - 1]);
+        return -1.0;
+    };
+    return cross(0.9) - cross(0.1);
+}
+
+} // namespace
+
+// Test 6 of the plan: the PCF penumbra of a straight edge, averaged over 64 rows, against an
+// independent quadrature: each of the 16 taps at radius ρ_k = |p_k|·R·t turns with a uniformly
+// random angle, and reads the hardware's bilinear comparison, a one-texel ramp across the
+// texel-quantised edge. E[v](x) = 1/16 Σ_k ⟨ramp(x − e + ρ_k cos φ)⟩_φ. The edge e is fitted (the
+// map quantises it to a texel boundary); the profile must then match within 0.03 per column and
+// its 10–90 % width within a pixel. Hard2x2: the ramp alone, 10–90 % = 0.8 t.
+TEST(ShadowRender, PcfPenumbraMatchesTheRotatedDiscQuadrature) {
+    constexpr int kPx = 256;
+    constexpr float kHalfView = 1.0f;
+    const double px = 2.0 * kHalfView / kPx;
+    for (const ShadowFilter filter : {ShadowFilter::Pcf, ShadowFilter::Hard2x2}) {
+        SCOPED_TRACE(::testing::Message() << "filter " << int(filter));
+        ShadowOptions o;
+        o.cascades = 1;
+        o.mapSize = 256;
+        o.filter = filter;
+        o.pcfRadius = 3.0f;
+        o.pcfEarlyOut = false;
+        EdgeScene scene(0.013, o);
+        auto v = edgeViewer(kPx, kHalfView);
+        const FloatImage img = render(*v, scene.root);
+        const std::vector<double> got = columnMeans(img, 96, 160);
+        const double t = scene.shadows->lastFrame().texels.at(0) / px; // texel in pixels
+        ASSERT_GT(t, 1.0);
+        const double R = filter == ShadowFilter::Pcf ? 3.0 : 0.0;
+        const auto ramp = [&](double u) { return std::clamp(u / t + 0.5, 0.0, 1.0); };
+        // Tabulated over [−40, 40] pixels every 1/50 pixel (the fit below reads it thousands of times).
+        std::vector<double> table(4001);
+        for (std::size_t i = 0; i < table.size(); ++i) {
+            const double x = -40.0 + double(i) / 50.0; // pixels from the edge, lit side positive
+            if (R == 0.0) {
+                table[i] = ramp(x);
+                continue;
+            }
+            double sum = 0.0;
+            constexpr int kSteps = 256;
+            for (const glm::dvec2& p : shadow::poissonDisc())
+                for (int s = 0; s < kSteps; ++s)
+                    sum += ramp(x + glm::length(p) * R * t *
+                                        std::cos(2.0 * std::numbers::pi * (s + 0.5) / kSteps));
+            table[i] = sum / (16.0 * kSteps);
+        }
+        const auto expected = [&](double x) {
+            const double i = std::clamp((x + 40.0) * 50.0, 0.0, 4000.0);
+            const auto lo = std::size_t(i);
+            const double f = i - double(lo);
+            return lo >= 4000 ? table[4000] : table[lo] * (1.0 - f) + table[lo + 1] * f;
+        };
+        // Fit the edge: column centre x_c = c + 0.5, edge at e pixels; best e by least squares.
+        double bestE = 0.0, bestErr = 1e30;
+        for (double e = kPx / 2.0 - 8.0; e <= kPx / 2.0 + 8.0; e += 0.02) {
+            double err = 0.0;
+            for (int c = kPx / 2 - 40; c < kPx / 2 + 40; ++c)
+                err += std::pow(got[std::size_t(c)] - expected(c + 0.5 - e), 2.0);
+            if (err < bestErr) bestErr = err, bestE = e;
+        }
+        std::vector<double> want(got.size());
+        double worst = 0.0;
+        for (int c = 0; c < kPx; ++c) {
+            want[std::size_t(c)] = expected(c + 0.5 - bestE);
+            worst = std::max(worst, std::abs(got[std::size_t(c)] - want[std::size_t(c)]));
+        }
+        EXPECT_LE(worst, 0.03) << "edge fitted at column " << bestE;
+        EXPECT_NEAR(width1090(got), width1090(want), 1.0);
+        if (R == 0.0) {
+            EXPECT_NEAR(width1090(got), 0.8 * t, 0.5);
+        }
+        // The edge lies within a texel of the slab's (x = 0.013 m).
+        EXPECT_NEAR(-kHalfView + bestE * px, 0.013, t * px);
+    }
+}
+
+// Test 5 of the plan: stability. The camera moves by 1..7 pixels in x and y; each image, shifted
+// back, equals the first wherever they overlap (within 1/255): the texel grid is fixed in the
+// world. Negative control: without snapping the edges move by at least 64/255 for some move (16/255
+// through the PCF disc, which spreads an edge over several texels).
+TEST(ShadowRender, MovingTheCameraByPixelsLeavesShadowEdgesStill) {
+    constexpr int kPx = 128;
+    constexpr float kHalfView = 1.0f;
+    const float px = 2.0f * kHalfView / kPx;
+    const glm::dvec3 L = glm::normalize(glm::dvec3(0.3, 0.2, 1.0));
+    for (const bool snap : {true, false})
+        for (const ShadowFilter filter : {ShadowFilter::Hard2x2, ShadowFilter::Pcf}) {
+            SCOPED_TRACE(::testing::Message() << "snap " << snap << ", filter " << int(filter));
+            ShadowOptions o;
+            o.cascades = 1;
+            o.mapSize = 256;
+            o.filter = filter;
+            o.snapToTexels = snap;
+            EdgeScene scene(0.013, o, L);
+            const FloatImage first = render(*edgeViewer(kPx, kHalfView), scene.root);
+            double worst = 0.0;
+            for (int k = 1; k <= 7; ++k) {
+                const int dx = k, dy = (k * 3) % 8;
+                const FloatImage moved = render(*edgeViewer(kPx, kHalfView, {dx * px, dy * px}), scene.root);
+                // The world point of pixel (x, y) of `moved` is that of (x + dx, y − dy) of `first`.
+                for (int y = 8; y < kPx - 8; ++y)
+                    for (int x = 8; x < kPx - 8; ++x) {
+                        const int fx = x + dx, fy = y - dy;
+                        if (fx >= kPx || fy < 0) continue;
+                        worst = std::max(worst, std::abs(red(moved, x, y) - red(first, fx, fy)));
+                    }
+            }
+            if (snap) {
+                EXPECT_LE(worst, 1.0 / 255.0);
+            } else { // a hard edge moves by its whole ramp; the PCF disc spreads it over 7 texels
+                EXPECT_GE(worst, (filter == ShadowFilter::Hard2x2 ? 64.0 : 16.0) / 255.0);
+            }
+        }
+}
