@@ -1,0 +1,306 @@
+// ShadowNode's casters, kind by kind (docs/plans/shadows.md §7): an alpha-masked leaf card casts
+// its mask, a mirrored single-sided quad, instanced and automatically batched boxes and a billboard
+// turned to the camera cast as drawn, a blended surface casts nothing by default. Expectations are
+// computed here: rays from plane points to the sun against the card, and corners projected along
+// the light onto the plane (p − L·p.z/L.z), as in shadow_test.cpp. Top view of a white Lambert
+// plane lit by the sun alone, so v = pixel / (N·L).
+#include "TestUtil.h"
+
+#include <sgfx/Billboard.h>
+#include <sgfx/Geometry.h>
+#include <sgfx/Group.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/Texture.h>
+#include <sgfx/nodes/shadow/ShadowNode.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <vector>
+
+using namespace sgfx;
+using namespace sgfx::test;
+
+namespace {
+
+constexpr int kSize = 128;
+constexpr double kHalf = 4.0;
+constexpr double kPixel = 2.0 * kHalf / kSize;
+
+double deg(double d) {
+    return d * std::numbers::pi / 180.0;
+}
+
+glm::dvec3 sunVector(double azimuthDeg, double elevationDeg) {
+    const double a = deg(azimuthDeg), e = deg(elevationDeg);
+    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+glm::dvec2 worldOfPixel(int x, int y) {
+    return {-kHalf + (x + 0.5) * kPixel, kHalf - (y + 0.5) * kPixel};
+}
+
+double red(const FloatImage& img, int x, int y) {
+    return img.rgba[(std::size_t(y) * std::size_t(img.width) + std::size_t(x)) * 4];
+}
+
+std::shared_ptr<Material> white() {
+    auto m = Material::create();
+    m->diffuse = glm::vec4(1.0f);
+    m->specular = glm::vec3(0.0f);
+    return m;
+}
+
+template <class N> std::shared_ptr<N> lambert(std::shared_ptr<N> g) {
+    g->getOrCreateStateSet().material.set(white());
+    return g;
+}
+
+std::shared_ptr<Transform> placed(std::shared_ptr<Node> n, const glm::mat4& m) {
+    auto t = Transform::create(m);
+    t->addChild(std::move(n));
+    return t;
+}
+
+// What a pixel of the plane should be: shadowed, lit, or too near an edge to say.
+enum class Expect { Shadowed, Lit, Unsure };
+
+// The scene: sun, then a ShadowNode over the plane and `casters`; rendered from above.
+FloatImage renderTop(const glm::dvec3& L, const std::vector<std::shared_ptr<Node>>& casters,
+                     ShadowOptions o = {}) {
+    auto sun = Light::create(LightType::Directional);
+    sun->direction = -glm::vec3(L);
+    auto root = Group::create();
+    root->addChild(sun);
+    o.cascades = 1;
+    auto shadows = ShadowNode::create(sun, o);
+    shadows->addChild(lambert(shapes::quad(12.0f, 12.0f)));
+    for (const auto& c : casters)
+        shadows->addChild(c);
+    root->addChild(shadows);
+    auto v = orthoTopViewer(kSize, float(kHalf));
+    v->camera()->projectionMatrix =
+        glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    v->setSceneData(root);
+    v->frame();
+    expectNoGlErrors(*v);
+    return v->renderer().readPixelsLinear();
+}
+
+// Every pixel against `expect` (v < 0.5 is shadowed); counts and the first few mismatches.
+struct Tally {
+    int shadowed = 0, lit = 0, wrong = 0;
+};
+Tally check(const FloatImage& img, double cosSun, const std::function<Expect(glm::dvec2)>& expect) {
+    Tally t;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const glm::dvec2 w = worldOfPixel(x, y);
+            const Expect e = expect(w);
+            if (e == Expect::Unsure) continue;
+            const double v = red(img, x, y) / cosSun;
+            (e == Expect::Shadowed ? t.shadowed : t.lit) += 1;
+            if ((v < 0.5) != (e == Expect::Shadowed) && ++t.wrong <= 5)
+                ADD_FAILURE() << "pixel " << x << "," << y << " (" << w.x << ", " << w.y << "): v = " << v
+                              << ", expected " << (e == Expect::Shadowed ? "shadow" : "light");
+        }
+    return t;
+}
+
+// ---- convex hulls of projected corners (as shadow_test.cpp)
+
+using Hull = std::vector<glm::dvec2>;
+
+double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+Hull convexHull(std::vector<glm::dvec2> p) {
+    std::sort(p.begin(), p.end(), [](auto a, auto b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    Hull h(2 * p.size());
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0)
+            --k;
+        h[k++] = p[i];
+    }
+    for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
+        while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0)
+            --k;
+        h[k++] = p[i];
+    }
+    h.resize(k - 1);
+    return h;
+}
+
+double signedDistance(const Hull& h, const glm::dvec2& q) {
+    double inside = -1e30, edge = 1e30;
+    for (std::size_t i = 0; i < h.size(); ++i) {
+        const glm::dvec2 a = h[i], b = h[(i + 1) % h.size()], ab = b - a;
+        const double t = std::clamp(glm::dot(q - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
+        edge = std::min(edge, glm::length(q - (a + t * ab)));
+        inside = std::max(inside, -cross(a, b, q) / glm::length(ab));
+    }
+    return inside <= 0.0 ? -edge : edge;
+}
+
+Hull projected(const std::vector<glm::dvec3>& corners, const glm::dvec3& L) {
+    std::vector<glm::dvec2> p;
+    for (const glm::dvec3& q : corners)
+        p.push_back(glm::dvec2(q - L * (q.z / L.z)));
+    return convexHull(p);
+}
+
+std::vector<glm::dvec3> boxCorners(const glm::dmat4& m, const glm::dvec3& size) {
+    std::vector<glm::dvec3> c;
+    for (int k = 0; k < 8; ++k)
+        c.push_back(glm::dvec3(m * glm::dvec4((k & 1 ? 0.5 : -0.5) * size.x, (k & 2 ? 0.5 : -0.5) * size.y,
+                                              (k & 4 ? 0.5 : -0.5) * size.z, 1.0)));
+    return c;
+}
+
+// Shadowed inside any of `shadows`, lit outside all; unsure within a pixel of an edge or over a
+// footprint (what covers the plane in the view, a pixel wide margin).
+std::function<Expect(glm::dvec2)> hulls(const std::vector<Hull>& shadows, const std::vector<Hull>& covers) {
+    return [=](glm::dvec2 w) {
+        for (const Hull& c : covers)
+            if (signedDistance(c, w) < kPixel) return Expect::Unsure;
+        double nearest = 1e30;
+        for (const Hull& s : shadows)
+            nearest = std::min(nearest, signedDistance(s, w));
+        if (std::abs(nearest) < kPixel) return Expect::Unsure;
+        return nearest < 0 ? Expect::Shadowed : Expect::Lit;
+    };
+}
+
+Hull footprint(const std::vector<glm::dvec3>& corners) {
+    std::vector<glm::dvec2> p;
+    for (const glm::dvec3& q : corners)
+        p.emplace_back(q.x, q.y);
+    return convexHull(p);
+}
+
+} // namespace
+
+// A 2 m leaf card standing upright (the xz plane, 0.5..2.5 m up), double-sided, its alpha a ring
+// (1 for 0.25 ≤ r ≤ 0.45 of the card's uv square, else 0) with cutoff 0.5. A plane point is in
+// shadow where its ray to the sun crosses the card inside the ring; points whose crossing lies
+// within 0.04 (8 cm) of the ring's edges are left out (texel and pixel rounding).
+TEST(ShadowCasters, LeafCardCastsItsAlphaMask) {
+    auto ring = Image::create(64, 64, 1);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const double r = glm::length(glm::dvec2((x + 0.5) / 64.0 - 0.5, (y + 0.5) / 64.0 - 0.5));
+            *ring->pixel(x, y) = r >= 0.25 && r <= 0.45 ? 255 : 0;
+        }
+    auto m = white();
+    m->alphaTexture = Texture::create(ring, false);
+    m->alphaCutoff = 0.5f;
+    auto card = shapes::quad(2.0f, 2.0f);
+    card->getOrCreateStateSet().material.set(m);
+    card->getOrCreateStateSet().cullFace.set(CullFace::None);
+    // Rotated into the xz plane (quad y → world z), centred at 1.5 m.
+    const glm::mat4 toCard = glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, 1.5f)) *
+                             glm::rotate(glm::mat4(1.0f), glm::half_pi<float>(), glm::vec3(1, 0, 0));
+    const glm::dvec3 L = sunVector(-70.0, 60.0); // from −y, so the shadow falls towards +y
+    const FloatImage img = renderTop(L, {placed(card, toCard)});
+    const Tally t = check(img, L.z, [&](glm::dvec2 w) {
+        if (std::abs(w.y) < 2 * kPixel) return Expect::Unsure; // the card seen edge-on
+        const double s = -w.y / L.y;                           // the ray meets y = 0
+        if (s < 0) return Expect::Lit;
+        const glm::dvec3 q = glm::dvec3(w, 0.0) + s * L;
+        const glm::dvec2 uv((q.x + 1.0) / 2.0, (q.z - 0.5) / 2.0);
+        if (uv.x < -0.02 || uv.x > 1.02 || uv.y < -0.02 || uv.y > 1.02) return Expect::Lit;
+        const double r = glm::length(uv - 0.5);
+        if (std::abs(r - 0.25) < 0.04 || std::abs(r - 0.45) < 0.04) return Expect::Unsure;
+        return r > 0.25 && r < 0.45 ? Expect::Shadowed : Expect::Lit;
+    });
+    EXPECT_EQ(t.wrong, 0);
+    EXPECT_GT(t.shadowed, 100); // the ring (its hole and outside lit)
+    EXPECT_GT(t.lit, 10000);
+}
+
+// A single-sided quad facing up, mirrored by scale(−1, 1, 1): its winding flips with the mirror,
+// so the light still sees its front face and it casts (a wrong winding would cull it from the map).
+TEST(ShadowCasters, MirroredSingleSidedQuadCasts) {
+    const glm::dvec3 L = sunVector(20.0, 55.0);
+    const glm::dmat4 m = glm::translate(glm::dmat4(1.0), glm::dvec3(-0.5, 0.3, 1.0)) *
+                         glm::scale(glm::dmat4(1.0), glm::dvec3(-1.0, 1.0, 1.0));
+    const FloatImage img = renderTop(L, {placed(lambert(shapes::quad(1.5f, 1.0f)), glm::mat4(m))});
+    const std::vector<glm::dvec3> corners = boxCorners(m, {1.5, 1.0, 0.0});
+    const Tally t = check(img, L.z, hulls({projected(corners, L)}, {footprint(corners)}));
+    EXPECT_EQ(t.wrong, 0);
+    EXPECT_GT(t.shadowed, 100);
+}
+
+// Four instances of one Geometry, and four nodes sharing a mesh and state (batched into one draw
+// by automatic instancing): eight boxes, eight shadows.
+TEST(ShadowCasters, InstancedAndBatchedBoxesCastEach) {
+    const glm::dvec3 L = sunVector(200.0, 50.0), size(0.5, 0.4, 0.6);
+    auto instanced = lambert(shapes::box(glm::vec3(size)));
+    std::vector<std::shared_ptr<Node>> casters{instanced};
+    std::vector<Hull> shadows, covers;
+    auto shared = lambert(shapes::box(glm::vec3(size)));
+    for (int i = 0; i < 4; ++i) {
+        const glm::dmat4 a = glm::translate(glm::dmat4(1.0), glm::dvec3(-2.5 + 1.6 * i, 1.8, 0.8 + 0.1 * i));
+        const glm::dmat4 b = glm::translate(glm::dmat4(1.0), glm::dvec3(-2.5 + 1.6 * i, -1.0, 0.9));
+        instanced->instances.push_back(glm::mat4(a));
+        casters.push_back(placed(shared, glm::mat4(b)));
+        for (const glm::dmat4& m : {a, b}) {
+            shadows.push_back(projected(boxCorners(m, size), L));
+            covers.push_back(footprint(boxCorners(m, size)));
+        }
+    }
+    const FloatImage img = renderTop(L, casters);
+    const Tally t = check(img, L.z, hulls(shadows, covers));
+    EXPECT_EQ(t.wrong, 0);
+    EXPECT_GT(t.shadowed, 8 * 40);
+}
+
+// A billboard turned about Z towards the camera's eye (it stands off the view's axis, so the eye
+// is to one side) casts as the camera draws it, not as it would face the light: the corners
+// turned by hand, then projected.
+TEST(ShadowCasters, BillboardCastsAsTheCameraSeesIt) {
+    const glm::dvec3 L = sunVector(150.0, 45.0), at(2.0, 0.5, 0.5);
+    auto bb = Billboard::create(Billboard::Mode::AxialRotation); // normal (0, −1, 0), axis Z
+    auto card = lambert(shapes::quad(1.6f, 1.2f));
+    card->getOrCreateStateSet().cullFace.set(CullFace::None);
+    // The quad in the billboard's xz plane, its base on the billboard's origin.
+    bb->addChild(placed(card, glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, 0.6f)) *
+                                  glm::rotate(glm::mat4(1.0f), glm::half_pi<float>(), glm::vec3(1, 0, 0))));
+    const FloatImage img = renderTop(L, {placed(bb, glm::translate(glm::mat4(1.0f), glm::vec3(at)))});
+    // The eye of the top view is (0, 0, 10): turning (0, −1, 0) about Z towards it horizontally
+    // puts the card's normal along (−2, −0.5) normalised; its width runs along the perpendicular.
+    const glm::dvec2 n = glm::normalize(glm::dvec2(-at.x, -at.y));
+    const glm::dvec2 across(-n.y, n.x);
+    std::vector<glm::dvec3> corners;
+    for (const double s : {-0.8, 0.8})
+        for (const double z : {0.0, 1.2})
+            corners.push_back(at + glm::dvec3(across * s, z));
+    const Hull edgeOn = {glm::dvec2(at) - across * 0.8 - n * 0.05, glm::dvec2(at) + across * 0.8 - n * 0.05,
+                         glm::dvec2(at) + across * 0.8 + n * 0.05, glm::dvec2(at) - across * 0.8 + n * 0.05};
+    const Tally t = check(img, L.z, hulls({projected(corners, L)}, {edgeOn}));
+    EXPECT_EQ(t.wrong, 0);
+    EXPECT_GT(t.shadowed, 150);
+}
+
+// A blended pane (opacity 0.6) over the plane casts nothing by default.
+TEST(ShadowCasters, BlendedSurfacesDoNotCastByDefault) {
+    const glm::dvec3 L = sunVector(30.0, 60.0);
+    auto pane = shapes::quad(2.0f, 2.0f);
+    auto m = white();
+    m->diffuse.a = 0.6f;
+    pane->getOrCreateStateSet().material.set(m);
+    pane->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+    const glm::dmat4 at = glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.0, 1.0));
+    const FloatImage img = renderTop(L, {placed(pane, glm::mat4(at))});
+    const std::vector<glm::dvec3> corners = boxCorners(at, {2.0, 2.0, 0.0});
+    const Tally t = check(img, L.z, hulls({}, {footprint(corners)}));
+    EXPECT_EQ(t.wrong, 0);
+    EXPECT_GT(t.lit, 8000);
+}
