@@ -116,6 +116,31 @@ void main() {
 }
 )";
 
+// An application's fragment shader that opts into shadows: it shows the visibility of the view's
+// light 0 at its pixel (1 without a ShadowNode above it). The world position comes from the
+// window position through the frame block's inverse view-projection; a zero normal asks for no
+// normal offset.
+inline const char* const kForeignShadowFrag = R"(#version 450 core
+#ifdef SGFX_LIGHT_VISIBILITY
+float sgfx_lightVisibility(int light, vec3 worldPos, vec3 worldNormal);
+#endif
+layout(std140, binding = 0) uniform SgfxFrame {
+    mat4 sgfx_view; mat4 sgfx_projection; mat4 sgfx_viewProjection; mat4 sgfx_invViewProjection;
+    vec4 sgfx_eye; vec4 sgfx_viewport; vec4 sgfx_ambientLight; vec4 sgfx_time; ivec4 sgfx_lightCount;
+    vec4 sgfx_lightVector[8]; vec4 sgfx_lightColor[8];
+};
+out vec4 fragOut;
+void main() {
+    float v = 1.0;
+#ifdef SGFX_LIGHT_VISIBILITY
+    vec4 ndc = vec4((gl_FragCoord.xy - sgfx_viewport.xy) / sgfx_viewport.zw * 2.0 - 1.0, gl_FragCoord.z * 2.0 - 1.0, 1.0);
+    vec4 world = sgfx_invViewProjection * ndc;
+    v = sgfx_lightVisibility(0, world.xyz / world.w, vec3(0.0));
+#endif
+    fragOut = vec4(vec3(v), 1.0);
+}
+)";
+
 // Number of colour channels (RGB) of two equally sized images that differ by more than `tolerance`.
 inline int channelsDiffering(const Image& a, const Image& b, int tolerance = 1) {
     int n = 0;

@@ -304,3 +304,38 @@ TEST(ShadowCasters, BlendedSurfacesDoNotCastByDefault) {
     EXPECT_EQ(t.wrong, 0);
     EXPECT_GT(t.lit, 8000);
 }
+
+// An application's own shader that opts in (kForeignShadowFrag, TestUtil.h) shows the
+// visibility: 0 in the box's shadow, 1 outside; without a ShadowNode it compiles and shows 1.
+TEST(ShadowCasters, ForeignShadersOptInThroughTheHook) {
+    const glm::dvec3 L = sunVector(120.0, 50.0);
+    auto program = ShaderProgram::create("app_shadow", kForeignVert, kForeignShadowFrag);
+    const glm::dmat4 at = glm::translate(glm::dmat4(1.0), glm::dvec3(0.3, -0.2, 1.0));
+    for (const bool node : {true, false}) {
+        SCOPED_TRACE(node ? "under a ShadowNode" : "without one");
+        auto sun = Light::create(LightType::Directional);
+        sun->direction = -glm::vec3(L);
+        auto plane = shapes::quad(12.0f, 12.0f);
+        plane->getOrCreateStateSet().program.set(program);
+        auto parent = node ? std::static_pointer_cast<Group>(ShadowNode::create(sun)) : Group::create();
+        parent->addChild(plane);
+        parent->addChild(placed(lambert(shapes::box({1.0f, 0.8f, 0.6f})), glm::mat4(at)));
+        auto root = Group::create();
+        root->addChild(sun);
+        root->addChild(parent);
+        auto v = orthoTopViewer(kSize, float(kHalf));
+        v->camera()->projectionMatrix =
+            glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
+        v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+        v->setSceneData(root);
+        v->frame();
+        expectNoGlErrors(*v);
+        const FloatImage img = v->renderer().readPixelsLinear();
+        const std::vector<glm::dvec3> corners = boxCorners(at, {1.0, 0.8, 0.6});
+        const std::vector<Hull> shadows =
+            node ? std::vector<Hull>{projected(corners, L)} : std::vector<Hull>{};
+        const Tally t = check(img, 1.0, hulls(shadows, {footprint(corners)}));
+        EXPECT_EQ(t.wrong, 0);
+        EXPECT_GT(node ? t.shadowed : t.lit, node ? 200 : 10000);
+    }
+}

@@ -4,8 +4,9 @@
 float sgfx_shadowCascade(int i, vec3 P, vec3 Ng) {
     float t = sgfx_shadowTexel[i];
     float R = max(sgfx_shadowFilter.x, 1.0);
-    // A zero normal (point sprites) has no slope: constant bias, no offset.
-    float cosT = dot(Ng, Ng) > 0.0 ? clamp(dot(Ng, sgfx_shadowLight.xyz), 0.0, 1.0) : 1.0;
+    // A zero normal (point sprites, foreign shaders that pass none): no offset, and the bias of
+    // the steepest slope allowed, as the surface's slope is unknown.
+    float cosT = clamp(dot(Ng, sgfx_shadowLight.xyz), 0.0, 1.0);
     float sinT = sqrt(1.0 - cosT * cosT);
     vec3 moved = P + Ng * (sgfx_shadowBias.w * t * (R + 0.5) * sinT);
     vec3 s = (sgfx_shadowMatrix[i] * vec4(moved, 1.0)).xyz;
