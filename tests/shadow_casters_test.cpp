@@ -12,6 +12,7 @@
 #include <sgfx/Shapes.h>
 #include <sgfx/Texture.h>
 #include <sgfx/nodes/shadow/ShadowNode.h>
+#include <sgfx/nodes/volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -338,4 +339,73 @@ TEST(ShadowCasters, ForeignShadersOptInThroughTheHook) {
         EXPECT_EQ(t.wrong, 0);
         EXPECT_GT(node ? t.shadowed : t.lit, node ? 200 : 10000);
     }
+}
+
+// The volume's single scattering of the sun is shadowed too: a homogeneous box lit straight from
+// above, half under an opaque slab. Along a pixel's ray the sun term is the quadrature of
+// T(t)·k_s·p·E·e^(−k_s·(1 − z)) over the box, computed here, and zero under the slab (x < 0);
+// pixels whose rays stay on one side of x = 0 inside the box must match it within 2 %.
+TEST(ShadowReceivers, VolumeScatteringIsShadowed) {
+    const double ks = 0.6, E = 3.0, phase = 1.0 / (4.0 * std::numbers::pi);
+    VolumeParameters p;
+    p.size = glm::vec3(2.0f);
+    p.absorption = 0.0f;
+    p.scattering = float(ks);
+    p.phase = VolumePhase::Isotropic;
+    p.lightColor = glm::vec3(float(E));
+    p.lightDirection = {0, 0, -1};
+    p.earlyTermination = 1.0f;
+    auto sun = Light::create(LightType::Directional);
+    sun->direction = {0, 0, -1};
+    auto shadows = ShadowNode::create(sun);
+    shadows->addChild(VolumeNode::create(p));
+    shadows->addChild(placed(lambert(shapes::box({5.0f, 10.0f, 0.2f})),
+                             glm::translate(glm::mat4(1.0f), glm::vec3(-2.5f, 0.0f, 3.0f))));
+    auto root = Group::create();
+    root->addChild(sun);
+    root->addChild(shadows);
+    constexpr int N = 64;
+    auto v = Viewer::createHeadless(N, N);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    Camera& cam = *v->camera();
+    cam.setPerspective(40.0f, 0.1f, 100.0f);
+    cam.setLookAt({0, -5, 0}, {0, -4, 0}, {0, 0, 1});
+    cam.computeNearFar = false;
+    cam.clearColor = {0, 0, 0, 1};
+    v->setSceneData(root);
+    v->frame();
+    expectNoGlErrors(*v);
+    const FloatImage img = v->renderer().readPixelsLinear();
+    const glm::dmat4 inv = glm::inverse(glm::dmat4(cam.projectionMatrix) * glm::dmat4(cam.viewMatrix));
+    int checkedLit = 0, checkedShadowed = 0;
+    for (int y = N / 2 - 8; y < N / 2 + 8; ++y)
+        for (int x = 0; x < N; ++x) {
+            const glm::dvec2 ndc((x + 0.5) / N * 2.0 - 1.0, 1.0 - (y + 0.5) / N * 2.0);
+            const glm::dvec4 a = inv * glm::dvec4(ndc, -1.0, 1.0), b = inv * glm::dvec4(ndc, 1.0, 1.0);
+            const glm::dvec3 o = glm::dvec3(a) / a.w, d = glm::normalize(glm::dvec3(b) / b.w - o);
+            double t0 = 0.0, t1 = 1e30; // the ray in the box [−1, 1]³
+            for (int k = 0; k < 3; ++k) {
+                const double u = (-1.0 - o[k]) / d[k], w = (1.0 - o[k]) / d[k];
+                t0 = std::max(t0, std::min(u, w));
+                t1 = std::min(t1, std::max(u, w));
+            }
+            if (!(t1 > t0 + 0.5)) continue;
+            const double xIn = o.x + t0 * d.x, xOut = o.x + t1 * d.x;
+            if (std::min(xIn, xOut) < 0.15 && std::max(xIn, xOut) > -0.15) continue; // crosses the edge
+            const bool lit = xIn > 0.0;
+            double L = 0.0, T = 1.0;
+            constexpr int kSteps = 4000;
+            const double dt = (t1 - t0) / kSteps;
+            for (int s = 0; s < kSteps; ++s) {
+                const double z = o.z + (t0 + (s + 0.5) * dt) * d.z;
+                const double mid = T * std::exp(-ks * dt / 2);
+                if (lit) L += mid * ks * phase * E * std::exp(-ks * (1.0 - z)) * dt;
+                T *= std::exp(-ks * dt);
+            }
+            const double got = red(img, x, y);
+            EXPECT_NEAR(got, L, 0.02 * L + 2e-4) << "pixel " << x << "," << y << (lit ? " lit" : " shadowed");
+            (lit ? checkedLit : checkedShadowed) += 1;
+        }
+    EXPECT_GT(checkedLit, 100);
+    EXPECT_GT(checkedShadowed, 100);
 }

@@ -132,7 +132,12 @@ void main() {
                 vec3 q = p + (float(j) + 0.5) * ds * dl;
                 lightDepth += extinctionPerRho * densityAt(q / u_boxSize + 0.5) * ds;
             }
-            source += u_lightColor * exp(-lightDepth) * (u_scattering * rho) * phase;
+            vec3 sunlit = u_lightColor * exp(-lightDepth);
+#ifdef SGFX_SHADOW_SUN
+            // A ShadowNode above: the sun's visibility at the sample (no surface: no offset).
+            sunlit *= sgfx_sunVisibility(eye + dirW * t, vec3(0.0));
+#endif
+            source += sunlit * (u_scattering * rho) * phase;
         }
         float tau = exp(-sigma * dt);
         if (u_integration == 1) {

@@ -49,7 +49,11 @@ void main() {
         float lightDepth = 0.0;
         for (int j = 0; j < u_lightSteps; ++j)
             lightDepth += (u_absorption + u_scattering) * densityAt((v_boxPos + (float(j) + 0.5) * ds * dl) / u_boxSize + 0.5) * ds;
-        source += u_lightColor * exp(-lightDepth) * (u_scattering * rho) * volumePhase(dot(u_lightDirection, -dirW));
+        vec3 sunlit = u_lightColor * exp(-lightDepth);
+#ifdef SGFX_SHADOW_SUN
+        sunlit *= sgfx_sunVisibility(v_worldPos, vec3(0.0)); // a ShadowNode above: the sun's visibility
+#endif
+        source += sunlit * (u_scattering * rho) * volumePhase(dot(u_lightDirection, -dirW));
     }
     float y = sigma * along;
     float alpha = 1.0 - exp(-y);
