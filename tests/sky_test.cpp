@@ -15,6 +15,7 @@
 #include <sgfx/StateSet.h>
 #include <sgfx/Visitors.h>
 #include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/shadow/ShadowNode.h>
 #include <sgfx/nodes/sky/SkyNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -398,5 +399,32 @@ TEST(Sky, HorizonColourForTheFogMatchesTheReference) {
         std::ostringstream where;
         where << "sun at " << k.sunElevation << "°, altitude " << k.altitude << " m";
         expectRadiance(fog->parameters().color, want, radianceTolerance(1.0, false), where.str());
+    }
+}
+
+// attachShadow: the shadow node's sun follows the sky's (direction and transmittance) every
+// frame; at night its colour is 0 and no shadow map is planned.
+TEST(Sky, DrivesTheShadowSun) {
+    for (const float hours : {10.0f, 23.0f}) {
+        SCOPED_TRACE(hours);
+        auto v = skyViewer({0, 1, 0.1f});
+        auto sky = SkyNode::create(SkyParameters::atTime(hours));
+        auto sun = Light::create(LightType::Directional);
+        auto shadows = ShadowNode::create(sun);
+        shadows->addChild(shapes::quad(20.0f, 20.0f));
+        shadows->addChild(shapes::box({1.0f, 1.0f, 1.0f}));
+        sky->attachShadow(shadows);
+        auto root = Group::create();
+        root->addChild(sun);
+        root->addChild(sky);
+        root->addChild(shadows);
+        v->setSceneData(root);
+        v->frame();
+        const SkyParameters& p = sky->parameters();
+        EXPECT_EQ(sun->direction, -p.sunDirection);
+        const glm::vec3 t = sky::sunTransmittance(p.atmosphere, p.sunDirection, p.altitude);
+        EXPECT_EQ(sun->color, t);
+        EXPECT_EQ(shadows->lastFrame().active, p.sunDirection.z > 0.0f);
+        EXPECT_EQ(t == glm::vec3(0.0f), p.sunDirection.z < 0.0f);
     }
 }

@@ -2,6 +2,9 @@
 
 #include "ParameterChecks.h"
 #include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/shadow/ShadowNode.h>
+
+#include <sgfx/Camera.h>
 
 #include <sgfx/FrameSetup.h>
 #include <sgfx/PassCommands.h>
@@ -126,7 +129,16 @@ glm::vec3 SkyNode::horizonColor() const {
     return sum / 8.0f;
 }
 
+void SkyNode::attachShadow(std::shared_ptr<ShadowNode> shadow) {
+    shadow_ = shadow;
+}
+
 void SkyNode::update(UpdateVisitor&) {
+    if (auto shadow = shadow_.lock(); shadow && shadow->sun()) {
+        Light& sun = *shadow->sun();
+        sun.direction = -parameters_.sunDirection;
+        sun.color = sky::sunTransmittance(parameters_.atmosphere, parameters_.sunDirection, parameters_.altitude);
+    }
     auto fog = fog_.lock();
     if (!fog) return;
     FogParameters fp = fog->parameters();

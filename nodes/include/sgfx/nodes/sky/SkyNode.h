@@ -16,6 +16,7 @@
 namespace sgfx {
 
 class FogNode;
+class ShadowNode;
 
 /// The atmosphere, the sun and how the sky is drawn (view table or per pixel).
 struct SGFX_API SkyParameters {
@@ -54,6 +55,11 @@ public:
     /// sun's azimuth, averaged around the horizon, and the fog stops fogging sky pixels itself
     /// (FogSky::Off): the sky is fogged once, by its own atmosphere. Null detaches.
     void attachFog(std::shared_ptr<FogNode> fog);
+    /// Each frame (update traversal) the shadow node's sun light follows the sky's sun: its
+    /// direction becomes −sunDirection and its colour the sun's transmittance through the
+    /// atmosphere (sky::sunTransmittance; its intensity is left alone). Below the horizon the
+    /// colour is 0, and a sun without light draws no shadow map. Null detaches.
+    void attachShadow(std::shared_ptr<ShadowNode> shadow);
     /// The linear radiance of the horizon (1° above it), averaged over 8 azimuths.
     glm::vec3 horizonColor() const;
     /// The sky seen from sea level + altitude, without the sun's disc (a directional light stands
@@ -76,6 +82,7 @@ private:
     std::string tableName() const;
     SkyParameters parameters_;
     std::weak_ptr<FogNode> fog_;
+    std::weak_ptr<ShadowNode> shadow_;
 };
 
 } // namespace sgfx
