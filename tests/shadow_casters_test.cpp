@@ -12,6 +12,7 @@
 #include <sgfx/Shapes.h>
 #include <sgfx/Texture.h>
 #include <sgfx/nodes/shadow/ShadowNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
 #include <sgfx/nodes/volume/VolumeNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -408,4 +409,40 @@ TEST(ShadowReceivers, VolumeScatteringIsShadowed) {
         }
     EXPECT_GT(checkedLit, 100);
     EXPECT_GT(checkedShadowed, 100);
+}
+
+// Blended items an order-independent transparency pass draws itself (RenderQueue::claimed) read
+// the shadow map too: the pass declares what their effects sample, so the map is made and alive.
+// A half-transparent white plane in a weighted-blended bin, with nothing opaque receiving, shows
+// the box's shadow: v = pixel / (α·N·L).
+TEST(ShadowReceivers, OrderIndependentTransparencyReceives) {
+    const glm::dvec3 L = sunVector(250.0, 55.0);
+    auto sun = Light::create(LightType::Directional);
+    sun->direction = -glm::vec3(L);
+    auto shadows = ShadowNode::create(sun);
+    auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
+    auto pane = shapes::quad(12.0f, 12.0f);
+    auto m = white();
+    m->diffuse.a = 0.5f;
+    pane->getOrCreateStateSet().material.set(m);
+    pane->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+    bin->addChild(pane);
+    shadows->addChild(bin);
+    const glm::dmat4 at = glm::translate(glm::dmat4(1.0), glm::dvec3(0.2, 0.1, 1.2));
+    shadows->addChild(placed(lambert(shapes::box({1.0f, 1.2f, 0.5f})), glm::mat4(at)));
+    auto root = Group::create();
+    root->addChild(sun);
+    root->addChild(shadows);
+    auto v = orthoTopViewer(kSize, float(kHalf));
+    v->camera()->projectionMatrix =
+        glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    v->setSceneData(root);
+    v->frame();
+    expectNoGlErrors(*v);
+    const std::vector<glm::dvec3> corners = boxCorners(at, {1.0, 1.2, 0.5});
+    const Tally t = check(v->renderer().readPixelsLinear(), 0.5 * L.z,
+                          hulls({projected(corners, L)}, {footprint(corners)}));
+    EXPECT_EQ(t.wrong, 0);
+    EXPECT_GT(t.shadowed, 150);
 }

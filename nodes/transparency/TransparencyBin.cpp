@@ -130,8 +130,10 @@ void TransparencyBin::addAccumulatePass(FrameSetup& f) const {
                 false);
             d.depth =
                 b.depthTest(b.get(resources::DrawDepth)); // opaque and transmissive depth, never written
-            // Transmissive materials in the bin read the copy of the opaque scene.
+            // Transmissive materials in the bin read the copy of the opaque scene, and every item
+            // what its effects sample (a shadow map).
             if (b.has(resources::TransmissionColour)) b.sample(resources::TransmissionColour);
+            b.sampleMaterials(b.queue().claimed);
             b.publish("oit.accum", d.accum);
             b.publish("oit.reveal", d.reveal);
         },

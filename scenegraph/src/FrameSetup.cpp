@@ -4,6 +4,8 @@
 #include "sgfx/Effect.h"
 #include "sgfx/Renderer.h"
 
+#include <algorithm>
+
 #include <stdexcept>
 #include <string>
 
@@ -43,6 +45,33 @@ BoundingSphere FrameSetup::worldBound(const EffectNode& effect) const {
         for (const FramePlan::Place& place : plan_->places)
             if (place.node == &effect) b.expandBy(effect.bound().transformed(place.model));
     return b;
+}
+
+const RenderQueue& PassBuilder::queue() const {
+    if (!queue_) throw std::logic_error("sgfx: this PassBuilder has no render queue");
+    return *queue_;
+}
+
+void PassBuilder::sampleMaterials(std::span<const RenderItem> items) {
+    const RenderQueue& q = queue();
+    std::vector<bool> used(q.effectSets.size(), false);
+    for (const RenderItem& item : items)
+        used[item.effectSet] = true;
+    std::vector<std::pair<std::string_view, std::string_view>> done;
+    for (std::size_t i = 0; i < used.size(); ++i) {
+        if (!used[i]) continue;
+        for (const EffectNode* e : q.effectSets[i].effects)
+            for (const SnippetSampler& s : e->snippet().samplers) {
+                if (s.nodeTexture) continue; // the node's own, not the frame graph's
+                const std::pair<std::string_view, std::string_view> key(s.uniform, s.resource);
+                if (std::find(done.begin(), done.end(), key) != done.end()) continue;
+                if (!board_.has(s.resource))
+                    throw std::logic_error("sgfx: effect '" + std::string(e->kind()) + "' samples '" +
+                                           s.resource + "', which no pass of the frame makes");
+                done.push_back(key);
+                b_.sample(board_.get(s.resource), s.uniform);
+            }
+    }
 }
 
 ResourceId PassBuilder::write(std::string_view name, bool keep) {

@@ -15,6 +15,7 @@
 #include <functional>
 #include <memory>
 #include <set>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -23,6 +24,7 @@
 namespace sgfx {
 
 class RenderQueue;
+struct RenderItem;
 class EffectNode;
 class FramePlan;
 using NodeMask = std::uint32_t;
@@ -63,9 +65,10 @@ inline constexpr std::string_view TransmissionColour = "transmission.colour";
 /// surfaces through it keeps their current versions for the passes declared after it.
 class SGFX_API PassBuilder {
 public:
-    PassBuilder(FrameGraph::Builder& builder, Blackboard& board)
+    PassBuilder(FrameGraph::Builder& builder, Blackboard& board, const RenderQueue* queue = nullptr)
         : b_(builder)
-        , board_(board) {}
+        , board_(board)
+        , queue_(queue) {}
     /// The resource published under `name` (throws naming it when nothing was).
     ResourceId get(std::string_view name) const { return board_.get(name); }
     bool has(std::string_view name) const { return board_.has(name); }
@@ -82,10 +85,18 @@ public:
     /// Publishes a resource for later passes and for material samplers (ShaderSnippet::samplers).
     void publish(std::string name, ResourceId id) { board_.put(std::move(name), id); }
     void sideEffect() { b_.sideEffect(); }
+    /// The view's queue (throws when the builder has none).
+    const RenderQueue& queue() const;
+    /// The pass draws `items` with their materials: it samples every frame resource their effects'
+    /// snippets sample (ShaderSnippet::samplers), so those stay alive and their producers run.
+    /// Only effect sets some item uses count. Throws naming the effect and resource when no pass
+    /// of the frame makes one.
+    void sampleMaterials(std::span<const RenderItem> items);
 
 private:
     FrameGraph::Builder& b_;
     Blackboard& board_;
+    const RenderQueue* queue_;
 };
 
 /// The view a frame is being set up for.

@@ -52,7 +52,6 @@ private:
     void declareTransmission();
     void declareResolve();
     void declarePostAa();
-    std::vector<std::pair<std::string, std::string>> snippetSamplers(std::span<const RenderItem> items) const;
     void legacyState(bool invalidate, const gl::RenderTarget& target);
     void drawOpaque();
     void drawTransmissive();
@@ -350,7 +349,7 @@ void Renderer::View::declare(const FrameSetup& setup, PassPhase phase) {
         graph_.addPass(
             p.name,
             [&](FrameGraph::Builder& b) {
-                PassBuilder pb(b, graph_.blackboard);
+                PassBuilder pb(b, graph_.blackboard, &queue_);
                 if (p.setup) p.setup(pb);
             },
             p.execute, std::string(phaseName(phase)));
@@ -365,7 +364,7 @@ void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
         graph_.addPass(
             "scene depth",
             [&](FrameGraph::Builder& b) {
-                PassBuilder pb(b, graph_.blackboard);
+                PassBuilder pb(b, graph_.blackboard, &queue_);
                 pb.publish(std::string(resources::SceneDepth),
                            pb.depth(pb.create("scene.depth", desc), false));
                 // The G-buffer outputs at their locations in gbuffer_flat.frag and the material's
@@ -388,7 +387,7 @@ void Renderer::View::declareSceneDepth(const FrameSetup::DepthNeeds& needs) {
     graph_.addPass(
         "scene depth copy",
         [&](FrameGraph::Builder& b) {
-            PassBuilder pb(b, graph_.blackboard);
+            PassBuilder pb(b, graph_.blackboard, &queue_);
             pb.sample(resources::DrawDepth);
             pb.publish(std::string(resources::SceneDepth), pb.depth(pb.create("scene.depth", desc), false));
         },
@@ -422,10 +421,8 @@ void Renderer::View::declareMain(bool opaque) {
     graph_.addPass(
         opaque ? "main: opaque" : "main: transparent",
         [&](FrameGraph::Builder& b) {
-            PassBuilder pb(b, graph_.blackboard);
-            for (const auto& [uniform, resource] :
-                 snippetSamplers(opaque ? queue_.opaque : queue_.transparent))
-                pb.sample(pb.get(resource), uniform);
+            PassBuilder pb(b, graph_.blackboard, &queue_);
+            pb.sampleMaterials(opaque ? queue_.opaque : queue_.transparent);
             // What drawables bind in their draw (FrameSetup::sampleInMainPass): the opaque half
             // reads what is made before it, the transparent half everything, so a producer after
             // the opaque items lives through the Transparent passes and the transparent items.
@@ -474,7 +471,7 @@ void Renderer::View::declareTransmission() {
     graph_.addPass(
         "transmission copy",
         [&](FrameGraph::Builder& b) {
-            PassBuilder pb(b, graph_.blackboard);
+            PassBuilder pb(b, graph_.blackboard, &queue_);
             pb.sample(resources::DrawColour);
             const TextureDesc desc{.format = draw_->colorFormat, .filter = Filter::Linear, .mipmaps = true};
             const std::string name(resources::TransmissionColour);
@@ -489,9 +486,8 @@ void Renderer::View::declareTransmission() {
     graph_.addPass(
         "main: transmissive",
         [&](FrameGraph::Builder& b) {
-            PassBuilder pb(b, graph_.blackboard);
-            for (const auto& [uniform, resource] : snippetSamplers(queue_.transmissive))
-                pb.sample(pb.get(resource), uniform);
+            PassBuilder pb(b, graph_.blackboard, &queue_);
+            pb.sampleMaterials(queue_.transmissive);
             pb.sample(resources::TransmissionColour);
             pb.write(resources::DrawColour);
             pb.write(resources::DrawDepth);
@@ -499,34 +495,11 @@ void Renderer::View::declareTransmission() {
         [this](PassCommands&) { drawTransmissive(); }, "main");
 }
 
-// What the items' effects sample (only sets some item uses: an effect whose subtree drew nothing
-// reads nothing, so what it would read can be culled).
-std::vector<std::pair<std::string, std::string>>
-Renderer::View::snippetSamplers(std::span<const RenderItem> items) const {
-    std::vector<bool> used(queue_.effectSets.size(), false);
-    for (const RenderItem& item : items)
-        used[item.effectSet] = true;
-    std::vector<std::pair<std::string, std::string>> out;
-    for (std::size_t i = 0; i < used.size(); ++i) {
-        if (!used[i]) continue;
-        for (const EffectNode* e : queue_.effectSets[i].effects)
-            for (const SnippetSampler& s : e->snippet().samplers) {
-                if (s.nodeTexture) continue; // the node's own, not the frame graph's
-                if (!graph_.blackboard.has(s.resource))
-                    throw std::logic_error("sgfx: effect '" + std::string(e->kind()) + "' samples '" +
-                                           s.resource + "', which no pass of the frame makes");
-                if (std::find(out.begin(), out.end(), std::pair(s.uniform, s.resource)) == out.end())
-                    out.emplace_back(s.uniform, s.resource);
-            }
-    }
-    return out;
-}
-
 void Renderer::View::declareResolve() {
     graph_.addPass(
         "aa resolve",
         [&](FrameGraph::Builder& b) {
-            PassBuilder pb(b, graph_.blackboard);
+            PassBuilder pb(b, graph_.blackboard, &queue_);
             pb.sample(resources::DrawColour);
             pb.sample(resources::DrawDepth);
             pb.write(resources::ViewColour, false);
@@ -541,7 +514,7 @@ void Renderer::View::declarePostAa() {
     graph_.addPass(
         aa.settings.mode == AntiAliasing::Mode::Fxaa ? "aa fxaa" : "aa taa",
         [&](FrameGraph::Builder& b) {
-            PassBuilder pb(b, graph_.blackboard);
+            PassBuilder pb(b, graph_.blackboard, &queue_);
             pb.sample(resources::ViewDepth);
             pb.write(resources::ViewColour);
             b.sideEffect(); // TAA keeps its history
