@@ -153,7 +153,7 @@ void declareAll(const FrameSetup& setup) {
         g.addPass(
             p.name,
             [&](FrameGraph::Builder& b) {
-                PassBuilder pb(b, g.blackboard);
+                PassBuilder pb(b, g.blackboard, &setup.queue());
                 if (p.setup) p.setup(pb);
             },
             p.execute);
