@@ -50,7 +50,7 @@ struct SGFX_API ShadowOptions {
     /// Bias (docs/plans/shadows.md §5): depth b = t·(constant + slope·R·min(tan θ, maxSlope)),
     /// normal offset δ = normalOffset·t·(R + ½)·sin θ; t the cascade's texel, R the disc radius.
     float constantBias = 0.5f; ///< [0, 16] texels
-    float slopeBias = 0.5f;    ///< [0, 16]
+    float slopeBias = 0.4f;    ///< [0, 16]
     float maxSlope = 2.0f;     ///< [0, 100]
     float normalOffset = 1.0f; ///< [0, 16]
     float density = 1.0f;      ///< [0, 1]: v' = 1 − density·(1 − v) (the particle seed's shadow density)
