@@ -576,24 +576,26 @@ struct EdgeScene {
     std::shared_ptr<Group> root = Group::create();
     std::shared_ptr<ShadowNode> shadows;
 
-    EdgeScene(double edgeX, const ShadowOptions& o, const glm::dvec3& L = {0, 0, 1}) {
+    EdgeScene(double edgeX, const ShadowOptions& o, const glm::dvec3& L = {0, 0, 1}, double top = 2.1,
+              double thickness = 0.2) {
         auto sun = sunLight(L);
         root->addChild(sun);
         shadows = ShadowNode::create(sun, o);
         shadows->addChild(lambert(shapes::quad(6.0f, 6.0f)));
-        shadows->addChild(
-            placed(lambert(shapes::box({5.0f, 6.0f, 0.2f})),
-                   glm::translate(glm::mat4(1.0f), glm::vec3(float(edgeX) - 2.5f, 0.0f, 2.0f))));
+        shadows->addChild(placed(lambert(shapes::box({5.0f, 6.0f, float(thickness)})),
+                                 glm::translate(glm::mat4(1.0f), glm::vec3(float(edgeX) - 2.5f, 0.0f,
+                                                                           float(top - thickness / 2)))));
         root->addChild(shadows);
     }
 };
 
-std::unique_ptr<Viewer> edgeViewer(int size, float half, const glm::vec2& shift = glm::vec2(0.0f)) {
+std::unique_ptr<Viewer> edgeViewer(int size, float half, const glm::vec2& shift = glm::vec2(0.0f),
+                                   float depthHalf = 1.0f) {
     auto v = Viewer::createHeadless(size, size);
     v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
     Camera& c = *v->camera();
     c.setLookAt(glm::vec3(shift, 10.0f), glm::vec3(shift, 0.0f), {0, 1, 0});
-    c.projectionMatrix = glm::ortho(-half, half, -half, half, 9.0f, 11.0f);
+    c.projectionMatrix = glm::ortho(-half, half, -half, half, 10.0f - depthHalf, 10.0f + depthHalf);
     return v;
 }
 
@@ -619,6 +621,56 @@ double width1090(const std::vector<double>& v) {
     return cross(0.9) - cross(0.1);
 }
 
+// A shadow edge's profile (v per column, rising towards the lit side) against the quadrature of
+// 16 Poisson taps at radius |p_k|·R texels, each turned by a uniformly random angle and read
+// through the hardware's bilinear comparison (a one-texel ramp across the texel-quantised edge):
+// E[v](x) = 1/16 Σ_k ⟨ramp(x − e + |p_k|·R·t·cos φ)⟩_φ. R = 0: the ramp alone. The edge e is
+// fitted by least squares. `t`: a texel in pixels.
+struct PenumbraFit {
+    double edge = 0.0;                      ///< column of the fitted edge
+    double worst = 0.0;                     ///< largest |measured − expected| over the columns
+    double widthGot = 0.0, widthWant = 0.0; ///< 10–90 % widths, pixels
+};
+
+PenumbraFit fitPenumbra(const std::vector<double>& got, double t, double R) {
+    const auto ramp = [&](double u) { return std::clamp(u / t + 0.5, 0.0, 1.0); };
+    // Tabulated over [−60, 60] pixels every 1/50 pixel (the fit reads it thousands of times).
+    std::vector<double> table(6001);
+    for (std::size_t i = 0; i < table.size(); ++i) {
+        const double x = -60.0 + double(i) / 50.0;
+        double sum = 0.0;
+        constexpr int kSteps = 256;
+        for (const glm::dvec2& p : shadow::poissonDisc())
+            for (int s = 0; s < kSteps; ++s)
+                sum +=
+                    ramp(x + glm::length(p) * R * t * std::cos(2.0 * std::numbers::pi * (s + 0.5) / kSteps));
+        table[i] = R == 0.0 ? ramp(x) : sum / (16.0 * kSteps);
+    }
+    const auto expected = [&](double x) {
+        const double i = std::clamp((x + 60.0) * 50.0, 0.0, 6000.0);
+        const auto lo = std::size_t(i);
+        const double f = i - double(lo);
+        return lo >= 6000 ? table[6000] : table[lo] * (1.0 - f) + table[lo + 1] * f;
+    };
+    const int n = int(got.size());
+    PenumbraFit fit;
+    double bestErr = 1e30;
+    for (double e = n / 2.0 - 8.0; e <= n / 2.0 + 8.0; e += 0.02) {
+        double err = 0.0;
+        for (int c = n / 2 - 50; c < n / 2 + 50; ++c)
+            err += std::pow(got[std::size_t(c)] - expected(c + 0.5 - e), 2.0);
+        if (err < bestErr) bestErr = err, fit.edge = e;
+    }
+    std::vector<double> want(got.size());
+    for (int c = 0; c < n; ++c) {
+        want[std::size_t(c)] = expected(c + 0.5 - fit.edge);
+        fit.worst = std::max(fit.worst, std::abs(got[std::size_t(c)] - want[std::size_t(c)]));
+    }
+    fit.widthGot = width1090(got);
+    fit.widthWant = width1090(want);
+    return fit;
+}
+
 } // namespace
 
 // Test 6 of the plan: the PCF penumbra of a straight edge, averaged over 64 rows, against an
@@ -642,55 +694,53 @@ TEST(ShadowRender, PcfPenumbraMatchesTheRotatedDiscQuadrature) {
         EdgeScene scene(0.013, o);
         auto v = edgeViewer(kPx, kHalfView);
         const FloatImage img = render(*v, scene.root);
-        const std::vector<double> got = columnMeans(img, 96, 160);
         const double t = scene.shadows->lastFrame().texels.at(0) / px; // texel in pixels
         ASSERT_GT(t, 1.0);
         const double R = filter == ShadowFilter::Pcf ? 3.0 : 0.0;
-        const auto ramp = [&](double u) { return std::clamp(u / t + 0.5, 0.0, 1.0); };
-        // Tabulated over [−40, 40] pixels every 1/50 pixel (the fit below reads it thousands of times).
-        std::vector<double> table(4001);
-        for (std::size_t i = 0; i < table.size(); ++i) {
-            const double x = -40.0 + double(i) / 50.0; // pixels from the edge, lit side positive
-            if (R == 0.0) {
-                table[i] = ramp(x);
-                continue;
-            }
-            double sum = 0.0;
-            constexpr int kSteps = 256;
-            for (const glm::dvec2& p : shadow::poissonDisc())
-                for (int s = 0; s < kSteps; ++s)
-                    sum += ramp(x + glm::length(p) * R * t *
-                                        std::cos(2.0 * std::numbers::pi * (s + 0.5) / kSteps));
-            table[i] = sum / (16.0 * kSteps);
-        }
-        const auto expected = [&](double x) {
-            const double i = std::clamp((x + 40.0) * 50.0, 0.0, 4000.0);
-            const auto lo = std::size_t(i);
-            const double f = i - double(lo);
-            return lo >= 4000 ? table[4000] : table[lo] * (1.0 - f) + table[lo + 1] * f;
-        };
-        // Fit the edge: column centre x_c = c + 0.5, edge at e pixels; best e by least squares.
-        double bestE = 0.0, bestErr = 1e30;
-        for (double e = kPx / 2.0 - 8.0; e <= kPx / 2.0 + 8.0; e += 0.02) {
-            double err = 0.0;
-            for (int c = kPx / 2 - 40; c < kPx / 2 + 40; ++c)
-                err += std::pow(got[std::size_t(c)] - expected(c + 0.5 - e), 2.0);
-            if (err < bestErr) bestErr = err, bestE = e;
-        }
-        std::vector<double> want(got.size());
-        double worst = 0.0;
-        for (int c = 0; c < kPx; ++c) {
-            want[std::size_t(c)] = expected(c + 0.5 - bestE);
-            worst = std::max(worst, std::abs(got[std::size_t(c)] - want[std::size_t(c)]));
-        }
-        EXPECT_LE(worst, 0.03) << "edge fitted at column " << bestE;
-        EXPECT_NEAR(width1090(got), width1090(want), 1.0);
+        const PenumbraFit fit = fitPenumbra(columnMeans(img, 96, 160), t, R);
+        EXPECT_LE(fit.worst, 0.03) << "edge fitted at column " << fit.edge;
+        EXPECT_NEAR(fit.widthGot, fit.widthWant, 1.0);
         if (R == 0.0) {
-            EXPECT_NEAR(width1090(got), 0.8 * t, 0.5);
+            EXPECT_NEAR(fit.widthGot, 0.8 * t, 0.5);
         }
         // The edge lies within a texel of the slab's (x = 0.013 m).
-        EXPECT_NEAR(-kHalfView + bestE * px, 0.013, t * px);
+        EXPECT_NEAR(-kHalfView + fit.edge * px, 0.013, t * px);
     }
+}
+
+// Test 7 of the plan: PCSS penumbrae grow with the blocker's height as the similar triangles say.
+// A slab's edge h = 0.5, 1, 2, 4 m over the plane, the sun overhead with α = 0.05 rad: the filter
+// radius is ρ = h·tan α, so the profile is the rotated-disc quadrature of radius ρ (as for PCF),
+// its 10–90 % width within 15 % + 1 pixel of it, and the widths grow in proportion to h.
+TEST(ShadowRender, PcssPenumbraGrowsWithTheBlockersHeight) {
+    constexpr int kPx = 256;
+    constexpr float kHalfView = 1.0f;
+    const double px = 2.0 * kHalfView / kPx, tanA = std::tan(0.05);
+    std::vector<double> widths;
+    for (const double h : {0.5, 1.0, 2.0, 4.0}) {
+        SCOPED_TRACE(::testing::Message() << "height " << h);
+        ShadowOptions o;
+        o.cascades = 1;
+        o.mapSize = 256;
+        o.filter = ShadowFilter::Pcss;
+        o.lightAngularRadius = 0.05f;
+        o.maxPenumbraTexels = 32.0f;
+        EdgeScene scene(0.013, o, {0, 0, 1}, h, 0.02);               // a thin slab, its top h up
+        auto v = edgeViewer(kPx, kHalfView, glm::vec2(0.0f), 0.45f); // sees z in [−0.45, 0.45]
+        const FloatImage img = render(*v, scene.root);
+        const double t = scene.shadows->lastFrame().texels.at(0) / px;
+        const double rho = h * tanA / (t * px); // texels
+        ASSERT_LT(rho, 16.0);
+        const PenumbraFit fit = fitPenumbra(columnMeans(img, 96, 160), t, rho);
+        EXPECT_NEAR(fit.widthGot, fit.widthWant, 0.15 * fit.widthWant + 1.0);
+        EXPECT_LE(fit.worst, 0.06) << "edge fitted at column " << fit.edge;
+        std::printf("pcss: h = %.1f m, rho = %.2f texels, 10-90 %% width %.2f px (quadrature %.2f px)\n", h,
+                    rho, fit.widthGot, fit.widthWant);
+        widths.push_back(fit.widthGot);
+    }
+    for (std::size_t i = 1; i < widths.size(); ++i)
+        EXPECT_NEAR(widths[i] / widths[i - 1], 2.0, 0.35)
+            << "from " << widths[i - 1] << " to " << widths[i] << " px";
 }
 
 // Test 5 of the plan: stability. The camera moves by 1..7 pixels in x and y; each image, shifted

@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -50,9 +51,11 @@ void ShadowOptions::validate() const {
     checkRange("splitLambda", splitLambda, 0.0, 1.0);
     checkRange("blendBand", blendBand, 0.0, 0.5);
     checkRange("fadeBand", fadeBand, 0.0, 0.5);
-    if (std::uint8_t(filter) > std::uint8_t(ShadowFilter::Pcf))
+    if (std::uint8_t(filter) > std::uint8_t(ShadowFilter::Pcss))
         nodes::refuse(kOwner, "filter has an invalid value " + std::to_string(int(filter)));
     checkRange("pcfRadius", pcfRadius, 0.5, 8.0);
+    checkRange("lightAngularRadius", lightAngularRadius, 0.0, 0.2);
+    checkRange("maxPenumbraTexels", maxPenumbraTexels, 1.0, 32.0);
     checkRange("constantBias", constantBias, 0.0, 16.0);
     checkRange("slopeBias", slopeBias, 0.0, 16.0);
     checkRange("maxSlope", maxSlope, 0.0, 100.0);
@@ -101,19 +104,21 @@ ShadowFrameInfo ShadowNode::lastFrame() const {
 }
 
 void ShadowNode::rebuildSnippet() {
-    const bool pcf = options_.filter == ShadowFilter::Pcf;
     const bool debug = options_.debugView == ShadowDebugView::Cascades;
+    static constexpr const char* kFilters[] = {"hard", "pcf", "pcss"};
+    const char* filter = kFilters[std::size_t(options_.filter)];
     ShaderSnippet s;
-    s.name = std::string("shadow_") + (pcf ? "pcf" : "hard") + (debug ? "_debug" : "");
+    s.name = std::string("shadow_") + filter + (debug ? "_debug" : "");
     s.defines = "#define SGFX_LIGHT_VISIBILITY 1\n#define SGFX_SHADOW_SUN 1\n";
     SnippetSampler map;
     map.uniform = "sgfx_shadowMap";
     map.resource = atlasName_;
     map.comparison = true;
     s.samplers = {map};
+    if (options_.filter == ShadowFilter::Pcss) s.samplers.push_back({"sgfx_shadowDepth", atlasName_});
     s.fragmentDecl = nodes::shaderText("shadow_decl.glsl") +
-                     (pcf ? discConstant() + nodes::shaderText("shadow_pcf.glsl")
-                          : nodes::shaderText("shadow_hard.glsl")) +
+                     (options_.filter == ShadowFilter::Hard2x2 ? "" : discConstant()) +
+                     nodes::shaderText(std::string("shadow_") + filter + ".glsl") +
                      nodes::shaderText("shadow_visibility.glsl");
     if (debug) s.colorCode = nodes::shaderText("shadow_debug.glsl");
     snippet_ = std::move(s);
@@ -175,7 +180,10 @@ void ShadowNode::applyUniforms(gl::Program& program, const DrawContext&) const {
     program.set("sgfx_shadowLight", plan->light);
     program.set("sgfx_shadowBias", glm::vec4(options_.constantBias, options_.slopeBias, options_.maxSlope,
                                              options_.normalOffset));
-    const float radius = options_.filter == ShadowFilter::Pcf ? options_.pcfRadius : 1.0f;
+    const float radius = options_.filter == ShadowFilter::Hard2x2 ? 1.0f : options_.pcfRadius;
+    if (options_.filter == ShadowFilter::Pcss)
+        program.set("sgfx_shadowPcss", glm::vec4(std::tan(options_.lightAngularRadius),
+                                                 options_.maxPenumbraTexels / 2.0f, 0.0f, 0.0f));
     program.set("sgfx_shadowFilter", glm::vec4(radius, 1.0f / float(plan->atlasSize.x),
                                                1.0f / float(plan->atlasSize.y), options_.density));
 }

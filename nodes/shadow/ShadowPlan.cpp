@@ -118,7 +118,9 @@ std::shared_ptr<ShadowNode::Plan> planSun(const FrameSetup& f, const ShadowNode&
     const CameraSlices cam = cameraSlices(f.view(), o.maxDistance);
     const int n = o.cascades;
     const std::vector<double> splits = practicalSplits(cam.near, cam.far, n, o.splitLambda);
-    const double kernel = o.filter == ShadowFilter::Pcf ? double(o.pcfRadius) : 1.0;
+    const double kernel = o.filter == ShadowFilter::Hard2x2 ? 1.0 : double(o.pcfRadius);
+    const int margin =
+        o.filter == ShadowFilter::Pcss ? pcssMarginTexels(o.maxPenumbraTexels) : marginTexels(kernel);
     const glm::dmat3 rotation = lightRotation(L);
     const double zc = glm::dot(L, glm::dvec3(bound.center)), zr = double(bound.radius) * 1.001;
     const AtlasLayout atlas = atlasLayout(n, o.mapSize, kMaxAtlasSize);
@@ -132,7 +134,7 @@ std::shared_ptr<ShadowNode::Plan> planSun(const FrameSetup& f, const ShadowNode&
     for (int i = 0; i < n; ++i) {
         const SliceSphere s = cam.sphere(sliceStart(splits, i, o.blendBand), splits[std::size_t(i) + 1]);
         const CascadeFit fit =
-            fitCascade(rotation, cam.centre(s), s.radius, o.mapSize, marginTexels(kernel), o.snapToTexels);
+            fitCascade(rotation, cam.centre(s), s.radius, o.mapSize, margin, o.snapToTexels);
         fits.push_back(fit);
         lo = glm::min(lo, fit.centre - fit.halfExtent);
         hi = glm::max(hi, fit.centre + fit.halfExtent);

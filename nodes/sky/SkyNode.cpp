@@ -138,6 +138,11 @@ void SkyNode::update(UpdateVisitor&) {
         Light& sun = *shadow->sun();
         sun.direction = -parameters_.sunDirection;
         sun.color = sky::sunTransmittance(parameters_.atmosphere, parameters_.sunDirection, parameters_.altitude);
+        if (shadow->options().lightAngularRadius != parameters_.sunAngularRadius) { // PCSS's sun size
+            ShadowOptions o = shadow->options();
+            o.lightAngularRadius = std::min(parameters_.sunAngularRadius, 0.2f);
+            shadow->setOptions(o);
+        }
     }
     auto fog = fog_.lock();
     if (!fog) return;

@@ -28,6 +28,7 @@ inline constexpr NodeMask kReceives = 1u << 31;
 enum class ShadowFilter : std::uint8_t {
     Hard2x2, ///< one hardware comparison, bilinear over 2×2 texels: the cheap option
     Pcf,     ///< 16 taps of a Poisson disc, rotated per world cell: the default
+    Pcss,    ///< percentage-closer soft shadows: penumbrae widen with the blocker's distance
 };
 
 /// What ShadowNode draws over the view besides shadows, for tuning.
@@ -47,6 +48,10 @@ struct SGFX_API ShadowOptions {
     ShadowFilter filter = ShadowFilter::Pcf;
     float pcfRadius = 1.5f;  ///< [0.5, 8] texels: radius of the PCF disc
     bool pcfEarlyOut = true; ///< centre and 4 outer taps agree: the other 12 are skipped
+    /// PCSS: the sun's angular radius, [0, 0.2] rad (a SkyNode sets it), and the widest penumbra,
+    /// [1, 32] texels (the blocker search and the filter stop at half of it).
+    float lightAngularRadius = 0.00465f;
+    float maxPenumbraTexels = 16.0f;
     /// Bias (docs/plans/shadows.md §5): depth b = t·(constant + slope·R·min(tan θ, maxSlope)),
     /// normal offset δ = normalOffset·t·(R + ½)·sin θ; t the cascade's texel, R the disc radius.
     float constantBias = 0.5f; ///< [0, 16] texels
