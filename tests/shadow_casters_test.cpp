@@ -446,3 +446,76 @@ TEST(ShadowReceivers, OrderIndependentTransparencyReceives) {
     EXPECT_EQ(t.wrong, 0);
     EXPECT_GT(t.shadowed, 150);
 }
+
+// A spot light's perspective map: the box's shadow is its corners projected from the light's
+// position onto the plane, lp + (p − lp)·lp.z/(lp.z − p.z). v is the pixel over the same view
+// without the ShadowNode (the spot's cone and falloff divide out); only pixels the spot lights
+// count. With a sun as well, both shadows: the spot's light and the sun's each shadowed.
+TEST(ShadowCasters, SpotLightCastsFromItsPosition) {
+    const glm::dvec3 lp(0.5, -0.3, 4.0), size(0.8, 0.6, 0.5);
+    const glm::dmat4 at = glm::translate(glm::dmat4(1.0), glm::dvec3(-0.2, 0.4, 1.0));
+    for (const ShadowFilter filter : {ShadowFilter::Hard2x2, ShadowFilter::Pcf, ShadowFilter::Pcss}) {
+        SCOPED_TRACE(int(filter));
+        auto spot = Light::create(LightType::Spot);
+        spot->position = glm::vec3(lp);
+        spot->direction = {0, 0, -1};
+        spot->outerConeAngle = glm::radians(50.0f);
+        spot->innerConeAngle = glm::radians(40.0f);
+        ShadowOptions o;
+        o.filter = filter;
+        auto shadows = ShadowNode::create(nullptr, o);
+        shadows->addSpot(spot);
+        shadows->addChild(lambert(shapes::quad(12.0f, 12.0f)));
+        shadows->addChild(placed(lambert(shapes::box(glm::vec3(size))), glm::mat4(at)));
+        auto root = Group::create();
+        root->addChild(spot);
+        root->addChild(shadows);
+        auto v = orthoTopViewer(kSize, float(kHalf));
+        v->camera()->projectionMatrix =
+            glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
+        v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+        v->setSceneData(root);
+        v->frame();
+        expectNoGlErrors(*v);
+        const FloatImage shadowed = v->renderer().readPixelsLinear();
+        shadows->enabled = false;
+        v->frame();
+        const FloatImage plain = v->renderer().readPixelsLinear();
+        std::vector<glm::dvec2> projectedCorners;
+        for (const glm::dvec3& p : boxCorners(at, size))
+            projectedCorners.push_back(glm::dvec2(lp + (p - lp) * (lp.z / (lp.z - p.z))));
+        const auto expect = hulls({convexHull(projectedCorners)}, {footprint(boxCorners(at, size))});
+        int wrong = 0, dark = 0;
+        for (int y = 0; y < kSize; ++y)
+            for (int x = 0; x < kSize; ++x) {
+                const Expect e = expect(worldOfPixel(x, y));
+                const double p = red(plain, x, y);
+                if (e == Expect::Unsure || p < 0.05) continue;
+                const bool isDark = red(shadowed, x, y) / p < 0.5;
+                dark += isDark;
+                if (isDark != (e == Expect::Shadowed) && ++wrong <= 5)
+                    ADD_FAILURE() << "pixel " << x << "," << y << ": v = " << red(shadowed, x, y) / p;
+            }
+        EXPECT_EQ(wrong, 0);
+        EXPECT_GT(dark, 100); // the shadow beyond the box's footprint
+    }
+}
+
+TEST(ShadowCasters, SpotsAreCheckedWhenAdded) {
+    auto node = ShadowNode::create();
+    node->name = "shadows";
+    auto sun = Light::create(LightType::Directional);
+    sun->name = "sun";
+    try {
+        node->addSpot(sun);
+        FAIL() << "a directional light accepted as a spot";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(), "sgfx: ShadowNode 'shadows': addSpot needs a Spot light; 'sun' is not one");
+    }
+    for (int i = 0; i < 3; ++i)
+        node->addSpot(Light::create(LightType::Spot));
+    EXPECT_THROW(node->addSpot(Light::create(LightType::Spot)), std::invalid_argument);
+    EXPECT_EQ(node->spots().size(), 3u);
+    EXPECT_TRUE(node->removeSpot(node->spots()[1].get()));
+    EXPECT_EQ(node->spots().size(), 2u);
+}

@@ -103,17 +103,12 @@ void splitCasters(ShadowNode::Plan& plan, const std::vector<CascadeFit>& fits, c
             take(item);
 }
 
-} // namespace
-
 // Plan §5: practical splits, a sphere per slice, texel-snapped fits under V_L, the node's bound
-// for the depth range; one cull from the light over the union of the cascades' boxes.
-std::shared_ptr<ShadowNode::Plan> planSun(const FrameSetup& f, const ShadowNode& node) {
-    auto plan = std::make_shared<ShadowNode::Plan>();
+// for the depth range; one cull from the light over the union of the cascades' boxes. The
+// cascades' tiles are the atlas's first `cascades` ones.
+void fitSun(const FrameSetup& f, const ShadowNode& node, int sun, const BoundingSphere& bound,
+            ShadowNode::Plan& plan) {
     const ShadowOptions& o = node.options();
-    const int sun = sunIndex(f.queue(), node.sun().get());
-    const BoundingSphere bound = f.worldBound(node);
-    plan->info.sunLight = sun;
-    if (sun < 0 || !bound.valid() || !(bound.radius > 0.0f)) return plan;
     const glm::dvec3 L = glm::normalize(glm::dvec3(f.queue().lights[std::size_t(sun)].vector));
     const CameraSlices cam = cameraSlices(f.view(), o.maxDistance);
     const int n = o.cascades;
@@ -123,41 +118,114 @@ std::shared_ptr<ShadowNode::Plan> planSun(const FrameSetup& f, const ShadowNode&
         o.filter == ShadowFilter::Pcss ? pcssMarginTexels(o.maxPenumbraTexels) : marginTexels(kernel);
     const glm::dmat3 rotation = lightRotation(L);
     const double zc = glm::dot(L, glm::dvec3(bound.center)), zr = double(bound.radius) * 1.001;
-    const AtlasLayout atlas = atlasLayout(n, o.mapSize, kMaxAtlasSize);
-    plan->atlasSize = atlas.size;
-    plan->tiles = atlas.tiles;
-    plan->rotation = glm::mat3(rotation);
-    plan->lightView = glm::mat4(glm::dmat4(rotation));
-    plan->light = glm::vec4(glm::vec3(L), float(1.0 / (2.0 * zr)));
+    plan.rotation = glm::mat3(rotation);
+    plan.lightView = glm::mat4(glm::dmat4(rotation));
+    plan.light = glm::vec4(glm::vec3(L), float(1.0 / (2.0 * zr)));
     std::vector<CascadeFit> fits;
     glm::dvec2 lo(INFINITY), hi(-INFINITY);
     for (int i = 0; i < n; ++i) {
-        const SliceSphere s = cam.sphere(sliceStart(splits, i, o.blendBand), splits[std::size_t(i) + 1]);
+        const auto k = std::size_t(i);
+        const SliceSphere s = cam.sphere(sliceStart(splits, i, o.blendBand), splits[k + 1]);
         const CascadeFit fit =
             fitCascade(rotation, cam.centre(s), s.radius, o.mapSize, margin, o.snapToTexels);
         fits.push_back(fit);
         lo = glm::min(lo, fit.centre - fit.halfExtent);
         hi = glm::max(hi, fit.centre + fit.halfExtent);
         const glm::dmat4 projection = cascadeProjection(fit, zc - zr, zc + zr);
-        plan->projections.push_back(glm::mat4(projection));
-        plan->matrices[std::size_t(i)] =
-            glm::mat4(atlasMatrix(atlas.tiles[std::size_t(i)], atlas.size, projection, rotation));
-        plan->tileRects[std::size_t(i)] = tileRect(atlas.tiles[std::size_t(i)], atlas.size);
-        const double end = splits[std::size_t(i) + 1], start = splits[std::size_t(i)];
-        plan->splits[i] = float(end);
-        plan->bandStart[i] = float(end - (i + 1 < n ? o.blendBand : o.fadeBand) * (end - start));
-        plan->texels[i] = float(fit.texel);
-        plan->info.radii.push_back(fit.halfExtent);
-        plan->info.texels.push_back(fit.texel);
+        plan.projections.push_back(glm::mat4(projection));
+        plan.matrices[k] = glm::mat4(atlasMatrix(plan.tiles[k], plan.atlasSize, projection, rotation));
+        plan.tileRects[k] = tileRect(plan.tiles[k], plan.atlasSize);
+        const double end = splits[k + 1], start = splits[k];
+        plan.splits[i] = float(end);
+        plan.bandStart[i] = float(end - (i + 1 < n ? o.blendBand : o.fadeBand) * (end - start));
+        plan.texels[i] = float(fit.texel);
+        plan.info.radii.push_back(fit.halfExtent);
+        plan.info.texels.push_back(fit.texel);
     }
     // One cull over the union of the cascades' boxes (same V_L), split per cascade after.
     const glm::dmat4 cullBox = glm::ortho(lo.x, hi.x, lo.y, hi.y, -(zc + zr), -(zc - zr));
-    f.cullForLight(node, LightCull{plan->lightView, glm::mat4(cullBox), o.castMask}, plan->casterQueue);
-    splitCasters(*plan, fits, rotation, o);
-    plan->info.active = true;
-    plan->info.splits = splits;
-    for (const auto& c : plan->casters)
-        plan->info.casters.push_back(c.size());
+    f.cullForLight(node, LightCull{plan.lightView, glm::mat4(cullBox), o.castMask}, plan.casterQueue);
+    splitCasters(plan, fits, rotation, o);
+    plan.info.active = true;
+    plan.info.splits = splits;
+    for (const auto& c : plan.casters)
+        plan.info.casters.push_back(c.size());
+}
+
+// A spot's perspective map (plan §5): from its position along its axis, the cone plus the
+// filter's margin in texels (cones beyond 80° are cut there), near spotNear, far its range or the
+// far side of the node's bound; its casters culled through that frustum.
+void fitSpot(const FrameSetup& f, const ShadowNode& node, int light, const BoundingSphere& bound,
+             const glm::ivec4& tile, ShadowNode::Plan& plan) {
+    const ShadowOptions& o = node.options();
+    const LightInfo& info = f.queue().lights[std::size_t(light)];
+    ShadowNode::SpotPlan spot;
+    spot.light = light;
+    const glm::dvec3 pos(info.vector), axis = glm::normalize(glm::dvec3(info.spotAxis));
+    const double outer = std::min(double(info.source->outerConeAngle), glm::radians(80.0));
+    const int S = tile.z,
+              m = o.filter == ShadowFilter::Hard2x2 ? marginTexels(1.0) : marginTexels(o.pcfRadius);
+    const double fovy = 2.0 * std::atan(std::tan(outer) * S / double(S - 2 * m));
+    const double near = o.spotNear;
+    const double far = std::max(
+        info.range > 0.0f ? double(info.range) : glm::distance(pos, glm::dvec3(bound.center)) + bound.radius,
+        near * 2.0);
+    const glm::dmat4 view = spotView(pos, axis), projection = spotProjection(fovy, near, far);
+    spot.view = glm::mat4(view);
+    spot.projection = glm::mat4(projection);
+    spot.matrix = glm::mat4(atlasMatrix(tile, plan.atlasSize, projection * view, glm::dmat3(1.0)));
+    spot.tileRect = tileRect(tile, plan.atlasSize);
+    spot.position = glm::vec4(glm::vec3(pos), 1.0f);
+    spot.axis = glm::vec4(glm::vec3(axis), 0.0f);
+    spot.params = glm::vec4(float(near), float(far), float(2.0 * std::tan(fovy / 2.0) / S), 0.0f);
+    f.cullForLight(node, LightCull{spot.view, spot.projection, o.castMask}, spot.queue);
+    for (const RenderItem& item : spot.queue.opaque)
+        if (casts(item, o)) spot.casters.push_back(item);
+    if (o.transmissiveCast)
+        for (const RenderItem& item : spot.queue.transmissive)
+            if (casts(item, o)) spot.casters.push_back(item);
+    plan.spots.push_back(std::move(spot));
+}
+
+int spotIndex(const RenderQueue& queue, const Light* spot) {
+    for (std::size_t i = 0; i < queue.lights.size(); ++i) {
+        const LightInfo& l = queue.lights[i];
+        if (l.source == spot && l.vector.w == 1.0f && glm::any(glm::greaterThan(l.color, glm::vec3(0.0f))))
+            return int(i);
+    }
+    return -1;
+}
+
+} // namespace
+
+// The sun's cascades in the atlas's first row, the spots' maps in the second.
+std::shared_ptr<ShadowNode::Plan> planShadows(const FrameSetup& f, const ShadowNode& node) {
+    auto plan = std::make_shared<ShadowNode::Plan>();
+    const ShadowOptions& o = node.options();
+    const BoundingSphere bound = f.worldBound(node);
+    if (!bound.valid() || !(bound.radius > 0.0f)) return plan;
+    const int sun = sunIndex(f.queue(), node.sun().get());
+    plan->info.sunLight = sun;
+    std::vector<int> spots;
+    for (const auto& light : node.spots())
+        if (const int i = spotIndex(f.queue(), light.get()); i >= 0) spots.push_back(i);
+    const int cascades = sun >= 0 ? o.cascades : 0, spotCount = int(spots.size());
+    if (cascades + spotCount == 0) return plan;
+    const int rowSun = cascades ? o.mapSize : 0, rowSpots = spotCount ? o.spotMapSize : 0;
+    plan->atlasSize =
+        glm::ivec2(std::max(cascades * o.mapSize, spotCount * o.spotMapSize), rowSun + rowSpots);
+    if (plan->atlasSize.x > kMaxAtlasSize)
+        throw std::invalid_argument("sgfx: ShadowNode '" + node.name + "': " + std::to_string(cascades) +
+                                    " cascades of " + std::to_string(o.mapSize) + " texels exceed a " +
+                                    std::to_string(kMaxAtlasSize) + "-texel atlas");
+    plan->tiles.clear();
+    for (int i = 0; i < cascades; ++i)
+        plan->tiles.emplace_back(i * o.mapSize, 0, o.mapSize, o.mapSize);
+    for (int j = 0; j < spotCount; ++j)
+        plan->tiles.emplace_back(j * o.spotMapSize, rowSun, o.spotMapSize, o.spotMapSize);
+    if (sun >= 0) fitSun(f, node, sun, bound, *plan);
+    for (int j = 0; j < spotCount; ++j)
+        fitSpot(f, node, spots[std::size_t(j)], bound, plan->tiles[std::size_t(cascades + j)], *plan);
     return plan;
 }
 

@@ -14,7 +14,19 @@ namespace sgfx {
 
 class FrameSetup;
 
-/// Cascades fitted to the camera, their tiles in the atlas, the matrices, and each map's casters.
+/// One spot light's map.
+struct ShadowNode::SpotPlan {
+    int light = -1; ///< its index among the view's lights
+    glm::mat4 view{1.0f}, projection{1.0f};
+    glm::mat4 matrix{1.0f}; ///< world to atlas (divide by w)
+    glm::vec4 tileRect{0.0f}, position{0.0f}, axis{0.0f};
+    glm::vec4 params{0.0f}; ///< near, far, texel per metre of depth
+    RenderQueue queue;      ///< what the cull from the spot found
+    std::vector<RenderItem> casters;
+};
+
+/// Cascades fitted to the camera, their tiles in the atlas, the matrices, and each map's casters;
+/// the spots' maps after them.
 struct ShadowNode::Plan {
     ShadowFrameInfo info;
     glm::ivec2 atlasSize{1};
@@ -28,6 +40,7 @@ struct ShadowNode::Plan {
     glm::vec4 light{0.0f};   ///< xyz towards the sun, w: 1 / depth range
     RenderQueue casterQueue; ///< what the cull from the light found (owns the casters' states)
     std::vector<std::vector<RenderItem>> casters; ///< per cascade
+    std::vector<SpotPlan> spots;
 };
 
 /// The plan the passes last ran, for applyUniforms and lastFrame (one view at a time: a nested
@@ -37,9 +50,9 @@ struct ShadowNode::Shared {
 };
 
 namespace shadow {
-/// Plans `node`'s sun for the view being set up: inactive (no passes draw) when the sun is not
-/// among the view's lights or gives no light.
-std::shared_ptr<ShadowNode::Plan> planSun(const FrameSetup& f, const ShadowNode& node);
+/// Plans `node`'s maps for the view being set up: the sun's cascades when the sun is among the
+/// view's lights and gives light, a map per such spot; nothing (a 1×1 atlas no pass draws) else.
+std::shared_ptr<ShadowNode::Plan> planShadows(const FrameSetup& f, const ShadowNode& node);
 } // namespace shadow
 
 } // namespace sgfx

@@ -11,3 +11,10 @@ uniform vec4 sgfx_shadowBias;           // constant, slope, max slope, normal of
 uniform vec4 sgfx_shadowFilter;         // x: disc radius R_k (texels), yz: 1 / atlas size, w: density
 uniform ivec4 sgfx_shadowSun;           // x: the sun's index among the view's lights (−1: none),
                                         // y: cascades, z: 1 = PCF early-out
+// Spot lights, up to 3: perspective maps in the atlas's second row.
+uniform mat4 sgfx_shadowSpotMatrix[3]; // world to atlas: xy / w in [0, 1], z / w the map's depth
+uniform vec4 sgfx_shadowSpotTile[3];   // tile rectangles, as sgfx_shadowTile
+uniform vec4 sgfx_shadowSpotPos[3];    // xyz: the light's position
+uniform vec4 sgfx_shadowSpotAxis[3];   // xyz: the unit axis it shines along
+uniform vec4 sgfx_shadowSpot[3];       // x: near, y: far, z: a texel per metre of depth (2·tan(fovy/2)/S)
+uniform ivec4 sgfx_shadowSpots;        // each slot's light index in the view (−1: none)

@@ -1,4 +1,4 @@
-// ShadowFilter::Pcf: 16 comparisons over a Poisson disc of R_k texels (sgfx_shadowDisc, from
+// ShadowFilter::Pcf: 16 comparisons over a Poisson disc of `radius` texels (sgfx_shadowDisc, from
 // ShadowMath's poissonDisc), rotated by an angle hashed from the quarter-texel cell of light space
 // the point lies in: the pattern is anchored to the world, so it does not swim as the camera
 // moves, and TAA sees it still. Early-out: the centre and the 4 outer probes agree (wholly lit or
@@ -12,17 +12,21 @@ float sgfx_shadowHash(vec2 cell) {
     return float(h) * (1.0 / 4294967296.0);
 }
 
-float sgfx_shadowFiltered(int i, vec2 uv, float depth, vec3 worldPos) {
-    vec4 tile = sgfx_shadowTile[i];
-    vec2 cell = floor(4.0 * (sgfx_shadowRotation * worldPos).xy / sgfx_shadowTexel[i]);
+// The disc's rotation at world point P for texels of t metres.
+mat2 sgfx_shadowTurn(vec3 P, float t) {
+    vec2 cell = floor(4.0 * (sgfx_shadowRotation * P).xy / t);
     float phi = 6.28318531 * sgfx_shadowHash(cell);
     vec2 cs = vec2(cos(phi), sin(phi));
-    mat2 turn = mat2(cs.x, cs.y, -cs.y, cs.x);
-    vec2 radius = sgfx_shadowFilter.x * sgfx_shadowFilter.yz;
+    return mat2(cs.x, cs.y, -cs.y, cs.x);
+}
+
+float sgfx_shadowPcf(vec4 tile, float t, vec2 uv, float depth, vec3 P, float radiusTexels, bool earlyOut) {
+    mat2 turn = sgfx_shadowTurn(P, t);
+    vec2 radius = radiusTexels * sgfx_shadowFilter.yz;
     float sum = 0.0;
     for (int k = 0; k < 4; ++k)
         sum += texture(sgfx_shadowMap, vec3(clamp(uv + radius * (turn * sgfx_shadowDisc[k]), tile.xy, tile.zw), depth));
-    if (sgfx_shadowSun.z != 0 && (sum == 0.0 || sum == 4.0)) {
+    if (earlyOut && (sum == 0.0 || sum == 4.0)) {
         float centre = texture(sgfx_shadowMap, vec3(clamp(uv, tile.xy, tile.zw), depth));
         if (centre * 4.0 == sum) return centre;
     }

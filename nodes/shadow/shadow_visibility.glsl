@@ -1,18 +1,41 @@
-// The sun's visibility at a world point: the cascade that holds its view depth, blended into the
-// next over the band and faded to lit at the end of the last (ShadowMath's selectCascade), with
-// the receiver's bias and normal offset (plan §5, ShadowMath's receiverBias and normalOffset).
+// Light visibility for the built-in material's hook (blinn_phong.frag, SGFX_LIGHT_VISIBILITY): the
+// sun's cascades and the spots' maps, with the receiver's bias and normal offset (plan §5,
+// ShadowMath's receiverBias and normalOffset).
+
+// The filter the node chose (SGFX_SHADOW_FILTER: 0 Hard2x2, 1 Pcf, 2 Pcss); spots take PCF under
+// PCSS.
+float sgfx_shadowFiltered(vec4 tile, float t, vec2 uv, float depth, vec3 P, bool sun) {
+#if SGFX_SHADOW_FILTER == 0
+    return sgfx_shadowHard(tile, uv, depth);
+#elif SGFX_SHADOW_FILTER == 1
+    return sgfx_shadowPcf(tile, t, uv, depth, P, sgfx_shadowFilter.x, sgfx_shadowSun.z != 0);
+#else
+    return sun ? sgfx_shadowPcss(tile, t, uv, depth, P)
+               : sgfx_shadowPcf(tile, t, uv, depth, P, sgfx_shadowFilter.x, sgfx_shadowSun.z != 0);
+#endif
+}
+
+// Where the bias and offset come from: a texel of t metres, the surface's normal Ng and the unit
+// vector L to the light. A zero normal (point sprites, media, foreign shaders that pass none): no
+// offset, and the bias of the steepest slope allowed, as the surface's slope is unknown.
+struct SgfxShadowReceiver {
+    vec3 moved;  // P moved along the normal
+    float bias;  // metres along the light's ray
+};
+SgfxShadowReceiver sgfx_shadowReceiver(vec3 P, vec3 Ng, vec3 L, float t) {
+    float R = max(sgfx_shadowFilter.x, 1.0);
+    float cosT = clamp(dot(Ng, L), 0.0, 1.0);
+    float sinT = sqrt(1.0 - cosT * cosT);
+    float tanT = cosT > 0.0 ? min(sinT / cosT, sgfx_shadowBias.z) : sgfx_shadowBias.z;
+    return SgfxShadowReceiver(P + Ng * (sgfx_shadowBias.w * t * (R + 0.5) * sinT),
+                              t * (sgfx_shadowBias.x + sgfx_shadowBias.y * R * tanT));
+}
+
 float sgfx_shadowCascade(int i, vec3 P, vec3 Ng) {
     float t = sgfx_shadowTexel[i];
-    float R = max(sgfx_shadowFilter.x, 1.0);
-    // A zero normal (point sprites, foreign shaders that pass none): no offset, and the bias of
-    // the steepest slope allowed, as the surface's slope is unknown.
-    float cosT = clamp(dot(Ng, sgfx_shadowLight.xyz), 0.0, 1.0);
-    float sinT = sqrt(1.0 - cosT * cosT);
-    vec3 moved = P + Ng * (sgfx_shadowBias.w * t * (R + 0.5) * sinT);
-    vec3 s = (sgfx_shadowMatrix[i] * vec4(moved, 1.0)).xyz;
-    float tanT = cosT > 0.0 ? min(sinT / cosT, sgfx_shadowBias.z) : sgfx_shadowBias.z;
-    float bias = t * (sgfx_shadowBias.x + sgfx_shadowBias.y * R * tanT);
-    return sgfx_shadowFiltered(i, s.xy, s.z - bias * sgfx_shadowLight.w, moved);
+    SgfxShadowReceiver r = sgfx_shadowReceiver(P, Ng, sgfx_shadowLight.xyz, t);
+    vec3 s = (sgfx_shadowMatrix[i] * vec4(r.moved, 1.0)).xyz;
+    return sgfx_shadowFiltered(sgfx_shadowTile[i], t, s.xy, s.z - r.bias * sgfx_shadowLight.w, r.moved, true);
 }
 
 // Which cascade shades view depth z (N when none), and the weight of what follows it.
@@ -28,6 +51,8 @@ int sgfx_shadowSelect(float z, out float follow) {
     return i;
 }
 
+// The cascade that holds the point's view depth, blended into the next over the band and faded to
+// lit at the end of the last (ShadowMath's selectCascade); the seed's shadow density.
 float sgfx_sunVisibility(vec3 P, vec3 Ng) {
     float follow;
     int i = sgfx_shadowSelect(-(sgfx_view * vec4(P, 1.0)).z, follow);
@@ -38,7 +63,24 @@ float sgfx_sunVisibility(vec3 P, vec3 Ng) {
     return 1.0 - sgfx_shadowFilter.w * (1.0 - v);
 }
 
-// The hook of the built-in material's light loops (blinn_phong.frag, SGFX_LIGHT_VISIBILITY).
+// Spot slot j: a perspective map; depth along the axis d, a texel of d·2·tan(fovy/2)/S metres,
+// the bias subtracted from d before it becomes the map's depth f(d − n)/(d(f − n)).
+float sgfx_spotVisibility(int j, vec3 P, vec3 Ng) {
+    vec3 pos = sgfx_shadowSpotPos[j].xyz, axis = sgfx_shadowSpotAxis[j].xyz;
+    vec4 spot = sgfx_shadowSpot[j];
+    float t = max(dot(P - pos, axis), spot.x) * spot.z;
+    SgfxShadowReceiver r = sgfx_shadowReceiver(P, Ng, normalize(pos - P), t);
+    vec4 c = sgfx_shadowSpotMatrix[j] * vec4(r.moved, 1.0);
+    if (c.w <= 0.0) return 1.0; // behind the light
+    float d = max(dot(r.moved - pos, axis) - r.bias, spot.x);
+    float depth = spot.y * (d - spot.x) / (d * (spot.y - spot.x));
+    float v = sgfx_shadowFiltered(sgfx_shadowSpotTile[j], t, c.xy / c.w, depth, r.moved, false);
+    return 1.0 - sgfx_shadowFilter.w * (1.0 - v);
+}
+
 float sgfx_lightVisibility(int light, vec3 worldPos, vec3 worldNormal) {
-    return light == sgfx_shadowSun.x ? sgfx_sunVisibility(worldPos, worldNormal) : 1.0;
+    if (light == sgfx_shadowSun.x) return sgfx_sunVisibility(worldPos, worldNormal);
+    for (int j = 0; j < 3; ++j)
+        if (light == sgfx_shadowSpots[j]) return sgfx_spotVisibility(j, worldPos, worldNormal);
+    return 1.0;
 }

@@ -7,6 +7,8 @@
 #include <sgfx/Export.h>
 #include <sgfx/nodes/shadow/ShadowMath.h>
 
+#include <glm/glm.hpp>
+
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -61,6 +63,8 @@ struct SGFX_API ShadowOptions {
     float density = 1.0f;      ///< [0, 1]: v' = 1 − density·(1 − v) (the particle seed's shadow density)
     bool transmissiveCast = false;      ///< transmissive (glass) items cast
     bool drawablesCast = false;         ///< drawables (particles, volumes) cast; the background never does
+    int spotMapSize = 1024;             ///< texels per side of a spot's map, 128..4096, multiple of 64
+    float spotNear = 0.05f;             ///< metres, (0, 100]: a spot map's near plane
     NodeMask castMask = shadow::kCasts; ///< non-zero: nodes that may cast
     NodeMask receiveMask = shadow::kReceives; ///< non-zero: nodes that may receive
     ShadowDebugView debugView = ShadowDebugView::Off;
@@ -95,6 +99,12 @@ public:
     /// std::invalid_argument unless it is Directional.
     void setSun(std::shared_ptr<Light> sun);
     const std::shared_ptr<Light>& sun() const { return sun_; }
+    /// Spot lights shadowed besides the sun, at most 3, each with a perspective map (cones wider
+    /// than 80° are cut there). Throws std::invalid_argument for a light that is not a Spot, or a
+    /// fourth one.
+    void addSpot(std::shared_ptr<Light> spot);
+    bool removeSpot(const Light* spot);
+    const std::vector<std::shared_ptr<Light>>& spots() const { return spots_; }
     /// Validates; the old options stay on a throw.
     void setOptions(const ShadowOptions& options);
     const ShadowOptions& options() const { return options_; }
@@ -108,13 +118,17 @@ public:
     void applyUniforms(gl::Program& program, const DrawContext& ctx) const override;
     NodeMask subtreeMask() const override { return options_.receiveMask; }
 
-    struct Plan;   ///< one view's cascades and casters (internal)
+    struct Plan;     ///< one view's cascades and casters (internal)
+    struct SpotPlan; ///< one spot's map (internal)
     struct Shared; ///< the plan the passes last ran, read by applyUniforms (internal)
 
 private:
     void rebuildSnippet();
     void addPasses(FrameSetup& f, const std::shared_ptr<const Plan>& plan) const;
+    void applySpotUniforms(gl::Program& program, const Plan& plan, glm::ivec4& slots) const;
+    void applyCommonUniforms(gl::Program& program, const Plan& plan) const;
     std::shared_ptr<Light> sun_;
+    std::vector<std::shared_ptr<Light>> spots_;
     ShadowOptions options_;
     ShaderSnippet snippet_;
     std::string atlasName_;
