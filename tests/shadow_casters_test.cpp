@@ -22,6 +22,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 using namespace sgfx;
@@ -291,20 +292,30 @@ TEST(ShadowCasters, BillboardCastsAsTheCameraSeesIt) {
     EXPECT_GT(t.shadowed, 150);
 }
 
-// A blended pane (opacity 0.6) over the plane casts nothing by default.
-TEST(ShadowCasters, BlendedSurfacesDoNotCastByDefault) {
+// A blended pane (opacity 0.6) over the plane casts nothing by default; with blendedCasterAlpha
+// 0.5 it casts its projection, with 0.7 nothing again.
+TEST(ShadowCasters, BlendedSurfacesCastOnlyAboveTheChosenOpacity) {
     const glm::dvec3 L = sunVector(30.0, 60.0);
-    auto pane = shapes::quad(2.0f, 2.0f);
-    auto m = white();
-    m->diffuse.a = 0.6f;
-    pane->getOrCreateStateSet().material.set(m);
-    pane->getOrCreateStateSet().blend.set(BlendMode::Alpha);
     const glm::dmat4 at = glm::translate(glm::dmat4(1.0), glm::dvec3(0.0, 0.0, 1.0));
-    const FloatImage img = renderTop(L, {placed(pane, glm::mat4(at))});
     const std::vector<glm::dvec3> corners = boxCorners(at, {2.0, 2.0, 0.0});
-    const Tally t = check(img, L.z, hulls({}, {footprint(corners)}));
-    EXPECT_EQ(t.wrong, 0);
-    EXPECT_GT(t.lit, 8000);
+    for (const std::optional<float> threshold :
+         {std::optional<float>{}, std::optional<float>{0.5f}, std::optional<float>{0.7f}}) {
+        SCOPED_TRACE(threshold ? *threshold : -1.0f);
+        auto pane = shapes::quad(2.0f, 2.0f);
+        auto m = white();
+        m->diffuse.a = 0.6f;
+        pane->getOrCreateStateSet().material.set(m);
+        pane->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+        ShadowOptions o;
+        o.blendedCasterAlpha = threshold;
+        const FloatImage img = renderTop(L, {placed(pane, glm::mat4(at))}, o);
+        const bool casts = threshold && *threshold <= 0.6f;
+        const Tally t = check(img, L.z,
+                              hulls(casts ? std::vector<Hull>{projected(corners, L)} : std::vector<Hull>{},
+                                    {footprint(corners)}));
+        EXPECT_EQ(t.wrong, 0);
+        EXPECT_GT(casts ? t.shadowed : t.lit, casts ? 150 : 8000);
+    }
 }
 
 // An application's own shader that opts in (kForeignShadowFrag, TestUtil.h) shows the

@@ -61,6 +61,7 @@ void ShadowOptions::validate() const {
     checkRange("maxSlope", maxSlope, 0.0, 100.0);
     checkRange("normalOffset", normalOffset, 0.0, 16.0);
     checkRange("density", density, 0.0, 1.0);
+    if (blendedCasterAlpha) checkRange("blendedCasterAlpha", *blendedCasterAlpha, 0.0, 1.0, true);
     if (spotMapSize < 128 || spotMapSize > 4096 || spotMapSize % 64 != 0)
         nodes::refuse(kOwner, "spotMapSize = " + std::to_string(spotMapSize) +
                                   " must be a multiple of 64 in [128, 4096]");
@@ -171,8 +172,10 @@ void ShadowNode::addPasses(FrameSetup& f, const std::shared_ptr<const Plan>& pla
                 d.atlas = i == 0 ? b.depth(b.create(atlas, desc), false) : b.depth(b.get(atlas), true);
                 b.publish(atlas, d.atlas);
             },
-            [i, cascades, spot, plan, shared = shared_](PassCommands& c, const Data& d) {
+            [i, cascades, spot, plan, shared = shared_, cutoff = options_.blendedCasterAlpha](PassCommands& c,
+                                                                                              const Data& d) {
                 if (i == 0) shared->current = plan;
+                if (cutoff) c.blendedCasters(*cutoff);
                 const glm::ivec4 tile = plan->tiles[std::size_t(i)];
                 c.target({}, d.atlas);
                 c.viewport(tile);

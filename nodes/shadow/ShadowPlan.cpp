@@ -3,6 +3,7 @@
 #include <sgfx/Camera.h>
 #include <sgfx/Drawable.h>
 #include <sgfx/FrameSetup.h>
+#include <sgfx/ShaderComposer.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -81,26 +82,41 @@ bool casts(const RenderItem& item, const ShadowOptions& o) {
     return true;
 }
 
+// What a cull from a light found that casts: opaque items (alpha-masked ones as cut-outs),
+// transmissive ones when asked, and blended ones when asked, drawn as cut-outs at
+// blendedCasterAlpha (FeatureAlphaMask added, PassCommands::blendedCasters).
+std::vector<RenderItem> castingItems(const RenderQueue& q, const ShadowOptions& o) {
+    std::vector<RenderItem> out;
+    for (const RenderItem& item : q.opaque)
+        if (casts(item, o)) out.push_back(item);
+    if (o.transmissiveCast)
+        for (const RenderItem& item : q.transmissive)
+            if (casts(item, o)) out.push_back(item);
+    if (o.blendedCasterAlpha)
+        for (const auto* list : {&q.transparent, &q.claimed})
+            for (const RenderItem& item : *list)
+                if (casts(item, o) && item.faces != RenderItem::Faces::Back) {
+                    out.push_back(item);
+                    out.back().features |= FeatureAlphaMask;
+                    out.back().faces = RenderItem::Faces::AsState;
+                }
+    return out;
+}
+
 // Each cascade's casters: the items whose bound, in light space, overlaps its square.
 void splitCasters(ShadowNode::Plan& plan, const std::vector<CascadeFit>& fits, const glm::dmat3& rotation,
                   const ShadowOptions& o) {
     plan.casters.assign(fits.size(), {});
-    const auto take = [&](const RenderItem& item) {
-        if (!casts(item, o)) return;
+    for (const RenderItem& item : castingItems(plan.casterQueue, o)) {
         const BoundingSphere b = item.worldBound();
-        if (!b.valid()) return;
+        if (!b.valid()) continue;
         const glm::dvec3 c = rotation * glm::dvec3(b.center);
         for (std::size_t i = 0; i < fits.size(); ++i) {
             const double reach = fits[i].halfExtent + double(b.radius);
             if (std::abs(c.x - fits[i].centre.x) <= reach && std::abs(c.y - fits[i].centre.y) <= reach)
                 plan.casters[i].push_back(item);
         }
-    };
-    for (const RenderItem& item : plan.casterQueue.opaque)
-        take(item);
-    if (o.transmissiveCast)
-        for (const RenderItem& item : plan.casterQueue.transmissive)
-            take(item);
+    }
 }
 
 // Plan §5: practical splits, a sphere per slice, texel-snapped fits under V_L, the node's bound
@@ -179,11 +195,7 @@ void fitSpot(const FrameSetup& f, const ShadowNode& node, int light, const Bound
     spot.axis = glm::vec4(glm::vec3(axis), 0.0f);
     spot.params = glm::vec4(float(near), float(far), float(2.0 * std::tan(fovy / 2.0) / S), 0.0f);
     f.cullForLight(node, LightCull{spot.view, spot.projection, o.castMask}, spot.queue);
-    for (const RenderItem& item : spot.queue.opaque)
-        if (casts(item, o)) spot.casters.push_back(item);
-    if (o.transmissiveCast)
-        for (const RenderItem& item : spot.queue.transmissive)
-            if (casts(item, o)) spot.casters.push_back(item);
+    spot.casters = castingItems(spot.queue, o);
     plan.spots.push_back(std::move(spot));
 }
 

@@ -91,6 +91,10 @@ public:
     /// shadow map): the frame block (binding 0) is the view's with these matrices and their
     /// product and inverse; the eye, viewport, time and lights stay the view's. Ends with the pass.
     void setView(const glm::mat4& view, const glm::mat4& projection);
+    /// Later drawQueue(..., DepthOnly) calls of the pass draw blended built-in items that carry
+    /// FeatureAlphaMask as cut-outs at opacity `cutoff` (a shadow's "blended items cast above an
+    /// opacity"). Ends with the pass.
+    void blendedCasters(float cutoff);
     /// Runs `program` over `count` points from `first` of `vertexArray` with rasterization off,
     /// capturing its vertex outputs into `outputs` (transform feedback; GPU particle simulation).
     void transformFeedback(gl::Program& program, unsigned vertexArray,

@@ -377,6 +377,9 @@ void Renderer::DrawList::setMaterialUniforms(const Material& m, const RenderItem
     program->set("sgfx_matShininess", m.shininess);
     program->set("sgfx_matEmissive", m.emissive);
     program->set("sgfx_alphaCutoff", m.alphaCutoff.value_or(0.0f));
+    // A blended item drawn as a caster (PassCommands::blendedCasters) cuts out what is too clear.
+    if (mode == DrawMode::DepthOnly && (item.features & FeatureBlend) && s.blendedCutoff)
+        program->set("sgfx_alphaCutoff", *s.blendedCutoff);
     if (m.model == ShadingModel::MetallicRoughness) {
         program->set("sgfx_matMetallicRoughness", glm::vec2(m.metallic, m.roughness));
         // The Gouraud option's specular lobe: the Blinn-Phong exponent of the same width.

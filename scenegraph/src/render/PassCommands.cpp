@@ -178,6 +178,10 @@ void PassCommands::setView(const glm::mat4& view, const glm::mat4& projection) {
     s.passViewBound = true;
 }
 
+void PassCommands::blendedCasters(float cutoff) {
+    renderer_.impl_->blendedCutoff = cutoff;
+}
+
 void PassCommands::transformFeedback(gl::Program& program, unsigned vertexArray,
                                      std::span<const FeedbackBuffer> outputs, std::uint32_t first,
                                      std::uint32_t count) {

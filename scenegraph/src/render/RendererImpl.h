@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -76,6 +77,8 @@ struct Renderer::Impl {
     std::vector<gl::BufferObject> passViewBlocks;
     std::size_t passViewBlocksUsed = 0;
     bool passViewBound = false;
+    // PassCommands::blendedCasters: blended items in depth passes cut out below this opacity.
+    std::optional<float> blendedCutoff;
     // Model matrices of automatic instance batches (Renderer::DrawList), a shader storage
     // buffer at kBatchBinding.
     gl::BufferObject batchModels;

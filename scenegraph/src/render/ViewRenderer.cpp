@@ -548,6 +548,7 @@ void Renderer::View::executeGraph() {
             PassCommands commands(r_, graph_, name);
             execute(commands);
             s_.cache.setScissor(false);
+            s_.blendedCutoff.reset();
             if (s_.passViewBound) { // the pass drew from another view (PassCommands::setView)
                 glBindBufferBase(GL_UNIFORM_BUFFER, 0, s_.frameUbo.get());
                 s_.passViewBound = false;

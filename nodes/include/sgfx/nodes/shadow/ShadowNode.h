@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,9 @@ struct SGFX_API ShadowOptions {
     float maxSlope = 2.0f;     ///< [0, 100]
     float normalOffset = 1.0f; ///< [0, 16]
     float density = 1.0f;      ///< [0, 1]: v' = 1 − density·(1 − v) (the particle seed's shadow density)
+    /// When set, (0, 1]: blended items cast where their opacity is at least this (built-in
+    /// materials; foreign blended shaders cast whole). Unset: blended items cast nothing.
+    std::optional<float> blendedCasterAlpha;
     bool transmissiveCast = false;      ///< transmissive (glass) items cast
     bool drawablesCast = false;         ///< drawables (particles, volumes) cast; the background never does
     int spotMapSize = 1024;             ///< texels per side of a spot's map, 128..4096, multiple of 64
