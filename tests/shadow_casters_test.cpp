@@ -11,6 +11,7 @@
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Texture.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
 #include <sgfx/nodes/shadow/ShadowNode.h>
 #include <sgfx/nodes/transparency/TransparencyBin.h>
 #include <sgfx/nodes/volume/VolumeNode.h>
@@ -529,4 +530,62 @@ TEST(ShadowCasters, SpotsAreCheckedWhenAdded) {
     EXPECT_EQ(node->spots().size(), 3u);
     EXPECT_TRUE(node->removeSpot(node->spots()[1].get()));
     EXPECT_EQ(node->spots().size(), 2u);
+}
+
+// Particles are built on the built-in material, so they receive: a lit opaque sprite under a slab
+// shows what the same sprite shows with the sun switched off (ambient light only), one beside the
+// slab more than that.
+TEST(ShadowReceivers, LitParticlesInTheShadowGetAmbientOnly) {
+    const auto sprite = [](glm::vec3 at) {
+        ParticleSettings s;
+        s.capacity = 1;
+        s.emitter.size = {0.0f, 0.0f};
+        s.emitter.acceleration = glm::vec3(0.0f);
+        s.emitter.lifetime = 1000.0f;
+        s.start = particles::StartMode::Burst;
+        s.shape = ParticleShape::Sprite;
+        s.sizeStart = s.sizeEnd = 0.6f;
+        auto p = ParticleSystemNode::create(s);
+        auto st = ParticleSystemNode::defaultState();
+        auto& m = **st->material.value;
+        m.ambient = glm::vec3(1.0f);
+        m.diffuse = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+        m.emissive = glm::vec3(0.0f);
+        st->blend.set(BlendMode::Off);
+        p->setStateSet(st);
+        return placed(p, glm::translate(glm::mat4(1.0f), at));
+    };
+    const auto render = [&](float sunColour) {
+        auto sun = Light::create(LightType::Directional);
+        sun->direction = {0, 0, -1};
+        sun->color = glm::vec3(sunColour);
+        auto ambient = Light::create(LightType::Ambient);
+        ambient->color = glm::vec3(0.2f);
+        auto shadows = ShadowNode::create(sun);
+        shadows->addChild(sprite({-1.5f, 0.0f, 0.5f})); // under the slab
+        shadows->addChild(sprite({1.5f, 0.0f, 0.5f}));  // in the sun
+        shadows->addChild(placed(lambert(shapes::box({3.0f, 3.0f, 0.1f})),
+                                 glm::translate(glm::mat4(1.0f), glm::vec3(-1.5f, 0.0f, 3.0f))));
+        auto root = Group::create();
+        root->addChild(sun);
+        root->addChild(ambient);
+        root->addChild(shadows);
+        auto v = orthoTopViewer(kSize, float(kHalf));
+        v->camera()->projectionMatrix =
+            glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 7.5f,
+                       9.7f); // z from 0.3 to 2.5: the sprites, not the slab
+        v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+        v->setSceneData(root);
+        v->frame(0.0);
+        expectNoGlErrors(*v);
+        return v->renderer().readPixelsLinear();
+    };
+    const FloatImage sunny = render(1.0f), dark = render(0.0f);
+    // Pixel centres of the two sprites: world x = ∓1.5, y = 0.
+    const int left = int((kHalf - 1.5) / kPixel), right = int((kHalf + 1.5) / kPixel), row = kSize / 2;
+    const double ambientOnly = red(dark, left, row);
+    ASSERT_GT(ambientOnly, 0.01);
+    EXPECT_NEAR(red(sunny, left, row), ambientOnly, 0.02 * ambientOnly);
+    EXPECT_NEAR(red(dark, right, row), ambientOnly, 0.02 * ambientOnly);
+    EXPECT_GT(red(sunny, right, row), ambientOnly + 0.3);
 }
