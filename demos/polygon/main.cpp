@@ -11,6 +11,7 @@
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 #include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/shadow/ShadowNode.h>
 
 #include <filesystem>
 #include <sgfx/ObjWriter.h>
@@ -154,6 +155,19 @@ effects:
                       empty-space skipping (default off)
   --volume-jitter     random start per pixel (noise instead of banding)
   --volume-slices N   draw the smoke by slicing with N view-aligned slices instead
+  --shadows on|off    cascaded sun shadow maps: the scene's sun (--sky's) shadows the scene
+                      (rain and smoke cast none); the terrain only receives while the sun is
+                      above 30 degrees, where its low hills throw no shadow worth drawing
+                      (default off)
+  --shadow-cascades N maps along the view, 1..4 (default 3)
+  --shadow-filter hard|pcf
+                      one hardware comparison, bilinear over 2x2 texels (hard), or a rotated
+                      16-tap Poisson disc (pcf, default)
+  --shadow-map N      texels per side of each cascade's map, 256..4096, a multiple of 64
+                      (default 2048)
+  --shadow-distance M metres of view depth shadowed, 0 < M <= 1e6 (default 200)
+  --shadow-debug cascades
+                      tint each pixel by the cascade that shades it (red, green, blue, yellow)
   -h, --help          show this help
 
 exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
@@ -210,6 +224,8 @@ struct Options {
         p.lightColor = glm::vec3(4.0f, 3.8f, 3.4f);
         return p;
     }();
+    bool shadows = false;       // --shadows on
+    sgfx::ShadowOptions shadow; // --shadow-*: 3 cascades of 2048², 200 m, PCF
 };
 
 template <class T> T parseNumber(std::string_view option, std::string_view text) {
@@ -219,6 +235,45 @@ template <class T> T parseNumber(std::string_view option, std::string_view text)
     if (text.empty() || ec != std::errc() || ptr != end)
         throw UsageError(std::string(option) + ": '" + std::string(text) + "' is not a valid number");
     return value;
+}
+
+// The --shadow* options; false when `arg` is none of them. `value` takes the option's value.
+template <class Value> bool parseShadowOption(Options& o, std::string_view arg, Value&& value) {
+    if (arg == "--shadows") {
+        const std::string_view v = value();
+        if (v != "on" && v != "off") throw UsageError("--shadows: '" + std::string(v) + "' is not on or off");
+        o.shadows = v == "on";
+    } else if (arg == "--shadow-cascades") {
+        const std::string_view v = value();
+        o.shadow.cascades = parseNumber<int>(arg, v);
+        if (o.shadow.cascades < 1 || o.shadow.cascades > 4)
+            throw UsageError("--shadow-cascades: N must be in 1..4, got '" + std::string(v) + "'");
+    } else if (arg == "--shadow-filter") {
+        const std::string_view v = value();
+        if (v == "hard")
+            o.shadow.filter = sgfx::ShadowFilter::Hard2x2;
+        else if (v == "pcf")
+            o.shadow.filter = sgfx::ShadowFilter::Pcf;
+        else
+            throw UsageError("--shadow-filter: '" + std::string(v) + "' is not hard or pcf");
+    } else if (arg == "--shadow-map") {
+        const std::string_view v = value();
+        o.shadow.mapSize = parseNumber<int>(arg, v);
+        if (o.shadow.mapSize < 256 || o.shadow.mapSize > 4096 || o.shadow.mapSize % 64 != 0)
+            throw UsageError("--shadow-map: N must be a multiple of 64 in 256..4096, got '" + std::string(v) +
+                             "'");
+    } else if (arg == "--shadow-distance") {
+        o.shadow.maxDistance = parseNumber<float>(arg, value());
+        if (!(o.shadow.maxDistance > 0.0f && o.shadow.maxDistance <= 1e6f))
+            throw UsageError("--shadow-distance: M must be in (0, 1e6]");
+    } else if (arg == "--shadow-debug") {
+        const std::string_view v = value();
+        if (v != "cascades") throw UsageError("--shadow-debug: '" + std::string(v) + "' is not cascades");
+        o.shadow.debugView = sgfx::ShadowDebugView::Cascades;
+    } else {
+        return false;
+    }
+    return true;
 }
 
 Options parseArgs(int argc, char** argv) {
@@ -454,7 +509,7 @@ Options parseArgs(int argc, char** argv) {
         } else if (arg == "--lamps") {
             o.lamps = parseNumber<int>(arg, value());
             if (*o.lamps < 0 || *o.lamps > 100000) throw UsageError("--lamps: N must be in 0..100000");
-        } else {
+        } else if (!parseShadowOption(o, arg, value)) {
             throw UsageError("unknown option '" + std::string(arg) + "'");
         }
     }
@@ -473,6 +528,11 @@ Options parseArgs(int argc, char** argv) {
     } catch (const std::invalid_argument& e) {
         throw UsageError(std::string("--volume-*: ") + e.what());
     }
+    try {
+        o.shadow.validate();
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(std::string("--shadow-*: ") + e.what());
+    }
     return o;
 }
 
@@ -485,18 +545,52 @@ sgfx::NodePtr withRain(const Options& o, sgfx::NodePtr world, std::shared_ptr<co
     return polygon::withRainFollowing(std::move(world), std::move(camera), 80.0f, o.rainCount, 20.0f, -10.0f);
 }
 
-// The sky (its sun becomes the scene's) and a smoke cloud over the road ahead of the start pose.
-sgfx::NodePtr withSkyAndSmoke(const Options& o, sgfx::NodePtr world, const polygon::PolygonScene& scene,
-                              std::shared_ptr<sgfx::SkyNode>& sky) {
+// --shadows on: a ShadowNode (nothing below it yet) shadowing the scene's light "sun", the object
+// --sky turns, so the shadows follow it; nullptr when off. The lever (docs/plans/shadows.md §10):
+// while the sun is above 30° the terrain's low hills (8 m at most) throw no shadow worth drawing
+// the whole ground into every cascade for, so the terrain only receives; lower, it casts too.
+std::shared_ptr<sgfx::ShadowNode> shadowNode(const Options& o, const polygon::PolygonScene& scene) {
+    if (!o.shadows) return nullptr;
+    std::shared_ptr<sgfx::Light> sun;
+    for (const auto& child : scene.root->children())
+        if (auto light = std::dynamic_pointer_cast<sgfx::Light>(child); light && light->name == "sun")
+            sun = light;
+    if (!sun) throw std::runtime_error("--shadows: the scene has no light named 'sun'");
+    const float sunElevation = std::asin(std::clamp(-glm::normalize(sun->direction).z, -1.0f, 1.0f));
+    if (sunElevation > glm::radians(30.0f))
+        scene.terrain->nodeMask &= ~sgfx::shadow::kCasts;
+    else
+        scene.terrain->nodeMask |= sgfx::shadow::kCasts;
+    auto node = sgfx::ShadowNode::create(std::move(sun), o.shadow);
+    node->name = "shadows";
+    return node;
+}
+
+// `world` below --shadows' node (or itself without).
+sgfx::NodePtr withShadows(const Options& o, sgfx::NodePtr world, const polygon::PolygonScene& scene) {
+    auto shadows = shadowNode(o, scene);
+    if (!shadows) return world;
+    shadows->addChild(std::move(world));
+    return shadows;
+}
+
+// The sky (its sun becomes the scene's), a smoke cloud over the road ahead of the start pose and
+// --shadows' node over the world and the smoke (the sky beside it: it neither casts nor receives).
+sgfx::NodePtr withSkySmokeAndShadows(const Options& o, sgfx::NodePtr world,
+                                     const polygon::PolygonScene& scene,
+                                     std::shared_ptr<sgfx::SkyNode>& sky) {
     glm::vec3 toSun(0.0f);
     for (const auto& child : scene.root->children())
         if (auto* sun = dynamic_cast<sgfx::Light*>(child.get()); sun && sun->name == "sun") {
             if (o.skyHours) sun->direction = -sgfx::sky::sunDirection(*o.skyHours);
             toSun = -glm::normalize(sun->direction);
         }
-    if (!o.skyHours && !o.smoke) return world;
+    if (!o.skyHours && !o.smoke) return withShadows(o, std::move(world), scene);
     auto group = sgfx::Group::create();
-    group->addChild(world);
+    const std::shared_ptr<sgfx::ShadowNode> shadows = shadowNode(o, scene);
+    sgfx::Group& shadowed = shadows ? *shadows : *group; // where the world and the smoke go
+    shadowed.addChild(world);
+    if (shadows) group->addChild(shadows);
     if (o.skyHours) {
         sgfx::SkyParameters sp = sgfx::SkyParameters::atTime(*o.skyHours);
         sp.lookupTable = !o.skyDirect;
@@ -511,7 +605,7 @@ sgfx::NodePtr withSkyAndSmoke(const Options& o, sgfx::NodePtr world, const polyg
         at.z = std::max(at.z, 0.0f) + 0.5f * vp.size.z;
         auto place = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), at));
         place->addChild(sgfx::VolumeNode::create(vp, sgfx::VolumeGrid::noise(64, 7, 4, 0.35f)));
-        group->addChild(place);
+        shadowed.addChild(place);
     }
     return group;
 }
@@ -546,7 +640,7 @@ sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& sc
                                std::shared_ptr<const sgfx::Camera> camera) {
     scene.glassBin->setMode(o.transparency);
     std::shared_ptr<sgfx::SkyNode> sky;
-    sgfx::NodePtr world = withSkyAndSmoke(o, withRain(o, scene.root, std::move(camera)), scene, sky);
+    sgfx::NodePtr world = withSkySmokeAndShadows(o, withRain(o, scene.root, std::move(camera)), scene, sky);
     world = withEnvironment(o, std::move(world), scene, sky);
     if (o.ao) {
         auto ao = sgfx::AmbientOcclusionNode::create(o.aoParameters);
@@ -744,7 +838,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     // Fog is always in the graph here so F can cycle it: off, forward, split, post.
     auto fog = sgfx::FogNode::create(o.fogParameters, o.fog.value_or(sgfx::FogMode::Forward));
     fog->enabled = o.fog.has_value();
-    fog->addChild(withRain(o, scene.root, viewer.camera()));
+    fog->addChild(withShadows(o, withRain(o, scene.root, viewer.camera()), scene));
     viewer.setSceneData(fog);
     scene.glassBin->setMode(o.transparency);
     bool fogKeyDown = false, transparencyKeyDown = false, aaKeyDown = false;

@@ -56,7 +56,8 @@ ViewScene::ViewScene()
     , sky_(sgfx::SkyNode::create())
     , env_(sgfx::EnvironmentLightNode::create(sky_))
     , ambient_(sgfx::Light::create(sgfx::LightType::Ambient))
-    , sun_(sgfx::Light::create(sgfx::LightType::Directional)) {
+    , sun_(sgfx::Light::create(sgfx::LightType::Directional))
+    , shadow_(sgfx::ShadowNode::create(sun_)) {
     auto quad = sgfx::shapes::quad(1.0f, 1.0f);
     auto m = sgfx::Material::create();
     m->diffuse = {0.55f, 0.55f, 0.52f, 1.0f};
@@ -69,7 +70,9 @@ ViewScene::ViewScene()
     world_->addChild(ground_);
     world_->addChild(weatherPlace_);
     env_->name = "environment light";
-    env_->addChild(world_);
+    shadow_->name = "shadows";
+    shadow_->addChild(world_);
+    env_->addChild(shadow_);
     ao_->addChild(env_);
     fog_->addChild(ao_);
     sky_->attachFog(fog_);
@@ -159,6 +162,7 @@ void ViewScene::apply(const Settings& s, sgfx::Camera& camera) {
         rain_->nodeMask = s.weather == Weather::Rain ? ~sgfx::NodeMask{0} : 0;
         snow_->nodeMask = s.weather == Weather::Snow ? ~sgfx::NodeMask{0} : 0;
     }
+    applyShadows(s);
     sky_->nodeMask = s.sky ? ~sgfx::NodeMask{0} : 0;
     // The sky's sun is the sun light's, drawn or not: the sky environment follows it.
     sgfx::SkyParameters sky = sgfx::SkyParameters::atTime(s.skyHours);
@@ -167,6 +171,19 @@ void ViewScene::apply(const Settings& s, sgfx::Camera& camera) {
     sun_->direction = -sky.sunDirection;
     applyEnvironment(s);
     camera.clearColor = {0.72f, 0.76f, 0.82f, 1.0f};
+}
+
+void ViewScene::applyShadows(const Settings& s) {
+    shadow_->enabled = s.shadows;
+    if (!s.shadows) return;
+    sgfx::ShadowOptions o = shadow_->options();
+    const auto debug = s.shadowCascades ? sgfx::ShadowDebugView::Cascades : sgfx::ShadowDebugView::Off;
+    const float distance = std::min(20.0f * radius_, 1e6f);
+    if (o.filter == s.shadowFilter && o.debugView == debug && o.maxDistance == distance) return;
+    o.filter = s.shadowFilter;
+    o.debugView = debug;
+    o.maxDistance = distance;
+    shadow_->setOptions(o); // rebuilds the shader snippet: only on a change
 }
 
 void ViewScene::applyEnvironment(const Settings& s) {
@@ -198,6 +215,7 @@ std::string ViewScene::describeEffects(const Settings& s) const {
     if (s.sky) add("sky");
     if (s.env == EnvSource::Sky) add("sky light");
     if (s.env == EnvSource::File) add("environment " + s.envFile);
+    if (s.shadows) add(s.shadowFilter == sgfx::ShadowFilter::Hard2x2 ? "hard shadows" : "shadows");
     return o.str().empty() ? "no effects" : o.str();
 }
 

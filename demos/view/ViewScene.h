@@ -6,6 +6,7 @@
 #include <sgfx/nodes/environment/EnvironmentLightNode.h>
 #include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/nodes/particles/ParticleSystemNode.h>
+#include <sgfx/nodes/shadow/ShadowNode.h>
 #include <sgfx/nodes/sky/SkyNode.h>
 
 #include <sgfx/Camera.h>
@@ -38,6 +39,9 @@ struct Settings {
     EnvSource env = EnvSource::Sky; // metals need something to reflect
     std::string envFile;            // EnvSource::File: .hdr, .png or .jpg panorama (2:1)
     float envIntensity = 1.0f;
+    bool shadows = false; // the sun's cascaded shadow maps, 20 model radii deep
+    sgfx::ShadowFilter shadowFilter = sgfx::ShadowFilter::Pcf;
+    bool shadowCascades = false; // tint each pixel by the cascade that shades it
 };
 
 class ViewScene {
@@ -61,6 +65,8 @@ public:
     std::string describeEffects(const Settings& s) const;
     // The image-based light of the settings (a file is loaded once; std::runtime_error names it).
     void applyEnvironment(const Settings& s);
+    // The sun's shadows of the settings, 20 model radii of view depth deep.
+    void applyShadows(const Settings& s);
     // What pixel (x, y) shows, for the panel and --pick: the node path below the viewer's own
     // nodes (each node's name, or its type when unnamed), then the world point and normal.
     std::string describePick(const std::optional<sgfx::PickResult>& pick, double x, double y) const;
@@ -77,6 +83,7 @@ private:
     std::shared_ptr<sgfx::Light> ambient_;
     std::shared_ptr<sgfx::ParticleSystemNode> rain_, snow_;
     std::shared_ptr<sgfx::Light> sun_;
+    std::shared_ptr<sgfx::ShadowNode> shadow_; // sun_'s, around world_
     glm::vec3 min_{-0.5f}, max_{0.5f};
     float radius_ = 1.0f;
 };

@@ -122,6 +122,9 @@ public:
         case GLFW_KEY_G:
             s_.ground = !s_.ground;
             break;
+        case GLFW_KEY_L: // H is home
+            s_.shadows = !s_.shadows;
+            break;
         case GLFW_KEY_F1:
             panel_ = !panel_;
             break;
@@ -323,6 +326,13 @@ public:
                 s_.env = EnvSource(env);
             ImGui::SliderFloat("environment intensity", &s_.envIntensity, 0.0f, 4.0f, "%.2f");
         }
+        if (ImGui::CollapsingHeader("Shadows")) {
+            ImGui::Checkbox("shadows (L)", &s_.shadows);
+            int filter = int(s_.shadowFilter);
+            if (ImGui::Combo("filter", &filter, "hard (2x2 bilinear)\0PCF (16 taps)\0"))
+                s_.shadowFilter = sgfx::ShadowFilter(filter);
+            ImGui::Checkbox("tint by cascade", &s_.shadowCascades);
+        }
         if (!anim_.empty()) animationUi();
         if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
             if (ImGui::Button(flying_ ? "orbit (V)" : "fly (V)")) toggleFlying();
@@ -379,7 +389,7 @@ public:
         }
         if (frame == step) in.scroll += 2.0;
         if (frame == 2 * step) in.keys.insert(in.keys.end(), {GLFW_KEY_F, GLFW_KEY_O, GLFW_KEY_M});
-        if (frame == 3 * step) in.keys.insert(in.keys.end(), {GLFW_KEY_R, GLFW_KEY_K});
+        if (frame == 3 * step) in.keys.insert(in.keys.end(), {GLFW_KEY_R, GLFW_KEY_K, GLFW_KEY_L});
         if (frame == 4 * step) {
             s_.fogMode = sgfx::FogMode::PostProcess;
             s_.aoSamples = 16;
@@ -524,8 +534,8 @@ int runWindow(const Options& o, ViewScene& scene) {
 #endif
     std::printf("window: left click pick, left drag orbit/look, right drag zoom, middle drag pan, wheel "
                 "zoom, WASD/QE move, V orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather, "
-                "K sky, G ground, Space play/pause, N next animation, F1 panel, F12 screenshot, Esc "
-                "quit; drop files to load them\n");
+                "K sky, G ground, L shadows, Space play/pause, N next animation, F1 panel, F12 screenshot, "
+                "Esc quit; drop files to load them\n");
     std::fflush(stdout);
 
     const int startW = viewer.context().width(), startH = viewer.context().height();

@@ -44,6 +44,12 @@ it opens a window; otherwise, or with --headless or --out, it renders a PNG.
   --env SOURCE       image-based light: sky (default: the sky of --sky's time, drawn or not),
                      none, or a panorama file (.hdr, .png, .jpg; twice as wide as high, Z up)
   --env-intensity X  scales the environment's light (default 1)
+  --shadows [on|off] the sun's shadows (cascaded shadow maps over 20 model radii of view
+                     depth; default off, a bare --shadows is on)
+  --shadow-filter F  hard (one hardware comparison, 2x2 bilinear) or pcf (a rotated 16-tap
+                     Poisson disc, default)
+  --shadow-debug cascades
+                     tint each pixel by the shadow cascade that shades it
   --compare          four panels side by side: plain, fog, AO, fog + AO (headless)
   --pick X,Y         headless: print what pixel (X, Y) of the image shows (pixels from its
                      top-left corner, fractions allowed): the node path, the world point and the
@@ -65,9 +71,9 @@ it opens a window; otherwise, or with --headless or --out, it renders a PNG.
 Window keys: left click pick (the panel shows the node path, point and normal),
   left drag orbit/look, right drag zoom, middle drag pan, wheel zoom (fly: speed),
   WASD move, Q/E down/up, Shift fast, V orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather,
-  K sky, G ground, Space play/pause, N next animation, F1 panel, F12 or P screenshot, Esc quit;
-  drop files on the window to load them. The panel's Animation section has the timeline: the
-  animation, play/pause, a time slider to scrub, the speed and loop or clamp.
+  K sky, G ground, L shadows, Space play/pause, N next animation, F1 panel, F12 or P screenshot,
+  Esc quit; drop files on the window to load them. The panel's Animation section has the
+  timeline: the animation, play/pause, a time slider to scrub, the speed and loop or clamp.
 Exit status: 0 written, 1 a file failed to load or render, 2 bad options (an unknown animation
 too).
 )";
@@ -156,6 +162,23 @@ view::Options parse(int argc, char** argv) {
             s.envFile = s.env == view::EnvSource::File ? v : std::string();
         } else if (arg == "--env-intensity") {
             s.envIntensity = number(arg, value(), 0.0f, 1e6f);
+        } else if (arg == "--shadows") {
+            // An optional on|off: a bare --shadows is on.
+            const bool given = i + 1 < argc && (std::string_view(argv[i + 1]) == "on" ||
+                                                std::string_view(argv[i + 1]) == "off");
+            s.shadows = !given || std::string_view(argv[++i]) == "on";
+        } else if (arg == "--shadow-filter") {
+            const std::string v = value();
+            if (v == "hard")
+                s.shadowFilter = sgfx::ShadowFilter::Hard2x2;
+            else if (v == "pcf")
+                s.shadowFilter = sgfx::ShadowFilter::Pcf;
+            else
+                throw UsageError("--shadow-filter: '" + v + "' is not hard or pcf");
+        } else if (arg == "--shadow-debug") {
+            const std::string v = value();
+            if (v != "cascades") throw UsageError("--shadow-debug: '" + v + "' is not cascades");
+            s.shadowCascades = true;
         } else if (arg == "--compare") {
             o.compare = true;
         } else if (arg == "--pick") {
