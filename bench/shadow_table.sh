@@ -19,7 +19,7 @@ map=${SHADOW_MAP:-2048}; distance=${SHADOW_DISTANCE:-200}
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 "$build/demos/polygon" --export-obj "$tmp/polygon.obj" >/dev/null
 have_osg=0; [ -x "$build/bench/osg_polygon" ] && have_osg=1
-configs=(off 1:hard 1:pcf 2:hard 2:pcf 4:hard 4:pcf)
+configs=(off 1:hard 1:pcf 2:hard 2:pcf 2:pcss 4:hard 4:pcf)
 osg_configs=(); ((have_osg)) && osg_configs=(osg0 osg1 osg2)
 # ratio A B: A / B, or "inf" when B is not positive (a difference lost in the noise): it sorts
 # last, so such a round raises a median rather than lowering it.

@@ -50,3 +50,9 @@ polygon --size 640x360 --out "$out/sky_smoke_off.png"
 polygon --size 640x360 --sky 18.5 --smoke --out "$out/sky_smoke.png"
 "$build/demos/volume_sky" --no-volume --no-sky --size 240x135 --out "$out/volume_sky_off.png" > /dev/null
 "$build/demos/volume_sky" --size 240x135 --out "$out/volume_sky.png" > /dev/null && echo "effect-figures: volume_sky*.png"
+
+# Shadows (docs/effects/shadows.md): the default view without and with the sun's shadows
+# (PCF), and with each cascade tinted.
+polygon --size 640x360 --out "$out/shadows_off.png"
+polygon --size 640x360 --shadows on --out "$out/shadows_pcf.png"
+polygon --size 640x360 --shadows on --shadow-debug cascades --out "$out/shadows_cascades.png"

@@ -160,9 +160,10 @@ effects:
                       above 30 degrees, where its low hills throw no shadow worth drawing
                       (default off)
   --shadow-cascades N maps along the view, 1..4 (default 3)
-  --shadow-filter hard|pcf
-                      one hardware comparison, bilinear over 2x2 texels (hard), or a rotated
-                      16-tap Poisson disc (pcf, default)
+  --shadow-filter hard|pcf|pcss
+                      one hardware comparison, bilinear over 2x2 texels (hard), a rotated
+                      16-tap Poisson disc (pcf, default), or soft penumbrae that widen with
+                      the blocker's distance (pcss: the sun's angular size)
   --shadow-map N      texels per side of each cascade's map, 256..4096, a multiple of 64
                       (default 2048)
   --shadow-distance M metres of view depth shadowed, 0 < M <= 1e6 (default 200)
@@ -254,8 +255,10 @@ template <class Value> bool parseShadowOption(Options& o, std::string_view arg, 
             o.shadow.filter = sgfx::ShadowFilter::Hard2x2;
         else if (v == "pcf")
             o.shadow.filter = sgfx::ShadowFilter::Pcf;
+        else if (v == "pcss")
+            o.shadow.filter = sgfx::ShadowFilter::Pcss;
         else
-            throw UsageError("--shadow-filter: '" + std::string(v) + "' is not hard or pcf");
+            throw UsageError("--shadow-filter: '" + std::string(v) + "' is not hard, pcf or pcss");
     } else if (arg == "--shadow-map") {
         const std::string_view v = value();
         o.shadow.mapSize = parseNumber<int>(arg, v);

@@ -329,7 +329,7 @@ public:
         if (ImGui::CollapsingHeader("Shadows")) {
             ImGui::Checkbox("shadows (L)", &s_.shadows);
             int filter = int(s_.shadowFilter);
-            if (ImGui::Combo("filter", &filter, "hard (2x2 bilinear)\0PCF (16 taps)\0"))
+            if (ImGui::Combo("filter", &filter, "hard (2x2 bilinear)\0PCF (16 taps)\0PCSS (soft)\0"))
                 s_.shadowFilter = sgfx::ShadowFilter(filter);
             ImGui::Checkbox("tint by cascade", &s_.shadowCascades);
         }

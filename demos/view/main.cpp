@@ -46,8 +46,8 @@ it opens a window; otherwise, or with --headless or --out, it renders a PNG.
   --env-intensity X  scales the environment's light (default 1)
   --shadows [on|off] the sun's shadows (cascaded shadow maps over 20 model radii of view
                      depth; default off, a bare --shadows is on)
-  --shadow-filter F  hard (one hardware comparison, 2x2 bilinear) or pcf (a rotated 16-tap
-                     Poisson disc, default)
+  --shadow-filter F  hard (one hardware comparison, 2x2 bilinear), pcf (a rotated 16-tap
+                     Poisson disc, default) or pcss (penumbrae widen with the blocker's distance)
   --shadow-debug cascades
                      tint each pixel by the shadow cascade that shades it
   --compare          four panels side by side: plain, fog, AO, fog + AO (headless)
@@ -173,8 +173,10 @@ view::Options parse(int argc, char** argv) {
                 s.shadowFilter = sgfx::ShadowFilter::Hard2x2;
             else if (v == "pcf")
                 s.shadowFilter = sgfx::ShadowFilter::Pcf;
+            else if (v == "pcss")
+                s.shadowFilter = sgfx::ShadowFilter::Pcss;
             else
-                throw UsageError("--shadow-filter: '" + v + "' is not hard or pcf");
+                throw UsageError("--shadow-filter: '" + v + "' is not hard, pcf or pcss");
         } else if (arg == "--shadow-debug") {
             const std::string v = value();
             if (v != "cascades") throw UsageError("--shadow-debug: '" + v + "' is not cascades");
