@@ -828,3 +828,29 @@ TEST(ShadowRender, ShadowsTouchTheirCasterWithinTwoTexels) {
             EXPECT_LT(gap, 2.0 * t) << gap / t << " texels";
         }
 }
+
+// Metallic-roughness materials share the light loops: a rough dielectric plane shows the box's
+// projected shadow too (v over the view without the node, as its shading is not cos θ).
+TEST(ShadowRender, MetallicRoughnessMaterialsReceive) {
+    const glm::dvec3 lo(-0.6, -0.4, 0.5), hi(0.4, 0.6, 1.1), L = sunVector(135.0, 50.0);
+    BoxScene scene(L, lo, hi, ShadowOptions{});
+    scene.plane->getOrCreateStateSet().material.set(metallicRoughness(glm::vec3(0.8f), 0.0f, 0.7f));
+    auto v = topViewer();
+    const FloatImage shadowed = render(*v, scene.root);
+    scene.shadows->enabled = false;
+    const FloatImage plain = render(*v, scene.root);
+    const Hull hull = boxShadow(lo, hi, L), skip = footprint(lo, hi);
+    const double px = 2.0 * kHalf / kSize;
+    int wrong = 0, dark = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const glm::dvec2 w = worldOfPixel(x, y);
+            const double d = signedDistance(hull, w);
+            if (signedDistance(skip, w) < px || std::abs(d) < px) continue;
+            const bool isDark = red(shadowed, x, y) < 0.5 * red(plain, x, y);
+            dark += isDark;
+            if (isDark != (d < 0) && ++wrong <= 5) ADD_FAILURE() << "pixel " << x << "," << y;
+        }
+    EXPECT_EQ(wrong, 0);
+    EXPECT_GT(dark, 100);
+}
