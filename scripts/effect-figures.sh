@@ -56,3 +56,5 @@ polygon --size 640x360 --sky 18.5 --smoke --out "$out/sky_smoke.png"
 polygon --size 640x360 --out "$out/shadows_off.png"
 polygon --size 640x360 --shadows on --out "$out/shadows_pcf.png"
 polygon --size 640x360 --shadows on --shadow-debug cascades --out "$out/shadows_cascades.png"
+# The leaves' cut-out shadows: a tree's crossed cards (no levels of detail) at 17:00.
+polygon --size 480x270 --shadows on --no-lod --sky 17 --look 86,16,12,79,27,0 --out "$out/shadows_leaves.png"

@@ -4,7 +4,7 @@
 // computed here: rays from plane points to the sun against the card, and corners projected along
 // the light onto the plane (p − L·p.z/L.z), as in shadow_test.cpp. Top view of a white Lambert
 // plane lit by the sun alone, so v = pixel / (N·L).
-#include "TestUtil.h"
+#include "ShadowTestUtil.h"
 
 #include <sgfx/Billboard.h>
 #include <sgfx/Geometry.h>
@@ -28,6 +28,7 @@
 
 using namespace sgfx;
 using namespace sgfx::test;
+using namespace sgfx::test::shadows;
 
 namespace {
 
@@ -35,39 +36,8 @@ constexpr int kSize = 128;
 constexpr double kHalf = 4.0;
 constexpr double kPixel = 2.0 * kHalf / kSize;
 
-double deg(double d) {
-    return d * std::numbers::pi / 180.0;
-}
-
-glm::dvec3 sunVector(double azimuthDeg, double elevationDeg) {
-    const double a = deg(azimuthDeg), e = deg(elevationDeg);
-    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-}
-
 glm::dvec2 worldOfPixel(int x, int y) {
     return {-kHalf + (x + 0.5) * kPixel, kHalf - (y + 0.5) * kPixel};
-}
-
-double red(const FloatImage& img, int x, int y) {
-    return img.rgba[(std::size_t(y) * std::size_t(img.width) + std::size_t(x)) * 4];
-}
-
-std::shared_ptr<Material> white() {
-    auto m = Material::create();
-    m->diffuse = glm::vec4(1.0f);
-    m->specular = glm::vec3(0.0f);
-    return m;
-}
-
-template <class N> std::shared_ptr<N> lambert(std::shared_ptr<N> g) {
-    g->getOrCreateStateSet().material.set(white());
-    return g;
-}
-
-std::shared_ptr<Transform> placed(std::shared_ptr<Node> n, const glm::mat4& m) {
-    auto t = Transform::create(m);
-    t->addChild(std::move(n));
-    return t;
 }
 
 // What a pixel of the plane should be: shadowed, lit, or too near an edge to say.
@@ -86,10 +56,7 @@ FloatImage renderTop(const glm::dvec3& L, const std::vector<std::shared_ptr<Node
     for (const auto& c : casters)
         shadows->addChild(c);
     root->addChild(shadows);
-    auto v = orthoTopViewer(kSize, float(kHalf));
-    v->camera()->projectionMatrix =
-        glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
-    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    auto v = topViewer(kSize, kHalf);
     v->setSceneData(root);
     v->frame();
     expectNoGlErrors(*v);
@@ -116,58 +83,6 @@ Tally check(const FloatImage& img, double cosSun, const std::function<Expect(glm
     return t;
 }
 
-// ---- convex hulls of projected corners (as shadow_test.cpp)
-
-using Hull = std::vector<glm::dvec2>;
-
-double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-}
-
-Hull convexHull(std::vector<glm::dvec2> p) {
-    std::sort(p.begin(), p.end(), [](auto a, auto b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-    Hull h(2 * p.size());
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0)
-            --k;
-        h[k++] = p[i];
-    }
-    for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
-        while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0)
-            --k;
-        h[k++] = p[i];
-    }
-    h.resize(k - 1);
-    return h;
-}
-
-double signedDistance(const Hull& h, const glm::dvec2& q) {
-    double inside = -1e30, edge = 1e30;
-    for (std::size_t i = 0; i < h.size(); ++i) {
-        const glm::dvec2 a = h[i], b = h[(i + 1) % h.size()], ab = b - a;
-        const double t = std::clamp(glm::dot(q - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
-        edge = std::min(edge, glm::length(q - (a + t * ab)));
-        inside = std::max(inside, -cross(a, b, q) / glm::length(ab));
-    }
-    return inside <= 0.0 ? -edge : edge;
-}
-
-Hull projected(const std::vector<glm::dvec3>& corners, const glm::dvec3& L) {
-    std::vector<glm::dvec2> p;
-    for (const glm::dvec3& q : corners)
-        p.push_back(glm::dvec2(q - L * (q.z / L.z)));
-    return convexHull(p);
-}
-
-std::vector<glm::dvec3> boxCorners(const glm::dmat4& m, const glm::dvec3& size) {
-    std::vector<glm::dvec3> c;
-    for (int k = 0; k < 8; ++k)
-        c.push_back(glm::dvec3(m * glm::dvec4((k & 1 ? 0.5 : -0.5) * size.x, (k & 2 ? 0.5 : -0.5) * size.y,
-                                              (k & 4 ? 0.5 : -0.5) * size.z, 1.0)));
-    return c;
-}
-
 // Shadowed inside any of `shadows`, lit outside all; unsure within a pixel of an edge or over a
 // footprint (what covers the plane in the view, a pixel wide margin).
 std::function<Expect(glm::dvec2)> hulls(const std::vector<Hull>& shadows, const std::vector<Hull>& covers) {
@@ -180,13 +95,6 @@ std::function<Expect(glm::dvec2)> hulls(const std::vector<Hull>& shadows, const 
         if (std::abs(nearest) < kPixel) return Expect::Unsure;
         return nearest < 0 ? Expect::Shadowed : Expect::Lit;
     };
-}
-
-Hull footprint(const std::vector<glm::dvec3>& corners) {
-    std::vector<glm::dvec2> p;
-    for (const glm::dvec3& q : corners)
-        p.emplace_back(q.x, q.y);
-    return convexHull(p);
 }
 
 } // namespace
@@ -337,10 +245,7 @@ TEST(ShadowCasters, ForeignShadersOptInThroughTheHook) {
         auto root = Group::create();
         root->addChild(sun);
         root->addChild(parent);
-        auto v = orthoTopViewer(kSize, float(kHalf));
-        v->camera()->projectionMatrix =
-            glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
-        v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+        auto v = topViewer(kSize, kHalf);
         v->setSceneData(root);
         v->frame();
         expectNoGlErrors(*v);
@@ -445,10 +350,7 @@ TEST(ShadowReceivers, OrderIndependentTransparencyReceives) {
     auto root = Group::create();
     root->addChild(sun);
     root->addChild(shadows);
-    auto v = orthoTopViewer(kSize, float(kHalf));
-    v->camera()->projectionMatrix =
-        glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
-    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    auto v = topViewer(kSize, kHalf);
     v->setSceneData(root);
     v->frame();
     expectNoGlErrors(*v);
@@ -482,10 +384,7 @@ TEST(ShadowCasters, SpotLightCastsFromItsPosition) {
         auto root = Group::create();
         root->addChild(spot);
         root->addChild(shadows);
-        auto v = orthoTopViewer(kSize, float(kHalf));
-        v->camera()->projectionMatrix =
-            glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
-        v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+        auto v = topViewer(kSize, kHalf);
         v->setSceneData(root);
         v->frame();
         expectNoGlErrors(*v);

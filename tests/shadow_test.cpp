@@ -4,7 +4,7 @@
 // the float image. Expected shadows are the casters' corners projected along the light onto the
 // plane (p − L·p.z/L.z), their convex hull mapped to pixels. Also, without GL: the core's pieces
 // shadows build on (EffectNode::subtreeMask, FramePlan::places, FrameSetup::cullForLight).
-#include "TestUtil.h"
+#include "ShadowTestUtil.h"
 
 #include <sgfx/CullVisitor.h>
 #include <sgfx/FrameSetup.h>
@@ -24,20 +24,12 @@
 
 using namespace sgfx;
 using namespace sgfx::test;
+using namespace sgfx::test::shadows;
 
 namespace {
 
 constexpr int kSize = 128;
 constexpr double kHalf = 4.0; // the view shows [−4, 4]² metres: a pixel is 1/16 m
-
-double deg(double d) {
-    return d * std::numbers::pi / 180.0;
-}
-
-glm::dvec3 sunVector(double azimuthDeg, double elevationDeg) {
-    const double a = deg(azimuthDeg), e = deg(elevationDeg);
-    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-}
 
 // The world point (z = 0) under pixel (x, y) of the float image (row 0 at the top).
 glm::dvec2 worldOfPixel(int x, int y) {
@@ -45,89 +37,11 @@ glm::dvec2 worldOfPixel(int x, int y) {
     return {-kHalf + (x + 0.5) * s, kHalf - (y + 0.5) * s};
 }
 
-double red(const FloatImage& img, int x, int y) {
-    return img.rgba[(std::size_t(y) * std::size_t(img.width) + std::size_t(x)) * 4];
-}
-
-std::shared_ptr<Geometry> lambert(std::shared_ptr<Geometry> g, glm::vec3 albedo = glm::vec3(1.0f)) {
-    auto m = Material::create();
-    m->diffuse = glm::vec4(albedo, 1.0f);
-    m->specular = glm::vec3(0.0f);
-    g->getOrCreateStateSet().material.set(m);
-    return g;
-}
-
-std::shared_ptr<Transform> placed(std::shared_ptr<Node> n, const glm::mat4& m) {
-    auto t = Transform::create(m);
-    t->addChild(std::move(n));
-    return t;
-}
-
 std::shared_ptr<Light> sunLight(const glm::dvec3& towardsSun) {
     auto l = Light::create(LightType::Directional);
     l->direction = -glm::vec3(towardsSun); // the way the light travels
     l->color = glm::vec3(1.0f);
     return l;
-}
-
-// The top view: a float target, an orthographic camera 10 m up whose depth range [5, 15] keeps
-// the cascade small (a texel ≈ 0.12 pixel), and no light but the scene's.
-std::unique_ptr<Viewer> topViewer(int unrolledLights = 8) {
-    auto v = orthoTopViewer(kSize, float(kHalf));
-    v->camera()->projectionMatrix =
-        glm::ortho(-float(kHalf), float(kHalf), -float(kHalf), float(kHalf), 5.0f, 15.0f);
-    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
-    v->renderer().options().maxUnrolledLights = unrolledLights;
-    return v;
-}
-
-// ---- the expected shadow: a convex hull of projected points, and pixel classes against it
-
-using Hull = std::vector<glm::dvec2>;
-
-double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-}
-
-// Andrew's monotone chain, counter-clockwise.
-Hull convexHull(std::vector<glm::dvec2> p) {
-    std::sort(p.begin(), p.end(), [](auto a, auto b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-    Hull h(2 * p.size());
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0)
-            --k;
-        h[k++] = p[i];
-    }
-    for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {
-        while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0)
-            --k;
-        h[k++] = p[i];
-    }
-    h.resize(k - 1);
-    return h;
-}
-
-// Signed distance to the hull's boundary: negative inside.
-double signedDistance(const Hull& h, const glm::dvec2& q) {
-    double inside = -1e30, edge = 1e30;
-    for (std::size_t i = 0; i < h.size(); ++i) {
-        const glm::dvec2 a = h[i], b = h[(i + 1) % h.size()], ab = b - a;
-        const double t = std::clamp(glm::dot(q - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
-        edge = std::min(edge, glm::length(q - (a + t * ab)));
-        inside = std::max(inside, cross(a, b, q) / glm::length(ab) * -1.0);
-    }
-    return inside <= 0.0 ? -edge : edge;
-}
-
-// The corners of an axis-aligned box, projected along L onto z = 0.
-Hull boxShadow(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& L) {
-    std::vector<glm::dvec2> p;
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 q(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-        p.push_back(glm::dvec2(q - L * (q.z / L.z)));
-    }
-    return convexHull(p);
 }
 
 struct Classified {
@@ -184,7 +98,15 @@ FloatImage render(Viewer& v, std::shared_ptr<Node> scene) {
 }
 
 Hull footprint(const glm::dvec3& lo, const glm::dvec3& hi) {
-    return {{lo.x, lo.y}, {hi.x, lo.y}, {hi.x, hi.y}, {lo.x, hi.y}};
+    return shadows::footprint(boxCorners(lo, hi));
+}
+
+Hull boxShadow(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& L) {
+    return projected(boxCorners(lo, hi), L);
+}
+
+std::unique_ptr<Viewer> topViewer(int unrolledLights = 8) {
+    return shadows::topViewer(kSize, kHalf, unrolledLights);
 }
 
 } // namespace

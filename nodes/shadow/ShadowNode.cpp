@@ -106,10 +106,13 @@ void ShadowNode::addSpot(std::shared_ptr<Light> spot) {
         throw std::invalid_argument("sgfx: ShadowNode '" + name + "': at most 3 spot lights; '" + spot->name +
                                     "' would be the fourth");
     if (std::find(spots_.begin(), spots_.end(), spot) == spots_.end()) spots_.push_back(std::move(spot));
+    rebuildSnippet(); // the variant with spots
 }
 
 bool ShadowNode::removeSpot(const Light* spot) {
-    return std::erase_if(spots_, [&](const auto& s) { return s.get() == spot; }) > 0;
+    const bool removed = std::erase_if(spots_, [&](const auto& s) { return s.get() == spot; }) > 0;
+    rebuildSnippet();
+    return removed;
 }
 
 void ShadowNode::setOptions(const ShadowOptions& options) {
@@ -127,9 +130,10 @@ void ShadowNode::rebuildSnippet() {
     static constexpr const char* kFilters[] = {"hard", "pcf", "pcss"};
     const char* filter = kFilters[std::size_t(options_.filter)];
     ShaderSnippet s;
-    s.name = std::string("shadow_") + filter + (debug ? "_debug" : "");
+    const bool spots = !spots_.empty();
+    s.name = std::string("shadow_") + filter + (spots ? "_spots" : "") + (debug ? "_debug" : "");
     s.defines = "#define SGFX_LIGHT_VISIBILITY 1\n#define SGFX_SHADOW_SUN 1\n#define SGFX_SHADOW_FILTER " +
-                std::to_string(int(options_.filter)) + "\n";
+                std::to_string(int(options_.filter)) + "\n" + (spots ? "#define SGFX_SHADOW_SPOTS 1\n" : "");
     SnippetSampler map;
     map.uniform = "sgfx_shadowMap";
     map.resource = atlasName_;
@@ -194,8 +198,9 @@ void ShadowNode::addPasses(FrameSetup& f, const std::shared_ptr<const Plan>& pla
 }
 
 void ShadowNode::applyUniforms(gl::Program& program, const DrawContext&) const {
-    static const std::array<std::string, shadow::kMaxCascades> matrix = {
-        "sgfx_shadowMatrix[0]", "sgfx_shadowMatrix[1]", "sgfx_shadowMatrix[2]", "sgfx_shadowMatrix[3]"};
+    static const std::array<std::string, shadow::kMaxCascades> map = {
+        "sgfx_shadowCascadeMap[0]", "sgfx_shadowCascadeMap[1]", "sgfx_shadowCascadeMap[2]",
+        "sgfx_shadowCascadeMap[3]"};
     static const std::array<std::string, shadow::kMaxCascades> tile = {
         "sgfx_shadowTile[0]", "sgfx_shadowTile[1]", "sgfx_shadowTile[2]", "sgfx_shadowTile[3]"};
     const Plan* plan = shared_->current.get();
@@ -209,13 +214,14 @@ void ShadowNode::applyUniforms(gl::Program& program, const DrawContext&) const {
     if (plan) applyCommonUniforms(program, *plan);
     if (!active) return;
     for (int i = 0; i < cascades; ++i) {
-        program.set(matrix[std::size_t(i)], plan->matrices[std::size_t(i)]);
+        program.set(map[std::size_t(i)], plan->cascadeMaps[std::size_t(i)]);
         program.set(tile[std::size_t(i)], plan->tileRects[std::size_t(i)]);
     }
     program.set("sgfx_shadowSplits", plan->splits);
     program.set("sgfx_shadowBandStart", plan->bandStart);
     program.set("sgfx_shadowTexel", plan->texels);
     program.set("sgfx_shadowLight", plan->light);
+    program.set("sgfx_shadowDepthMap", plan->depthMap);
 }
 
 void ShadowNode::applySpotUniforms(gl::Program& program, const Plan& plan, glm::ivec4& slots) const {

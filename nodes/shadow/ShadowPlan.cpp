@@ -149,7 +149,10 @@ void fitSun(const FrameSetup& f, const ShadowNode& node, int sun, const Bounding
         hi = glm::max(hi, fit.centre + fit.halfExtent);
         const glm::dmat4 projection = cascadeProjection(fit, zc - zr, zc + zr);
         plan.projections.push_back(glm::mat4(projection));
-        plan.matrices[k] = glm::mat4(atlasMatrix(plan.tiles[k], plan.atlasSize, projection, rotation));
+        // The tile's orthographic map of light space: a scale and an offset per axis.
+        const glm::dmat4 toAtlas = atlasMatrix(plan.tiles[k], plan.atlasSize, projection, glm::dmat3(1.0));
+        plan.cascadeMaps[k] = glm::vec4(toAtlas[0][0], toAtlas[1][1], toAtlas[3][0], toAtlas[3][1]);
+        plan.depthMap = glm::vec2(toAtlas[2][2], toAtlas[3][2]);
         plan.tileRects[k] = tileRect(plan.tiles[k], plan.atlasSize);
         const double end = splits[k + 1], start = splits[k];
         plan.splits[i] = float(end);

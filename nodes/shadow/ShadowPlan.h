@@ -33,7 +33,10 @@ struct ShadowNode::Plan {
     std::vector<glm::ivec4> tiles{glm::ivec4(0, 0, 1, 1)};
     glm::mat4 lightView{1.0f}; ///< V_L (a rotation)
     std::vector<glm::mat4> projections;
-    std::array<glm::mat4, shadow::kMaxCascades> matrices{}; ///< world to atlas
+    /// Light space (V_L·P) to atlas per cascade: xy·scale (xy) + offset (zw); and to the map's
+    /// depth, the same for every cascade: z·x + y.
+    std::array<glm::vec4, shadow::kMaxCascades> cascadeMaps{};
+    glm::vec2 depthMap{1.0f, 0.0f};
     std::array<glm::vec4, shadow::kMaxCascades> tileRects{};
     glm::mat3 rotation{1.0f};
     glm::vec4 splits{0.0f}, bandStart{0.0f}, texels{0.0f};

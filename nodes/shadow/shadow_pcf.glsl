@@ -26,11 +26,12 @@ float sgfx_shadowPcf(vec4 tile, float t, vec2 uv, float depth, vec3 P, float rad
     float sum = 0.0;
     for (int k = 0; k < 4; ++k)
         sum += texture(sgfx_shadowMap, vec3(clamp(uv + radius * (turn * sgfx_shadowDisc[k]), tile.xy, tile.zw), depth));
-    if (earlyOut && (sum == 0.0 || sum == 4.0)) {
-        float centre = texture(sgfx_shadowMap, vec3(clamp(uv, tile.xy, tile.zw), depth));
-        if (centre * 4.0 == sum) return centre;
-    }
-    for (int k = 4; k < 16; ++k)
+    float centre = texture(sgfx_shadowMap, vec3(clamp(uv, tile.xy, tile.zw), depth));
+    // The other 12 taps in a loop whose length is per pixel: a rasterizer that shades blocks of
+    // pixels together (llvmpipe runs both sides of a branch) skips it when the whole block agrees.
+    bool agree = earlyOut && (sum == 0.0 || sum == 4.0) && centre * 4.0 == sum;
+    int last = agree ? 4 : 16;
+    for (int k = 4; k < last; ++k)
         sum += texture(sgfx_shadowMap, vec3(clamp(uv + radius * (turn * sgfx_shadowDisc[k]), tile.xy, tile.zw), depth));
-    return sum * (1.0 / 16.0);
+    return agree ? centre : sum * (1.0 / 16.0);
 }

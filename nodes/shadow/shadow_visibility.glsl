@@ -34,8 +34,11 @@ SgfxShadowReceiver sgfx_shadowReceiver(vec3 P, vec3 Ng, vec3 L, float t) {
 float sgfx_shadowCascade(int i, vec3 P, vec3 Ng) {
     float t = sgfx_shadowTexel[i];
     SgfxShadowReceiver r = sgfx_shadowReceiver(P, Ng, sgfx_shadowLight.xyz, t);
-    vec3 s = (sgfx_shadowMatrix[i] * vec4(r.moved, 1.0)).xyz;
-    return sgfx_shadowFiltered(sgfx_shadowTile[i], t, s.xy, s.z - r.bias * sgfx_shadowLight.w, r.moved, true);
+    vec3 ls = sgfx_shadowRotation * r.moved; // light space: one rotation for every cascade
+    vec4 k = sgfx_shadowCascadeMap[i];
+    float depth = ls.z * sgfx_shadowDepthMap.x + sgfx_shadowDepthMap.y;
+    return sgfx_shadowFiltered(sgfx_shadowTile[i], t, ls.xy * k.xy + k.zw, depth - r.bias * sgfx_shadowLight.w,
+                               r.moved, true);
 }
 
 // Which cascade shades view depth z (N when none), and the weight of what follows it.
@@ -51,18 +54,23 @@ int sgfx_shadowSelect(float z, out float follow) {
     return i;
 }
 
-// The cascade that holds the point's view depth, blended into the next over the band and faded to
-// lit at the end of the last (ShadowMath's selectCascade); the seed's shadow density.
+// The cascade that holds the point's view depth, faded to lit at the end of the last
+// (ShadowMath's selectCascade); across a blend band a pixel takes the next cascade where its
+// weight exceeds a hash of the point's light-space cell (a dithered blend: one lookup a pixel,
+// anchored to the world; TAA or the PCF disc smooth it); the seed's shadow density.
 float sgfx_sunVisibility(vec3 P, vec3 Ng) {
     float follow;
     int i = sgfx_shadowSelect(-(sgfx_view * vec4(P, 1.0)).z, follow);
     int n = sgfx_shadowSun.y;
     if (i >= n) return 1.0;
-    float v = sgfx_shadowCascade(i, P, Ng);
-    if (follow > 0.0) v = mix(v, i + 1 < n ? sgfx_shadowCascade(i + 1, P, Ng) : 1.0, follow);
+    vec2 cell = floor((sgfx_shadowRotation * P).xy / sgfx_shadowTexel[i]);
+    float dither = fract(52.9829189 * fract(dot(cell, vec2(0.06711056, 0.00583715)))); // Jimenez 2014
+    bool next = follow > dither;
+    float v = next && i + 1 >= n ? 1.0 : sgfx_shadowCascade(next ? i + 1 : i, P, Ng);
     return 1.0 - sgfx_shadowFilter.w * (1.0 - v);
 }
 
+#ifdef SGFX_SHADOW_SPOTS
 // Spot slot j: a perspective map; depth along the axis d, a texel of d·2·tan(fovy/2)/S metres,
 // the bias subtracted from d before it becomes the map's depth f(d − n)/(d(f − n)).
 float sgfx_spotVisibility(int j, vec3 P, vec3 Ng) {
@@ -78,9 +86,15 @@ float sgfx_spotVisibility(int j, vec3 P, vec3 Ng) {
     return 1.0 - sgfx_shadowFilter.w * (1.0 - v);
 }
 
+#endif
+
+// Spots only in the variant that has them (SGFX_SHADOW_SPOTS): a rasterizer that shades blocks of
+// pixels together runs every branch a uniform does not rule out at compile time.
 float sgfx_lightVisibility(int light, vec3 worldPos, vec3 worldNormal) {
     if (light == sgfx_shadowSun.x) return sgfx_sunVisibility(worldPos, worldNormal);
+#ifdef SGFX_SHADOW_SPOTS
     for (int j = 0; j < 3; ++j)
         if (light == sgfx_shadowSpots[j]) return sgfx_spotVisibility(j, worldPos, worldNormal);
+#endif
     return 1.0;
 }
