@@ -182,9 +182,11 @@ void ShadowNode::addPasses(FrameSetup& f, const std::shared_ptr<const Plan>& pla
                 if (cutoff) c.blendedCasters(*cutoff);
                 const glm::ivec4 tile = plan->tiles[std::size_t(i)];
                 c.target({}, d.atlas);
+                // The whole atlas at once: llvmpipe clears whole tiles fast and a scissored
+                // rectangle pixel by pixel. The later passes keep it.
+                if (i == 0) c.clearDepth();
                 c.viewport(tile);
                 c.scissor(tile);
-                c.clearDepth();
                 if (spot) {
                     const SpotPlan& s = plan->spots[std::size_t(i - cascades)];
                     c.setView(s.view, s.projection);
