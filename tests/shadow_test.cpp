@@ -135,6 +135,15 @@ bool hasEffect(const RenderQueue& q, const RenderItem& item, const EffectNode* e
     return std::find(set.begin(), set.end(), e) != set.end();
 }
 
+// What the renderer tells the setup of a 100×100 view from `camera`.
+ViewInfo viewOf(const Camera& camera) {
+    ViewInfo info;
+    info.viewSize = {100, 100};
+    info.view = camera.viewMatrix;
+    info.projection = camera.projectionMatrix;
+    return info;
+}
+
 std::shared_ptr<Camera> lookingDownZ() {
     auto c = Camera::create();
     c->setViewport(0, 0, 100, 100);
@@ -186,11 +195,7 @@ TEST(ShadowCore, PlacesAndCullFromALightFindCastersOutsideTheView) {
     EXPECT_EQ(plan.places[0].model[3], glm::vec4(0, 0, 1, 1));
     EXPECT_EQ(q.opaque.size(), 2u); // the camera sees one box and the one under the mask
 
-    ViewInfo info;
-    info.viewSize = {100, 100};
-    info.view = camera->viewMatrix;
-    info.projection = camera->projectionMatrix;
-    FrameSetup setup(info, q, &plan);
+    FrameSetup setup(viewOf(*camera), q, &plan);
     // A light straight above, seeing x in [−50, 50]: both boxes; the mask keeps out the third.
     RenderQueue casters;
     setup.cullForLight(*effect,
@@ -229,11 +234,7 @@ TEST(ShadowCore, LightCullPicksLevelsOfDetailAsTheCameraSeesThem) {
     cv.run(*camera);
     ASSERT_EQ(q.opaque.size(), 1u);
     ASSERT_EQ(q.opaque[0].node().name, "fine");
-    ViewInfo info;
-    info.viewSize = {100, 100};
-    info.view = camera->viewMatrix;
-    info.projection = camera->projectionMatrix;
-    FrameSetup setup(info, q, &plan);
+    FrameSetup setup(viewOf(*camera), q, &plan);
     RenderQueue casters;
     // The light's own view (1 km across 100 px) would measure 0.2 px: coarse.
     setup.cullForLight(*effect,

@@ -202,12 +202,11 @@ void CullVisitor::apply(LOD& lod) {
     if (!cullTest(lod)) return;
     const BoundingSphere local = lod.selectionSphere();
     float pixels = 0.0f;
-    if (local.valid() && hasReference_) {
-        const BoundingSphere s = local.transformed(referenceView_ * model_.back());
-        pixels = pixelSize(s.center, s.radius, referenceProjection_, referenceHeight_);
-    } else if (local.valid()) {
-        const BoundingSphere s = toView(local);
-        pixels = pixelSize(s.center, s.radius, projection_, viewportHeight_);
+    if (local.valid()) { // measured in the reference view when there is one (a cull from a light)
+        const BoundingSphere s =
+            hasReference_ ? local.transformed(referenceView_ * model_.back()) : toView(local);
+        pixels = hasReference_ ? pixelSize(s.center, s.radius, referenceProjection_, referenceHeight_)
+                               : pixelSize(s.center, s.radius, projection_, viewportHeight_);
     }
     if (mode != Mode::None) {
         pushState(lod);
