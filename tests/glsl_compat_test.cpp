@@ -290,14 +290,23 @@ glm::dvec3 pixelWorld(int x, int y) {
     return {-1.0 + (x + 0.5) * 2.0 / kSize, 1.0 - (y + 0.5) * 2.0 / kSize, 0.0};
 }
 
-Frame render(std::shared_ptr<Node> scene, const std::function<void(Viewer&)>& setup = {}) {
+std::unique_ptr<Viewer> viewer() {
     auto v = orthoTopViewer(kSize, 1.0f);
     v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    return v;
+}
+
+Frame render(Viewer& v, std::shared_ptr<Node> scene) {
+    v.setSceneData(std::move(scene));
+    v.frame();
+    expectNoGlErrors(v);
+    return {v.renderer().readPixelsLinear()};
+}
+
+Frame render(std::shared_ptr<Node> scene, const std::function<void(Viewer&)>& setup = {}) {
+    auto v = viewer();
     if (setup) setup(*v);
-    v->setSceneData(std::move(scene));
-    v->frame();
-    expectNoGlErrors(*v);
-    return {v->renderer().readPixelsLinear()};
+    return render(*v, std::move(scene));
 }
 
 // One triangle covering the view, with the attributes a test gives it.
@@ -409,11 +418,14 @@ TEST(GlslCompatRender, ColourDefaultsToWhiteAndTexCoordsPassThrough) {
     const glm::vec3 corners[3] = {{-1.5f, -1.5f, 0}, {4, -1.5f, 0}, {-1.5f, 4, 0}};
     const glm::vec2 uv[3] = {{0.1f, 0.2f}, {0.9f, 0.3f}, {0.2f, 0.8f}};
     const glm::vec3 vertexColour(0.5f, 1.0f, 0.25f);
-    for (const bool coloured : {false, true}) {
+    // One viewer, the coloured geometry first: its colour array must not leave a current value
+    // behind for the next geometry without colours.
+    auto v = viewer();
+    for (const bool coloured : {true, false}) {
         auto g = bigTriangle(corners);
         g->texcoords.assign(std::begin(uv), std::end(uv));
         if (coloured) g->colors.assign(3, glm::vec4(vertexColour, 1.0f));
-        const Frame f = render(with(g, p));
+        const Frame f = render(*v, with(g, p));
         const glm::dvec3 tint =
             coloured ? glm::dvec3(vertexColour) : glm::dvec3(1.0); // OSG: white without colours
         for (int y = 0; y < kSize; y += 3)
