@@ -10,6 +10,7 @@
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 #include <sgfx/nodes/fog/FogMath.h>
 #include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/shadow/ShadowNode.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -588,4 +589,114 @@ TEST(GlslCompatRender, AmbientOcclusionDarkensTranslatedPrograms) {
     EXPECT_GT(k, 0.2) << "the crease";
     EXPECT_NEAR(k, 1.0 - cornerRed(reference, true, crease), 0.02) << "as the opt-in reference shader";
     EXPECT_LE(1.0 - cornerRed(p.program, true, open), 0.02) << "the open floor";
+}
+
+TEST(GlslCompatRender, FrameTimeIsTheSimulationTime) {
+    const CompatProgram p = translateCompatibilityProgram(
+        "clock", "",
+        "uniform float osg_FrameTime;\nvoid main() { gl_FragColor = vec4(osg_FrameTime * 0.1); }");
+    auto v = viewer();
+    v->setSceneData(with(shapes::quad(2, 2), p));
+    v->frame(2.5);
+    expectNoGlErrors(*v);
+    const Frame f{v->renderer().readPixelsLinear()};
+    ASSERT_GT(v->simulationTime(), 1.0);
+    EXPECT_NEAR(f.at(kSize / 2, kSize / 2).x, v->simulationTime() * 0.1, 1e-4);
+}
+
+TEST(GlslCompatRender, ShadowsReachGlLightSource) {
+    // A plane showing gl_LightSource[0].diffuse under a ShadowNode, a box above it, the sun
+    // slanting along +X: the box's shadow falls on −X of it, the rest is lit.
+    const CompatProgram p = translateCompatibilityProgram(
+        "receiver", "", "void main() { gl_FragColor = vec4(gl_LightSource[0].diffuse.rgb, 1.0); }");
+    auto sun = Light::create(LightType::Directional);
+    sun->direction = glm::normalize(glm::vec3(-1, 0, -1));
+    auto shadow = ShadowNode::create(sun);
+    auto plane = shapes::quad(6, 6);
+    plane->getOrCreateStateSet().program.set(p.program);
+    shadow->addChild(plane);
+    auto box = Transform::create(glm::translate(glm::mat4(1.0f), {0, 0, 1}));
+    box->addChild(shapes::box({0.6f, 0.6f, 0.6f}));
+    shadow->addChild(box);
+    auto root = Group::create();
+    root->addChild(sun);
+    root->addChild(shadow);
+    auto v = orthoTopViewer(64, 2.0f);
+    v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
+    v->setSceneData(root);
+    v->frame();
+    expectNoGlErrors(*v);
+    const FloatImage img = v->renderer().readPixelsLinear();
+    auto red = [&](double wx, double wy) {
+        const int x = int((wx + 2) / 4 * 64), y = int((2 - wy) / 4 * 64);
+        return img.rgba[(std::size_t(y) * img.width + x) * 4];
+    };
+    EXPECT_LT(red(-1.0, 0.0), 0.1) << "in the box's shadow (x from -1.6 to -0.4)";
+    EXPECT_GT(red(1.2, 0.0), 0.9) << "lit, on the sun's side";
+    EXPECT_GT(red(-1.0, 1.0), 0.9) << "lit, beside the shadow";
+}
+
+TEST(GlslCompatRender, EveryTranslatedBuiltInCompilesUnderEveryEffect) {
+    // One program touching most of what is translated, drawn under AO, fog and shadows at once
+    // (and alone): it compiles, links and draws without a GL error.
+    const char* vert = R"(#version 120
+#extension GL_EXT_gpu_shader4 : enable
+uniform float osg_SimulationTime;
+uniform mat4 osg_ViewMatrixInverse;
+attribute vec4 tangent;
+varying vec3 normal, lightDir;
+void main() {
+    vec4 ec = gl_ModelViewMatrix * gl_Vertex;
+    normal = gl_NormalMatrix * gl_Normal + (gl_ModelViewMatrixInverse * ec).xyz * 0.0;
+    lightDir = gl_LightSource[0].position.xyz - ec.xyz * gl_LightSource[0].position.w;
+    gl_FrontColor = gl_Color * gl_FrontMaterial.diffuse;
+    gl_BackColor = gl_Color;
+    gl_TexCoord[0] = gl_TextureMatrix[0] * gl_MultiTexCoord0;
+    gl_TexCoord[1] = gl_MultiTexCoord1 + gl_MultiTexCoord2 + tangent;
+    gl_ClipVertex = ec;
+    gl_Position = gl_ProjectionMatrix * ec + vec4(osg_ViewMatrixInverse[3].xyz * 0.0, 0.0)
+        + 0.0 * osg_SimulationTime;
+}
+)";
+    const char* frag = R"(#version 120
+uniform sampler2D baseTexture;
+uniform sampler2DShadow shadowTexture;
+uniform samplerCube reflectionMap;
+varying vec3 normal, lightDir;
+void main() {
+    vec3 n = normalize(normal);
+    float d = max(dot(n, normalize(lightDir)), 0.0);
+    vec4 base = texture2D(baseTexture, gl_TexCoord[0].st) + texture2DProj(baseTexture, gl_TexCoord[1]);
+    float lit = shadow2D(shadowTexture, gl_TexCoord[0].stp).r;
+    vec4 env = textureCube(reflectionMap, reflect(n, vec3(0.0, 0.0, 1.0)));
+    vec4 c = gl_FrontLightModelProduct.sceneColor + gl_FrontLightProduct[0].diffuse * d * lit
+        + gl_LightModel.ambient * gl_FrontMaterial.ambient + pow(d, gl_FrontMaterial.shininess) * gl_FrontMaterial.specular;
+    gl_FragData[0] = c * gl_Color * base + env * 0.0;
+}
+)";
+    const CompatProgram p = translateCompatibilityProgram("kitchen_sink", vert, frag);
+    EXPECT_EQ(p.samplers.size(), 3u);
+    for (int effects = 0; effects < 2; ++effects) {
+        SCOPED_TRACE(effects ? "under AO, fog and shadows" : "alone");
+        auto sun = Light::create(LightType::Directional);
+        auto g = shapes::box({1, 1, 1});
+        g->colors.assign(g->positions.size(), glm::vec4(1.0f));
+        std::shared_ptr<Node> scene = with(g, p);
+        if (effects) {
+            auto ao = AmbientOcclusionNode::create();
+            ao->addChild(scene);
+            auto fog = FogNode::create(FogParameters{});
+            fog->addChild(ao);
+            auto shadow = ShadowNode::create(sun);
+            shadow->addChild(fog);
+            scene = shadow;
+        }
+        auto root = Group::create();
+        root->addChild(sun);
+        root->addChild(scene);
+        auto v = viewer();
+        v->setSceneData(root);
+        EXPECT_NO_THROW(v->frame());
+        expectNoGlErrors(*v);
+    }
 }
