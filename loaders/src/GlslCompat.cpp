@@ -595,6 +595,7 @@ std::string definitions(const Stage& st, const Interface& io) {
         {"osg_ModelViewMatrix", "(sgfx_view * sgfx_model)"},
         {"osg_ModelViewProjectionMatrix", "(sgfx_viewProjection * sgfx_model)"},
         {"osg_ProjectionMatrix", "sgfx_projection"},
+        // (V·M)^-T = V^-T·M^-T = V·M^-T for a rigid view: the world normal matrix turned by the view.
         {"osg_NormalMatrix", "(mat3(sgfx_view) * sgfx_normalMatrix)"},
         {"osg_ModelViewMatrixInverse", "inverse(sgfx_view * sgfx_model)"},
         {"osg_ModelViewMatrixTranspose", "transpose(sgfx_view * sgfx_model)"},
@@ -676,7 +677,6 @@ constexpr const char* kStandInFragment = "void main() {\n    gl_FragColor = gl_C
 // One line each for what the translation approximates.
 void addNotes(const Context& ctx, const Stage& st) {
     auto uses = [&](const char* n) { return st.used.contains(n); };
-    const std::string stage = stageName(st.stage);
     for (int k = 2; k < 8; ++k)
         if (st.used.contains("osg_MultiTexCoord" + std::to_string(k)))
             ctx.note("gl_MultiTexCoord" + std::to_string(k) +
@@ -694,7 +694,6 @@ void addNotes(const Context& ctx, const Stage& st) {
             "no ambient, attenuation or spot cone)");
     for (const char* n : {"osg_DeltaFrameTime", "osg_DeltaSimulationTime", "osg_FrameNumber"})
         if (uses(n)) ctx.note(std::string(n) + " is an ordinary uniform here: the application sets it");
-    (void)stage;
 }
 
 } // namespace
