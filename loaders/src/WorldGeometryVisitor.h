@@ -37,8 +37,8 @@ public:
         std::size_t best = 0;
         for (std::size_t i = 1; i < lod.children().size(); ++i) {
             const LOD::Range &r = lod.range(i), &b = lod.range(best);
-            if (r.maxPixels > b.maxPixels || (r.maxPixels == b.maxPixels && r.minPixels > b.minPixels))
-                best = i;
+            const float f = lod.fineness(i), fb = lod.fineness(best);
+            if (f > fb || (f == fb && r.minPixels > b.minPixels)) best = i;
         }
         if (lod.stateSet()) state_.push_back(state_.back().merged(*lod.stateSet()));
         nodePath.push_back(&lod);
