@@ -9,8 +9,10 @@
 #include <sgfx/Geometry.h>
 #include <sgfx/GltfLoader.h>
 #include <sgfx/GltfWriter.h>
+#include <sgfx/Intersection.h>
 #include <sgfx/ModelLoader.h>
 #include <sgfx/PagedLOD.h>
+#include <sgfx/Queries.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/gl/Objects.h>
 
@@ -98,6 +100,15 @@ TEST(PagedLod, CullRequestsOnceDrawsCoarserMeanwhileAndAttachesBetweenFrames) {
     EXPECT_EQ(cullNames(*cam, &pager), "coarse ");
     EXPECT_EQ(cullNames(*cam, nullptr), "coarse ");
     EXPECT_EQ(pager.stats().requested, 1u);
+    // Queries see what the cull draws, not the placeholders (the coarse box's top is at 0.5).
+    EXPECT_NEAR(heightOfTerrain(*lod, 0.1, 0.1).value_or(-1.0), 0.5, 1e-6);
+    RayIntersector ray(glm::dvec3(0, -3, 0), glm::dvec3(0, 1, 0));
+    IntersectionVisitor shown(ray);
+    shown.lodSelection = IntersectionVisitor::LodSelection::Shown;
+    shown.view = QueryView::of(*cam);
+    shown.visit(*lod);
+    ASSERT_NE(ray.nearest(), nullptr);
+    EXPECT_EQ(ray.nearest()->geometry->name, "coarse");
     ASSERT_TRUE(pager.waitUntilIdle(kWait));
     EXPECT_EQ(cullNames(*cam, &pager), "coarse ") << "loaded, but attached only between frames";
     EXPECT_EQ(pager.stats().pending, 1u);

@@ -6,6 +6,7 @@
 #include "sgfx/Geometry.h"
 #include "sgfx/Intersection.h"
 #include "sgfx/LOD.h"
+#include "sgfx/PagedLOD.h"
 #include "sgfx/Sequence.h"
 #include "sgfx/Switch.h"
 
@@ -99,13 +100,16 @@ void IntersectionVisitor::apply(LOD& lod) {
     atStart_ = false;
     if (!enterBound(lod)) return;
     std::vector<bool> chosen(lod.numChildren(), false);
+    // A PagedLOD's slots not loaded hold placeholders: the cull draws a coarser child instead.
+    const auto* paged = dynamic_cast<const PagedLOD*>(&lod);
+    auto present = [&](std::size_t i) { return !paged || paged->loaded(i); };
     if (lodSelection == LodSelection::Finest) {
         // The finest children (LOD::fineness): what the LOD shows when largest on screen or nearest.
         float top = -std::numeric_limits<float>::infinity();
         for (std::size_t i = 0; i < chosen.size(); ++i)
-            top = std::max(top, lod.fineness(i));
+            if (present(i)) top = std::max(top, lod.fineness(i));
         for (std::size_t i = 0; i < chosen.size(); ++i)
-            chosen[i] = lod.fineness(i) == top;
+            chosen[i] = present(i) && lod.fineness(i) == top;
     } else {
         // As CullVisitor does: the selection sphere's projected size, or the eye's distance in
         // the LOD's frame, in the query's view.
@@ -122,8 +126,11 @@ void IntersectionVisitor::apply(LOD& lod) {
                 measure = pixelSize(center, radius, view->projectionMatrix, view->viewportHeight);
             }
         }
-        for (std::size_t i = 0; i < chosen.size(); ++i)
-            chosen[i] = lod.range(i).contains(measure);
+        for (std::size_t i = 0; i < chosen.size(); ++i) {
+            if (!lod.range(i).contains(measure)) continue;
+            const std::size_t shown = present(i) ? i : paged->coarserLoaded(i);
+            if (shown != PagedLOD::npos) chosen[shown] = true;
+        }
     }
     nodePath.push_back(&lod);
     for (std::size_t i = 0; i < chosen.size(); ++i)
