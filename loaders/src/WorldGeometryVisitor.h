@@ -7,6 +7,7 @@
 #include <sgfx/Group.h>
 #include <sgfx/LOD.h>
 #include <sgfx/NodeVisitor.h>
+#include <sgfx/PagedLOD.h>
 #include <sgfx/StateSet.h>
 
 #include <vector>
@@ -33,13 +34,20 @@ public:
         matrix_ = saved;
     }
     void apply(LOD& lod) override {
-        if (lod.children().empty()) return;
-        std::size_t best = 0;
-        for (std::size_t i = 1; i < lod.children().size(); ++i) {
-            const LOD::Range &r = lod.range(i), &b = lod.range(best);
-            if (r.maxPixels > b.maxPixels || (r.maxPixels == b.maxPixels && r.minPixels > b.minPixels))
+        // A PagedLOD's slots not loaded are empty placeholders: the finest loaded child instead.
+        const auto* paged = dynamic_cast<const PagedLOD*>(&lod);
+        std::size_t best = PagedLOD::npos;
+        for (std::size_t i = 0; i < lod.children().size(); ++i) {
+            if (paged && !paged->loaded(i)) continue;
+            if (best == PagedLOD::npos) {
                 best = i;
+                continue;
+            }
+            const LOD::Range &r = lod.range(i), &b = lod.range(best);
+            const float f = lod.fineness(i), fb = lod.fineness(best);
+            if (f > fb || (f == fb && r.minPixels > b.minPixels)) best = i;
         }
+        if (best == PagedLOD::npos) return;
         if (lod.stateSet()) state_.push_back(state_.back().merged(*lod.stateSet()));
         nodePath.push_back(&lod);
         if (accepts(*lod.children()[best])) lod.children()[best]->accept(*this);

@@ -2,11 +2,13 @@
 
 #include "sgfx/Billboard.h"
 #include "sgfx/Camera.h"
+#include "sgfx/DatabasePager.h"
 #include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
 #include "sgfx/LOD.h"
+#include "sgfx/PagedLOD.h"
 #include "sgfx/Renderer.h"
 #include "sgfx/ShaderComposer.h"
 
@@ -198,26 +200,69 @@ void CullVisitor::apply(Billboard& b) {
     planeMask_.pop_back();
 }
 
+float CullVisitor::lodMeasure(const LOD& lod) const {
+    const BoundingSphere local = lod.selectionSphere();
+    if (!local.valid()) return 0.0f;
+    // Measured in the reference view when there is one (a cull from a light).
+    const glm::mat4& viewOf = hasReference_ ? referenceView_ : view_;
+    if (lod.rangeMode() == LOD::RangeMode::DistanceFromEye) {
+        // The eye in the LOD's frame, as OSG measures: ranges scale with the LOD's transforms.
+        const glm::vec3 eye(glm::inverse(viewOf * model_.back())[3]);
+        return glm::length(eye - local.center);
+    }
+    const BoundingSphere s =
+        hasReference_ ? local.transformed(referenceView_ * model_.back()) : toView(local);
+    return hasReference_ ? pixelSize(s.center, s.radius, referenceProjection_, referenceHeight_)
+                         : pixelSize(s.center, s.radius, projection_, viewportHeight_);
+}
+
+void CullVisitor::visitLodChildren(LOD& lod, const std::vector<std::size_t>& which) {
+    if (mode == Mode::None) return;
+    pushState(lod);
+    nodePath.push_back(&lod);
+    for (std::size_t i : which) {
+        Node& child = *lod.child(i);
+        if (accepts(child)) child.accept(*this);
+    }
+    nodePath.pop_back();
+    popState(lod);
+}
+
 void CullVisitor::apply(LOD& lod) {
     if (!cullTest(lod)) return;
-    const BoundingSphere local = lod.selectionSphere();
-    float pixels = 0.0f;
-    if (local.valid()) { // measured in the reference view when there is one (a cull from a light)
-        const BoundingSphere s =
-            hasReference_ ? local.transformed(referenceView_ * model_.back()) : toView(local);
-        pixels = hasReference_ ? pixelSize(s.center, s.radius, referenceProjection_, referenceHeight_)
-                               : pixelSize(s.center, s.radius, projection_, viewportHeight_);
-    }
-    if (mode != Mode::None) {
+    const float measure = lodMeasure(lod);
+    if (mode != Mode::None) { // no list of chosen children: LODs are common
         pushState(lod);
         nodePath.push_back(&lod);
         for (std::size_t i = 0; i < lod.numChildren(); ++i) {
             Node& child = *lod.child(i);
-            if (lod.range(i).contains(pixels) && accepts(child)) child.accept(*this);
+            if (lod.range(i).contains(measure) && accepts(child)) child.accept(*this);
         }
         nodePath.pop_back();
         popState(lod);
     }
+    planeMask_.pop_back();
+}
+
+void CullVisitor::apply(PagedLOD& lod) {
+    if (!cullTest(lod)) return;
+    const float measure = lodMeasure(lod);
+    std::vector<std::size_t> which;
+    for (std::size_t i = 0; i < lod.numChildren(); ++i) {
+        if (!lod.range(i).contains(measure)) continue;
+        std::size_t shown = i;
+        if (!lod.loaded(i)) {
+            if (pager_) pager_->request(lod, i); // queued only: the load runs on the pager's thread
+            shown = lod.coarserLoaded(i);
+            if (shown == PagedLOD::npos) continue;
+        }
+        if (std::find(which.begin(), which.end(), shown) == which.end()) which.push_back(shown);
+    }
+    std::sort(which.begin(), which.end());
+    if (pager_)
+        for (std::size_t i : which)
+            pager_->markUsed(lod, i);
+    visitLodChildren(lod, which);
     planeMask_.pop_back();
 }
 

@@ -249,7 +249,9 @@ void LOD::checkRange(std::size_t index, float minPixels, float maxPixels) const 
                                     std::to_string(maxPixels) + ") " + why);
     };
     if (std::isnan(minPixels) || std::isnan(maxPixels)) refuse("has a NaN bound");
-    if (minPixels < 0.0f) refuse("has a negative minimum (sizes are in pixels, >= 0)");
+    if (minPixels < 0.0f)
+        refuse(rangeMode_ == RangeMode::PixelSize ? "has a negative minimum (sizes are in pixels, >= 0)"
+                                                  : "has a negative minimum (distances are >= 0)");
     if (std::isinf(minPixels)) refuse("has an infinite minimum (the child would never show)");
     if (minPixels > maxPixels) refuse("has minPixels > maxPixels");
 }
@@ -275,6 +277,18 @@ void LOD::setUserSphere(const glm::vec3& center, float radius) {
                                     ": user sphere needs a finite centre and a finite radius > 0 (got " +
                                     std::to_string(radius) + ")");
     userSphere_ = BoundingSphere{center, radius};
+}
+
+void LOD::setRangeMode(RangeMode mode) {
+    if (mode != RangeMode::PixelSize && mode != RangeMode::DistanceFromEye)
+        throw std::invalid_argument("sgfx: LOD " + label(*this) + ": range mode " +
+                                    std::to_string(int(mode)) + " is not a LOD::RangeMode");
+    rangeMode_ = mode;
+}
+
+float LOD::fineness(std::size_t index) const {
+    const Range& r = ranges_.at(index);
+    return rangeMode_ == RangeMode::PixelSize ? r.maxPixels : -r.minPixels;
 }
 
 void LOD::childInserted(std::size_t index) {

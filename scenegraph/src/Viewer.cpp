@@ -62,7 +62,9 @@ private:
 Viewer::Viewer(std::unique_ptr<GraphicsContext> context)
     : context_(std::move(context))
     , camera_(Camera::create())
-    , renderer_(std::make_unique<Renderer>(*context_)) {
+    , renderer_(std::make_unique<Renderer>(*context_))
+    , pager_(std::make_shared<DatabasePager>()) {
+    renderer_->setDatabasePager(pager_.get());
     if (context_->isWindow())
         camera_->setViewport(0, 0, std::max(1, context_->width()), std::max(1, context_->height()));
     camera_->setPerspective(45.0f, 0.1f, 10000.0f);
@@ -90,6 +92,11 @@ void Viewer::setSceneData(NodePtr scene) {
     if (scene_) camera_->addChild(scene_);
 }
 
+void Viewer::setDatabasePager(std::shared_ptr<DatabasePager> pager) {
+    pager_ = std::move(pager);
+    renderer_->setDatabasePager(pager_.get());
+}
+
 void Viewer::frame(double dt) {
     update(dt);
     renderFrame();
@@ -99,6 +106,17 @@ void Viewer::update(double dt) {
     update_.deltaTime = dt;
     update_.simulationTime += dt;
     ++update_.frameNumber;
+    if (pager_) {
+        const std::vector<NodePtr> unloaded =
+            pager_->updateSceneGraph(update_.frameNumber, update_.simulationTime);
+        if (!unloaded.empty()) {
+            // GL objects die with the context current, even when the application keeps the subgraph.
+            context_->makeCurrent();
+            ReleaseVisitor release;
+            for (const NodePtr& n : unloaded)
+                n->accept(release);
+        }
+    }
     update_.updatePoses(); // what an interrupted traversal left (the list holds weak pointers)
     camera_->accept(update_);
     update_.updatePoses();

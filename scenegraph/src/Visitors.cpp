@@ -7,6 +7,9 @@
 #include "sgfx/Geometry.h"
 #include "sgfx/Group.h"
 #include "sgfx/LOD.h"
+#include "sgfx/PagedLOD.h"
+#include "sgfx/Sequence.h"
+#include "sgfx/Switch.h"
 
 namespace sgfx {
 
@@ -22,6 +25,15 @@ void NodeVisitor::apply(Transform& t) {
 }
 void NodeVisitor::apply(LOD& lod) {
     apply(static_cast<Group&>(lod));
+}
+void NodeVisitor::apply(PagedLOD& lod) {
+    apply(static_cast<LOD&>(lod));
+}
+void NodeVisitor::apply(Switch& s) {
+    apply(static_cast<Group&>(s));
+}
+void NodeVisitor::apply(Sequence& s) {
+    apply(static_cast<Group&>(s));
 }
 void NodeVisitor::apply(Billboard& b) {
     apply(static_cast<Group&>(b));
@@ -48,6 +60,11 @@ void UpdateVisitor::apply(Node& node) {
     if (node.updateCallback) node.updateCallback(node, *this);
     nodePath.pop_back();
     traverse(node);
+}
+
+void UpdateVisitor::apply(Sequence& s) {
+    s.advanceTo(simulationTime); // before its callback and children: they see this frame's child
+    apply(static_cast<Node&>(s));
 }
 
 void UpdateVisitor::apply(Geometry& g) {

@@ -10,6 +10,7 @@
 namespace sgfx {
 
 class Camera;
+class DatabasePager;
 class FramePlan;
 
 /// What a cull sees from: world to view, the projection whose frustum culls, and the viewport
@@ -30,8 +31,11 @@ public:
 
     void apply(Node& node) override;
     void apply(Transform& t) override;
-    /// Visits the children whose pixel range holds the LOD's size on screen.
+    /// Visits the children whose range holds the LOD's size on screen or distance from the eye.
     void apply(LOD& lod) override;
+    /// As a LOD; a slot not loaded is asked of the pager (if any) and its nearest coarser loaded
+    /// child drawn meanwhile.
+    void apply(PagedLOD& lod) override;
     /// Turns the children towards this view's eye.
     void apply(Billboard& b) override;
     void apply(Geometry& g) override;
@@ -49,6 +53,9 @@ public:
     /// a cull from a light keeps what the camera draws (OSG ViewDependentShadowMap's reference
     /// view point).
     void setReferenceView(const glm::mat4& view, const glm::mat4& projection, int viewportHeight);
+    /// Where PagedLODs ask for files and note what they draw (null: no paging; slots not loaded
+    /// show their coarser level).
+    void setDatabasePager(DatabasePager* pager) { pager_ = pager; }
 
     /// Nearest/farthest view depth of what was drawn (valid after traversal when anything was).
     float computedNear = std::numeric_limits<float>::max();
@@ -66,6 +73,11 @@ private:
     /// largest axis scale and similarity are given); leaveFrame pops them.
     void enterFrame(const glm::mat4& local, float localScale, bool localSimilar);
     void leaveFrame();
+    /// What selects an LOD's children: its selection sphere's size on screen, or the distance
+    /// from the eye in the LOD's frame (measured in the reference view when there is one).
+    float lodMeasure(const LOD& lod) const;
+    /// Visits lod's children `which` (indices, ascending) with its state.
+    void visitLodChildren(LOD& lod, const std::vector<std::size_t>& which);
     void pushState(const Node& n);
     void popState(const Node& n);
     void traverseWithState(Node& n);
@@ -103,6 +115,7 @@ private:
     };
     std::vector<Drop> drops_;
     void dropRestrictedEffects(const Node& n);
+    DatabasePager* pager_ = nullptr;
     bool hasReference_ = false;
     glm::mat4 referenceView_{1.0f}, referenceProjection_{1.0f};
     int referenceHeight_ = 1;

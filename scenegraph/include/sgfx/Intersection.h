@@ -224,6 +224,8 @@ public:
     void apply(Group& group) override;
     void apply(Transform& transform) override;
     void apply(LOD& lod) override;
+    void apply(Switch& sw) override;         ///< the children that are on
+    void apply(Sequence& sequence) override; ///< the child shown
     void apply(Billboard& billboard) override;
     void apply(Geometry& geometry) override;
     void apply(Drawable& drawable) override;

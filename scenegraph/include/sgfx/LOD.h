@@ -2,6 +2,7 @@
 #include "sgfx/Export.h"
 #include "sgfx/Group.h"
 
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -17,13 +18,20 @@ namespace sgfx {
 SGFX_API float pixelSize(const glm::vec3& viewCenter, float radius, const glm::mat4& projection,
                          int viewportHeight);
 
-/// Level of detail by size on screen (OSG's osg::LOD in PIXEL_SIZE_ON_SCREEN mode): the cull
-/// visitor visits exactly the children whose range [minPixels, maxPixels) holds the projected
-/// diameter of the LOD's bounding sphere (or of the user sphere). Every other visitor sees all
-/// children, and the bound is the union of all children, so switching never changes the bound.
+/// Level of detail (OSG's osg::LOD). In PixelSize mode (the default; OSG's PIXEL_SIZE_ON_SCREEN)
+/// the cull visitor visits exactly the children whose range [minPixels, maxPixels) holds the
+/// projected diameter of the LOD's bounding sphere (or of the user sphere). In DistanceFromEye
+/// mode (OSG's default, DISTANCE_FROM_EYE_POINT) the range holds the distance from the eye to the
+/// sphere's centre, measured as OSG does in the LOD's own frame: under a Transform that scales
+/// by 2 a child with range [0, 10) shows to 20 m, so ranges keep their meaning when a model
+/// authored in other units is scaled into the scene. A cull with a reference view (a shadow
+/// cull) measures from the reference view's eye. Every other visitor sees all children, and the
+/// bound is the union of all children, so switching never changes the bound.
 class SGFX_API LOD : public Group {
 public:
-    /// On-screen size range, in pixels, in which a child is drawn.
+    enum class RangeMode : std::uint8_t { PixelSize, DistanceFromEye };
+    /// The range in which a child is drawn: pixels on screen, or distances in the LOD's frame
+    /// in DistanceFromEye mode (the field names are PixelSize's).
     struct Range {
         float minPixels = 0.0f;
         float maxPixels = std::numeric_limits<float>::infinity();
@@ -43,6 +51,13 @@ public:
     const Range& range(std::size_t index) const { return ranges_.at(index); }
     const std::vector<Range>& ranges() const { return ranges_; }
 
+    /// Throws std::invalid_argument naming the LOD for a value that is not a RangeMode.
+    void setRangeMode(RangeMode mode);
+    RangeMode rangeMode() const { return rangeMode_; }
+    /// How fine child `index` is, larger for finer: its range's upper pixel bound, or minus its
+    /// lower distance bound. The finest children are those shown when the LOD is nearest.
+    float fineness(std::size_t index) const;
+
     /// Measure this sphere (LOD's local frame) instead of the bound, like OSG's
     /// USER_DEFINED_CENTER: levels then switch at the same place however the children differ.
     /// Throws std::invalid_argument for a non-finite centre or a radius that is not > 0.
@@ -55,11 +70,12 @@ public:
 protected:
     void childInserted(std::size_t index) override;
     void childRemoved(std::size_t index) override;
+    void checkRange(std::size_t index, float minPixels, float maxPixels) const;
 
 private:
-    void checkRange(std::size_t index, float minPixels, float maxPixels) const;
     std::vector<Range> ranges_;
     std::optional<BoundingSphere> userSphere_;
+    RangeMode rangeMode_ = RangeMode::PixelSize;
 };
 
 } // namespace sgfx

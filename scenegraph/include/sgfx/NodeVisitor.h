@@ -11,6 +11,9 @@ class Node;
 class Group;
 class Transform;
 class LOD;
+class PagedLOD;
+class Switch;
+class Sequence;
 class Billboard;
 class Geometry;
 class Drawable;
@@ -36,6 +39,9 @@ public:
     virtual void apply(Group& group);
     virtual void apply(Transform& transform);
     virtual void apply(LOD& lod);             ///< default: all children, like a Group
+    virtual void apply(PagedLOD& lod);        ///< default: as a LOD
+    virtual void apply(Switch& sw);           ///< default: as a Group (Switch::traverse filters)
+    virtual void apply(Sequence& sequence);   ///< default: as a Group (Sequence::traverse filters)
     virtual void apply(Billboard& billboard); ///< default: the children unrotated, like a Group
     virtual void apply(Geometry& geometry);
     virtual void apply(Drawable& drawable);

@@ -17,6 +17,7 @@
 namespace sgfx {
 
 class Camera;
+class DatabasePager;
 class PassCommands;
 class Drawable;
 class EffectNode;
@@ -225,6 +226,9 @@ public:
     gl::RenderTarget& currentTarget();
     GraphicsContext& context() { return context_; }
     Options& options() { return options_; }
+    /// The pager the camera culls ask for PagedLOD files (Viewer sets its own; null: none).
+    void setDatabasePager(DatabasePager* pager) { pager_ = pager; }
+    DatabasePager* databasePager() const { return pager_; }
 
     /// The last frame's graphs (one cluster per view: passes with their GPU time when
     /// RendererOptions::timePasses is on, resources with format and size, read and write edges)
@@ -259,6 +263,7 @@ private:
     FrameData frame_;
     FrameStats stats_;
     const RenderQueue* current_ = &queue_; ///< the queue being drawn (sub-cameras have their own)
+    DatabasePager* pager_ = nullptr;
     std::unique_ptr<Impl> impl_;
 };
 

@@ -1,5 +1,6 @@
 #pragma once
 #include "sgfx/Camera.h"
+#include "sgfx/DatabasePager.h"
 #include "sgfx/Export.h"
 #include "sgfx/GraphicsContext.h"
 #include "sgfx/Renderer.h"
@@ -30,7 +31,8 @@ public:
     /// update(dt) then renderFrame().
     void frame(double dt = 1.0 / 60.0);
     /// The update traversal alone (clock, update callbacks): the part of a frame that changes
-    /// the scene.
+    /// the scene. First the database pager attaches the PagedLOD files that finished loading
+    /// and unloads the slots left unused (their GL objects released here).
     void update(double dt = 1.0 / 60.0);
     /// Cull, draw and present. It only reads the scene graph, so scene queries (Queries.h) may
     /// run on other threads meanwhile, once prepareForQueries(scene) has run after update().
@@ -43,6 +45,12 @@ public:
     const FrameStats& stats() const { return renderer_->stats(); }
     double simulationTime() const { return update_.simulationTime; }
 
+    /// The pager PagedLODs load through (one per viewer, its thread started at the first
+    /// request). Several viewers may share one; null turns paging off (slots not loaded show
+    /// their coarser level).
+    const std::shared_ptr<DatabasePager>& databasePager() const { return pager_; }
+    void setDatabasePager(std::shared_ptr<DatabasePager> pager);
+
     /// Windows only: called each frame after the scene is copied to the back buffer and before
     /// the swap, with the window's framebuffer bound, its viewport set and sRGB writes off (OSG's
     /// final draw callback), to draw a user interface over the view. Captures do not include it.
@@ -54,6 +62,7 @@ private:
     NodePtr scene_;
     UpdateVisitor update_;
     std::unique_ptr<Renderer> renderer_;
+    std::shared_ptr<DatabasePager> pager_;
 };
 
 } // namespace sgfx

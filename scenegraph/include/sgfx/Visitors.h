@@ -18,6 +18,7 @@ public:
     void apply(Node& node) override;
     void apply(Drawable& drawable) override;
     void apply(Geometry& geometry) override; ///< notes skinned geometries for updatePoses()
+    void apply(Sequence& sequence) override; ///< advances it to simulationTime
 
     /// Recomputes the joint matrices of the skinned geometries the traversal met, once each, after
     /// every callback has moved its joints (Viewer::update calls it after the traversal).

@@ -6,7 +6,11 @@
 #include "sgfx/Geometry.h"
 #include "sgfx/Intersection.h"
 #include "sgfx/LOD.h"
+#include "sgfx/PagedLOD.h"
+#include "sgfx/Sequence.h"
+#include "sgfx/Switch.h"
 
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -96,30 +100,53 @@ void IntersectionVisitor::apply(LOD& lod) {
     atStart_ = false;
     if (!enterBound(lod)) return;
     std::vector<bool> chosen(lod.numChildren(), false);
+    // A PagedLOD's slots not loaded hold placeholders: the cull draws a coarser child instead.
+    const auto* paged = dynamic_cast<const PagedLOD*>(&lod);
+    auto present = [&](std::size_t i) { return !paged || paged->loaded(i); };
     if (lodSelection == LodSelection::Finest) {
-        // The children with the greatest upper bound: what the LOD shows when largest on screen.
-        float top = -1.0f;
-        for (const LOD::Range& r : lod.ranges())
-            top = std::max(top, r.maxPixels);
+        // The finest children (LOD::fineness): what the LOD shows when largest on screen or nearest.
+        float top = -std::numeric_limits<float>::infinity();
         for (std::size_t i = 0; i < chosen.size(); ++i)
-            chosen[i] = lod.range(i).maxPixels == top;
+            if (present(i)) top = std::max(top, lod.fineness(i));
+        for (std::size_t i = 0; i < chosen.size(); ++i)
+            chosen[i] = present(i) && lod.fineness(i) == top;
     } else {
-        // As CullVisitor does: the selection sphere's projected size in the query's view.
+        // As CullVisitor does: the selection sphere's projected size, or the eye's distance in
+        // the LOD's frame, in the query's view.
         const BoundingSphere& local = lod.selectionSphere();
-        float pixels = 0.0f;
+        float measure = 0.0f;
         if (local.valid()) {
             const glm::dmat4 modelView = view->viewMatrix * frames_.back().toWorld;
-            const glm::vec3 center(modelView * glm::dvec4(glm::dvec3(local.center), 1.0));
-            const float radius = local.radius * maxAxisScale(glm::mat4(modelView));
-            pixels = pixelSize(center, radius, view->projectionMatrix, view->viewportHeight);
+            if (lod.rangeMode() == LOD::RangeMode::DistanceFromEye) {
+                const glm::dvec3 eye(glm::inverse(modelView)[3]);
+                measure = float(glm::length(eye - glm::dvec3(local.center)));
+            } else {
+                const glm::vec3 center(modelView * glm::dvec4(glm::dvec3(local.center), 1.0));
+                const float radius = local.radius * maxAxisScale(glm::mat4(modelView));
+                measure = pixelSize(center, radius, view->projectionMatrix, view->viewportHeight);
+            }
         }
-        for (std::size_t i = 0; i < chosen.size(); ++i)
-            chosen[i] = lod.range(i).contains(pixels);
+        for (std::size_t i = 0; i < chosen.size(); ++i) {
+            if (!lod.range(i).contains(measure)) continue;
+            const std::size_t shown = present(i) ? i : paged->coarserLoaded(i);
+            if (shown != PagedLOD::npos) chosen[shown] = true;
+        }
     }
     nodePath.push_back(&lod);
     for (std::size_t i = 0; i < chosen.size(); ++i)
         if (chosen[i] && accepts(*lod.child(i))) lod.child(i)->accept(*this);
     nodePath.pop_back();
+}
+
+// Never through the index: it would hold the children that are off or not shown.
+void IntersectionVisitor::apply(Switch& s) {
+    atStart_ = false;
+    if (enterBound(s)) traverse(s);
+}
+
+void IntersectionVisitor::apply(Sequence& s) {
+    atStart_ = false;
+    if (enterBound(s)) traverse(s);
 }
 
 void IntersectionVisitor::apply(Billboard& b) {

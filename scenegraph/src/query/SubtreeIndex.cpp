@@ -6,6 +6,8 @@
 #include "sgfx/Geometry.h"
 #include "sgfx/LOD.h"
 #include "sgfx/NodeVisitor.h"
+#include "sgfx/Sequence.h"
+#include "sgfx/Switch.h"
 
 namespace sgfx {
 
@@ -23,7 +25,8 @@ QueryBox transformedBox(const glm::dmat4& m, const glm::dvec3& lo, const glm::dv
 bool holdsAtLeast(const Node& node, std::size_t& n) {
     if (auto* g = dynamic_cast<const Geometry*>(&node)) {
         n -= std::min(n, g->instanceCount());
-    } else if (dynamic_cast<const LOD*>(&node) || dynamic_cast<const Billboard*>(&node)) {
+    } else if (dynamic_cast<const LOD*>(&node) || dynamic_cast<const Billboard*>(&node) ||
+               dynamic_cast<const Switch*>(&node) || dynamic_cast<const Sequence*>(&node)) {
         n -= std::min<std::size_t>(n, 1);
     } else if (auto* group = dynamic_cast<const Group*>(&node)) {
         for (std::size_t i = 0; i < group->numChildren() && n > 0; ++i)
@@ -65,6 +68,9 @@ public:
     // View-dependent: walked at query time from their parent frame.
     void apply(LOD& lod) override { addSubtree(lod); }
     void apply(Billboard& b) override { addSubtree(b); }
+    // What they show changes without their bound changing (a sequence's frame): walked too.
+    void apply(Switch& s) override { addSubtree(s); }
+    void apply(Sequence& s) override { addSubtree(s); }
     void apply(Geometry& g) override {
         auto bvh = g.triangleBvh();
         if (bvh->bvh().nodes.empty()) return;

@@ -155,6 +155,7 @@ void Renderer::View::cull() {
     queue_.clear();
     plan_.clear();
     CullVisitor visitor(camera_, queue_, &plan_);
+    visitor.setDatabasePager(r_.pager_);
     visitor.run(camera_);
     queue_.sort();
     computedNear_ = visitor.computedNear;
