@@ -1,0 +1,326 @@
+// loadOsg: osgDB reads, the converters in this folder build the sgfx graph (OsgConvert.h).
+#include "OsgConvert.h"
+
+#include <osg/Billboard>
+#include <osg/Geode>
+#include <osg/NodeVisitor>
+#include <osgDB/ReadFile>
+#include <osgDB/Registry>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <functional>
+#include <thread>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace sgfx {
+
+namespace osgbridge {
+
+bool FixedState::operator<(const FixedState& o) const {
+    const auto key = [](const FixedState& s) {
+        return std::tie(s.material, s.lighting, s.texture0, s.texEnv, s.texGen, s.alphaCutoff, s.twoSided,
+                        s.flat, s.program, s.textures, s.samplerUnits);
+    };
+    return key(*this) < key(o);
+}
+
+void Context::warn(const std::string& what) {
+    auto& w = warnings[what];
+    if (w.count++ == 0) w.where = where();
+}
+
+std::string Context::where() const {
+    std::string s;
+    for (const auto& p : path)
+        s += "/" + p;
+    return s.empty() ? "/" : s;
+}
+
+void Context::charge(std::size_t n, const char* what) {
+    bytes += n;
+    if (bytes > options.memoryLimit)
+        throw LoadError("sgfx: model '" + file.string() + "': " + what + " at " + where() +
+                        " takes the load past " + std::to_string(options.memoryLimit) +
+                        " bytes (OsgOptions::memoryLimit)");
+}
+
+float srgbToLinear(float s) {
+    const double v = std::clamp(double(s), 0.0, 1.0);
+    return float(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
+}
+
+glm::vec4 linearColor(const osg::Vec4& c) {
+    return {srgbToLinear(c.r()), srgbToLinear(c.g()), srgbToLinear(c.b()), std::clamp(c.a(), 0.0f, 1.0f)};
+}
+
+namespace {
+
+/// OSG's own statistics: every Geometry once per parent path (osgUtil::StatsVisitor's way), and
+/// every program of the file, so samplers are known before any uniform is converted.
+class CountVisitor : public osg::NodeVisitor {
+public:
+    CountVisitor()
+        : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
+    void apply(osg::Node& node) override {
+        collect(node.getStateSet());
+        traverse(node);
+    }
+    void apply(osg::Geode& geode) override {
+        collect(geode.getStateSet());
+        for (unsigned i = 0; i < geode.getNumDrawables(); ++i)
+            count(geode.getDrawable(i));
+        traverse(geode);
+    }
+    void count(osg::Drawable* d) {
+        if (!d) return;
+        collect(d->getStateSet());
+        const auto* g = d->asGeometry();
+        if (!g) return;
+        ++stats.drawables;
+        if (g->getVertexArray()) stats.vertices += g->getVertexArray()->getNumElements();
+        stats.triangles += triangleCount(*g);
+    }
+    static std::size_t triangleCount(const osg::Geometry& g) {
+        std::size_t n = 0;
+        for (unsigned p = 0; p < g.getNumPrimitiveSets(); ++p) {
+            const auto* set = g.getPrimitiveSet(p);
+            const auto add = [&](GLenum mode, std::size_t c) {
+                switch (mode) {
+                case GL_TRIANGLES:
+                    n += c / 3;
+                    break;
+                case GL_TRIANGLE_STRIP:
+                case GL_TRIANGLE_FAN:
+                case GL_POLYGON:
+                    n += c >= 3 ? c - 2 : 0;
+                    break;
+                case GL_QUADS:
+                    n += c / 4 * 2;
+                    break;
+                case GL_QUAD_STRIP:
+                    n += c >= 4 ? (c - 2) / 2 * 2 : 0;
+                    break;
+                default:
+                    break;
+                }
+            };
+            if (const auto* l = dynamic_cast<const osg::DrawArrayLengths*>(set))
+                for (auto len : *l)
+                    add(set->getMode(), std::size_t(len));
+            else
+                add(set->getMode(), set->getNumIndices());
+        }
+        return n;
+    }
+    void collect(const osg::StateSet* s) {
+        if (!s) return;
+        if (const auto* p = dynamic_cast<const osg::Program*>(s->getAttribute(osg::StateAttribute::PROGRAM)))
+            programs.push_back(p);
+    }
+    OsgStats stats;
+    std::vector<const osg::Program*> programs;
+};
+
+std::string readerMessage(const osgDB::ReaderWriter::ReadResult& r) {
+    if (!r.message().empty()) return r.message();
+    switch (r.status()) {
+    case osgDB::ReaderWriter::ReadResult::FILE_NOT_HANDLED:
+        return "no osgDB plugin reads this format";
+    case osgDB::ReaderWriter::ReadResult::FILE_NOT_FOUND:
+        return "file not found";
+    case osgDB::ReaderWriter::ReadResult::ERROR_IN_READING_FILE:
+        return "osgDB could not parse it";
+    default:
+        return "osgDB returned no node (empty, truncated or not a scene)";
+    }
+}
+
+/// Runs `read` in a forked child first (OsgOptions::isolateReader): LoadError when the child dies
+/// on a signal or runs out of time; a child that finished either way lets the caller read for real.
+void readInChild(const std::function<bool()>& read, const OsgOptions& options, const std::string& name) {
+    if (!options.isolateReader) return;
+    std::fflush(nullptr);
+    const pid_t pid = fork();
+    if (pid < 0) return; // no process to spare: read in this one
+    if (pid == 0) {
+        int code = 3;
+        try {
+            code = read() ? 0 : 3;
+        } catch (...) {
+            code = 4;
+        }
+        _exit(code); // no destructors, atexit handlers or leak checks of the parent's state
+    }
+    const auto start = std::chrono::steady_clock::now();
+    int status = 0;
+    for (;;) {
+        const pid_t r = waitpid(pid, &status, WNOHANG);
+        if (r == pid) break;
+        if (r < 0) return;
+        if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >
+            options.readTimeout) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            throw LoadError("sgfx: model '" + name + "': osgDB's reader did not finish within " +
+                            std::to_string(int(options.readTimeout)) + " s (OsgOptions::readTimeout)");
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    if (WIFSIGNALED(status))
+        throw LoadError("sgfx: model '" + name + "': osgDB's reader crashed on it (signal " +
+                        std::to_string(WTERMSIG(status)) + "): the file is corrupt");
+}
+
+osg::ref_ptr<osgDB::Options> readerOptions(const OsgOptions& options, const std::filesystem::path& folder,
+                                           bool environment) {
+    osg::ref_ptr<osgDB::Options> o = new osgDB::Options;
+    for (const auto& p : options.databasePaths)
+        o->getDatabasePathList().push_back(p.string());
+    if (!folder.empty()) o->getDatabasePathList().push_back(folder.string());
+    if (const char* env = environment ? std::getenv("OSG_FILE_PATH") : nullptr) { // once per load
+        std::stringstream ss(env);
+        for (std::string item; std::getline(ss, item, ':');)
+            if (!item.empty()) o->getDatabasePathList().push_back(item);
+    }
+    return o;
+}
+
+osg::ref_ptr<osg::Node> readNode(const std::filesystem::path& file, const OsgOptions& options) {
+    const auto fail = [&](const std::string& why) {
+        return LoadError("sgfx: model '" + file.string() + "': " + why);
+    };
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) throw fail("no such file");
+    auto o = readerOptions(options, file.parent_path(), true);
+    const auto read = [&] { return osgDB::Registry::instance()->readNode(file.string(), o.get()); };
+    readInChild([&] { return read().validNode(); }, options, file.string());
+    try {
+        auto result = read();
+        if (!result.validNode()) throw fail(readerMessage(result));
+        return result.getNode();
+    } catch (const std::exception& e) {
+        if (dynamic_cast<const LoadError*>(&e)) throw;
+        throw fail(std::string("osgDB's reader failed: ") + e.what());
+    }
+}
+
+void convertPrograms(Context& cx, const std::vector<const osg::Program*>& programs, OsgStats& stats) {
+    for (const auto* p : programs) {
+        if (cx.programs.count(p)) continue;
+        const std::string name = p->getName().empty() ? "osg_program" : p->getName();
+        std::vector<CompatShader> shaders;
+        for (unsigned i = 0; i < p->getNumShaders(); ++i) {
+            const auto* s = p->getShader(i);
+            const auto stage = s->getType() == osg::Shader::VERTEX        ? CompatStage::Vertex
+                               : s->getType() == osg::Shader::FRAGMENT    ? CompatStage::Fragment
+                               : s->getType() == osg::Shader::GEOMETRY    ? CompatStage::Geometry
+                               : s->getType() == osg::Shader::COMPUTE     ? CompatStage::Compute
+                               : s->getType() == osg::Shader::TESSCONTROL ? CompatStage::TessControl
+                                                                          : CompatStage::TessEvaluation;
+            shaders.push_back({stage, s->getShaderSource()});
+        }
+        CompatOptions options; // the program's own attribute bindings (osg::Program::addBindAttribLocation)
+        for (const auto& [attribute, location] : p->getAttribBindingList())
+            options.attributeLocations[attribute] = int(location);
+        try {
+            auto compat = translateCompatibilityProgram(name, shaders, options);
+            for (const auto& s : compat.samplers)
+                cx.samplerNames.push_back(s.name);
+            cx.programs[p] = std::move(compat);
+            ++stats.programs;
+        } catch (const std::exception& e) {
+            cx.warn(std::string("osg::Program not converted, drawn with the built-in material: ") + e.what());
+            cx.programs[p] = std::nullopt;
+        }
+    }
+}
+
+} // namespace
+
+std::shared_ptr<Group> convertRead(osg::Node& node, const std::filesystem::path& file,
+                                   const OsgOptions& options, OsgStats* stats);
+
+} // namespace osgbridge
+
+bool osgSupported() {
+    return true;
+}
+
+const std::vector<std::string>& osgExtensions() {
+    // Formats Debian's OpenSceneGraph 3.6 plugins read as scenes (osgdb_*); glTF, OBJ, OFF, PLY
+    // and STL stay with sgfx's own loaders.
+    static const std::vector<std::string> e{".osg", ".osgt", ".osgb", ".osgx", ".ive", ".flt", ".3ds",
+                                            ".ac",  ".lwo",  ".lws",  ".dxf",  ".x",   ".md2", ".bsp"};
+    return e;
+}
+
+std::shared_ptr<Group> loadOsg(const std::filesystem::path& file, const OsgOptions& options,
+                               OsgStats* stats) {
+    auto node = osgbridge::readNode(file, options);
+    return osgbridge::convertRead(*node, file, options, stats);
+}
+
+std::shared_ptr<Group> loadOsgFromMemory(std::span<const std::byte> bytes, const std::string& extension,
+                                         const std::string& nameForErrors, const OsgOptions& options,
+                                         OsgStats* stats) {
+    const auto fail = [&](const std::string& why) {
+        return LoadError("sgfx: model '" + nameForErrors + "': " + why);
+    };
+    const std::string ext = extension.empty() || extension[0] != '.' ? extension : extension.substr(1);
+    auto* rw = osgDB::Registry::instance()->getReaderWriterForExtension(ext);
+    if (!rw) throw fail("no osgDB plugin reads '" + extension + "'");
+    const std::string text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    auto o = osgbridge::readerOptions(options, {}, false);
+    const auto read = [&] {
+        std::istringstream in(text, std::ios::binary);
+        return rw->readNode(in, o.get());
+    };
+    osgbridge::readInChild([&] { return read().validNode(); }, options, nameForErrors);
+    osg::ref_ptr<osg::Node> node;
+    try {
+        auto result = read();
+        if (!result.validNode()) throw fail(osgbridge::readerMessage(result));
+        node = result.getNode();
+    } catch (const std::exception& e) {
+        if (dynamic_cast<const LoadError*>(&e)) throw;
+        throw fail(std::string("osgDB's reader failed: ") + e.what());
+    }
+    return osgbridge::convertRead(*node, nameForErrors, options, stats);
+}
+
+namespace osgbridge {
+
+std::shared_ptr<Group> convertRead(osg::Node& node, const std::filesystem::path& file,
+                                   const OsgOptions& options, OsgStats* stats) {
+    Context cx;
+    cx.file = file;
+    cx.options = options;
+    CountVisitor count;
+    node.accept(count);
+    OsgStats local = count.stats;
+    convertPrograms(cx, count.programs, local);
+
+    auto root = Group::create();
+    root->name = file.filename().string();
+    root->addChild(convertNode(cx, node, FixedState{}));
+    for (const auto& [what, w] : cx.warnings)
+        local.warnings.push_back(what + " at " + w.where +
+                                 (w.count > 1 ? " (" + std::to_string(w.count) + " in all)" : ""));
+    if (stats)
+        *stats = std::move(local);
+    else
+        for (const auto& w : local.warnings)
+            std::fprintf(stderr, "sgfx: %s: %s\n", file.string().c_str(), w.c_str());
+    return root;
+}
+
+} // namespace osgbridge
+
+} // namespace sgfx
