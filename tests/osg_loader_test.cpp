@@ -4,11 +4,21 @@
 #include "TestUtil.h"
 
 #include <sgfx/Billboard.h>
+#include <sgfx/DOFTransform.h>
+#include <sgfx/DatabasePager.h>
 #include <sgfx/Geometry.h>
+#include <sgfx/LOD.h>
 #include <sgfx/ModelLoader.h>
 #include <sgfx/OsgLoader.h>
+#include <sgfx/Queries.h>
+#include <sgfx/Sequence.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/Switch.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
+#include <sgfx/nodes/ao/AmbientOcclusionNode.h>
+#include <sgfx/nodes/fog/FogMath.h>
+#include <sgfx/nodes/fog/FogNode.h>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -21,12 +31,17 @@
 #include <osg/ClipNode>
 #include <osg/Geode>
 #include <osg/Geometry>
+#include <osg/LOD>
 #include <osg/MatrixTransform>
 #include <osg/NodeVisitor>
+#include <osg/PagedLOD>
+#include <osg/Sequence>
+#include <osg/Switch>
 #include <osg/TexGen>
 #include <osg/Texture2D>
 #include <osgDB/ReadFile>
 #include <osgDB/WriteFile>
+#include <osgSim/DOFTransform>
 #endif
 
 namespace fs = std::filesystem;
@@ -152,6 +167,11 @@ osg::ref_ptr<osg::Geometry> osgQuad(float half) {
     g->setNormalArray(n);
     g->addPrimitiveSet(new osg::DrawArrays(GL_QUADS, 0, 4));
     return g;
+}
+
+double srgbToLinearByte(int b) {
+    const double v = b / 255.0;
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
 }
 
 int differingPixels(const Image& a, const Image& b) {
@@ -367,6 +387,241 @@ TEST(OsgLoader, ClockHandsFollowOsgsAnimationPaths) {
     for (std::size_t i = 0; i < 6; ++i)
         moved += at[0][i] != at[1][i];
     EXPECT_GE(moved, 4); // at least the second and minute hands turned in 7.25 s
+}
+
+// glsl_simple.osgt's own GLSL programs (compatibility profile, translated) under a FogNode: each
+// pixel of the first program's shapes is the fog formula (FogMath.h's CPU mirror) applied to the
+// same pixel unfogged, at the world point a pick ray finds there; under an AmbientOcclusionNode
+// the programs still compile, and the gap between the two rows of shapes darkens, nothing brightens.
+TEST(OsgLoader, GlslSimplesOwnShadersRunUnderFogAndAmbientOcclusion) {
+    SGFX_REQUIRE(fs::exists(assets() / "glsl_simple.osgt"), "../shared/assets/osg");
+    OsgStats stats;
+    auto model = loadOsg(assets() / "glsl_simple.osgt", assetOptions(), &stats);
+    EXPECT_EQ(stats.programs, 2u);
+    FogParameters fp;
+    fp.density = 0.04f;
+    fp.falloff = 0.0f;
+    fp.color = {0.3f, 0.5f, 0.7f};
+    fp.sky = FogSky::Off;
+    const glm::vec3 eye(2.2f, -12.0f, 1.6f);
+    // One viewer for all three images: the model's GL objects belong to its context.
+    auto v = Viewer::createHeadless(128, 96);
+    v->camera()->setPerspective(40.0f, 0.5f, 100.0f);
+    v->camera()->setLookAt(eye, {2.2f, -1.0f, 1.1f});
+    v->camera()->clearColor = {0, 0, 0, 1};
+    auto render = [&](std::shared_ptr<Node> scene) {
+        auto root = Group::create();
+        root->addChild(Light::create(LightType::Ambient));
+        root->addChild(std::move(scene));
+        v->setSceneData(root);
+        v->frame();
+        return v->capture();
+    };
+    auto fog = FogNode::create(fp);
+    fog->addChild(model);
+    const Image plain = render(model);
+    const Image fogged = render(fog);
+    const auto decode = [](int b) { return srgbToLinearByte(b); };
+    int checked = 0;
+    for (int y = 2; y < plain.height - 2; y += 3)
+        for (int x = 2; x < plain.width - 2; x += 3) {
+            // Pixel centres whose ray and its neighbours' hit the first program's shapes (z < 1.1;
+            // the second program moves its vertices in w, so its drawn surface is not the file's).
+            bool inside = true;
+            std::optional<PickResult> hit;
+            for (auto [dx, dy] : {std::pair{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+                auto h = pick(*v->camera(), *model, x + dx + 0.5, y + dy + 0.5);
+                inside &= h && h->hit.point.z < 1.1;
+                if (dx == 0 && dy == 0) hit = h;
+            }
+            if (!inside) continue;
+            const double d = glm::length(hit->hit.point - glm::dvec3(eye));
+            const double k =
+                fog::amount<double>(double(fp.density) * d, fog::Response::Exponential, fp.maxOpacity);
+            for (int c = 0; c < 3; ++c) {
+                const double expected = decode(pixelAt(plain, x, y)[c]) * (1 - k) + fp.color[c] * k;
+                EXPECT_NEAR(pixelAt(fogged, x, y)[c], test::srgbByte(expected), 2.0)
+                    << x << "," << y << " c" << c;
+            }
+            ++checked;
+        }
+    EXPECT_GT(checked, 40);
+
+    // AO: the shapes standing on a ground (built-in material) at the sphere's base, seen from above.
+    auto ground = Transform::create(glm::translate(glm::mat4(1.0f), {2.2f, -1.0f, -1.0f}));
+    ground->addChild(shapes::quad(14.0f, 8.0f));
+    auto standing = Group::create();
+    standing->addChild(model);
+    standing->addChild(ground);
+    v->camera()->setLookAt({2.2f, -8.0f, 3.0f}, {2.2f, -1.0f, -0.6f});
+    const Image onGround = render(standing);
+    auto ao = AmbientOcclusionNode::create();
+    ao->addChild(standing);
+    const Image occluded = render(ao);
+    int darker = 0, brighter = 0;
+    for (int y = 0; y < onGround.height; ++y)
+        for (int x = 0; x < onGround.width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const auto h = pick(*v->camera(), *model, x + 0.5, y + 0.5);
+                if (!h || h->hit.point.z > 1.1) continue; // the first program's shapes only
+                const int diff = pixelAt(occluded, x, y)[c] - pixelAt(onGround, x, y)[c];
+                darker += diff <= -3;
+                brighter += diff >= 2;
+            }
+    EXPECT_GT(darker, 30);
+    EXPECT_LT(brighter, 10);
+}
+
+namespace {
+
+/// A coloured, unlit square tile of `size` metres at (x, y, z), in an osg::Geode.
+osg::ref_ptr<osg::Geode> osgTile(float x, float y, float z, float size, const osg::Vec4& colour) {
+    auto g = osgQuad(size / 2);
+    auto* c = new osg::Vec4Array(osg::Array::BIND_OVERALL);
+    c->push_back(colour);
+    g->setColorArray(c);
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(g);
+    geode->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+    for (auto& v : *static_cast<osg::Vec3Array*>(g->getVertexArray()))
+        v += osg::Vec3(x, y, z);
+    g->dirtyBound();
+    return geode;
+}
+
+} // namespace
+
+// Switch, Sequence, LOD by distance and DOFTransform convert with OSG's meaning: the same
+// children on, the same frame at the same time, the same ranges, the same matrix.
+TEST(OsgLoader, SwitchSequenceLodAndDofKeepOsgsMeaning) {
+    osg::ref_ptr<osg::Group> root = new osg::Group;
+    osg::ref_ptr<osg::Switch> sw = new osg::Switch;
+    for (int i = 0; i < 3; ++i)
+        sw->addChild(osgTile(float(i) * 3, 0, 0, 1, osg::Vec4(1, 0, 0, 1)), i != 1);
+    osg::ref_ptr<osg::Sequence> seq = new osg::Sequence;
+    for (int i = 0; i < 3; ++i)
+        seq->addChild(osgTile(float(i) * 3, 5, 0, 1, osg::Vec4(0, 1, 0, 1)), i == 0   ? 0.5
+                                                                             : i == 1 ? 1.0
+                                                                                      : 0.25);
+    seq->setInterval(osg::Sequence::LOOP, 0, -1);
+    seq->setDuration(1.0f, -1);
+    seq->setMode(osg::Sequence::START);
+    osg::ref_ptr<osg::LOD> lod = new osg::LOD;
+    lod->addChild(osgTile(0, 10, 0, 1, osg::Vec4(0, 0, 1, 1)), 0.0f, 50.0f);
+    lod->addChild(osgTile(0, 10, 0, 2, osg::Vec4(0, 0, 1, 1)), 50.0f, 1e6f);
+    osg::ref_ptr<osgSim::DOFTransform> dof = new osgSim::DOFTransform;
+    dof->setPutMatrix(osg::Matrix::rotate(0.4, osg::Vec3(0, 0, 1)) * osg::Matrix::translate(1, 2, 3));
+    dof->setInversePutMatrix(osg::Matrix::inverse(dof->getPutMatrix()));
+    dof->setMinHPR(osg::Vec3(-1, -0.5, 0));
+    dof->setMaxHPR(osg::Vec3(1, 0.5, 0));
+    dof->setCurrentHPR(osg::Vec3(0.3f, 0.2f, 0.0f));
+    dof->addChild(osgTile(0, 0, 0, 1, osg::Vec4(1, 1, 1, 1)));
+    for (osg::Node* n : {static_cast<osg::Node*>(sw.get()), static_cast<osg::Node*>(seq.get()),
+                         static_cast<osg::Node*>(lod.get()), static_cast<osg::Node*>(dof.get())})
+        root->addChild(n);
+    auto loaded = roundTrip(*root, "switches");
+    ASSERT_EQ(loaded->numChildren(), 1u);
+    auto top = std::dynamic_pointer_cast<Group>(loaded->child(0));
+    ASSERT_TRUE(top && top->numChildren() == 4);
+
+    auto s = std::dynamic_pointer_cast<Switch>(top->child(0));
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->values(), (std::vector<bool>{true, false, true}));
+
+    auto q = std::dynamic_pointer_cast<Sequence>(top->child(1));
+    ASSERT_TRUE(q);
+    UpdateVisitor update;
+    // Frames of 0.5, 1 and 0.25 s from the first update, looping: hand-computed.
+    for (auto [t, frame] : {std::pair{0.0, 0}, {0.25, 0}, {1.0, 1}, {1.6, 2}, {1.8, 0}, {2.4, 1}}) {
+        update.simulationTime = t;
+        q->accept(update);
+        EXPECT_EQ(q->value(), frame) << "t = " << t;
+    }
+
+    auto l = std::dynamic_pointer_cast<LOD>(top->child(2));
+    ASSERT_TRUE(l);
+    EXPECT_EQ(l->rangeMode(), LOD::RangeMode::DistanceFromEye);
+    EXPECT_EQ(l->range(0).maxPixels, 50.0f);
+    EXPECT_EQ(l->range(1).minPixels, 50.0f);
+
+    auto d = std::dynamic_pointer_cast<DOFTransform>(top->child(3));
+    ASSERT_TRUE(d);
+    osg::Matrix expected;
+    dof->computeLocalToWorldMatrix(expected, nullptr);
+    const glm::mat4 e = glm::make_mat4(osg::Matrixf(expected).ptr());
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            EXPECT_NEAR(d->matrix()[c][r], e[c][r], 1e-5f) << c << "," << r;
+    // Driving an axis moves it as osgSim does.
+    d->set("heading", -0.7);
+    dof->setCurrentHPR(osg::Vec3(-0.7f, 0.2f, 0.0f));
+    dof->computeLocalToWorldMatrix(expected, nullptr);
+    const glm::mat4 e2 = glm::make_mat4(osg::Matrixf(expected).ptr());
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            EXPECT_NEAR(d->matrix()[c][r], e2[c][r], 1e-5f) << c << "," << r;
+}
+
+// A three-level paged quadtree written by osgDB (PagedLOD files naming their children's files):
+// the coarse level draws at once, finer levels stream in on the pager's thread and are drawn,
+// and they are unloaded when the camera leaves.
+TEST(OsgLoader, PagedLodFilesStreamInAndExpire) {
+    const auto dir = tempDir("paged");
+    const osg::Vec4 colours[3] = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}};
+    // Level k covers the square of side 64 / 2^k at (x, y); its finer level is in "tile_k_i.osgt".
+    std::function<osg::ref_ptr<osg::Node>(int, float, float, int)> level = [&](int k, float x, float y,
+                                                                               int id) {
+        const float size = 64.0f / float(1 << k);
+        osg::ref_ptr<osg::Node> tile = osgTile(x, y, 0, size, colours[k]);
+        if (k == 2) return tile;
+        osg::ref_ptr<osg::PagedLOD> plod = new osg::PagedLOD;
+        plod->setCenterMode(osg::LOD::USER_DEFINED_CENTER);
+        plod->setCenter(osg::Vec3(x, y, 0));
+        plod->setRadius(size * 0.75f);
+        plod->addChild(tile.get(), size * 2.0f, 1e7f);
+        osg::ref_ptr<osg::Group> finer = new osg::Group;
+        for (int i = 0; i < 4; ++i)
+            finer->addChild(
+                level(k + 1, x + size / 4 * (i % 2 ? 1 : -1), y + size / 4 * (i / 2 ? 1 : -1), id * 4 + i));
+        const std::string name = "tile_" + std::to_string(k + 1) + "_" + std::to_string(id) + ".osgt";
+        EXPECT_TRUE(osgDB::writeNodeFile(*finer, (dir / name).string()));
+        plod->setFileName(1, name);
+        plod->setRange(1, 0.0f, size * 2.0f);
+        return osg::ref_ptr<osg::Node>(plod);
+    };
+    auto rootTile = level(0, 0, 0, 0);
+    ASSERT_TRUE(osgDB::writeNodeFile(*rootTile, (dir / "terrain.osgt").string()));
+
+    auto scene = loadOsg(dir / "terrain.osgt", {});
+    auto v = Viewer::createHeadless(32, 32);
+    v->camera()->setPerspective(30.0f, 0.1f, 1000.0f);
+    v->camera()->clearColor = {0, 0, 0, 1};
+    v->setSceneData(scene);
+    const auto centre = [&] { return pixelAt(v->capture(), 16, 16); };
+    // Far away: only the root tile, red.
+    v->camera()->setLookAt({8, 8, 400}, {8, 8, 0}, {0, 1, 0});
+    v->frame();
+    EXPECT_EQ(centre(), glm::ivec4(255, 0, 0, 255));
+    // Close over the point (8, 8): each level's file streams in, the coarser level shows meanwhile.
+    v->camera()->setLookAt({8, 8, 20}, {8, 8, 0}, {0, 1, 0});
+    glm::ivec4 seen[2];
+    for (int k = 0; k < 2; ++k) {
+        v->frame(); // requests the next level
+        ASSERT_TRUE(v->databasePager()->waitUntilIdle(std::chrono::seconds(30)));
+        v->frame(); // attaches it (between frames) and draws it
+        v->frame();
+        seen[k] = centre();
+    }
+    EXPECT_EQ(seen[0], glm::ivec4(0, 255, 0, 255));
+    EXPECT_EQ(seen[1], glm::ivec4(0, 0, 255, 255));
+    EXPECT_EQ(v->databasePager()->stats().failed, 0u);
+    EXPECT_GE(v->databasePager()->stats().live, 2u);
+    // Far again: the streamed levels go once they have been unused long enough.
+    v->camera()->setLookAt({8, 8, 400}, {8, 8, 0}, {0, 1, 0});
+    for (int i = 0; i < 40; ++i)
+        v->frame(0.5);
+    EXPECT_EQ(v->databasePager()->stats().live, 0u);
+    EXPECT_EQ(centre(), glm::ivec4(255, 0, 0, 255));
 }
 
 // What the bridge does not convert gives one warning per class, naming the first node path, and

@@ -113,7 +113,9 @@ glm::mat4 patMatrix(const osg::PositionAttitudeTransform& p) {
 
 std::shared_ptr<DOFTransform> convertDof(Context& cx, const osgSim::DOFTransform& d) {
     auto dof = DOFTransform::create();
-    dof->setFrame(toGlm(d.getPutMatrix()));
+    // osgSim's matrix is Put · current · InversePut in OSG's row-vector order, i.e. InversePut ·
+    // current · Put on column vectors: sgfx's frame (frame → parent) is OSG's inverse put matrix.
+    dof->setFrame(toGlm(d.getInversePutMatrix()));
     using K = DOFTransform::Kind;
     const auto axis = [&](const char* name, K kind, float mn, float mx, float current) {
         if (!(mx > mn) && current == (kind >= K::ScaleX ? 1.0f : 0.0f)) return; // a fixed axis at rest
