@@ -36,9 +36,11 @@
 #include <osg/NodeVisitor>
 #include <osg/PagedLOD>
 #include <osg/Sequence>
+#include <osg/ShapeDrawable>
 #include <osg/Switch>
 #include <osg/TexGen>
 #include <osg/Texture2D>
+#include <osg/TextureCubeMap>
 #include <osgDB/ReadFile>
 #include <osgDB/WriteFile>
 #include <osgSim/DOFTransform>
@@ -254,6 +256,74 @@ TEST(OsgLoader, SphereMapSamplesTheTexelOfTheEyeSpaceReflection) {
             ++checked;
         }
     EXPECT_EQ(checked, 15);
+}
+
+// TexGen REFLECTION_MAP with a TextureCubeMap: on a sphere seen from above (orthographic), each
+// pixel shows the face, and the half of it, that OpenGL's cube-map lookup (OpenGL 2.1 table 3.21)
+// picks for the eye-space reflection, computed here on the CPU.
+TEST(OsgLoader, CubeReflectionMapPicksTheFaceOfTheEyeSpaceReflection) {
+    osg::ref_ptr<osg::TextureCubeMap> cube = new osg::TextureCubeMap;
+    const auto colourOf = [](int face, int half) { return glm::ivec3(20 + face * 40, 30 + half * 200, 128); };
+    for (unsigned f = 0; f < 6; ++f) {
+        osg::ref_ptr<osg::Image> im = new osg::Image;
+        im->allocateImage(16, 16, 1, GL_RGB, GL_UNSIGNED_BYTE);
+        for (unsigned t = 0; t < 16; ++t)
+            for (unsigned s = 0; s < 16; ++s) {
+                const glm::ivec3 c = colourOf(int(f), s >= 8);
+                unsigned char* p = im->data(s, t);
+                p[0] = (unsigned char)c.r, p[1] = (unsigned char)c.g, p[2] = (unsigned char)c.b;
+            }
+        cube->setImage(f, im.get());
+    }
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(new osg::ShapeDrawable(new osg::Sphere(osg::Vec3(), 1.0f)));
+    auto* ss = geode->getOrCreateStateSet();
+    ss->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+    ss->setTextureAttributeAndModes(0, cube.get());
+    auto* gen = new osg::TexGen;
+    gen->setMode(osg::TexGen::REFLECTION_MAP);
+    ss->setTextureAttributeAndModes(0, gen);
+    auto root = roundTrip(*geode, "cubemap");
+
+    constexpr int size = 64;
+    auto viewer = test::orthoTopViewer(size, 1.0f);
+    viewer->setSceneData(root);
+    viewer->frame();
+    const Image img = viewer->capture();
+    int checked = 0, faces = 0;
+    std::set<int> seen;
+    for (int py = 2; py < size; py += 3)
+        for (int px = 2; px < size; px += 3) {
+            const double x = (px + 0.5) / size * 2.0 - 1.0, y = 1.0 - (py + 0.5) / size * 2.0;
+            if (x * x + y * y > 0.85) continue; // the sphere's tessellated rim
+            const glm::dvec3 n(x, y, std::sqrt(1.0 - x * x - y * y));
+            const glm::dvec3 u =
+                glm::normalize(glm::dvec3(x, y, n.z - 10.0)); // eye space: view has no rotation
+            const glm::dvec3 r = u - 2.0 * glm::dot(u, n) * n;
+            const glm::dvec3 a = glm::abs(r);
+            int face;
+            double sc, ma;
+            if (a.x >= a.y && a.x >= a.z)
+                face = r.x > 0 ? 0 : 1, sc = r.x > 0 ? -r.z : r.z, ma = a.x;
+            else if (a.y >= a.z)
+                face = r.y > 0 ? 2 : 3, sc = r.x, ma = a.y;
+            else
+                face = r.z > 0 ? 4 : 5, sc = r.z > 0 ? r.x : -r.x, ma = a.z;
+            // Away from face edges and the halves' border (tessellation and filtering blur them).
+            double sorted[3] = {a.x, a.y, a.z};
+            std::sort(sorted, sorted + 3);
+            const double second = sorted[1]; // ties (the diagonals) count as edges
+            if (second > 0.75 * ma || std::abs(sc / ma) < 0.25) continue;
+            const glm::ivec3 expected = colourOf(face, sc > 0);
+            const glm::ivec4 got = pixelAt(img, px, py);
+            EXPECT_NEAR(got.r, expected.r, 6) << px << "," << py << " face " << face;
+            EXPECT_NEAR(got.g, expected.g, 6) << px << "," << py << " face " << face;
+            ++checked;
+            seen.insert(face);
+        }
+    faces = int(seen.size());
+    EXPECT_GT(checked, 60);
+    EXPECT_GE(faces, 4); // +Z in the middle, and the four side faces towards the rim
 }
 
 TEST(OsgLoader, CowShowsItsReflectionMap) {

@@ -86,6 +86,7 @@ bool usesVertexColors(const FixedState& state);
 /// and reflection maps, texture environments REPLACE/DECAL/BLEND): OsgFixedFunction.cpp.
 std::shared_ptr<ShaderProgram> fixedFunctionProgram(const FixedState& state);
 bool needsFixedFunctionProgram(const FixedState& state);
+bool isCube(const FixedState& state); ///< texture0 is a cube map (sampled through its panorama)
 /// sRGB display value → linear (IEC 61966-2-1); OSG colours are display values.
 float srgbToLinear(float s);
 glm::vec4 linearColor(const osg::Vec4& c);

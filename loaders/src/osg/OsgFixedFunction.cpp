@@ -6,6 +6,7 @@
 
 #include <osg/TexEnv>
 #include <osg/TexGen>
+#include <osg/TextureCubeMap>
 
 namespace sgfx::osgbridge {
 
@@ -73,6 +74,22 @@ vec2 sphereMap(vec3 worldNormal) {
     return r.xy / m + 0.5;
 }
 
+// The cube map's panorama (OsgState.cpp, cubeToPanorama): azimuth across, polar angle down.
+vec2 panoramaUv(vec3 d) {
+    d = normalize(d);
+    return vec2(atan(d.y, d.x) / 6.28318530718 + 0.5, acos(clamp(d.z, -1.0, 1.0)) / 3.14159265359);
+}
+
+// TexGen REFLECTION_MAP / NORMAL_MAP: the eye-space reflection of the view ray, or the normal.
+vec3 cubeDirection(vec3 worldNormal) {
+    vec3 n = normalize(mat3(sgfx_view) * worldNormal);
+#ifdef OSGFF_NORMAL_MAP
+    return n;
+#else
+    return reflect(normalize((sgfx_view * vec4(v_worldPos, 1.0)).xyz), n);
+#endif
+}
+
 void main() {
     vec4 vertexColor = osgff_hasColors != 0 ? v_color : vec4(1.0);
     vec4 base = osgff_diffuse * vertexColor;
@@ -100,8 +117,10 @@ void main() {
     vec4 frag = base;
 #endif
 #ifdef OSGFF_TEXTURE
-#ifdef OSGFF_SPHERE_MAP
+#if defined(OSGFF_SPHERE_MAP)
     vec4 t = texture(osgff_texture0, sphereMap(N));
+#elif defined(OSGFF_CUBE)
+    vec4 t = textureLod(osgff_texture0, panoramaUv(cubeDirection(N)), 0.0); // no seam from derivatives
 #else
     vec4 t = texture(osgff_texture0, v_uv);
 #endif
@@ -121,9 +140,14 @@ void main() {
 
 } // namespace
 
+bool isCube(const FixedState& state) {
+    return dynamic_cast<const osg::TextureCubeMap*>(state.texture0) != nullptr;
+}
+
 bool needsFixedFunctionProgram(const FixedState& state) {
     if (!state.texture0) return false;
-    return state.texGen == osg::TexGen::SPHERE_MAP || state.texEnv == GL_DECAL || state.texEnv == GL_BLEND;
+    return state.texGen == osg::TexGen::SPHERE_MAP || isCube(state) || state.texEnv == GL_DECAL ||
+           state.texEnv == GL_BLEND;
 }
 
 std::shared_ptr<ShaderProgram> fixedFunctionProgram(const FixedState& state) {
@@ -131,6 +155,8 @@ std::shared_ptr<ShaderProgram> fixedFunctionProgram(const FixedState& state) {
     if (state.lighting) defines += "#define OSGFF_LIGHTING\n";
     if (state.texture0) defines += "#define OSGFF_TEXTURE\n";
     if (state.texGen == osg::TexGen::SPHERE_MAP) defines += "#define OSGFF_SPHERE_MAP\n";
+    if (isCube(state)) defines += "#define OSGFF_CUBE\n";
+    if (isCube(state) && state.texGen == osg::TexGen::NORMAL_MAP) defines += "#define OSGFF_NORMAL_MAP\n";
     const int env = state.texEnv == GL_REPLACE ? 1
                     : state.texEnv == GL_DECAL ? 2
                     : state.texEnv == GL_BLEND ? 3

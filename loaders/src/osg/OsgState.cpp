@@ -12,6 +12,7 @@
 #include <osg/TexEnv>
 #include <osg/TexGen>
 #include <osg/Texture2D>
+#include <osg/TextureCubeMap>
 #include <osg/Uniform>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -84,6 +85,50 @@ Filter filterOf(osg::Texture::FilterMode f) {
     }
 }
 
+/// A cube map's six faces resampled into one equirectangular panorama (sgfx textures are 2D): the
+/// texel for direction d is the one OpenGL's cube-map lookup picks (OpenGL 2.1 table 3.21: the
+/// major axis chooses the face, (sc/|ma| + 1)/2 and (tc/|ma| + 1)/2 the texel). Column u is the
+/// azimuth atan2(y, x) from -π, row v the polar angle acos(z) from 0: osg_fixed_function's
+/// panoramaUv() inverts it.
+std::shared_ptr<Image> cubeToPanorama(Context& cx, const osg::TextureCubeMap& cube) {
+    const osg::Image* faces[6];
+    int n = 0;
+    for (unsigned f = 0; f < 6; ++f) {
+        faces[f] = cube.getImage(f);
+        if (!faces[f] || faces[f]->s() <= 0 || faces[f]->isCompressed()) return nullptr;
+        n = std::max(n, faces[f]->s());
+    }
+    n = std::min(n, 512);
+    cx.charge(std::size_t(8) * n * n * 4, "osg::TextureCubeMap");
+    auto pano = Image::create(4 * n, 2 * n, 4);
+    for (int j = 0; j < pano->height; ++j)
+        for (int i = 0; i < pano->width; ++i) {
+            const double phi = ((i + 0.5) / pano->width - 0.5) * 2.0 * M_PI,
+                         theta = (j + 0.5) / pano->height * M_PI;
+            const glm::dvec3 d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                               std::cos(theta));
+            const glm::dvec3 a = glm::abs(d);
+            int face;
+            double sc, tc, ma;
+            if (a.x >= a.y && a.x >= a.z)
+                face = d.x > 0 ? 0 : 1, sc = d.x > 0 ? -d.z : d.z, tc = -d.y, ma = a.x;
+            else if (a.y >= a.z)
+                face = d.y > 0 ? 2 : 3, sc = d.x, tc = d.y > 0 ? d.z : -d.z, ma = a.y;
+            else
+                face = d.z > 0 ? 4 : 5, sc = d.z > 0 ? d.x : -d.x, tc = -d.y, ma = a.z;
+            const osg::Image& im = *faces[face];
+            const auto clampTo = [](double v, int size) {
+                return unsigned(std::clamp(int(v * size), 0, size - 1));
+            };
+            const osg::Vec4 c =
+                im.getColor(clampTo((sc / ma + 1) / 2, im.s()), clampTo((tc / ma + 1) / 2, im.t()));
+            std::uint8_t* p = pano->pixel(i, j);
+            for (int k = 0; k < 4; ++k)
+                p[k] = std::uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+        }
+    return pano;
+}
+
 std::shared_ptr<Texture> convertTexture(Context& cx, const osg::Texture& t) {
     if (auto it = cx.textures.find(&t); it != cx.textures.end()) return it->second;
     std::shared_ptr<Texture> out;
@@ -95,6 +140,14 @@ std::shared_ptr<Texture> convertTexture(Context& cx, const osg::Texture& t) {
             out->minFilter = filterOf(t.getFilter(osg::Texture::MIN_FILTER));
             out->magFilter = t.getFilter(osg::Texture::MAG_FILTER) == osg::Texture::NEAREST ? Filter::Nearest
                                                                                             : Filter::Linear;
+        }
+    } else if (const auto* cube = dynamic_cast<const osg::TextureCubeMap*>(&t)) {
+        if (auto pano = cubeToPanorama(cx, *cube)) {
+            out = Texture::create(std::move(pano), true);
+            out->minFilter = Filter::Linear; // no mip chain: the azimuth's seam would pick a tiny level
+            out->wrapT = Wrap::ClampToEdge;
+        } else {
+            cx.warn("osg::TextureCubeMap without six readable images: not converted");
         }
     } else if (!dynamic_cast<const osg::Texture2D*>(&t)) {
         cx.warn(std::string(t.libraryName()) + "::" + t.className() + ": not converted");
@@ -372,6 +425,10 @@ void applyFixedState(Context& cx, const FixedState& state, StateSet& out, const 
         return;
     }
     if (needsFixedFunctionProgram(state)) {
+        if (isCube(state) && state.texGen != osg::TexGen::REFLECTION_MAP &&
+            state.texGen != osg::TexGen::NORMAL_MAP)
+            cx.warn(
+                "osg::TextureCubeMap read with the geometry's own (s, t, r): sampled by reflection instead");
         auto& p = cx.fixedPrograms[state];
         if (!p) p = fixedFunctionProgram(state);
         out.program.set(p);
