@@ -35,7 +35,9 @@
 #include <osg/MatrixTransform>
 #include <osg/NodeVisitor>
 #include <osg/PagedLOD>
+#include <osg/PolygonMode>
 #include <osg/Sequence>
+#include <osg/ShadeModel>
 #include <osg/ShapeDrawable>
 #include <osg/Switch>
 #include <osg/TexGen>
@@ -324,6 +326,50 @@ TEST(OsgLoader, CubeReflectionMapPicksTheFaceOfTheEyeSpaceReflection) {
     faces = int(seen.size());
     EXPECT_GT(checked, 60);
     EXPECT_GE(faces, 4); // +Z in the middle, and the four side faces towards the rim
+}
+
+// ShadeModel FLAT: each triangle takes its provoking vertex's colour (a quad's last vertex), where
+// smooth shading blends the four; PolygonMode LINE: the quad's outline, not its diagonal.
+TEST(OsgLoader, FlatShadingAndPolygonModeLineDrawAsOpenGLDoes) {
+    const auto quadScene = [](bool flat, bool line) {
+        auto g = osgQuad(0.5f);
+        auto* c = new osg::Vec4Array(osg::Array::BIND_PER_VERTEX);
+        for (const osg::Vec4& col :
+             {osg::Vec4(1, 0, 0, 1), osg::Vec4(0, 1, 0, 1), osg::Vec4(0, 0, 1, 1), osg::Vec4(1, 1, 1, 1)})
+            c->push_back(col);
+        g->setColorArray(c);
+        osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+        geode->addDrawable(g);
+        auto* ss = geode->getOrCreateStateSet();
+        ss->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+        if (flat) ss->setAttribute(new osg::ShadeModel(osg::ShadeModel::FLAT));
+        if (line)
+            ss->setAttribute(new osg::PolygonMode(osg::PolygonMode::FRONT_AND_BACK, osg::PolygonMode::LINE));
+        return geode;
+    };
+    auto viewer = test::orthoTopViewer(64, 1.0f);
+    const auto draw = [&](bool flat, bool line) {
+        viewer->setSceneData(roundTrip(*quadScene(flat, line), flat ? "flat" : line ? "line" : "smooth"));
+        viewer->frame();
+        return viewer->capture();
+    };
+    const Image flat = draw(true, false), smooth = draw(false, false), line = draw(false, true);
+    int white = 0, inside = 0;
+    for (int y = 18; y < 46; ++y)
+        for (int x = 18; x < 46; ++x) {
+            ++inside;
+            white += pixelAt(flat, x, y) == glm::ivec4(255, 255, 255, 255);
+        }
+    EXPECT_EQ(white, inside);                                    // one colour, the last vertex's
+    EXPECT_NE(pixelAt(smooth, 20, 44), pixelAt(smooth, 44, 20)); // smooth: a blend of four
+    EXPECT_EQ(pixelAt(line, 32, 32), glm::ivec4(0, 0, 0, 255));  // no fill
+    EXPECT_EQ(pixelAt(line, 24, 40), glm::ivec4(0, 0, 0, 255));  // no diagonal near (-.25, -.25)
+    EXPECT_EQ(pixelAt(line, 40, 24), glm::ivec4(0, 0, 0, 255));
+    int outline = 0;
+    for (int y = 18; y < 46; ++y)
+        for (int x : {15, 16, 47, 48})
+            outline += pixelAt(line, x, y) != glm::ivec4(0, 0, 0, 255);
+    EXPECT_GT(outline, 40); // the left and right edges, one pixel wide each
 }
 
 TEST(OsgLoader, CowShowsItsReflectionMap) {

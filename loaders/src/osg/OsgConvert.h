@@ -19,6 +19,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace sgfx::osgbridge {
@@ -35,6 +36,7 @@ struct FixedState {
     std::optional<float> alphaCutoff;       ///< AlphaFunc GREATER/GEQUAL with GL_ALPHA_TEST on
     bool twoSided = false;                  ///< LightModel
     bool flat = false;                      ///< ShadeModel FLAT
+    int polygonMode = 0;                    ///< PolygonMode GL_LINE / GL_POINT (front faces' mode), 0: fill
     const osg::Program* program = nullptr;  ///< an osg::Program in force (foreign shader)
     std::map<int, const osg::Texture*> textures; ///< every unit's texture, for programs' samplers
     std::map<std::string, int> samplerUnits;     ///< int uniforms naming a program's sampler
@@ -48,7 +50,8 @@ struct Context {
     std::size_t bytes = 0; ///< vertex, index and image bytes made so far
 
     std::map<std::pair<const osg::Node*, FixedState>, NodePtr> nodes;
-    std::map<const osg::Geometry*, std::vector<std::shared_ptr<Geometry>>> geometries;
+    std::map<std::tuple<const osg::Geometry*, bool, bool, int>, std::vector<std::shared_ptr<Geometry>>>
+        geometries;
     std::map<const osg::Image*, std::shared_ptr<Texture>> textureImages; ///< per (image) + sampling
     std::map<const osg::Texture*, std::shared_ptr<Texture>> textures;
     std::map<const osg::Program*, std::optional<CompatProgram>> programs;
@@ -73,7 +76,14 @@ struct Context {
 /// osg nodes → sgfx nodes (OsgNodes.cpp). Shared nodes convert once.
 NodePtr convertNode(Context& cx, const osg::Node& node, const FixedState& parent);
 /// osg::Geometry → one sgfx Geometry per primitive kind (triangles, lines, points), without state.
-std::vector<std::shared_ptr<Geometry>> convertGeometry(Context& cx, const osg::Geometry& g, bool keepColors);
+/// What of the fixed-function state changes a Geometry's arrays.
+struct GeometryShape {
+    bool colors = true;  ///< keep the vertex colours (the Material's colour mode uses them)
+    bool flat = false;   ///< ShadeModel FLAT: normals and colours of each triangle's provoking vertex
+    int polygonMode = 0; ///< PolygonMode GL_LINE or GL_POINT (0: filled)
+};
+std::vector<std::shared_ptr<Geometry>> convertGeometry(Context& cx, const osg::Geometry& g,
+                                                       const GeometryShape& shape);
 /// A node's osg StateSet → the sgfx StateSet of its pipeline state (blend, depth, cull, bin,
 /// uniforms, program); `state` is updated with the fixed-function state it sets.
 std::shared_ptr<StateSet> convertStateSet(Context& cx, const osg::StateSet& s, FixedState& state);

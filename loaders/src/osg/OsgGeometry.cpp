@@ -76,13 +76,23 @@ std::vector<Run> runsOf(const osg::Geometry& g) {
 
 enum Kind { Triangles, Lines, Points };
 
+/// Per triangle: the vertex whose normal and colour flat shading uses (OpenGL's provoking vertex
+/// of the primitive it came from) and which of its edges (ab, bc, ca: bits 0, 1, 2) are the
+/// primitive's outline (PolygonMode LINE draws those, not a quad's or polygon's diagonals).
+struct TriangleInfo {
+    std::uint32_t provoking;
+    std::uint8_t edges;
+};
+
 /// Appends the run's primitives, as lists, to out[kind]; strips keep OSG's winding, degenerate
 /// triangles are kept (OSG counts them too). Returns false for a mode sgfx cannot draw.
-bool decompose(const Run& r, std::vector<std::uint32_t> (&out)[3]) {
+bool decompose(const Run& r, std::vector<std::uint32_t> (&out)[3], std::vector<TriangleInfo>& info) {
     const auto& x = r.indices;
     const std::size_t n = x.size();
-    auto tri = [&](std::size_t a, std::size_t b, std::size_t c) {
+    auto tri = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t provoking = ~std::size_t{0},
+                   std::uint8_t edges = 7) {
         out[Triangles].insert(out[Triangles].end(), {x[a], x[b], x[c]});
+        info.push_back({x[provoking == ~std::size_t{0} ? c : provoking], edges});
     };
     auto line = [&](std::size_t a, std::size_t b) { out[Lines].insert(out[Lines].end(), {x[a], x[b]}); };
     switch (r.mode) {
@@ -108,20 +118,23 @@ bool decompose(const Run& r, std::vector<std::uint32_t> (&out)[3]) {
         return true;
     case GL_TRIANGLE_STRIP:
         for (std::size_t i = 2; i < n; ++i)
-            (i % 2) ? tri(i - 2, i, i - 1) : tri(i - 2, i - 1, i);
+            (i % 2) ? tri(i - 2, i, i - 1, i) : tri(i - 2, i - 1, i);
         return true;
     case GL_TRIANGLE_FAN:
-    case GL_POLYGON:
         for (std::size_t i = 2; i < n; ++i)
             tri(0, i - 1, i);
         return true;
-    case GL_QUADS:
+    case GL_POLYGON: // flat-shaded by its first vertex; outlined without its fan's diagonals
+        for (std::size_t i = 2; i < n; ++i)
+            tri(0, i - 1, i, 0, std::uint8_t((i == 2 ? 1 : 0) | 2 | (i + 1 == n ? 4 : 0)));
+        return true;
+    case GL_QUADS: // provoking vertex: the quad's last
         for (std::size_t i = 0; i + 3 < n; i += 4)
-            tri(i, i + 1, i + 2), tri(i, i + 2, i + 3);
+            tri(i, i + 1, i + 2, i + 3, 3), tri(i, i + 2, i + 3, i + 3, 6);
         return true;
     case GL_QUAD_STRIP:
         for (std::size_t i = 0; i + 3 < n; i += 2)
-            tri(i, i + 1, i + 3), tri(i, i + 3, i + 2);
+            tri(i, i + 1, i + 3, i + 3, 3), tri(i, i + 3, i + 2, i + 3, 6);
         return true;
     default:
         return false;
@@ -148,17 +161,24 @@ struct Arrays {
     const osg::Array* tex1;
 };
 
-/// Fills the attributes for the vertices `order` (source vertex, primitive set) in order.
-void fill(Geometry& out, const Arrays& a, const std::vector<std::pair<std::uint32_t, unsigned>>& order) {
-    for (auto [v, set] : order) {
+/// One vertex to make: its source vertex, the one whose normal and colour it takes (itself, or
+/// its triangle's provoking vertex under flat shading), and its primitive set.
+struct Corner {
+    std::uint32_t vertex, shade;
+    unsigned set;
+};
+
+/// Fills the attributes for the corners in order.
+void fill(Geometry& out, const Arrays& a, const std::vector<Corner>& order) {
+    for (auto [v, shade, set] : order) {
         out.positions.push_back(glm::vec3(element(*a.vertices, v)));
         if (a.normals) {
-            glm::vec3 n(valueAt(*a.normals, v, set));
+            glm::vec3 n(valueAt(*a.normals, shade, set));
             const float len = glm::length(n);
             out.normals.push_back(len > 1e-12f && std::isfinite(len) ? n / len : glm::vec3(0.0f, 0.0f, 1.0f));
         }
         if (a.colors) {
-            const glm::vec4 c = valueAt(*a.colors, v, set);
+            const glm::vec4 c = valueAt(*a.colors, shade, set);
             out.colors.push_back(linearColor(osg::Vec4(c.r, c.g, c.b, c.a)));
         }
         if (a.tex0) out.texcoords.push_back(glm::vec2(valueAt(*a.tex0, v, set)));
@@ -168,7 +188,28 @@ void fill(Geometry& out, const Arrays& a, const std::vector<std::pair<std::uint3
 
 } // namespace
 
-std::vector<std::shared_ptr<Geometry>> convertGeometry(Context& cx, const osg::Geometry& g, bool keepColors) {
+/// PolygonMode LINE and POINT: the triangles' outline edges, or their vertices, instead of them.
+void outline(int polygonMode, std::vector<std::uint32_t> (&lists)[3], std::vector<unsigned> (&sets)[3],
+             const std::vector<TriangleInfo>& info) {
+    auto& t = lists[Triangles];
+    for (std::size_t i = 0; i + 2 < t.size(); i += 3) {
+        const unsigned set = sets[Triangles][i];
+        for (int e = 0; e < 3; ++e) {
+            if (polygonMode == GL_POINT) {
+                lists[Points].push_back(t[i + std::size_t(e)]), sets[Points].push_back(set);
+            } else if (info[i / 3].edges & (1 << e)) {
+                lists[Lines].insert(lists[Lines].end(),
+                                    {t[i + std::size_t(e)], t[i + std::size_t(e + 1) % 3]});
+                sets[Lines].insert(sets[Lines].end(), {set, set});
+            }
+        }
+    }
+    t.clear(), sets[Triangles].clear();
+}
+
+std::vector<std::shared_ptr<Geometry>> convertGeometry(Context& cx, const osg::Geometry& g,
+                                                       const GeometryShape& shape) {
+    const bool keepColors = shape.colors;
     const osg::Array* vertices = g.getVertexArray();
     if (!usable(vertices)) return {};
     Arrays a{vertices, usable(g.getNormalArray()) ? g.getNormalArray() : nullptr,
@@ -183,13 +224,19 @@ std::vector<std::shared_ptr<Geometry>> convertGeometry(Context& cx, const osg::G
         perSet |= x && x->getBinding() == osg::Array::BIND_PER_PRIMITIVE_SET;
 
     std::vector<std::uint32_t> lists[3];
-    std::vector<unsigned> sets[3]; // primitive set of each listed index (perSet only)
+    std::vector<unsigned> sets[3]; // primitive set of each listed index
+    std::vector<TriangleInfo> info;
     bool badMode = false;
     for (const Run& r : runsOf(g)) {
-        badMode |= !decompose(r, lists);
+        badMode |= !decompose(r, lists, info);
         for (int k = 0; k < 3; ++k)
             sets[k].resize(lists[k].size(), r.set);
     }
+    if (shape.polygonMode == GL_LINE || shape.polygonMode == GL_POINT)
+        outline(shape.polygonMode, lists, sets, info);
+    // Flat shading takes each triangle's normal and colour from its provoking vertex: such
+    // triangles get vertices of their own.
+    const bool flat = shape.flat && !lists[Triangles].empty();
     if (badMode)
         cx.warn("osg::Geometry primitive mode (adjacency or patches): those primitive sets not converted");
     cx.charge(std::size_t(count) * 64 + (lists[0].size() + lists[1].size() + lists[2].size()) * 4,
@@ -207,15 +254,16 @@ std::vector<std::shared_ptr<Geometry>> convertGeometry(Context& cx, const osg::G
         auto geometry = Geometry::create();
         geometry->name = g.getName();
         geometry->mode = modes[k];
-        std::vector<std::pair<std::uint32_t, unsigned>> order;
-        if (perSet) {
-            for (std::size_t i = 0; i < lists[k].size(); ++i)
-                order.emplace_back(lists[k][i], sets[k][i]);
-            for (std::size_t i = 0; i < lists[k].size(); ++i)
+        std::vector<Corner> order;
+        if (perSet || (flat && k == Triangles)) {
+            for (std::size_t i = 0; i < lists[k].size(); ++i) {
+                const std::uint32_t v = lists[k][i];
+                order.push_back({v, flat && k == Triangles ? info[i / 3].provoking : v, sets[k][i]});
                 geometry->indices.push_back(std::uint32_t(i));
+            }
         } else {
             for (std::uint32_t v = 0; v < count; ++v)
-                order.emplace_back(v, 0u);
+                order.push_back({v, v, 0u});
             geometry->indices = lists[k];
         }
         fill(*geometry, a, order);

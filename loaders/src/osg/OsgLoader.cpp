@@ -26,7 +26,7 @@ namespace osgbridge {
 bool FixedState::operator<(const FixedState& o) const {
     const auto key = [](const FixedState& s) {
         return std::tie(s.material, s.lighting, s.texture0, s.texEnv, s.texGen, s.alphaCutoff, s.twoSided,
-                        s.flat, s.program, s.textures, s.samplerUnits);
+                        s.flat, s.polygonMode, s.program, s.textures, s.samplerUnits);
     };
     return key(*this) < key(o);
 }

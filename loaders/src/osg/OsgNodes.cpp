@@ -47,8 +47,9 @@ void addDrawable(Context& cx, Group& parent, const osg::Drawable& d, const Fixed
     FixedState own = state;
     std::shared_ptr<StateSet> pipeline;
     if (d.getStateSet()) pipeline = convertStateSet(cx, *d.getStateSet(), own);
-    auto& made = cx.geometries[g];
-    if (made.empty()) made = convertGeometry(cx, *g, usesVertexColors(own));
+    const GeometryShape shape{usesVertexColors(own), own.flat, own.polygonMode};
+    auto& made = cx.geometries[{g, shape.colors, shape.flat, shape.polygonMode}];
+    if (made.empty()) made = convertGeometry(cx, *g, shape);
     for (const auto& geometry : made) {
         // A Geometry converted under two different states (shared by two Geodes) is wrapped, not
         // copied: the state goes on a Group above the shared arrays.

@@ -8,6 +8,7 @@
 #include <osg/Depth>
 #include <osg/Image>
 #include <osg/LightModel>
+#include <osg/PolygonMode>
 #include <osg/ShadeModel>
 #include <osg/TexEnv>
 #include <osg/TexGen>
@@ -232,8 +233,15 @@ void convertRasterState(Context& cx, const osg::StateSet& s, StateSet& out, Fixe
     if (const auto* sm =
             dynamic_cast<const osg::ShadeModel*>(s.getAttribute(osg::StateAttribute::SHADEMODEL)))
         state.flat = sm->getMode() == osg::ShadeModel::FLAT;
-    if (s.getAttribute(osg::StateAttribute::POLYGONMODE))
-        cx.warn("osg::PolygonMode: sgfx fills every polygon (not converted)");
+    if (const auto* pm =
+            dynamic_cast<const osg::PolygonMode*>(s.getAttribute(osg::StateAttribute::POLYGONMODE))) {
+        const auto m = pm->getMode(osg::PolygonMode::FRONT);
+        state.polygonMode = m == osg::PolygonMode::LINE    ? GL_LINE
+                            : m == osg::PolygonMode::POINT ? GL_POINT
+                                                           : 0;
+        if (pm->getMode(osg::PolygonMode::BACK) != m)
+            cx.warn("osg::PolygonMode with different faces: the front face's mode used");
+    }
 }
 
 void convertTextures(Context& cx, const osg::StateSet& s, FixedState& state) {
@@ -392,7 +400,6 @@ std::shared_ptr<Material> materialFor(Context& cx, const FixedState& state) {
     }
     if (state.texture0) m->baseColorTexture = convertTexture(cx, *state.texture0);
     m->alphaCutoff = state.alphaCutoff;
-    if (state.flat) cx.warn("osg::ShadeModel FLAT: shaded smooth");
     return m;
 }
 
