@@ -439,6 +439,39 @@ TEST(OsgLoader, LzTreesFaceTheCameraFromEverySide) {
             colours.insert(std::uint32_t(p.r << 16 | p.g << 8 | p.b));
         }
     EXPECT_GT(colours.size(), 500u);
+
+    // The tank: the geometry textured with Images/tank.rgb, seen close, covers its pixels.
+    osg::ref_ptr<osg::Image> tankImage = osgDB::readRefImageFile((assets() / "Images" / "tank.rgb").string());
+    ASSERT_TRUE(tankImage);
+    class FindTextured : public NodeVisitor {
+    public:
+        explicit FindTextured(int w) : width(w) {}
+        void apply(Geometry& g) override {
+            const auto* holder = g.parents().empty() ? nullptr : g.parents().front();
+            const auto& ss = holder ? holder->stateSet() : nullptr;
+            const auto m = ss && ss->material.value ? *ss->material.value : nullptr;
+            if (m && m->baseColorTexture && m->baseColorTexture->image->width == width) found.push_back(&g);
+        }
+        int width;
+        std::vector<Geometry*> found;
+    } findTank(tankImage->s());
+    root->accept(findTank);
+    ASSERT_EQ(findTank.found.size(), 1u); // one cylinder (a water tank), under the model's scale
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (Geometry* g : findTank.found) {
+        const glm::mat4 w = worldOf(*g);
+        const glm::vec3 c = glm::vec3(w * glm::vec4(g->bound().center, 1.0f));
+        const float radius = g->bound().radius * glm::length(glm::vec3(w[0]));
+        lo = glm::min(lo, c - radius), hi = glm::max(hi, c + radius);
+    }
+    const glm::vec3 tankCentre = (lo + hi) * 0.5f;
+    const float tankRadius = glm::length(hi - lo) * 0.5f;
+    viewer->camera()->setLookAt(tankCentre + glm::vec3(-1.2f, -1.8f, 0.9f) * tankRadius, tankCentre);
+    viewer->frame();
+    const Image withTank = viewer->capture();
+    for (Geometry* g : findTank.found) g->nodeMask = 0;
+    viewer->frame();
+    EXPECT_GT(differingPixels(withTank, viewer->capture()), 1500); // a good part of the 96x96 view
 }
 
 // clock.osgt: the hands' AnimationPathCallbacks move sgfx's transforms exactly as OSG's own
