@@ -1,0 +1,282 @@
+// OpenSceneGraph reference renderer: any file osgDB reads (.osgt, .osgb, .ive, .flt, ...) drawn by
+// OpenSceneGraph 3.6 itself, headless on OSMesa (llvmpipe), to a PNG, with sgfx-view's camera, so
+// the same file rendered by OSG and by sgfx (`sgfx-view FILE --out x.png`) can be set side by side
+// (docs/coming-from-osg.md, scripts/osg-figures.sh).
+//
+//   osg_view FILE [--size WxH] [--out PNG] [--yaw DEG] [--pitch DEG] [--fog DENSITY] [--no-ground]
+//
+// The camera is sgfx-view's headless one (demos/view/main.cpp homeCamera, sgfx::CameraManipulator
+// ::home): a 40 degree vertical field of view, the model's world bounding box (active children)
+// framed with 5 % to spare in the narrower field of view, looking at the box's centre from yaw and
+// pitch (yaw 0 looks along +Y, growing anticlockwise seen from above; pitch > 0 looks down), Z up,
+// near and far planes at 0.02 and 20 times the distance. The scene around the model follows
+// sgfx-view's too: a grey ground plane 60 radii wide just under the model (--no-ground: none), a
+// directional sun from sgfx-view's direction, the clear colour 0.72, 0.76, 0.82.
+//
+// Colours: OSG content is authored in display (sRGB) values and OSG renders without conversions,
+// while sgfx turns the file's colours and textures into linear values, lights in linear and
+// encodes the image to sRGB. The PNG here is the framebuffer as OSG draws it (no encoding), and
+// sgfx-view's linear clear and ground colours are given to OSG as display values (IEC 61966-2-1);
+// the light intensities (sun 0.9, ambient 0.35) are given as they are, factors on display colours,
+// which keeps the lit ground within a few levels of sgfx-view's. sgfx-view's ambient comes from its
+// sky's image-based light; OSG gets a flat ambient (LightModel) instead.
+//
+// Headless OSMesa setup and link order: as bench/osg_polygon.cpp (read its header comment): OSMesa
+// is linked before the OSG libraries so that libosg's gl* calls reach OSMesa, checked at start-up.
+#include <GL/osmesa.h>
+
+#include <osg/ComputeBoundsVisitor>
+#include <osg/Fog>
+#include <osg/GLExtensions>
+#include <osg/Geode>
+#include <osg/Geometry>
+#include <osg/LightModel>
+#include <osg/Material>
+#include <osg/NodeVisitor>
+#include <osg/TriangleFunctor>
+#include <osgDB/ReadFile>
+#include <osgViewer/Viewer>
+
+#include <stb/stb_image_write.h>
+
+#include <CLI/CLI.hpp>
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Options {
+    std::string file;
+    int width = 512, height = 384; // sgfx-view's headless default
+    std::string out = "osg_view.png";
+    float yaw = 30.0f, pitch = 25.0f; // sgfx-view's defaults
+    float fogDensity = 0.0f;          // > 0: osg::Fog EXP2 on the root StateSet
+    bool ground = true;
+};
+
+// sgfx-view's scene values (demos/view/ViewScene.cpp), linear.
+constexpr float kFovyDegrees = 40.0f;
+const osg::Vec3 kClearLinear{0.72f, 0.76f, 0.82f};
+const osg::Vec3 kSunTravel{-0.4f, 0.3f, -0.85f}; // the sun light's travel direction (normalised below)
+constexpr float kSunLinear = 0.9f;
+constexpr float kAmbientLinear = 0.35f;
+const osg::Vec3 kGroundLinear{0.55f, 0.55f, 0.52f};
+
+float toDisplay(float c) {
+    const double v = std::clamp(double(c), 0.0, 1.0);
+    return float(v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055);
+}
+osg::Vec4 toDisplay(const osg::Vec3& c) {
+    return {toDisplay(c.x()), toDisplay(c.y()), toDisplay(c.z()), 1.0f};
+}
+
+struct TriangleCounter {
+    std::size_t n = 0;
+    void operator()(const osg::Vec3&, const osg::Vec3&, const osg::Vec3&) { ++n; }
+};
+
+// Drawables and triangles, each Geometry once per parent path (OSG's own statistics' way).
+class CountVisitor : public osg::NodeVisitor {
+public:
+    CountVisitor()
+        : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
+    void apply(osg::Drawable& d) override {
+        ++drawables;
+        if (osg::Geometry* g = d.asGeometry()) {
+            osg::TriangleFunctor<TriangleCounter> tc;
+            g->accept(tc);
+            triangles += tc.n;
+        }
+    }
+    std::size_t drawables = 0, triangles = 0;
+};
+
+// GL entry points OSG uses on this path, checked before anything is drawn.
+const char* const kProbes[] = {"glGetString",  "glClear",         "glDrawElements", "glEnable",
+                               "glLightfv",    "glGenBuffers",    "glBindBuffer",   "glBufferData",
+                               "glUseProgram", "glVertexPointer", "glNormalPointer"};
+
+std::string libraryOf(void* p) {
+    Dl_info info;
+    return p && dladdr(p, &info) && info.dli_fname ? info.dli_fname : "(null)";
+}
+bool isMesa(const std::string& lib) {
+    return lib.find("libOSMesa") != std::string::npos || lib.find("libglapi") != std::string::npos;
+}
+
+// sgfx-view's ground: a quad 60 radii wide, 1e-3 radii under the model's base, grey material.
+osg::ref_ptr<osg::Geode> makeGround(const osg::BoundingBox& box, float radius) {
+    const float half = 30.0f * radius, z = box.zMin() - 1e-3f * radius;
+    const osg::Vec3 c = box.center();
+    osg::ref_ptr<osg::Geometry> quad = new osg::Geometry;
+    osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
+    v->push_back({c.x() - half, c.y() - half, z});
+    v->push_back({c.x() + half, c.y() - half, z});
+    v->push_back({c.x() + half, c.y() + half, z});
+    v->push_back({c.x() - half, c.y() + half, z});
+    quad->setVertexArray(v.get());
+    osg::ref_ptr<osg::Vec3Array> n = new osg::Vec3Array(osg::Array::BIND_OVERALL);
+    n->push_back({0.0f, 0.0f, 1.0f});
+    quad->setNormalArray(n.get());
+    quad->addPrimitiveSet(new osg::DrawArrays(GL_QUADS, 0, 4));
+    osg::ref_ptr<osg::Material> m = new osg::Material;
+    m->setColorMode(osg::Material::OFF);
+    m->setDiffuse(osg::Material::FRONT_AND_BACK, toDisplay(kGroundLinear));
+    m->setAmbient(osg::Material::FRONT_AND_BACK, toDisplay(kGroundLinear));
+    m->setSpecular(osg::Material::FRONT_AND_BACK, osg::Vec4(0, 0, 0, 1));
+    quad->getOrCreateStateSet()->setAttributeAndModes(m.get(), osg::StateAttribute::ON);
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->setName("ground");
+    geode->addDrawable(quad.get());
+    return geode;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Options opt;
+    CLI::App app{"osg_view: renders a file osgDB reads with OpenSceneGraph, headless (OSMesa), to a PNG, "
+                 "with sgfx-view's camera"};
+    app.add_option("file", opt.file, "model file (.osgt, .osgb, .ive, .osg, .flt, ...)")->required();
+    std::string size = "512x384";
+    app.add_option("--size", size, "image size WxH (default 512x384, sgfx-view's)");
+    app.add_option("--out", opt.out, "output PNG (default osg_view.png)");
+    app.add_option("--yaw", opt.yaw, "camera azimuth around the model, degrees (default 30)")
+        ->check(CLI::Range(-360.0f, 360.0f));
+    app.add_option("--pitch", opt.pitch, "camera elevation, degrees (default 25)")
+        ->check(CLI::Range(-89.0f, 89.0f));
+    app.add_option("--fog", opt.fogDensity, "osg::Fog EXP2 of this density (1/m) on the root, clear colour")
+        ->check(CLI::PositiveNumber);
+    bool noGround = false;
+    app.add_flag("--no-ground", noGround, "no ground plane under the model");
+    CLI11_PARSE(app, argc, argv);
+    opt.ground = !noGround;
+    if (std::sscanf(size.c_str(), "%dx%d", &opt.width, &opt.height) != 2 || opt.width < 16 ||
+        opt.height < 16 || opt.width > 8192 || opt.height > 8192) {
+        std::fprintf(stderr, "osg_view: --size: '%s' is not WxH (16..8192)\n", size.c_str());
+        return 2;
+    }
+
+    // ---- OSMesa context (compatibility profile: OSG 3.6 as packaged draws fixed function)
+    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+    if (!ctx) {
+        std::fprintf(stderr, "osg_view: OSMesaCreateContextExt failed\n");
+        return 1;
+    }
+    struct ContextGuard {
+        OSMesaContext c;
+        ~ContextGuard() { OSMesaDestroyContext(c); }
+    } contextGuard{ctx};
+    std::vector<unsigned char> buffer(std::size_t(opt.width) * std::size_t(opt.height) * 4);
+    if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, opt.width, opt.height)) {
+        std::fprintf(stderr, "osg_view: OSMesaMakeCurrent failed\n");
+        return 1;
+    }
+    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    if (!renderer) {
+        std::fprintf(stderr, "osg_view: glGetString returned NULL: GL calls are not reaching OSMesa "
+                             "(libGL's dispatch won; try LD_PRELOAD=libOSMesa.so.8)\n");
+        return 1;
+    }
+    for (const char* name : kProbes) {
+        const std::string direct = libraryOf(dlsym(RTLD_DEFAULT, name));
+        const std::string viaOsg = libraryOf(osg::getGLExtensionFuncPtr(name));
+        if (!isMesa(direct) || !isMesa(viaOsg)) {
+            std::fprintf(stderr,
+                         "osg_view: %s resolves to '%s' (direct) / '%s' (osg::getGLExtensionFuncPtr), not "
+                         "OSMesa; try LD_PRELOAD=libOSMesa.so.8\n",
+                         name, direct.c_str(), viaOsg.c_str());
+            return 1;
+        }
+    }
+
+    // ---- load (images resolve through OSG_FILE_PATH and the file's folder, osgDB's own rules)
+    osg::ref_ptr<osg::Node> model = osgDB::readRefNodeFile(opt.file);
+    if (!model) {
+        std::fprintf(stderr, "osg_view: osgDB cannot read %s\n", opt.file.c_str());
+        return 1;
+    }
+    CountVisitor count;
+    model->accept(count);
+    // World bounds of the active children, as sgfx::ComputeBoundsVisitor (Mode::ActiveChildren).
+    osg::ComputeBoundsVisitor boundsVisitor(osg::NodeVisitor::TRAVERSE_ACTIVE_CHILDREN);
+    model->accept(boundsVisitor);
+    osg::BoundingBox box = boundsVisitor.getBoundingBox();
+    if (!box.valid()) box.set(-0.5f, -0.5f, -0.5f, 0.5f, 0.5f, 0.5f);
+    const float radius = std::max(0.5f * (box._max - box._min).length(), 1e-4f);
+
+    // ---- the scene around it: ground, sun, ambient, fog
+    osg::ref_ptr<osg::Group> root = new osg::Group;
+    root->addChild(model.get());
+    if (opt.ground) root->addChild(makeGround(box, radius).get());
+    osg::StateSet* ss = root->getOrCreateStateSet();
+    osg::ref_ptr<osg::LightModel> lightModel = new osg::LightModel;
+    lightModel->setAmbientIntensity(osg::Vec4(kAmbientLinear, kAmbientLinear, kAmbientLinear, 1.0f));
+    ss->setAttributeAndModes(lightModel.get(), osg::StateAttribute::ON);
+    const osg::Vec4 clear = toDisplay(kClearLinear);
+    if (opt.fogDensity > 0.0f) {
+        osg::ref_ptr<osg::Fog> fog = new osg::Fog;
+        fog->setMode(osg::Fog::EXP2);
+        fog->setDensity(opt.fogDensity);
+        fog->setColor(clear);
+        ss->setAttributeAndModes(fog.get(), osg::StateAttribute::ON);
+    }
+
+    osgViewer::Viewer viewer;
+    viewer.setThreadingModel(osgViewer::Viewer::SingleThreaded);
+    viewer.setUpViewerAsEmbeddedInWindow(0, 0, opt.width, opt.height);
+    viewer.setSceneData(root.get());
+    viewer.setLightingMode(osg::View::SKY_LIGHT); // fixed in world space, like sgfx's sun
+    osg::Vec3 toSun = -kSunTravel;
+    toSun.normalize();
+    osg::Light* sun = viewer.getLight();
+    sun->setPosition(osg::Vec4(toSun, 0.0f));
+    sun->setAmbient(osg::Vec4(0, 0, 0, 1));
+    const float s = kSunLinear;
+    sun->setDiffuse(osg::Vec4(s, s, s, 1));
+    sun->setSpecular(osg::Vec4(s, s, s, 1));
+
+    // ---- sgfx-view's camera (CameraManipulator::home, then setPerspective(40, d/50, 20 d))
+    osg::Camera* camera = viewer.getCamera();
+    camera->setClearColor(clear);
+    camera->setComputeNearFarMode(osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
+    camera->setCullingMode(osg::CullSettings::VIEW_FRUSTUM_CULLING);
+    const double aspect = double(opt.width) / double(opt.height);
+    const float halfY = osg::DegreesToRadians(kFovyDegrees) * 0.5f;
+    const float halfX = std::atan(std::tan(halfY) * std::max(float(aspect), 1e-3f));
+    const float distance = 1.05f * radius / std::sin(std::min(halfX, halfY));
+    const float yaw = osg::DegreesToRadians(opt.yaw), pitch = osg::DegreesToRadians(opt.pitch);
+    const osg::Vec3 look{-std::sin(yaw) * std::cos(pitch), std::cos(yaw) * std::cos(pitch), -std::sin(pitch)};
+    const osg::Vec3 centre = box.center();
+    camera->setViewMatrixAsLookAt(centre - look * distance, centre, osg::Vec3(0, 0, 1));
+    camera->setProjectionMatrixAsPerspective(kFovyDegrees, aspect, distance * 0.02, distance * 20.0);
+    viewer.realize();
+    viewer.frame();
+    glFinish();
+
+    // ---- the frame as PNG, top row first, as drawn (display values, see the header)
+    const std::size_t row = std::size_t(opt.width) * 3;
+    std::vector<unsigned char> px(row * std::size_t(opt.height)), flipped(px.size());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, opt.width, opt.height, GL_RGB, GL_UNSIGNED_BYTE, px.data());
+    for (int y = 0; y < opt.height; ++y)
+        std::memcpy(flipped.data() + std::size_t(y) * row, px.data() + std::size_t(opt.height - 1 - y) * row,
+                    row);
+    if (!stbi_write_png(opt.out.c_str(), opt.width, opt.height, 3, flipped.data(), int(row))) {
+        std::fprintf(stderr, "osg_view: cannot write %s\n", opt.out.c_str());
+        return 1;
+    }
+    std::printf(
+        "osg_view: wrote %s (%dx%d): %zu drawables, %zu triangles, bounds (%.3f,%.3f,%.3f)-(%.3f,%.3f,"
+        "%.3f), renderer %s\n",
+        opt.out.c_str(), opt.width, opt.height, count.drawables, count.triangles, box.xMin(), box.yMin(),
+        box.zMin(), box.xMax(), box.yMax(), box.zMax(), renderer);
+    return 0; // the viewer goes first (its GL objects released in our context), then the context
+}
