@@ -505,6 +505,23 @@ TEST(GlslCompatRender, DriverErrorsPointAtTheOriginalLine) {
     }
 }
 
+TEST(GlslCompatRender, ProgramsOwnGlFogFogsNothing) {
+    // A program that fogs itself with gl_Fog (exp2, linear) shows its colour unfogged: sgfx's
+    // FogNode does the fog (the test above), gl_Fog has density 0 and reaches to 1e30.
+    const CompatProgram p = translateCompatibilityProgram(
+        "selffog", "",
+        "void main() {\n"
+        "    float z = gl_FragCoord.z / gl_FragCoord.w;\n"
+        "    float e = exp(-gl_Fog.density * gl_Fog.density * z * z);\n"
+        "    float l = clamp((gl_Fog.end - z) * gl_Fog.scale, 0.0, 1.0);\n"
+        "    gl_FragColor = mix(gl_Fog.color, vec4(0.25, 0.5, 0.75, 1.0), e * l);\n"
+        "}\n");
+    EXPECT_FALSE(p.notes.empty());
+    const Frame f = render(with(shapes::quad(2, 2), p));
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(f.at(kSize / 2, kSize / 2)[c], 0.25 * (c + 1), 0.01) << c;
+}
+
 TEST(GlslCompatRender, FogAppliesToTranslatedPrograms) {
     // glsl_simple's first program under homogeneous fog: each pixel is the fog formula
     // (FogMath.h, the CPU mirror) applied to the same pixel unfogged.

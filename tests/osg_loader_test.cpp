@@ -29,9 +29,12 @@
 #ifdef SGFX_TEST_HAVE_OSG
 #include <osg/AnimationPath>
 #include <osg/ClipNode>
+#include <osg/Fog>
 #include <osg/Geode>
 #include <osg/Geometry>
 #include <osg/LOD>
+#include <osg/LightSource>
+#include <osg/Material>
 #include <osg/MatrixTransform>
 #include <osg/NodeVisitor>
 #include <osg/PagedLOD>
@@ -40,6 +43,7 @@
 #include <osg/ShadeModel>
 #include <osg/ShapeDrawable>
 #include <osg/Switch>
+#include <osg/TexEnv>
 #include <osg/TexGen>
 #include <osg/Texture2D>
 #include <osg/TextureCubeMap>
@@ -370,6 +374,63 @@ TEST(OsgLoader, FlatShadingAndPolygonModeLineDrawAsOpenGLDoes) {
         for (int x : {15, 16, 47, 48})
             outline += pixelAt(line, x, y) != glm::ivec4(0, 0, 0, 255);
     EXPECT_GT(outline, 40); // the left and right edges, one pixel wide each
+}
+
+// An osg::LightSource lights the file as sgfx's light does (directional from +Z, white: a surface
+// facing it shows its Material's diffuse, a display value, as it is); TexEnv REPLACE shows the
+// texture whatever the lighting; a state attribute the bridge does not read is named in a warning.
+TEST(OsgLoader, LightSourcesMaterialsAndTexEnvReplace) {
+    osg::ref_ptr<osg::Group> root = new osg::Group;
+    osg::ref_ptr<osg::LightSource> sun = new osg::LightSource;
+    sun->getLight()->setPosition(osg::Vec4(0, 0, 1, 0));
+    sun->getLight()->setDiffuse(osg::Vec4(1, 1, 1, 1));
+    sun->getLight()->setAmbient(osg::Vec4(0, 0, 0, 1));
+    root->addChild(sun);
+    const auto tile = [&](float x, float y) {
+        auto g = osgQuad(0.4f);
+        for (auto& v : *static_cast<osg::Vec3Array*>(g->getVertexArray()))
+            v += osg::Vec3(x, y, 0);
+        auto* uv = new osg::Vec2Array;
+        for (auto [s, t] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}})
+            uv->push_back(osg::Vec2(s, t));
+        g->setTexCoordArray(0, uv);
+        osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+        geode->addDrawable(g);
+        root->addChild(geode);
+        return geode->getOrCreateStateSet();
+    };
+    auto* material = new osg::Material;
+    material->setDiffuse(osg::Material::FRONT_AND_BACK, osg::Vec4(0.5f, 0.25f, 0.75f, 1));
+    material->setAmbient(osg::Material::FRONT_AND_BACK, osg::Vec4(0, 0, 0, 1));
+    tile(-0.5f, 0)->setAttribute(material);
+    osg::ref_ptr<osg::Image> im = new osg::Image;
+    im->allocateImage(2, 2, 1, GL_RGB, GL_UNSIGNED_BYTE);
+    for (unsigned i = 0; i < 4; ++i)
+        im->data()[i * 3] = 200, im->data()[i * 3 + 1] = 100, im->data()[i * 3 + 2] = 50;
+    auto* replaced = tile(0.5f, 0);
+    replaced->setAttribute(material);
+    replaced->setTextureAttributeAndModes(0, new osg::Texture2D(im.get()));
+    replaced->setTextureAttribute(0, new osg::TexEnv(osg::TexEnv::REPLACE));
+    root->getOrCreateStateSet()->setAttribute(new osg::Fog);
+    OsgStats stats;
+    auto loaded = roundTrip(*root, "lights", &stats);
+    bool fogWarned = false;
+    for (const auto& w : stats.warnings)
+        fogWarned |= w.find("osg::Fog state attribute") != std::string::npos;
+    EXPECT_TRUE(fogWarned);
+
+    auto viewer = test::orthoTopViewer(64, 1.0f);
+    viewer->setSceneData(loaded);
+    viewer->frame();
+    const Image img = viewer->capture();
+    // Lambert under a white light of 1 from straight above: the diffuse itself (display values).
+    const glm::ivec4 lit = pixelAt(img, 16, 32), tex = pixelAt(img, 48, 32);
+    EXPECT_NEAR(lit.r, 128, 2);
+    EXPECT_NEAR(lit.g, 64, 2);
+    EXPECT_NEAR(lit.b, 191, 2);
+    EXPECT_NEAR(tex.r, 200, 2);
+    EXPECT_NEAR(tex.g, 100, 2);
+    EXPECT_NEAR(tex.b, 50, 2);
 }
 
 TEST(OsgLoader, CowShowsItsReflectionMap) {

@@ -164,6 +164,7 @@ const std::unordered_map<std::string_view, std::string_view>& commonNames() {
         {"gl_FrontLightProduct", "osg_FrontLightProduct"},
         {"gl_BackLightProduct", "osg_BackLightProduct"},
         {"gl_SecondaryColor", "osg_SecondaryColor"},
+        {"gl_Fog", "osg_Fog"},
         {"gl_MaxLights", "8"},
         {"gl_MaxTextureCoords", "8"},
         {"gl_MaxTextureUnits", "8"},
@@ -629,6 +630,10 @@ std::string definitions(const Stage& st, const Interface& io) {
          {"osg_BackColor", "osg_FrontSecondaryColor", "osg_BackSecondaryColor", "osg_ClipVertex"})
         if (uses(name)) out += std::string("vec4 ") + name + ";\n"; // written, never read by sgfx
     if (uses("osg_FogFragCoord")) out += "float osg_FogFragCoord;\n";
+    if (uses("osg_Fog")) // a fog that fogs nothing: sgfx's FogNode fogs the program's output instead
+        out +=
+            "struct osg_FogParameters { vec4 color; float density; float start; float end; float scale; };\n"
+            "const osg_FogParameters osg_Fog = osg_FogParameters(vec4(0.0), 0.0, 0.0, 1e30, 1e-30);\n";
     if (uses("osg_FragColor")) out += "layout(location = 0) out vec4 osg_FragColor;\n";
     if (uses("osg_ftransform"))
         out += "vec4 osg_ftransform() { return sgfx_viewProjection * sgfx_model * osg_Vertex; }\n";
@@ -688,6 +693,9 @@ void addNotes(const Context& ctx, const Stage& st) {
         ctx.note("gl_BackColor is ignored: both faces get gl_FrontColor (no two-sided vertex colour)");
     if (uses("osg_ClipVertex")) ctx.note("gl_ClipVertex is ignored (no user clip planes)");
     if (uses("osg_FogFragCoord")) ctx.note("gl_FogFragCoord is ignored (fog comes from sgfx's FogNode)");
+    if (uses("osg_Fog"))
+        ctx.note("gl_Fog is a fog of density 0 reaching to 1e30 (the program's own fog fogs nothing; "
+                 "sgfx's FogNode fogs its output)");
     if (uses("osg_LightSource"))
         ctx.note(
             "gl_LightSource[i] holds the view's sgfx lights in eye space (colour as diffuse and specular, "

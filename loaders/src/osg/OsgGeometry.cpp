@@ -37,10 +37,12 @@ glm::vec4 element(const osg::Array& a, unsigned i) {
     return v;
 }
 
-bool usable(const osg::Array* a) {
+bool usable(Context& cx, const osg::Array* a, const char* what) {
     if (!a || a->getNumElements() == 0 || a->getBinding() == osg::Array::BIND_OFF) return false;
     const auto t = a->getDataType();
-    return t == GL_FLOAT || t == GL_DOUBLE || t == GL_UNSIGNED_BYTE || t == GL_UNSIGNED_SHORT;
+    if (t == GL_FLOAT || t == GL_DOUBLE || t == GL_UNSIGNED_BYTE || t == GL_UNSIGNED_SHORT) return true;
+    cx.warn(std::string("osg::Geometry ") + what + " array of " + a->className() + ": not converted");
+    return false;
 }
 
 /// A run of vertex indices drawn with one mode (a DrawArrayLengths gives one run per length).
@@ -211,11 +213,13 @@ std::vector<std::shared_ptr<Geometry>> convertGeometry(Context& cx, const osg::G
                                                        const GeometryShape& shape) {
     const bool keepColors = shape.colors;
     const osg::Array* vertices = g.getVertexArray();
-    if (!usable(vertices)) return {};
-    Arrays a{vertices, usable(g.getNormalArray()) ? g.getNormalArray() : nullptr,
-             keepColors && usable(g.getColorArray()) ? g.getColorArray() : nullptr,
-             usable(g.getTexCoordArray(0)) ? g.getTexCoordArray(0) : nullptr,
-             usable(g.getTexCoordArray(1)) ? g.getTexCoordArray(1) : nullptr};
+    if (!usable(cx, vertices, "vertex")) return {};
+    Arrays a{vertices, usable(cx, g.getNormalArray(), "normal") ? g.getNormalArray() : nullptr,
+             keepColors && usable(cx, g.getColorArray(), "colour") ? g.getColorArray() : nullptr,
+             usable(cx, g.getTexCoordArray(0), "texture coordinate") ? g.getTexCoordArray(0) : nullptr,
+             usable(cx, g.getTexCoordArray(1), "texture coordinate") ? g.getTexCoordArray(1) : nullptr};
+    for (unsigned unit = 2; unit < g.getNumTexCoordArrays(); ++unit)
+        if (g.getTexCoordArray(unit)) cx.warn("osg::Geometry texture coordinate sets above 1: not converted");
     const unsigned count = vertices->getNumElements();
     // Arrays bound per primitive set give a vertex one value per set: such geometries are
     // unshared (each drawn vertex its own); everything else keeps OSG's vertices and counts.

@@ -3,6 +3,7 @@
 #include "OsgConvert.h"
 
 #include <sgfx/Billboard.h>
+#include <sgfx/Camera.h>
 #include <sgfx/DOFTransform.h>
 #include <sgfx/LOD.h>
 #include <sgfx/PagedLOD.h>
@@ -14,6 +15,7 @@
 #include <osg/Billboard>
 #include <osg/Geode>
 #include <osg/LOD>
+#include <osg/LightSource>
 #include <osg/MatrixTransform>
 #include <osg/PagedLOD>
 #include <osg/PositionAttitudeTransform>
@@ -177,6 +179,42 @@ void attachAnimationPath(Context& cx, const osg::AnimationPathCallback& cb, Node
     };
 }
 
+/// osg::LightSource → sgfx lights: w = 0 a directional light shining from `position`, else a
+/// point light there, or a spot when its cutoff is under 90°; the light's ambient becomes an
+/// ambient light. Colours are OSG's display values, decoded to linear.
+std::shared_ptr<Group> convertLightSource(Context& cx, const osg::LightSource& ls) {
+    auto group = Group::create();
+    const osg::Light* l = ls.getLight();
+    if (!l) return group;
+    if (ls.getReferenceFrame() == osg::LightSource::ABSOLUTE_RF)
+        cx.warn("osg::LightSource ABSOLUTE_RF: placed in its parent's frame");
+    const osg::Vec4 p = l->getPosition();
+    auto light = Light::create(p.w() == 0.0f                ? LightType::Directional
+                               : l->getSpotCutoff() < 90.0f ? LightType::Spot
+                                                            : LightType::Point);
+    light->name = ls.getName();
+    light->color = glm::vec3(linearColor(l->getDiffuse()));
+    if (p.w() == 0.0f) {
+        const glm::vec3 towards(p.x(), p.y(), p.z());
+        light->direction = glm::length(towards) > 0.0f ? -glm::normalize(towards) : glm::vec3(0, 0, -1);
+    } else {
+        light->position = glm::vec3(p.x(), p.y(), p.z()) / p.w();
+        const osg::Vec3 d = l->getDirection();
+        if (d.length() > 0.0f) light->direction = glm::normalize(glm::vec3(d.x(), d.y(), d.z()));
+        light->outerConeAngle = glm::radians(std::min(l->getSpotCutoff(), 89.9f));
+        if (l->getLinearAttenuation() != 0.0f || l->getQuadraticAttenuation() != 0.0f)
+            cx.warn("osg::Light attenuation: lit without falloff");
+    }
+    group->addChild(light);
+    const glm::vec3 ambient(linearColor(l->getAmbient()));
+    if (ambient != glm::vec3(0.0f)) {
+        auto a = Light::create(LightType::Ambient);
+        a->color = ambient;
+        group->addChild(a);
+    }
+    return group;
+}
+
 std::shared_ptr<Group> makeGroupFor(Context& cx, const osg::Node& node, const FixedState& state) {
     if (const auto* b = dynamic_cast<const osg::Billboard*>(&node)) return convertBillboard(cx, *b, state);
     if (const auto* d = dynamic_cast<const osgSim::DOFTransform*>(&node)) return convertDof(cx, *d);
@@ -185,6 +223,7 @@ std::shared_ptr<Group> makeGroupFor(Context& cx, const osg::Node& node, const Fi
     if (const auto* p = dynamic_cast<const osg::PositionAttitudeTransform*>(&node))
         return Transform::create(patMatrix(*p));
     if (const auto* l = dynamic_cast<const osg::LOD*>(&node)) return convertLod(cx, *l);
+    if (const auto* ls = dynamic_cast<const osg::LightSource*>(&node)) return convertLightSource(cx, *ls);
     const std::string cls = std::string(node.libraryName()) + "::" + node.className();
     if (const auto* sw = dynamic_cast<const osg::Switch*>(&node)) {
         auto out = Switch::create();

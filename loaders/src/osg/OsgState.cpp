@@ -200,6 +200,8 @@ void convertRasterState(Context& cx, const osg::StateSet& s, StateSet& out, Fixe
     if (!(cullMode & osg::StateAttribute::INHERIT)) {
         const auto* cf = dynamic_cast<const osg::CullFace*>(s.getAttribute(osg::StateAttribute::CULLFACE));
         const bool on = cullMode & osg::StateAttribute::ON;
+        if (on && cf && cf->getMode() == osg::CullFace::FRONT_AND_BACK)
+            cx.warn("osg::CullFace FRONT_AND_BACK (draws nothing in OpenGL): culled as BACK");
         out.cullFace.set(!on                                             ? CullFace::None
                          : (cf && cf->getMode() == osg::CullFace::FRONT) ? CullFace::Front
                                                                          : CullFace::Back,
@@ -345,8 +347,27 @@ void convertUniforms(Context& cx, const osg::StateSet& s, StateSet& out, FixedSt
 
 } // namespace
 
+/// Attributes the converter reads; any other gets one warning per class.
+void warnUnknownAttributes(Context& cx, const osg::StateSet& s) {
+    using A = osg::StateAttribute;
+    static const A::Type known[] = {A::MATERIAL, A::BLENDFUNC,  A::ALPHAFUNC,  A::CULLFACE,
+                                    A::DEPTH,    A::LIGHTMODEL, A::SHADEMODEL, A::POLYGONMODE,
+                                    A::PROGRAM,  A::TEXTURE,    A::TEXENV,     A::TEXGEN};
+    const auto check = [&](const A* a) {
+        if (a && std::find(std::begin(known), std::end(known), a->getType()) == std::end(known))
+            cx.warn(std::string(a->libraryName()) + "::" + a->className() +
+                    " state attribute: not converted");
+    };
+    for (const auto& [key, value] : s.getAttributeList())
+        check(value.first.get());
+    for (const auto& unit : s.getTextureAttributeList())
+        for (const auto& [key, value] : unit)
+            check(value.first.get());
+}
+
 std::shared_ptr<StateSet> convertStateSet(Context& cx, const osg::StateSet& s, FixedState& state) {
     auto out = StateSet::create();
+    warnUnknownAttributes(cx, s);
     if (const auto lm = s.getMode(GL_LIGHTING); !(lm & osg::StateAttribute::INHERIT))
         state.lighting = lm & osg::StateAttribute::ON;
     if (const auto* m = dynamic_cast<const osg::Material*>(s.getAttribute(osg::StateAttribute::MATERIAL)))
@@ -381,7 +402,9 @@ std::shared_ptr<Material> materialFor(Context& cx, const FixedState& state) {
     auto& m = cx.materials[state];
     if (m) return m;
     m = Material::create();
-    m->model = state.lighting ? ShadingModel::BlinnPhong : ShadingModel::Unlit;
+    // TexEnv REPLACE: the texture is the colour, whatever the lighting (OpenGL 1.x table 3.22).
+    const bool replace = state.texture0 && state.texEnv == GL_REPLACE;
+    m->model = state.lighting && !replace ? ShadingModel::BlinnPhong : ShadingModel::Unlit;
     const bool colorDrives = usesVertexColors(state);
     if (const auto* om = state.material) {
         const auto F = osg::Material::FRONT;
@@ -393,7 +416,7 @@ std::shared_ptr<Material> materialFor(Context& cx, const FixedState& state) {
     } else {
         m->ambient = glm::vec3(0.2f);
     }
-    if (colorDrives || !state.lighting) {
+    if (colorDrives || !state.lighting || replace) {
         m->diffuse = glm::vec4(1.0f, 1.0f, 1.0f, state.material && state.lighting ? m->diffuse.a : 1.0f);
         if (!state.material || state.material->getColorMode() == osg::Material::AMBIENT_AND_DIFFUSE)
             m->ambient = glm::vec3(1.0f);
