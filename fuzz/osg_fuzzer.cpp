@@ -17,6 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const char* ext = formats[data[0] % 6];
     sgfx::OsgOptions options;
     options.memoryLimit = std::size_t(64) << 20;
+    options.readTimeout = 5.0; // a reader that hangs is a finding of its own (the parent reads too)
     try {
         sgfx::OsgStats stats;
         (void)sgfx::loadOsgFromMemory(std::as_bytes(std::span(data + 1, size - 1)), ext, "fuzz-input",

@@ -62,3 +62,27 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 "$out/fuzz/gltf_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 \
   -artifact_prefix="$out/artifacts/" "$out/corpus" "$seeds"
 echo "sgfx fuzz: no crash, leak or sanitizer error in ${seconds} s"
+
+# The OpenSceneGraph bridge's target (built when OSG is found): the first byte of an input picks the
+# format, the seeds are OSG's small sample files as .osgt. osgDB's own readers crash on corrupt
+# files; loadOsg reads each in a child process first, so a finding here is the bridge's bug (or a
+# reader that hangs past OsgOptions::readTimeout in the parent too).
+if grep -q "osg_fuzzer" "$out/build.ninja"; then
+  cmake --build "$out" -j "$jobs" --target osg_fuzzer
+  osg_seeds=$out/seeds-osg
+  rm -rf "$osg_seeds"
+  mkdir -p "$osg_seeds" "$out/corpus-osg"
+  osg_assets=$root/../shared/assets/osg
+  if [ -d "$osg_assets" ]; then
+    for f in "$osg_assets"/*.osgt; do
+      if [ "$(stat -c %s "$f")" -lt 65536 ]; then
+        { printf '\000'; cat "$f"; } > "$osg_seeds/$(basename "$f")"
+      fi
+    done
+  fi
+  printf '\001osgb' > "$osg_seeds/tiny.osgb"
+  echo "sgfx fuzz (OSG): $(ls "$osg_seeds" | wc -l) seeds, ${seconds} s"
+  "$out/fuzz/osg_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -print_final_stats=1 \
+    -artifact_prefix="$out/artifacts/" "$out/corpus-osg" "$osg_seeds"
+  echo "sgfx fuzz (OSG): no crash, leak or sanitizer error in ${seconds} s"
+fi

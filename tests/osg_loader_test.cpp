@@ -433,6 +433,37 @@ TEST(OsgLoader, LightSourcesMaterialsAndTexEnvReplace) {
     EXPECT_NEAR(tex.b, 50, 2);
 }
 
+// osg::Material's two faces: seen from above, the front face shows the FRONT diffuse; seen from
+// below (OSG does not cull faces unless told), the back face shows the BACK diffuse, each lit by
+// a light on its side.
+TEST(OsgLoader, BackFacesShowTheBackMaterial) {
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(osgQuad(0.5f));
+    auto* material = new osg::Material;
+    material->setDiffuse(osg::Material::FRONT, osg::Vec4(0.5f, 0, 0, 1));
+    material->setDiffuse(osg::Material::BACK, osg::Vec4(0, 0, 0.5f, 1));
+    material->setAmbient(osg::Material::FRONT_AND_BACK, osg::Vec4(0, 0, 0, 1));
+    geode->getOrCreateStateSet()->setAttribute(material);
+    auto model = roundTrip(*geode, "faces");
+    auto viewer = test::orthoTopViewer(32, 1.0f);
+    auto scene = Group::create();
+    auto light = Light::create(LightType::Directional);
+    scene->addChild(light);
+    scene->addChild(model);
+    viewer->setSceneData(scene);
+    light->direction = {0, 0, -1};
+    const auto expectNear = [](glm::ivec4 got, glm::ivec4 want) {
+        for (int c = 0; c < 4; ++c)
+            EXPECT_NEAR(got[c], want[c], 1) << "channel " << c;
+    };
+    viewer->frame();
+    expectNear(pixelAt(viewer->capture(), 16, 16), {128, 0, 0, 255});
+    light->direction = {0, 0, 1};
+    viewer->camera()->setLookAt({0, 0, -10}, {0, 0, 0}, {0, 1, 0});
+    viewer->frame();
+    expectNear(pixelAt(viewer->capture(), 16, 16), {0, 0, 128, 255});
+}
+
 TEST(OsgLoader, CowShowsItsReflectionMap) {
     SGFX_REQUIRE(fs::exists(assets() / "cow.osgt"), "../shared/assets/osg");
     auto root = loadOsg(assets() / "cow.osgt", assetOptions());

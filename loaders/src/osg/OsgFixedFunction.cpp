@@ -4,6 +4,7 @@
 // sgfx's lights like the built-in Blinn-Phong and opts into AO and shadows.
 #include "OsgConvert.h"
 
+#include <osg/Material>
 #include <osg/TexEnv>
 #include <osg/TexGen>
 #include <osg/TextureCubeMap>
@@ -56,6 +57,11 @@ uniform vec4 osgff_diffuse;
 uniform vec3 osgff_specular;
 uniform vec3 osgff_emission;
 uniform float osgff_shininess;
+uniform vec3 osgff_backAmbient; // osg::Material's BACK face, for back faces
+uniform vec4 osgff_backDiffuse;
+uniform vec3 osgff_backSpecular;
+uniform vec3 osgff_backEmission;
+uniform float osgff_backShininess;
 uniform int osgff_hasColors;
 uniform sampler2D osgff_texture0;
 layout(location = 0) out vec4 fragColor;
@@ -92,21 +98,25 @@ vec3 cubeDirection(vec3 worldNormal) {
 
 void main() {
     vec4 vertexColor = osgff_hasColors != 0 ? v_color : vec4(1.0);
-    vec4 base = osgff_diffuse * vertexColor;
+    bool front = gl_FrontFacing;
+    vec4 base = (front ? osgff_diffuse : osgff_backDiffuse) * vertexColor;
     vec3 N = surfaceNormal();
 #ifdef OSGFF_LIGHTING
     vec3 V = normalize(sgfx_eye.xyz - v_worldPos);
-    vec3 ambient = sgfx_ambientLight.rgb * osgff_ambient * (osgff_hasColors != 0 ? vertexColor.rgb : vec3(1.0));
+    vec3 ambient = sgfx_ambientLight.rgb * (front ? osgff_ambient : osgff_backAmbient) *
+                   (osgff_hasColors != 0 ? vertexColor.rgb : vec3(1.0));
 #ifdef SGFX_AMBIENT_OCCLUSION
     ambient *= 1.0 - sgfx_ambientOcclusion();
 #endif
-    vec3 color = osgff_emission + ambient;
+    vec3 color = (front ? osgff_emission : osgff_backEmission) + ambient;
+    vec3 specular = front ? osgff_specular : osgff_backSpecular;
+    float shininess = front ? osgff_shininess : osgff_backShininess;
     for (int i = 0; i < min(sgfx_lightCount.x, 8); ++i) {
         vec4 lv = sgfx_lightVector[i];
         vec3 L = normalize(lv.w == 0.0 ? lv.xyz : lv.xyz - v_worldPos);
         float nl = max(dot(N, L), 0.0);
-        float spec = nl > 0.0 ? pow(max(dot(N, normalize(L + V)), 0.0), osgff_shininess) : 0.0;
-        vec3 c = sgfx_lightColor[i].rgb * (base.rgb * nl + osgff_specular * spec);
+        float spec = nl > 0.0 ? pow(max(dot(N, normalize(L + V)), 0.0), shininess) : 0.0;
+        vec3 c = sgfx_lightColor[i].rgb * (base.rgb * nl + specular * spec);
 #ifdef SGFX_LIGHT_VISIBILITY
         c *= sgfx_lightVisibility(i, v_worldPos, N);
 #endif
@@ -144,7 +154,20 @@ bool isCube(const FixedState& state) {
     return dynamic_cast<const osg::TextureCubeMap*>(state.texture0) != nullptr;
 }
 
+/// The Material's faces differ (OpenGL lights back faces with the BACK material).
+bool twoFaced(const FixedState& state) {
+    const auto* m = state.material;
+    if (!m || !state.lighting) return false;
+    using M = osg::Material;
+    return m->getAmbient(M::FRONT) != m->getAmbient(M::BACK) ||
+           m->getDiffuse(M::FRONT) != m->getDiffuse(M::BACK) ||
+           m->getSpecular(M::FRONT) != m->getSpecular(M::BACK) ||
+           m->getEmission(M::FRONT) != m->getEmission(M::BACK) ||
+           m->getShininess(M::FRONT) != m->getShininess(M::BACK);
+}
+
 bool needsFixedFunctionProgram(const FixedState& state) {
+    if (twoFaced(state)) return true;
     if (!state.texture0) return false;
     return state.texGen == osg::TexGen::SPHERE_MAP || isCube(state) || state.texEnv == GL_DECAL ||
            state.texEnv == GL_BLEND;

@@ -309,6 +309,8 @@ std::shared_ptr<Group> convertRead(osg::Node& node, const std::filesystem::path&
 
     auto root = Group::create();
     root->name = file.filename().string();
+    // OpenGL's default, which OSG keeps: GL_CULL_FACE off (sgfx's default culls back faces).
+    root->getOrCreateStateSet().cullFace.set(CullFace::None);
     root->addChild(convertNode(cx, node, FixedState{}));
     for (const auto& [what, w] : cx.warnings)
         local.warnings.push_back(what + " at " + w.where +

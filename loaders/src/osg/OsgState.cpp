@@ -398,8 +398,10 @@ namespace {
 
 /// The built-in material for a fixed-function state (OpenGL 1.x lighting with osg::Material's
 /// front face; colour mode AMBIENT_AND_DIFFUSE: the vertex colour is the ambient and diffuse).
-std::shared_ptr<Material> materialFor(Context& cx, const FixedState& state) {
-    auto& m = cx.materials[state];
+std::shared_ptr<Material> materialFor(Context& cx, const FixedState& state,
+                                      osg::Material::Face face = osg::Material::FRONT) {
+    std::shared_ptr<Material> back;
+    auto& m = face == osg::Material::FRONT ? cx.materials[state] : back;
     if (m) return m;
     m = Material::create();
     // TexEnv REPLACE: the texture is the colour, whatever the lighting (OpenGL 1.x table 3.22).
@@ -407,7 +409,7 @@ std::shared_ptr<Material> materialFor(Context& cx, const FixedState& state) {
     m->model = state.lighting && !replace ? ShadingModel::BlinnPhong : ShadingModel::Unlit;
     const bool colorDrives = usesVertexColors(state);
     if (const auto* om = state.material) {
-        const auto F = osg::Material::FRONT;
+        const auto F = face;
         m->ambient = glm::vec3(linearColor(om->getAmbient(F)));
         m->diffuse = linearColor(om->getDiffuse(F));
         m->specular = glm::vec3(linearColor(om->getSpecular(F)));
@@ -468,6 +470,12 @@ void applyFixedState(Context& cx, const FixedState& state, StateSet& out, const 
         out.setUniform("osgff_specular", material->specular);
         out.setUniform("osgff_emission", material->emissive);
         out.setUniform("osgff_shininess", material->shininess);
+        const auto back = materialFor(cx, state, osg::Material::BACK);
+        out.setUniform("osgff_backAmbient", back->ambient);
+        out.setUniform("osgff_backDiffuse", back->diffuse);
+        out.setUniform("osgff_backSpecular", back->specular);
+        out.setUniform("osgff_backEmission", back->emissive);
+        out.setUniform("osgff_backShininess", back->shininess);
         out.setUniform("osgff_hasColors", int(!geometry.colors.empty()));
         if (state.texture0)
             if (auto t = convertTexture(cx, *state.texture0)) out.setTexture("osgff_texture0", std::move(t));
