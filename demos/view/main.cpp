@@ -27,8 +27,10 @@
 namespace {
 
 const char* const kUsage = R"(usage: sgfx-view [options] FILE...
-Loads the files (.gltf .glb .obj .off .ply .stl). With a display (DISPLAY or WAYLAND_DISPLAY)
-it opens a window; otherwise, or with --headless or --out, it renders a PNG.
+Loads the files (.gltf .glb .obj .off .ply .stl; with the OpenSceneGraph bridge also .osgt .osgb
+.osg .ive .flt and the other formats osgDB reads, images found through OSG_FILE_PATH). With a
+display (DISPLAY or WAYLAND_DISPLAY) it opens a window; otherwise, or with --headless or --out, it
+renders a PNG.
   --out PNG          output image (default sgfx-view.png); implies --headless
   --headless         render to the PNG even when a display exists
   --window           open a window or fail (exit 1) when none can be opened
