@@ -464,6 +464,84 @@ TEST(OsgLoader, BackFacesShowTheBackMaterial) {
     expectNear(pixelAt(viewer->capture(), 16, 16), {0, 0, 128, 255});
 }
 
+// Every primitive set kind and mode, counted by hand: DrawArrays, DrawArrayLengths and DrawElements
+// (ubyte, ushort, uint) of triangles, strips, fans, quads, quad strips, polygons, lines, line
+// strips and loops, points; and a colour array bound per primitive set colours each set.
+TEST(OsgLoader, EveryPrimitiveModeAndBinding) {
+    osg::ref_ptr<osg::Geometry> g = new osg::Geometry;
+    auto* v = new osg::Vec3Array;
+    for (int i = 0; i < 12; ++i)
+        v->push_back(osg::Vec3(float(i % 4), float(i / 4), 0));
+    g->setVertexArray(v);
+    g->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLES, 0, 6));      // 2
+    g->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLE_STRIP, 0, 7)); // 5
+    g->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLE_FAN, 0, 6));   // 4
+    g->addPrimitiveSet(new osg::DrawArrays(GL_QUADS, 0, 8));          // 4
+    g->addPrimitiveSet(new osg::DrawArrays(GL_QUAD_STRIP, 0, 8));     // 6
+    g->addPrimitiveSet(new osg::DrawArrays(GL_POLYGON, 0, 5));        // 3
+    auto* lengths = new osg::DrawArrayLengths(GL_TRIANGLE_STRIP, 0);
+    lengths->push_back(4), lengths->push_back(5); // 2 + 3
+    g->addPrimitiveSet(lengths);
+    auto* ub = new osg::DrawElementsUByte(GL_TRIANGLES);
+    for (int i : {0, 1, 4, 1, 5, 4})
+        ub->push_back((GLubyte)i); // 2
+    g->addPrimitiveSet(ub);
+    auto* us = new osg::DrawElementsUShort(GL_TRIANGLE_STRIP);
+    for (int i : {4, 5, 8, 9, 10})
+        us->push_back((GLushort)i); // 3
+    g->addPrimitiveSet(us);
+    auto* ui = new osg::DrawElementsUInt(GL_QUADS);
+    for (int i : {5, 6, 10, 9})
+        ui->push_back((GLuint)i); // 2
+    g->addPrimitiveSet(ui);
+    g->addPrimitiveSet(new osg::DrawArrays(GL_LINE_LOOP, 0, 4));  // 4 lines
+    g->addPrimitiveSet(new osg::DrawArrays(GL_LINE_STRIP, 4, 4)); // 3 lines
+    g->addPrimitiveSet(new osg::DrawArrays(GL_LINES, 8, 4));      // 2 lines
+    g->addPrimitiveSet(new osg::DrawArrays(GL_POINTS, 0, 3));     // 3 points
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(g);
+    OsgStats stats;
+    auto root = roundTrip(*geode, "modes", &stats);
+    const std::size_t triangles = 2 + 5 + 4 + 4 + 6 + 3 + 5 + 2 + 3 + 2;
+    EXPECT_EQ(stats.triangles, triangles);
+    class Kinds : public NodeVisitor {
+    public:
+        void apply(Geometry& geometry) override {
+            const std::size_t per = geometry.mode == PrimitiveMode::Triangles ? 3
+                                    : geometry.mode == PrimitiveMode::Lines   ? 2
+                                                                              : 1;
+            count[int(geometry.mode)] += geometry.indices.size() / per;
+        }
+        std::size_t count[6] = {};
+    } kinds;
+    root->accept(kinds);
+    EXPECT_EQ(kinds.count[int(PrimitiveMode::Triangles)], triangles);
+    EXPECT_EQ(kinds.count[int(PrimitiveMode::Lines)], 9u);
+    EXPECT_EQ(kinds.count[int(PrimitiveMode::Points)], 3u);
+
+    // Two triangles in two primitive sets, one colour each (BIND_PER_PRIMITIVE_SET), unlit.
+    osg::ref_ptr<osg::Geometry> two = new osg::Geometry;
+    auto* w = new osg::Vec3Array;
+    for (auto [x, y] :
+         {std::pair{-0.9f, -0.9f}, {-0.1f, -0.9f}, {-0.5f, 0.9f}, {0.1f, -0.9f}, {0.9f, -0.9f}, {0.5f, 0.9f}})
+        w->push_back(osg::Vec3(x, y, 0));
+    two->setVertexArray(w);
+    auto* c = new osg::Vec4Array(osg::Array::BIND_PER_PRIMITIVE_SET);
+    c->push_back(osg::Vec4(1, 0, 0, 1)), c->push_back(osg::Vec4(0, 0, 1, 1));
+    two->setColorArray(c);
+    two->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLES, 0, 3));
+    two->addPrimitiveSet(new osg::DrawArrays(GL_TRIANGLES, 3, 3));
+    osg::ref_ptr<osg::Geode> g2 = new osg::Geode;
+    g2->addDrawable(two);
+    g2->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
+    auto viewer = test::orthoTopViewer(64, 1.0f);
+    viewer->setSceneData(roundTrip(*g2, "perset"));
+    viewer->frame();
+    const Image img = viewer->capture();
+    EXPECT_EQ(pixelAt(img, 16, 40), glm::ivec4(255, 0, 0, 255));
+    EXPECT_EQ(pixelAt(img, 48, 40), glm::ivec4(0, 0, 255, 255));
+}
+
 TEST(OsgLoader, CowShowsItsReflectionMap) {
     SGFX_REQUIRE(fs::exists(assets() / "cow.osgt"), "../shared/assets/osg");
     auto root = loadOsg(assets() / "cow.osgt", assetOptions());
