@@ -38,7 +38,15 @@ glm::vec4 element(const osg::Array& a, unsigned i) {
 }
 
 bool usable(Context& cx, const osg::Array* a, const char* what) {
-    if (!a || a->getNumElements() == 0 || a->getBinding() == osg::Array::BIND_OFF) return false;
+    if (!a) return false;
+    // The binding as the file had it: a corrupt file can hold any number there.
+    const int binding = int(a->getBinding());
+    if (binding != osg::Array::BIND_OFF && binding != osg::Array::BIND_OVERALL &&
+        binding != osg::Array::BIND_PER_PRIMITIVE_SET && binding != osg::Array::BIND_PER_VERTEX &&
+        binding != osg::Array::BIND_UNDEFINED)
+        throw LoadError("sgfx: model '" + cx.file.string() + "': osg::Geometry " + what + " array at " +
+                        cx.where() + ": binding " + std::to_string(binding) + " is not one of OSG's");
+    if (a->getNumElements() == 0 || binding == osg::Array::BIND_OFF) return false;
     const auto t = a->getDataType();
     if (t == GL_FLOAT || t == GL_DOUBLE || t == GL_UNSIGNED_BYTE || t == GL_UNSIGNED_SHORT) return true;
     cx.warn(std::string("osg::Geometry ") + what + " array of " + a->className() + ": not converted");
