@@ -80,7 +80,9 @@ if grep -q "osg_fuzzer" "$out/build.ninja"; then
       fi
     done
   fi
-  printf '\001osgb' > "$osg_seeds/tiny.osgb"
+  # Ours (fuzz/corpus-osg/, made with osgDB from a small graph): one file per format, each cut in
+  # half, garbage per format, and every input a past run found (kept as regressions).
+  cp "$root"/fuzz/corpus-osg/* "$osg_seeds/"
   echo "sgfx fuzz (OSG): $(ls "$osg_seeds" | wc -l) seeds, ${seconds} s"
   "$out/fuzz/osg_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -print_final_stats=1 \
     -artifact_prefix="$out/artifacts/" "$out/corpus-osg" "$osg_seeds"

@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #ifdef SGFX_TEST_HAVE_OSG
 #include <osg/AnimationPath>
@@ -48,6 +49,7 @@
 #include <osg/Texture2D>
 #include <osg/TextureCubeMap>
 #include <osgDB/ReadFile>
+#include <osgDB/Registry>
 #include <osgDB/WriteFile>
 #include <osgSim/DOFTransform>
 #endif
@@ -994,6 +996,28 @@ TEST(OsgLoader, TruncatedAndGarbageFilesGiveLoadErrorNamingTheFile) {
         files.push_back(garbage);
     }
     files.push_back(dir / "missing.osgt");
+    // A node made its own child through its UniqueID (a corrupt file's cycle): refused, not recursed.
+    {
+        osg::ref_ptr<osg::MatrixTransform> top = new osg::MatrixTransform;
+        top->addChild(new osg::Group);
+        std::stringstream text;
+        osg::ref_ptr<osgDB::Options> ascii = new osgDB::Options;
+        ascii->setPluginStringData("fileType", "Ascii");
+        osgDB::Registry::instance()->getReaderWriterForExtension("osgt")->writeNode(*top, text, ascii.get());
+        std::string doc = text.str();
+        const auto at = doc.find("Children 1 {");
+        ASSERT_NE(at, std::string::npos);
+        doc.replace(at, 12, "Children 2 {\n    osg::MatrixTransform {\n      UniqueID 1\n    }");
+        const auto cycle = dir / "cycle.osgt";
+        std::ofstream(cycle) << doc;
+        try {
+            (void)loadOsg(cycle);
+            ADD_FAILURE() << "a cycle loaded";
+        } catch (const LoadError& e) {
+            EXPECT_NE(std::string(e.what()).find("cycle"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("cycle.osgt"), std::string::npos) << e.what();
+        }
+    }
     for (const auto& f : files) {
         SCOPED_TRACE(f.string());
         try {

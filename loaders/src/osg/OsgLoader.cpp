@@ -64,20 +64,45 @@ namespace {
 
 /// OSG's own statistics: every Geometry once per parent path (osgUtil::StatsVisitor's way), and
 /// every program of the file, so samplers are known before any uniform is converted.
+/// It runs before the conversion, so it is also where a corrupt file's cycles (a node that is its
+/// own ancestor through shared UniqueIDs) and absurd nesting are refused, before any recursion.
 class CountVisitor : public osg::NodeVisitor {
 public:
-    CountVisitor()
-        : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
+    static constexpr std::size_t kMaxDepth = 512;
+    explicit CountVisitor(const std::filesystem::path& file)
+        : osg::NodeVisitor(TRAVERSE_ALL_CHILDREN)
+        , file_(file) {}
     void apply(osg::Node& node) override {
+        const Enter enter(*this, node);
         collect(node.getStateSet());
         traverse(node);
     }
     void apply(osg::Geode& geode) override {
+        const Enter enter(*this, geode);
         collect(geode.getStateSet());
         for (unsigned i = 0; i < geode.getNumDrawables(); ++i)
             count(geode.getDrawable(i));
         traverse(geode);
     }
+    /// The node on the current path for the time of its visit.
+    struct Enter {
+        Enter(CountVisitor& v, const osg::Node& n)
+            : visitor(v) {
+            auto& p = v.path_;
+            if (std::find(p.begin(), p.end(), &n) != p.end())
+                throw LoadError("sgfx: model '" + v.file_.string() + "': " + n.className() + " '" +
+                                n.getName() +
+                                "' is its own ancestor (a cycle in the graph): the file is corrupt");
+            if (p.size() >= kMaxDepth)
+                throw LoadError("sgfx: model '" + v.file_.string() + "': nodes nested deeper than " +
+                                std::to_string(kMaxDepth) + " levels: the file is corrupt");
+            p.push_back(&n);
+        }
+        ~Enter() { visitor.path_.pop_back(); }
+        Enter(const Enter&) = delete;
+        Enter& operator=(const Enter&) = delete;
+        CountVisitor& visitor;
+    };
     void count(osg::Drawable* d) {
         if (!d) return;
         collect(d->getStateSet());
@@ -126,6 +151,10 @@ public:
     }
     OsgStats stats;
     std::vector<const osg::Program*> programs;
+
+private:
+    const std::filesystem::path& file_;
+    std::vector<const osg::Node*> path_;
 };
 
 std::string readerMessage(const osgDB::ReaderWriter::ReadResult& r) {
@@ -297,13 +326,39 @@ std::shared_ptr<Group> loadOsgFromMemory(std::span<const std::byte> bytes, const
 
 namespace osgbridge {
 
+/// Removes every child link that closes a cycle (a corrupt file's shared UniqueIDs can make a node
+/// its own ancestor): ref_ptr cycles would otherwise never be freed.
+void breakCycles(osg::Node& node, std::vector<osg::Node*>& path) {
+    auto* group = node.asGroup();
+    if (!group || path.size() >= CountVisitor::kMaxDepth) return;
+    path.push_back(&node);
+    for (unsigned i = group->getNumChildren(); i-- > 0;) {
+        osg::Node* child = group->getChild(i);
+        if (std::find(path.begin(), path.end(), child) != path.end())
+            group->removeChild(i);
+        else if (child)
+            breakCycles(*child, path);
+    }
+    path.pop_back();
+}
+
+void breakCycles(osg::Node& root) {
+    std::vector<osg::Node*> path;
+    breakCycles(root, path);
+}
+
 std::shared_ptr<Group> convertRead(osg::Node& node, const std::filesystem::path& file,
                                    const OsgOptions& options, OsgStats* stats) {
     Context cx;
     cx.file = file;
     cx.options = options;
-    CountVisitor count;
-    node.accept(count);
+    CountVisitor count(file);
+    try {
+        node.accept(count);
+    } catch (const LoadError&) {
+        breakCycles(node); // else the file's nodes keep each other alive after the LoadError
+        throw;
+    }
     OsgStats local = count.stats;
     convertPrograms(cx, count.programs, local);
 
