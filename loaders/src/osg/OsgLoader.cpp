@@ -11,6 +11,7 @@
 #include <cmath>
 #include <csignal>
 #include <functional>
+#include <mutex>
 #include <thread>
 
 #include <cstdio>
@@ -221,6 +222,25 @@ osg::ref_ptr<osgDB::Options> readerOptions(const OsgOptions& options, const std:
     return o;
 }
 
+/// One osgDB read at a time in the process, first in a child (readInChild): a fork while another
+/// thread (the pager's) is inside osgDB would copy its locks held, and the child would wait forever.
+/// A reader that throws (std::bad_alloc on a huge declared count) is a LoadError too.
+osg::ref_ptr<osg::Node> guardedRead(const std::function<osgDB::ReaderWriter::ReadResult()>& read,
+                                    const OsgOptions& options, const std::string& name) {
+    static std::mutex oneReader;
+    const std::lock_guard lock(oneReader);
+    readInChild([&] { return read().validNode(); }, options, name);
+    try {
+        auto result = read();
+        if (!result.validNode()) throw LoadError("sgfx: model '" + name + "': " + readerMessage(result));
+        return result.getNode();
+    } catch (const LoadError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw LoadError("sgfx: model '" + name + "': osgDB's reader failed: " + e.what());
+    }
+}
+
 osg::ref_ptr<osg::Node> readNode(const std::filesystem::path& file, const OsgOptions& options) {
     const auto fail = [&](const std::string& why) {
         return LoadError("sgfx: model '" + file.string() + "': " + why);
@@ -228,16 +248,8 @@ osg::ref_ptr<osg::Node> readNode(const std::filesystem::path& file, const OsgOpt
     std::error_code ec;
     if (!std::filesystem::is_regular_file(file, ec)) throw fail("no such file");
     auto o = readerOptions(options, file.parent_path(), true);
-    const auto read = [&] { return osgDB::Registry::instance()->readNode(file.string(), o.get()); };
-    readInChild([&] { return read().validNode(); }, options, file.string());
-    try {
-        auto result = read();
-        if (!result.validNode()) throw fail(readerMessage(result));
-        return result.getNode();
-    } catch (const std::exception& e) {
-        if (dynamic_cast<const LoadError*>(&e)) throw;
-        throw fail(std::string("osgDB's reader failed: ") + e.what());
-    }
+    return guardedRead([&] { return osgDB::Registry::instance()->readNode(file.string(), o.get()); }, options,
+                       file.string());
 }
 
 void convertPrograms(Context& cx, const std::vector<const osg::Program*>& programs, OsgStats& stats) {
@@ -311,16 +323,7 @@ std::shared_ptr<Group> loadOsgFromMemory(std::span<const std::byte> bytes, const
         std::istringstream in(text, std::ios::binary);
         return rw->readNode(in, o.get());
     };
-    osgbridge::readInChild([&] { return read().validNode(); }, options, nameForErrors);
-    osg::ref_ptr<osg::Node> node;
-    try {
-        auto result = read();
-        if (!result.validNode()) throw fail(osgbridge::readerMessage(result));
-        node = result.getNode();
-    } catch (const std::exception& e) {
-        if (dynamic_cast<const LoadError*>(&e)) throw;
-        throw fail(std::string("osgDB's reader failed: ") + e.what());
-    }
+    auto node = osgbridge::guardedRead(read, options, nameForErrors);
     return osgbridge::convertRead(*node, nameForErrors, options, stats);
 }
 
