@@ -24,6 +24,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -159,8 +160,9 @@ TEST(OsgLoader, LoadModelDispatchesOsgFormats) {
 namespace {
 
 /// Writes an osg graph as .osgt with its images inside, and loads it back through loadOsg.
-std::shared_ptr<Group> roundTrip(osg::Node& node, const std::string& name, OsgStats* stats = nullptr) {
-    const auto file = tempDir("scene") / (name + ".osgt");
+std::shared_ptr<Group> roundTrip(osg::Node& node, const std::string& name, OsgStats* stats = nullptr,
+                                 const char* ext = ".osgt") {
+    const auto file = tempDir("scene") / (name + ext);
     osg::ref_ptr<osgDB::Options> o = new osgDB::Options("WriteImageHint=IncludeData");
     EXPECT_TRUE(osgDB::writeNodeFile(node, file.string(), o.get()));
     return loadOsg(file, {}, stats);
@@ -969,6 +971,14 @@ TEST(OsgLoader, UnconvertedClassesWarnOncePerClassAndTheRestLoads) {
     EXPECT_EQ(count.c.triangles, 4u);
 }
 
+namespace {
+osg::ref_ptr<osg::Geode> osgTileGeode() {
+    osg::ref_ptr<osg::Geode> geode = new osg::Geode;
+    geode->addDrawable(osgQuad(1.0f));
+    return geode;
+}
+} // namespace
+
 // Truncated and garbage files in each format: a LoadError naming the file, never a crash.
 TEST(OsgLoader, TruncatedAndGarbageFilesGiveLoadErrorNamingTheFile) {
     SGFX_REQUIRE(fs::exists(assets() / "cessna.osgt"), "../shared/assets/osg");
@@ -996,6 +1006,39 @@ TEST(OsgLoader, TruncatedAndGarbageFilesGiveLoadErrorNamingTheFile) {
         files.push_back(garbage);
     }
     files.push_back(dir / "missing.osgt");
+    // Values an sgfx setter refuses (a NaN matrix) and values the bridge leaves out (a NaN uniform, a
+    // NaN animation path): a LoadError naming the node path, or a warning and the rest loads.
+    {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        osg::ref_ptr<osg::Group> top = new osg::Group;
+        osg::ref_ptr<osg::MatrixTransform> bad = new osg::MatrixTransform(osg::Matrix::translate(nan, 0, 0));
+        bad->setName("broken");
+        top->addChild(bad);
+        try {
+            (void)roundTrip(*top, "nan_matrix", nullptr, ".osgb"); // binary: NaN survives the file
+            ADD_FAILURE() << "a NaN matrix loaded";
+        } catch (const LoadError& e) {
+            EXPECT_NE(std::string(e.what()).find("broken"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("non-finite"), std::string::npos) << e.what();
+        }
+        osg::ref_ptr<osg::MatrixTransform> moving = new osg::MatrixTransform;
+        osg::ref_ptr<osg::AnimationPath> path = new osg::AnimationPath;
+        path->insert(0.0, osg::AnimationPath::ControlPoint(osg::Vec3d(0, 0, 0)));
+        path->insert(1.0, osg::AnimationPath::ControlPoint(osg::Vec3d(nan, 0, 0)));
+        moving->setUpdateCallback(new osg::AnimationPathCallback(path.get()));
+        moving->getOrCreateStateSet()->addUniform(new osg::Uniform("gain", float(nan)));
+        moving->addChild(osgTileGeode());
+        OsgStats stats;
+        auto loaded = roundTrip(*moving, "nan_values", &stats, ".osgb");
+        std::string all;
+        for (const auto& w : stats.warnings)
+            all += w + "\n";
+        EXPECT_NE(all.find("osg::AnimationPath with a non-finite"), std::string::npos) << all;
+        EXPECT_NE(all.find("osg::Uniform 'gain' with a non-finite value"), std::string::npos) << all;
+        CountGeometries count;
+        loaded->accept(count);
+        EXPECT_EQ(count.c.triangles, 2u);
+    }
     // A node made its own child through its UniqueID (a corrupt file's cycle): refused, not recursed.
     {
         osg::ref_ptr<osg::MatrixTransform> top = new osg::MatrixTransform;

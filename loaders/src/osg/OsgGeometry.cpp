@@ -6,6 +6,9 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
+#include <stdexcept>
+
 namespace sgfx::osgbridge {
 
 namespace {
@@ -181,7 +184,10 @@ struct Corner {
 /// Fills the attributes for the corners in order.
 void fill(Geometry& out, const Arrays& a, const std::vector<Corner>& order) {
     for (auto [v, shade, set] : order) {
-        out.positions.push_back(glm::vec3(element(*a.vertices, v)));
+        const glm::vec3 p(element(*a.vertices, v));
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw std::invalid_argument("osg::Geometry vertex " + std::to_string(v) + " is not finite");
+        out.positions.push_back(p);
         if (a.normals) {
             glm::vec3 n(valueAt(*a.normals, shade, set));
             const float len = glm::length(n);
@@ -191,8 +197,11 @@ void fill(Geometry& out, const Arrays& a, const std::vector<Corner>& order) {
             const glm::vec4 c = valueAt(*a.colors, shade, set);
             out.colors.push_back(linearColor(osg::Vec4(c.r, c.g, c.b, c.a)));
         }
-        if (a.tex0) out.texcoords.push_back(glm::vec2(valueAt(*a.tex0, v, set)));
-        if (a.tex1) out.texcoords1.push_back(glm::vec2(valueAt(*a.tex1, v, set)));
+        const auto finite2 = [](glm::vec2 t) {
+            return std::isfinite(t.x) && std::isfinite(t.y) ? t : glm::vec2(0.0f);
+        };
+        if (a.tex0) out.texcoords.push_back(finite2(glm::vec2(valueAt(*a.tex0, v, set))));
+        if (a.tex1) out.texcoords1.push_back(finite2(glm::vec2(valueAt(*a.tex1, v, set))));
     }
 }
 

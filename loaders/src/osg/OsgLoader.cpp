@@ -53,12 +53,13 @@ void Context::charge(std::size_t n, const char* what) {
 }
 
 float srgbToLinear(float s) {
-    const double v = std::clamp(double(s), 0.0, 1.0);
+    const double v = std::isfinite(s) ? std::clamp(double(s), 0.0, 1.0) : 0.0; // a corrupt file's NaN: black
     return float(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
 }
 
 glm::vec4 linearColor(const osg::Vec4& c) {
-    return {srgbToLinear(c.r()), srgbToLinear(c.g()), srgbToLinear(c.b()), std::clamp(c.a(), 0.0f, 1.0f)};
+    return {srgbToLinear(c.r()), srgbToLinear(c.g()), srgbToLinear(c.b()),
+            std::isfinite(c.a()) ? std::clamp(c.a(), 0.0f, 1.0f) : 1.0f};
 }
 
 namespace {
@@ -369,7 +370,13 @@ std::shared_ptr<Group> convertRead(osg::Node& node, const std::filesystem::path&
     root->name = file.filename().string();
     // OpenGL's default, which OSG keeps: GL_CULL_FACE off (sgfx's default culls back faces).
     root->getOrCreateStateSet().cullFace.set(CullFace::None);
-    root->addChild(convertNode(cx, node, FixedState{}));
+    try {
+        root->addChild(convertNode(cx, node, FixedState{}));
+    } catch (const std::invalid_argument& e) { // an sgfx setter refused a value the file holds
+        throw LoadError("sgfx: model '" + file.string() + "': at " + cx.where() + ": " + e.what());
+    } catch (const std::out_of_range& e) {
+        throw LoadError("sgfx: model '" + file.string() + "': at " + cx.where() + ": " + e.what());
+    }
     for (const auto& [what, w] : cx.warnings)
         local.warnings.push_back(what + " at " + w.where +
                                  (w.count > 1 ? " (" + std::to_string(w.count) + " in all)" : ""));

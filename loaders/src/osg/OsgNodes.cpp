@@ -72,8 +72,16 @@ std::shared_ptr<Group> convertBillboard(Context& cx, const osg::Billboard& b, co
         auto board =
             Billboard::create(b.getMode() == osg::Billboard::AXIAL_ROT ? Billboard::Mode::AxialRotation
                                                                        : Billboard::Mode::PointRotEye);
-        board->axis = glm::normalize(toGlm(osg::Vec3d(b.getAxis())));
-        board->normal = glm::normalize(toGlm(osg::Vec3d(b.getNormal())));
+        const glm::vec3 axis = toGlm(osg::Vec3d(b.getAxis())), normal = toGlm(osg::Vec3d(b.getNormal()));
+        const float la = glm::length(axis), ln = glm::length(normal);
+        // A zero, non-finite or non-perpendicular pair (a corrupt file) would fail at every cull.
+        if (std::isfinite(la) && std::isfinite(ln) && la > 0.0f && ln > 0.0f &&
+            std::abs(glm::dot(axis / la, normal / ln)) < 1e-3f) {
+            board->axis = axis / la;
+            board->normal = normal / ln;
+        } else {
+            cx.warn("osg::Billboard axis and normal not perpendicular unit vectors: OSG's defaults used");
+        }
         if (b.getMode() == osg::Billboard::POINT_ROT_WORLD)
             cx.warn("osg::Billboard POINT_ROT_WORLD: turned as POINT_ROT_EYE");
         addDrawable(cx, *board, *b.getDrawable(i), state);
@@ -148,6 +156,19 @@ void attachAnimationPath(Context& cx, const osg::AnimationPathCallback& cb, Node
                          const osg::Node& source) {
     osg::ref_ptr<const osg::AnimationPath> path = cb.getAnimationPath();
     if (!path || path->empty()) return;
+    // Every control point finite, so every interpolated matrix is (a NaN would throw per frame).
+    for (const auto& [time, cp] : path->getTimeControlPointMap()) {
+        const osg::Vec3d p = cp.getPosition(), sc = cp.getScale();
+        const osg::Quat q = cp.getRotation();
+        if (!std::isfinite(time) || !p.valid() || !sc.valid() || !q.asVec4().valid() || q.length2() == 0.0) {
+            cx.warn("osg::AnimationPath with a non-finite or zero control point: not converted");
+            return;
+        }
+    }
+    if (!std::isfinite(cb.getTimeOffset()) || !std::isfinite(cb.getTimeMultiplier())) {
+        cx.warn("osg::AnimationPathCallback with a non-finite time offset or multiplier: not converted");
+        return;
+    }
     auto* t = dynamic_cast<Transform*>(&target);
     if (!t) {
         cx.warn("osg::AnimationPathCallback on a node that is not a transform: not converted");
@@ -194,6 +215,10 @@ std::shared_ptr<Group> convertLightSource(Context& cx, const osg::LightSource& l
                                                             : LightType::Point);
     light->name = ls.getName();
     light->color = glm::vec3(linearColor(l->getDiffuse()));
+    if (!p.valid() || !l->getDirection().valid() || !std::isfinite(l->getSpotCutoff())) {
+        cx.warn("osg::LightSource with a non-finite position, direction or cutoff: not converted");
+        return group;
+    }
     if (p.w() == 0.0f) {
         const glm::vec3 towards(p.x(), p.y(), p.z());
         light->direction = glm::length(towards) > 0.0f ? -glm::normalize(towards) : glm::vec3(0, 0, -1);
@@ -201,7 +226,7 @@ std::shared_ptr<Group> convertLightSource(Context& cx, const osg::LightSource& l
         light->position = glm::vec3(p.x(), p.y(), p.z()) / p.w();
         const osg::Vec3 d = l->getDirection();
         if (d.length() > 0.0f) light->direction = glm::normalize(glm::vec3(d.x(), d.y(), d.z()));
-        light->outerConeAngle = glm::radians(std::min(l->getSpotCutoff(), 89.9f));
+        light->outerConeAngle = glm::radians(std::clamp(l->getSpotCutoff(), 0.1f, 89.9f));
         if (l->getLinearAttenuation() != 0.0f || l->getQuadraticAttenuation() != 0.0f)
             cx.warn("osg::Light attenuation: lit without falloff");
     }

@@ -277,6 +277,17 @@ void convertTextures(Context& cx, const osg::StateSet& s, FixedState& state) {
     }
 }
 
+bool allFinite(int) {
+    return true;
+}
+/// Every float of a value (a float, a vector or a matrix) is finite.
+template <class V> bool allFinite(const V& v) {
+    const auto* p = reinterpret_cast<const float*>(&v);
+    for (std::size_t i = 0; i < sizeof(V) / sizeof(float); ++i)
+        if (!std::isfinite(p[i])) return false;
+    return true;
+}
+
 std::optional<UniformValue> uniformValue(const osg::Uniform& u) {
     switch (u.getType()) {
     case osg::Uniform::FLOAT: {
@@ -337,7 +348,10 @@ void convertUniforms(Context& cx, const osg::StateSet& s, StateSet& out, FixedSt
             if (u->get(unit)) state.samplerUnits[name] = unit; // sgfx binds the unit's texture by this name
             continue;
         }
-        if (auto v = uniformValue(*u))
+        auto v = uniformValue(*u);
+        if (v && !std::visit([](const auto& x) { return allFinite(x); }, *v))
+            cx.warn("osg::Uniform '" + name + "' with a non-finite value: not converted");
+        else if (v)
             out.setUniform(name, *v, flagsOf(entry.second));
         else
             cx.warn("osg::Uniform '" + name + "' of type " + osg::Uniform::getTypename(u->getType()) +
@@ -414,7 +428,8 @@ std::shared_ptr<Material> materialFor(Context& cx, const FixedState& state,
         m->diffuse = linearColor(om->getDiffuse(F));
         m->specular = glm::vec3(linearColor(om->getSpecular(F)));
         m->emissive = glm::vec3(linearColor(om->getEmission(F)));
-        m->shininess = std::max(om->getShininess(F), 1.0f);
+        const float shininess = om->getShininess(F);
+        m->shininess = std::isfinite(shininess) ? std::clamp(shininess, 1.0f, 1024.0f) : 1.0f;
     } else {
         m->ambient = glm::vec3(0.2f);
     }
