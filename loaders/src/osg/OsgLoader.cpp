@@ -207,6 +207,12 @@ void readInChild(const std::function<bool()>& read, const OsgOptions& options, c
     if (WIFSIGNALED(status))
         throw LoadError("sgfx: model '" + name + "': osgDB's reader crashed on it (signal " +
                         std::to_string(WTERMSIG(status)) + "): the file is corrupt");
+    // 0: read, 3: no node, 4: an exception; anything else is a death that did not end on a signal
+    // (a sanitizer's report exits with 1, std::terminate's abort may be caught and turned into an exit).
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (code != 0 && code != 3 && code != 4)
+        throw LoadError("sgfx: model '" + name + "': osgDB's reader died on it (exit status " +
+                        std::to_string(code) + "): the file is corrupt");
 }
 
 osg::ref_ptr<osgDB::Options> readerOptions(const OsgOptions& options, const std::filesystem::path& folder,
