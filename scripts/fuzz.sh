@@ -84,6 +84,7 @@ if grep -q "osg_fuzzer" "$out/build.ninja"; then
   # half, garbage per format, and every input a past run found (kept as regressions).
   cp "$root"/fuzz/corpus-osg/* "$osg_seeds/"
   echo "sgfx fuzz (OSG): $(ls "$osg_seeds" | wc -l) seeds, ${seconds} s"
+  LSAN_OPTIONS=suppressions=$root/fuzz/lsan-osg.supp:print_suppressions=0 \
   "$out/fuzz/osg_fuzzer" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=20 -print_final_stats=1 \
     -artifact_prefix="$out/artifacts/" "$out/corpus-osg" "$osg_seeds"
   echo "sgfx fuzz (OSG): no crash, leak or sanitizer error in ${seconds} s"

@@ -65,7 +65,7 @@ fs::path assets() {
     return fs::path(SGFX_SOURCE_DIR) / ".." / "shared" / "assets" / "osg";
 }
 
-OsgOptions assetOptions() {
+[[maybe_unused]] OsgOptions assetOptions() {
     OsgOptions o;
     o.databasePaths.push_back(assets());
     return o;

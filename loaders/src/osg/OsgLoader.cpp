@@ -210,7 +210,11 @@ void readInChild(const std::function<bool()>& read, const OsgOptions& options, c
     // 0: read, 3: no node, 4: an exception; anything else is a death that did not end on a signal
     // (a sanitizer's report exits with 1, std::terminate's abort may be caught and turned into an exit).
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    if (code != 0 && code != 3 && code != 4)
+    if (code == 4) // std::bad_alloc for a count the file declares, mostly: not tried again here
+        throw LoadError("sgfx: model '" + name +
+                        "': osgDB's reader failed on it (an exception, most often memory " +
+                        "for a count the file declares): the file is corrupt");
+    if (code != 0 && code != 3)
         throw LoadError("sgfx: model '" + name + "': osgDB's reader died on it (exit status " +
                         std::to_string(code) + "): the file is corrupt");
 }
