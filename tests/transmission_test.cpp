@@ -100,8 +100,18 @@ std::shared_ptr<Node> pane(std::shared_ptr<Material> m, float scale = 1.0f, doub
     return placed(facing(y, 0.0, scale), q);
 }
 
+// The last viewer stays alive so a test can read its camera. It is released when the tests end,
+// not by static destruction: the library's own function-local statics, made after it, are gone by
+// then (that ordering crashed at exit).
+std::unique_ptr<Viewer> last;
+
+struct ReleaseLastViewer : ::testing::Environment {
+    void TearDown() override { last.reset(); }
+};
+[[maybe_unused]] ::testing::Environment* const releaseLast =
+    ::testing::AddGlobalTestEnvironment(new ReleaseLastViewer);
+
 FloatImage render(const std::shared_ptr<Node>& scene, Viewer** keep = nullptr) {
-    static std::unique_ptr<Viewer> last;
     last = viewer();
     last->setSceneData(scene);
     last->frame();
