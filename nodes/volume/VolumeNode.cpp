@@ -29,22 +29,28 @@ void check(const char* name, float v, double lo, double hi, bool openLow = false
     nodes::checkRange("VolumeParameters", name, v, lo, hi, openLow);
 }
 
-BaseShader makeShader(const std::string& function, bool half, bool slices = false) {
-    std::string fragment = nodes::shaderWithIncludes(slices ? "volume_slice.frag" : "volume_march.frag");
+// The density (a grid or the application's GLSL function) goes to the stage that samples it: the
+// fragment shader for the march and slices, the vertex shader for splats (one sample per kernel).
+BaseShader makeShader(const std::string& function, bool half, VolumeMethod method = VolumeMethod::Raymarch) {
+    static const char* names[3][3] = {{"volume_box.vert", "volume_march.frag", "volume"},
+                                      {"volume_slice.vert", "volume_slice.frag", "volume_slices"},
+                                      {"volume_splat.vert", "volume_splat.frag", "volume_splats"}};
+    const auto& files = names[int(method)];
+    const bool splats = method == VolumeMethod::Splatting;
+    std::string vertex = nodes::shaderWithIncludes(files[0]);
+    std::string fragment = nodes::shaderWithIncludes(files[1]);
     std::string defines = "#define SGFX_VOLUME_DENSITY_UNIT " + std::to_string(kDensityUnit) + "\n";
-    std::string name = slices ? "volume_slices" : half ? "volume_half" : "volume";
+    std::string name = half ? "volume_half" : files[2];
     if (half) defines += "#define SGFX_VOLUME_HALF\n";
+    std::string& sampler = splats ? vertex : fragment;
     if (!function.empty()) {
         defines += "#define SGFX_VOLUME_FUNCTION\n";
         name += "_fn" + std::to_string(std::hash<std::string>{}(function));
-        fragment += "\nfloat volumeDensity(vec3 uvw) {\n" + function + "\n}\n";
+        sampler += "\nfloat volumeDensity(vec3 uvw) {\n" + function + "\n}\n";
     }
+    vertex = nodes::afterVersion(std::move(vertex), defines);
     fragment = nodes::afterVersion(std::move(fragment), defines);
-    if (slices)
-        return BaseShader{name, "volume_slice.vert", nodes::shaderText("volume_slice.vert"),
-                          "volume_slice.frag", std::move(fragment)};
-    return BaseShader{name, "volume_box.vert", nodes::shaderText("volume_box.vert"), "volume_march.frag",
-                      std::move(fragment)};
+    return BaseShader{name, files[0], std::move(vertex), files[1], std::move(fragment)};
 }
 
 float hashNoise(std::uint32_t x, std::uint32_t y, std::uint32_t z, std::uint32_t seed) {
@@ -218,7 +224,15 @@ void VolumeParameters::validate() const {
         nodes::refuse("VolumeParameters", "phase has an invalid value " + std::to_string(int(phase)));
     if (slices < 2 || slices > 4096)
         nodes::refuse("VolumeParameters", "slices = " + std::to_string(slices) + " is outside [2, 4096]");
-    if (std::uint8_t(method) > std::uint8_t(VolumeMethod::Slicing))
+    check("splatSpacing", splatSpacing, 0.0, 1e6, true);
+    if (method == VolumeMethod::Splatting) {
+        const long long n = volume::splatLattice(glm::dvec3(size), double(splatSpacing)).total();
+        if (n > volume::kMaxSplats)
+            nodes::refuse("VolumeParameters", "splatSpacing = " + nodes::number(splatSpacing) + " gives " +
+                                                  std::to_string(n) + " kernels in the box, more than " +
+                                                  std::to_string(volume::kMaxSplats));
+    }
+    if (std::uint8_t(method) > std::uint8_t(VolumeMethod::Splatting))
         nodes::refuse("VolumeParameters", "method has an invalid value " + std::to_string(int(method)));
     if (std::uint8_t(integration) > std::uint8_t(volume::Integration::Riemann))
         nodes::refuse("VolumeParameters",
@@ -227,21 +241,56 @@ void VolumeParameters::validate() const {
 
 // ---------------------------------------------------------------- GPU state
 struct VolumeNode::Gpu {
+    /// A vertex buffer of vec3 rewritten each frame, and its vertex array (attribute 0).
+    struct Stream {
+        gl::BufferObject buffer;
+        gl::VertexArrayObject vao;
+        std::size_t capacity = 0;
+        /// Grows the buffer if needed and writes `data`; `divisor` 1: one vec3 per instance.
+        void write(const std::vector<glm::vec3>& data, unsigned divisor);
+    };
     gl::TextureObject density, densityMax, transfer;
     gl::VertexArrayObject vao;
     glm::ivec3 maxSize{1};
-    gl::BufferObject sliceVertices;
-    gl::VertexArrayObject sliceVao;
-    std::size_t sliceCapacity = 0;
+    Stream slices, splats;
 
     /// The density, its block maxima and the transfer ramp (null: none) as textures.
     void uploadGrid(const VolumeGrid& grid, const Image* ramp);
     /// View-aligned slices through the box, blended back to front (VolumeMethod::Slicing).
     void drawSlices(Renderer& r, gl::Program& program, const glm::mat4& model, const VolumeParameters& p);
+    /// Gaussian kernels at grid points as billboards, sorted back to front (VolumeMethod::Splatting).
+    void drawSplats(Renderer& r, gl::Program& program, const glm::mat4& model, const VolumeParameters& p);
     /// The march at half resolution into the frame resources `colour` and `depth`, then
     /// upsampled onto the view by depth; false when they are not alive in this pass.
     bool drawHalf(Renderer& r, gl::Program& program, const std::string& colour, const std::string& depth);
 };
+
+namespace {
+// GL: the node's own draws (its box, slices or splats) from its own vertex array; the renderer has
+// no command that draws a drawable's arrays.
+void drawArrays(GLuint vao, GLenum mode, GLsizei count, GLsizei instances = 1) {
+    glBindVertexArray(vao);
+    glDrawArraysInstanced(mode, 0, count, instances);
+}
+} // namespace
+
+void VolumeNode::Gpu::Stream::write(const std::vector<glm::vec3>& data, unsigned divisor) {
+    const auto bytes = GLsizeiptr(data.size() * sizeof(glm::vec3));
+    if (!vao || capacity < data.size()) {
+        capacity = data.size();
+        buffer = gl::createBuffer();
+        // GL: the stream's vertex buffer and vertex array (one vec3 attribute, per vertex or per
+        // instance), grown here; no command for buffers or vertex arrays yet.
+        glNamedBufferData(buffer.get(), bytes, nullptr, GL_STREAM_DRAW);
+        vao = gl::createVertexArray();
+        glVertexArrayVertexBuffer(vao.get(), 0, buffer.get(), 0, sizeof(glm::vec3));
+        glVertexArrayAttribFormat(vao.get(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+        glVertexArrayAttribBinding(vao.get(), 0, 0);
+        glEnableVertexArrayAttrib(vao.get(), 0);
+        glVertexArrayBindingDivisor(vao.get(), 0, divisor); // GL: (as above)
+    }
+    glNamedBufferSubData(buffer.get(), 0, bytes, data.data()); // GL: this frame's data (as above)
+}
 
 namespace {
 // Polygons where planes perpendicular to `normal` (world) cut the box, farthest first, as
@@ -323,7 +372,8 @@ VolumeNode::VolumeNode(const VolumeParameters& p, VolumeGrid grid, std::string f
     grid_ = std::move(grid);
     shader_ = makeShader(function_, false);
     halfShader_ = makeShader(function_, true);
-    sliceShader_ = makeShader(function_, false, true);
+    sliceShader_ = makeShader(function_, false, VolumeMethod::Slicing);
+    splatShader_ = makeShader(function_, false, VolumeMethod::Splatting);
 }
 
 VolumeNode::~VolumeNode() = default;
@@ -363,6 +413,7 @@ void VolumeNode::setTransferFunction(std::shared_ptr<Image> ramp) {
 
 const BaseShader& VolumeNode::baseShader() const {
     if (parameters_.method == VolumeMethod::Slicing) return sliceShader_;
+    if (parameters_.method == VolumeMethod::Splatting) return splatShader_;
     return parameters_.halfResolution ? halfShader_ : shader_;
 }
 
@@ -489,28 +540,42 @@ void VolumeNode::Gpu::drawSlices(Renderer& r, gl::Program& program, const glm::m
     float spacing = 0.0f;
     const std::vector<glm::vec3> tris = slicePolygons(model, p.size, forward, p.slices, spacing);
     if (tris.empty()) return;
-    if (!sliceVao || sliceCapacity < tris.size()) {
-        sliceCapacity = tris.size();
-        sliceVertices = gl::createBuffer();
-        // GL: the slices' vertex buffer and vertex array, grown here; no command for buffers or
-        // vertex arrays yet.
-        glNamedBufferData(sliceVertices.get(), GLsizeiptr(tris.size() * sizeof(glm::vec3)), nullptr,
-                          GL_STREAM_DRAW);
-        sliceVao = gl::createVertexArray();
-        // GL: the slices' vertex array: one vec3 attribute from the buffer (as above).
-        glVertexArrayVertexBuffer(sliceVao.get(), 0, sliceVertices.get(), 0, sizeof(glm::vec3));
-        glVertexArrayAttribFormat(sliceVao.get(), 0, 3, GL_FLOAT, GL_FALSE, 0);
-        glVertexArrayAttribBinding(sliceVao.get(), 0, 0);
-        glEnableVertexArrayAttrib(sliceVao.get(), 0);
-    }
-    // GL: this frame's slices into the buffer (as above).
-    glNamedBufferSubData(sliceVertices.get(), 0, GLsizeiptr(tris.size() * sizeof(glm::vec3)), tris.data());
+    slices.write(tris, 0);
     program.set("u_sliceNormal", forward);
     program.set("u_spacing", spacing);
     r.setCull(CullFace::None); // slices face either way; the renderer sets the next item's faces
-    // GL: the node's own draw of its slices; no command draws a drawable's arrays.
-    glBindVertexArray(sliceVao.get());
-    glDrawArrays(GL_TRIANGLES, 0, GLsizei(tris.size()));
+    drawArrays(slices.vao.get(), GL_TRIANGLES, GLsizei(tris.size()));
+}
+
+// Splatting (lecture 12): the kernels' centres sorted back to front by view depth on the CPU each
+// frame (a sort of at most a few 10⁵ keys, a few ms, is cheaper here than a GPU sort pass and
+// keeps the node on the renderer's paths), then one instanced strip per kernel.
+void VolumeNode::Gpu::drawSplats(Renderer& r, gl::Program& program, const glm::mat4& model,
+                                 const VolumeParameters& p) {
+    const volume::SplatLattice l = volume::splatLattice(glm::dvec3(p.size), double(p.splatSpacing));
+    const glm::mat4& view = r.frame().view;
+    // View depth of a box-frame point: the third row of view·model, negated.
+    const glm::mat4 vm = view * model;
+    const glm::vec4 depthRow = -glm::vec4(vm[0][2], vm[1][2], vm[2][2], vm[3][2]);
+    std::vector<std::pair<float, glm::vec3>> keyed;
+    keyed.reserve(std::size_t(l.total()));
+    for (int z = 0; z < l.count.z; ++z)
+        for (int y = 0; y < l.count.y; ++y)
+            for (int x = 0; x < l.count.x; ++x) {
+                const glm::vec3 c(l.centre({x, y, z}, glm::dvec3(p.size)));
+                keyed.emplace_back(glm::dot(depthRow, glm::vec4(c, 1.0f)), c);
+            }
+    std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<glm::vec3> centres(keyed.size());
+    for (std::size_t i = 0; i < keyed.size(); ++i)
+        centres[i] = keyed[i].second;
+    splats.write(centres, 1);
+    const double R = volume::kSplatRadiusSigmas * l.sigma;
+    program.set("u_splatRadius", float(R));
+    program.set("u_splatSigma", float(l.sigma));
+    program.set("u_splatWeight", float(volume::splatFootprint(0.0, l)));
+    r.setCull(CullFace::None); // billboards face the eye; the renderer sets the next item's faces
+    drawArrays(splats.vao.get(), GL_TRIANGLE_STRIP, 4, GLsizei(centres.size()));
 }
 
 bool VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program, const std::string& colour,
@@ -522,7 +587,7 @@ bool VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program, const std::str
     r.clearColour(0, glm::vec4(0.0f));
     r.clearColour(1, glm::vec4(0.0f));
     program.set("u_pixelScale", 2);
-    glDrawArrays(GL_TRIANGLES, 0, 36); // GL: the node's own box (its vertex array bound by draw)
+    drawArrays(vao.get(), GL_TRIANGLES, 36);
     r.endOffscreen();
     static const std::string units = "#define SGFX_VOLUME_HALF_UNIT " + std::to_string(kDensityUnit) + "\n";
     static const BaseShader upsample{"volume_upsample", "blit.vert",
@@ -569,15 +634,16 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
         g.drawSlices(r, program, item.model, p);
         return;
     }
-    // GL: the node's own box (36 vertices made in the shader), at full or half resolution; no
-    // command draws a drawable's arrays.
-    glBindVertexArray(g.vao.get());
-    // At half resolution while its targets are alive (the main pass's transparent items), else
-    // at full resolution.
+    if (p.method == VolumeMethod::Splatting) {
+        g.drawSplats(r, program, item.model, p);
+        return;
+    }
+    // The node's own box (36 vertices made in the shader): at half resolution while its targets
+    // are alive (the main pass's transparent items), else at full resolution.
     if (p.halfResolution && depth && g.drawHalf(r, program, halfName("halfColour"), halfName("halfDepth")))
         return;
     program.set("u_pixelScale", 1);
-    glDrawArrays(GL_TRIANGLES, 0, 36); // GL: (see above)
+    drawArrays(g.vao.get(), GL_TRIANGLES, 36);
 }
 
 } // namespace sgfx

@@ -44,8 +44,10 @@ struct SGFX_API VolumeGrid {
 
 /// The phase function of single scattering.
 enum class VolumePhase : std::uint8_t { Isotropic, HenyeyGreenstein, Rayleigh };
-/// Raymarch per pixel (default), or the lecture's slicing: view-aligned slices blended back to front.
-enum class VolumeMethod : std::uint8_t { Raymarch, Slicing };
+/// Raymarch per pixel (default), the lecture's slicing (view-aligned slices blended back to
+/// front) or its splatting (Gaussian kernels at grid points drawn as camera-facing billboards,
+/// sorted back to front).
+enum class VolumeMethod : std::uint8_t { Raymarch, Slicing, Splatting };
 
 /// The medium's optical properties, its light, the box size and the rendering method.
 struct SGFX_API VolumeParameters {
@@ -74,13 +76,17 @@ struct SGFX_API VolumeParameters {
     bool debugSampleCount = false;
     VolumeMethod method = VolumeMethod::Raymarch;
     int slices = 128; ///< Slicing: planes across the box
+    /// Splatting: metres between kernel centres (a lattice over the box, per axis the box edge
+    /// over round(edge / spacing) ≥ 1); each kernel's standard deviation is
+    /// volume::kSplatSigmaPerSpacing times the largest axis spacing. At most volume::kMaxSplats.
+    float splatSpacing = 0.1f;
 
     /// Throws std::invalid_argument naming the field and its range.
     void validate() const;
 };
 
 /// A participating medium in a box (lecture 12): a density grid raymarched per pixel or drawn
-/// as slices, with absorption, emission and single scattering, stopped by the opaque scene.
+/// as slices or splats, with absorption, emission and single scattering, stopped by the opaque scene.
 /// See docs/effects/volume-sky.md.
 class SGFX_API VolumeNode : public Drawable {
 public:
@@ -120,7 +126,7 @@ private:
     VolumeGrid grid_;
     std::string function_;
     std::shared_ptr<Image> transfer_;
-    BaseShader shader_, halfShader_, sliceShader_;
+    BaseShader shader_, halfShader_, sliceShader_, splatShader_;
     mutable std::unique_ptr<Gpu> gpu_; ///< made and refreshed by compile(), read by draw()
     mutable bool gridDirty_ = true;
 };
