@@ -155,6 +155,8 @@ effects:
                       empty-space skipping (default off)
   --volume-jitter     random start per pixel (noise instead of banding)
   --volume-slices N   draw the smoke by slicing with N view-aligned slices instead
+  --volume-splats M   draw the smoke by splatting: Gaussian kernels M metres apart, sorted
+                      back to front each frame, instead
   --shadows on|off    cascaded sun shadow maps: the scene's sun (--sky's) shadows the scene
                       (rain and smoke cast none); the terrain only receives while the sun is
                       above 30 degrees, where its low hills throw no shadow worth drawing
@@ -485,6 +487,9 @@ Options parseArgs(int argc, char** argv) {
         } else if (arg == "--volume-slices") {
             o.volume.slices = parseNumber<int>(arg, value());
             o.volume.method = sgfx::VolumeMethod::Slicing;
+        } else if (arg == "--volume-splats") {
+            o.volume.splatSpacing = parseNumber<float>(arg, value());
+            o.volume.method = sgfx::VolumeMethod::Splatting;
         } else if (arg == "--transparency") {
             const std::string_view v = value();
             if (v == "sorted")

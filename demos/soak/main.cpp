@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
         rainAt->addChild(rain);
         ao->addChild(smokeAt);
         fog->addChild(rainAt);
-        // A raymarched cloud (its method and resolution change) and the sky, driving the fog.
+        // A volume cloud (its method and resolution change) and the sky, driving the fog.
         sgfx::VolumeParameters cloudParameters;
         cloudParameters.size = {30.0f, 30.0f, 15.0f};
         cloudParameters.absorption = 0.05f;
@@ -152,9 +152,13 @@ int main(int argc, char** argv) {
             }
             if (f % 450 == 0) {
                 sgfx::VolumeParameters vp = cloudParameters;
-                vp.halfResolution = f / 450 % 3 == 1;
-                vp.method = f / 450 % 3 == 2 ? sgfx::VolumeMethod::Slicing : sgfx::VolumeMethod::Raymarch;
+                static const sgfx::VolumeMethod methods[] = {
+                    sgfx::VolumeMethod::Raymarch, sgfx::VolumeMethod::Raymarch, sgfx::VolumeMethod::Slicing,
+                    sgfx::VolumeMethod::Splatting};
+                vp.halfResolution = f / 450 % 4 == 1;
+                vp.method = methods[f / 450 % 4];
                 vp.slices = 48;
+                vp.splatSpacing = 1.0f; // 30 × 30 × 15 kernels
                 cloud->setParameters(vp);
                 sky->setParameters(sgfx::SkyParameters::atTime(float(6 + f / 450 % 14)));
             }

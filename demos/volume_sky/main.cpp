@@ -1,9 +1,9 @@
-// Volume and sky showcase: a smoke cloud (VolumeNode, raymarched or sliced) drifting over a small
+// Volume and sky showcase: a smoke cloud (VolumeNode, raymarched, sliced or splatted) drifting over a small
 // town on a plain, under the physical sky (SkyNode) at several times of day, one panel per time,
 // written headless to a PNG.
 //
-//   volume_sky [--hours H[,H...]] [--size WxH] [--out PNG] [--method raymarch|slicing]
-//              [--no-volume] [--no-sky]
+//   volume_sky [--hours H[,H...]] [--size WxH] [--out PNG]
+//              [--method raymarch|slicing|splatting] [--splat-spacing M] [--no-volume] [--no-sky]
 //
 // Defaults: 7,10,13,18.5 hours, 320x180 per panel, volume_sky.png. --no-volume and --no-sky give
 // the "before" images of the docs (scripts/effect-figures.sh).
@@ -30,6 +30,7 @@ struct Options {
     int width = 320, height = 180;
     std::string out = "volume_sky.png";
     sgfx::VolumeMethod method = sgfx::VolumeMethod::Raymarch;
+    float splatSpacing = 2.0f; // metres: 45 × 35 × 15 kernels over the cloud's box
     bool volume = true, sky = true;
 };
 
@@ -71,8 +72,12 @@ Options parse(int argc, char** argv) {
                 o.method = sgfx::VolumeMethod::Raymarch;
             else if (v == "slicing")
                 o.method = sgfx::VolumeMethod::Slicing;
+            else if (v == "splatting")
+                o.method = sgfx::VolumeMethod::Splatting;
             else
-                throw std::invalid_argument("--method: '" + v + "' is not raymarch or slicing");
+                throw std::invalid_argument("--method: '" + v + "' is not raymarch, slicing or splatting");
+        } else if (a == "--splat-spacing") {
+            o.splatSpacing = number(a, value(), 0.25f, 100.0f);
         } else if (a == "--no-volume") {
             o.volume = false;
         } else if (a == "--no-sky") {
@@ -138,6 +143,7 @@ int main(int argc, char** argv) {
             vp.g = 0.5f;
             vp.lightColor = glm::vec3(4.0f, 3.8f, 3.4f);
             vp.method = o.method;
+            vp.splatSpacing = o.splatSpacing;
             cloud = sgfx::VolumeNode::create(vp, sgfx::VolumeGrid::noise(64, 7, 4, 0.35f));
             auto place = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), {-15.0f, 15.0f, 20.0f}));
             place->addChild(cloud);
@@ -187,7 +193,9 @@ int main(int argc, char** argv) {
         sgfx::writePng(o.out, out);
         std::printf("wrote %s (%dx%d): %zu times of day, volume %s, sky %s\n", o.out.c_str(), out.width,
                     out.height, o.hours.size(),
-                    o.volume ? (o.method == sgfx::VolumeMethod::Raymarch ? "raymarched" : "sliced") : "off",
+                    o.volume ? (o.method == sgfx::VolumeMethod::Raymarch  ? "raymarched"
+                                : o.method == sgfx::VolumeMethod::Slicing ? "sliced"
+                                                                          : "splatted") : "off",
                     o.sky ? "on" : "off");
         return 0;
     } catch (const std::exception& e) {
