@@ -132,6 +132,9 @@ effects:
                       renders 16 frames first
   --crop X,Y,W,H,Z    write only the W×H region at (X, Y) of the image, each pixel
                       shown as Z×Z (comparison crops)
+  --color-target srgb8|rgba16f|rgba32f
+                      the view's colour target (default srgb8); a float target keeps the
+                      small opacities of many blended layers (slices, splats) unrounded
   --transparency sorted|oit
                       how the glass (two panes and a closed cabin) is blended: sorted back
                       to front (default) or weighted blended order-independent transparency
@@ -203,6 +206,7 @@ struct Options {
     sgfx::RendererOptions::Lighting lighting = sgfx::RendererOptions::Lighting::PerPixel;
     std::optional<int> lamps; // --lamps: dusk and this many street lamps
     bool countFragments = false;
+    sgfx::RendererOptions::ColorTarget colorTarget = sgfx::RendererOptions::ColorTarget::Srgb8;
     long windowFrames = 0; // --window: quit after this many frames (0 = until closed)
     std::optional<sgfx::FogMode> fog = sgfx::FogMode::Forward;
     sgfx::FogParameters fogParameters = sgfx::FogParameters::ground();
@@ -490,6 +494,12 @@ Options parseArgs(int argc, char** argv) {
         } else if (arg == "--volume-splats") {
             o.volume.splatSpacing = parseNumber<float>(arg, value());
             o.volume.method = sgfx::VolumeMethod::Splatting;
+        } else if (arg == "--color-target") {
+            const std::string_view v = value();
+            using Target = sgfx::RendererOptions::ColorTarget;
+            if (v != "srgb8" && v != "rgba16f" && v != "rgba32f")
+                throw UsageError("--color-target: '" + std::string(v) + "' is not srgb8, rgba16f or rgba32f");
+            o.colorTarget = v == "srgb8" ? Target::Srgb8 : v == "rgba16f" ? Target::Rgba16F : Target::Rgba32F;
         } else if (arg == "--transparency") {
             const std::string_view v = value();
             if (v == "sorted")
@@ -669,6 +679,7 @@ std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
     viewer->renderer().options().autoInstancing = o.autoInstancing;
     viewer->renderer().options().submitTriangles = o.submitTriangles;
     viewer->renderer().options().countFragments = o.countFragments;
+    viewer->renderer().options().colorTarget = o.colorTarget;
     viewer->camera()->setAntiAliasing(o.aa);
     return viewer;
 }
@@ -841,6 +852,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     viewer.renderer().options().lighting = o.lighting;
     viewer.renderer().options().autoInstancing = o.autoInstancing;
     viewer.renderer().options().submitTriangles = o.submitTriangles;
+    viewer.renderer().options().colorTarget = o.colorTarget;
     viewer.camera()->setAntiAliasing(o.aa);
     setupCamera(o, viewer, startPose(o, o.time));
     // Fog is always in the graph here so F can cycle it: off, forward, split, post.
