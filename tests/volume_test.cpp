@@ -606,3 +606,32 @@ TEST(Volume, BadSplatSpacingIsRefusedNamingIt) {
     }
     EXPECT_EQ(node->parameters().method, VolumeMethod::Raymarch); // kept
 }
+
+TEST(Volume, SplatsAreSortedBackToFrontEachFrame) {
+    // Red emission in the half of the box nearer y = −1 (density 0.75), green in the other (0.25),
+    // through a two-texel ramp; seen from −y and then, in the same viewer, from +y. The over
+    // operator in the wrong order would put the far half's colour on top.
+    auto ramp = Image::create(2, 1, 3);
+    const unsigned char colours[2][3] = {{0, 255, 0}, {255, 0, 0}}; // texel centres at ρ 0.25, 0.75
+    for (int x = 0; x < 2; ++x)
+        for (int c = 0; c < 3; ++c)
+            ramp->pixel(x, 0)[c] = colours[x][c];
+    const float ka = 2.0f;
+    VolumeParameters p = homogeneous(ka, glm::vec3(1.0f));
+    p.method = VolumeMethod::Splatting;
+    p.splatSpacing = 0.0625f;
+    auto node = VolumeNode::createFunction(p, "return uvw.y < 0.5 ? 0.75 : 0.25;");
+    node->setTransferFunction(ramp);
+    auto v = floatViewer();
+    v->setSceneData(node);
+    // Each half is 1 m deep and its source over its extinction is ke/ka: near half first.
+    const double tRed = std::exp(-ka * 0.75), tGreen = std::exp(-ka * 0.25);
+    const double near = (1.0 - tRed) / ka, far = (1.0 - tGreen) / ka;
+    v->frame();
+    EXPECT_NEAR(centrePixel(*v).r, near, 0.02);
+    EXPECT_NEAR(centrePixel(*v).g, tRed * far, 0.02);
+    v->camera()->setLookAt({0, 5, 0}, {0, 0, 0}, {0, 0, 1});
+    v->frame();
+    EXPECT_NEAR(centrePixel(*v).g, (1.0 - tGreen) / ka, 0.02);
+    EXPECT_NEAR(centrePixel(*v).r, tGreen * near, 0.02);
+}
