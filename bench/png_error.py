@@ -3,7 +3,7 @@
 steps over the RGB channels; with a third image (the scene without the medium), only over the pixels
 where the reference differs from it (the medium's own pixels). Standard library only.
 
-    png_error.py IMAGE REFERENCE [BACKGROUND]   ->  "mean_error=X pixels=N"
+    png_error.py IMAGE REFERENCE [BACKGROUND]   ->  "png_error mean_error=X pixels=N"
 """
 
 import struct
@@ -62,7 +62,7 @@ def main():
             pa = a[y][x * bpp : x * bpp + 3]
             total += sum(abs(pa[c] - pr[c]) for c in range(3))
             count += 1
-    print(f"mean_error={total / max(1, 3 * count):.3f} pixels={count}")
+    print(f"png_error mean_error={total / max(1, 3 * count):.3f} pixels={count}")
 
 
 if __name__ == "__main__":
