@@ -484,7 +484,8 @@ TEST(VolumeMath, SplatFootprintIsTheKernelsLineIntegralAndTheLatticeSumsToThePat
         double sum = 0.0;
         for (int i = 0; i <= n; ++i) {
             const double t = a + i * dt;
-            const double g3 = std::exp(-(r * r + t * t) / (2 * s * s)) / std::pow(2 * volume::kPi * s * s, 1.5);
+            const double g3 =
+                std::exp(-(r * r + t * t) / (2 * s * s)) / std::pow(2 * volume::kPi * s * s, 1.5);
             sum += g3 * (i == 0 || i == n ? 1.0 : i % 2 ? 4.0 : 2.0);
         }
         EXPECT_NEAR(h3 * sum * dt / 3.0, volume::splatFootprint(r, l) * disc, 1e-9) << r;

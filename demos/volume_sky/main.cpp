@@ -195,7 +195,8 @@ int main(int argc, char** argv) {
                     out.height, o.hours.size(),
                     o.volume ? (o.method == sgfx::VolumeMethod::Raymarch  ? "raymarched"
                                 : o.method == sgfx::VolumeMethod::Slicing ? "sliced"
-                                                                          : "splatted") : "off",
+                                                                          : "splatted")
+                             : "off",
                     o.sky ? "on" : "off");
         return 0;
     } catch (const std::exception& e) {
