@@ -1,8 +1,8 @@
 // VolumeNode against closed forms (lecture 12): Beer–Lambert transmittance, absorption +
 // emission, the k_a → 0 limit, the camera inside, an opaque wall inside the medium, single
 // scattering in a homogeneous box, early termination's bound, empty-space skipping and jitter
-// leaving the image as it was, phase functions' normalisation; bad input. Linear float targets,
-// 64×64.
+// leaving the image as it was, phase functions' normalisation; bad input; splatting's footprint
+// and its convergence to the march as the kernel spacing shrinks. Linear float targets, 64×64.
 #include "TestUtil.h"
 
 #include <sgfx/Group.h>

@@ -4,6 +4,7 @@
 /// (Beer–Lambert), emission, single scattering towards a directional light with a
 /// Henyey–Greenstein or Rayleigh phase function; the march stops at the opaque scene's depth, so
 /// walls inside smoke cut it. Composited premultiplied; fog applies up to where the medium starts.
+/// The lecture's slicing and splatting are options (VolumeMethod).
 #include "sgfx/Export.h"
 #include <sgfx/nodes/volume/VolumeMath.h>
 
