@@ -263,6 +263,10 @@ struct VolumeNode::Gpu {
     /// The march at half resolution into the frame resources `colour` and `depth`, then
     /// upsampled onto the view by depth; false when they are not alive in this pass.
     bool drawHalf(Renderer& r, gl::Program& program, const std::string& colour, const std::string& depth);
+    /// The splats into the float frame resource `colour`, over transparent black, then composited
+    /// over the view once; false when it is not alive in this pass.
+    bool drawSplatsOffscreen(Renderer& r, gl::Program& program, const glm::mat4& model,
+                             const VolumeParameters& p, const std::string& colour);
 };
 
 namespace {
@@ -424,8 +428,8 @@ BoundingSphere VolumeNode::computeBound() const {
     return s;
 }
 
-// The blackboard names of this node's half-resolution targets (several volumes may be drawn in
-// one view): premultiplied colour, and the linear depth where each ray stopped.
+// The blackboard names of this node's offscreen targets (several volumes may be drawn in one
+// view): premultiplied colour, and at half resolution the linear depth where each ray stopped.
 std::string VolumeNode::halfName(const char* what) const {
     char buf[64];
     std::snprintf(buf, sizeof buf, "volume.%s@%p", what, static_cast<const void*>(this));
@@ -438,6 +442,12 @@ std::string VolumeNode::halfName(const char* what) const {
 void VolumeNode::setupFrame(FrameSetup& f) const {
     f.requestSceneDepth({.when = PassPhase::AfterOpaque});
     f.sampleInMainPass(std::string(resources::SceneDepth));
+    if (parameters_.method == VolumeMethod::Splatting) {
+        // Splats accumulate in floats: in an 8-bit target each kernel's small opacity and
+        // radiance would round away, more so the more (and fainter) the kernels.
+        f.offscreenTargetInMainPass(halfName("splatColour"), {.format = format::Rgba32F});
+        return;
+    }
     if (!parameters_.halfResolution || parameters_.method != VolumeMethod::Raymarch) return;
     const SizeRule half = SizeRule::half(SizeRule::Round::Down);
     f.offscreenTargetInMainPass(halfName("halfColour"), {.format = format::Rgba16F, .size = half});
@@ -578,6 +588,30 @@ void VolumeNode::Gpu::drawSplats(Renderer& r, gl::Program& program, const glm::m
     drawArrays(splats.vao.get(), GL_TRIANGLE_STRIP, 4, GLsizei(centres.size()));
 }
 
+namespace {
+// Composites a volume's premultiplied offscreen colour over the view with the renderer's
+// premultiplied blending (the item's state, back on after endOffscreen): upsampled by depth from
+// the half-size `depth` target, or texel for texel when `depth` is empty (full-size splats,
+// already hidden per fragment behind the scene).
+void compositeOffscreen(Renderer& r, const std::string& colour, const std::string& depth) {
+    static const std::string units = "#define SGFX_VOLUME_HALF_UNIT " + std::to_string(kDensityUnit) + "\n";
+    static const BaseShader shaders[2] = {
+        {"volume_upsample", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
+         "volume_upsample.frag", nodes::afterVersion(nodes::shaderText("volume_upsample.frag"), units)},
+        {"volume_composite", "blit.vert", std::string(ShaderComposer::fullscreenVertex()),
+         "volume_upsample.frag",
+         nodes::afterVersion(nodes::shaderText("volume_upsample.frag"),
+                             units + "#define SGFX_VOLUME_SAME_SIZE\n")}};
+    const bool half = !depth.empty();
+    gl::Program& composite = r.composer().program(shaders[half ? 0 : 1], {}, 0);
+    if (half)
+        r.bindFrameResource(composite, "u_sceneDepth", resources::SceneDepth); // the march's bound it too
+    r.bindTexture(kDensityUnit, r.frameResourceTexture(colour));
+    if (half) r.bindTexture(kDensityUnit + 1, r.frameResourceTexture(depth));
+    r.drawFullscreen(composite);
+}
+} // namespace
+
 bool VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program, const std::string& colour,
                                const std::string& depth) {
     // Half resolution: march into the half-size targets, then upsample onto the view by depth.
@@ -589,15 +623,23 @@ bool VolumeNode::Gpu::drawHalf(Renderer& r, gl::Program& program, const std::str
     program.set("u_pixelScale", 2);
     drawArrays(vao.get(), GL_TRIANGLES, 36);
     r.endOffscreen();
-    static const std::string units = "#define SGFX_VOLUME_HALF_UNIT " + std::to_string(kDensityUnit) + "\n";
-    static const BaseShader upsample{"volume_upsample", "blit.vert",
-                                     std::string(ShaderComposer::fullscreenVertex()), "volume_upsample.frag",
-                                     nodes::afterVersion(nodes::shaderText("volume_upsample.frag"), units)};
-    gl::Program& composite = r.composer().program(upsample, {}, 0);
-    r.bindFrameResource(composite, "u_sceneDepth", resources::SceneDepth); // the march's bound it too
-    r.bindTexture(kDensityUnit, r.frameResourceTexture(colour));
-    r.bindTexture(kDensityUnit + 1, r.frameResourceTexture(depth));
-    r.drawFullscreen(composite);
+    compositeOffscreen(r, colour, depth);
+    return true;
+}
+
+bool VolumeNode::Gpu::drawSplatsOffscreen(Renderer& r, gl::Program& program, const glm::mat4& model,
+                                          const VolumeParameters& p, const std::string& colour) {
+    // Premultiplied over, back to front, from transparent black: the target ends with the
+    // splats' radiance and 1 − their transmittance, which one composite lays over the scene.
+    // beginOffscreen turns blending off behind the cache's back; the cache is told it is off
+    // before it is set again (endOffscreen restores the item's blending either way).
+    if (!r.beginOffscreen({colour})) return false;
+    r.clearColour(0, glm::vec4(0.0f));
+    r.setBlend(BlendMode::Off);
+    r.setBlend(BlendMode::Premultiplied);
+    drawSplats(r, program, model, p);
+    r.endOffscreen();
+    compositeOffscreen(r, colour, {});
     return true;
 }
 
@@ -635,7 +677,10 @@ void VolumeNode::draw(Renderer& r, gl::Program& program, const RenderItem& item)
         return;
     }
     if (p.method == VolumeMethod::Splatting) {
-        g.drawSplats(r, program, item.model, p);
+        // Into their float target while it is alive (the main pass's transparent items), else
+        // straight onto the view (an opaque state of the user's).
+        if (!depth || !g.drawSplatsOffscreen(r, program, item.model, p, halfName("splatColour")))
+            g.drawSplats(r, program, item.model, p);
         return;
     }
     // The node's own box (36 vertices made in the shader): at half resolution while its targets

@@ -1,5 +1,6 @@
 #version 450 core
-// Half-resolution volumes: each pixel takes the four nearest half-size samples, weighted
+// Half-resolution volumes (and, with SGFX_VOLUME_SAME_SIZE, full-size splats texel for texel,
+// composited over the view premultiplied): each pixel takes the four nearest half-size samples, weighted
 // bilinearly and by how close the depth where their rays stopped is to this pixel's scene depth,
 // so a wall's edge in front of the medium does not bleed (depth-aware upsampling).
 in vec2 v_uv;
@@ -16,6 +17,10 @@ float linearDepth(float windowZ) {
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
+#ifdef SGFX_VOLUME_SAME_SIZE
+    // Splats: drawn at this size, each fragment already hidden behind the scene's depth.
+    fragColor = texelFetch(u_halfColor, p, 0);
+#else
     float z = texelFetch(u_sceneDepth, p, 0).r;
     ivec2 size = textureSize(u_halfColor, 0);
     vec2 h = (vec2(p) + 0.5) * 0.5 - 0.5;
@@ -37,4 +42,5 @@ void main() {
         weight += w;
     }
     fragColor = sum / weight;
+#endif
 }
