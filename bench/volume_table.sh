@@ -5,12 +5,15 @@
 # times (interleaved); medians and the ratio to the scene without them. Then the quality table:
 # one still of the same view per smoke mode at ERROR_SIZE, mean error (8-bit sRGB steps, over the
 # pixels the smoke covers) against a 1024-step march, in the default 8-bit sRGB target and in an
-# RGBA32F target (bench/png_error.py; many layers of small opacity round away in 8 bits).
-# Usage: bench/volume_table.sh [BUILD_DIR] [ROUNDS] [SIZE] [FRAMES] [ERROR_SIZE]
-#        (default build 2 1280x720 6 320x180)
+# RGBA32F target (bench/png_error.py; slices blended straight into 8 bits lose their small
+# opacities; splats accumulate in a float target of their own).
+# Usage: bench/volume_table.sh [BUILD_DIR] [ROUNDS] [SIZE] [FRAMES] [ERROR_SIZE] [ONLY]
+#        (default build 2 1280x720 6 320x180; ONLY: a regex, the rows to run besides "off",
+#        e.g. splatting)
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 build=${1:-build}; rounds=${2:-2}; size=${3:-1280x720}; frames=${4:-6}; errsize=${5:-320x180}
+only=${6:-}
 look=(--look 0,-90,30,0,0,20 --fog off)
 declare -A args=(
   [off]=""
@@ -28,6 +31,12 @@ declare -A args=(
   ["sky (17 h), per pixel"]="--sky 17 --sky-direct"
 )
 order=(off smoke "smoke, empty-space skipping" "smoke, jitter" "smoke, half resolution" "smoke, 128 steps" "smoke, slicing 64" "smoke, slicing 128" "smoke, splatting 2 m" "smoke, splatting 1 m" "smoke, splatting 0.5 m" "sky (17 h)" "sky (17 h), per pixel")
+quality=(smoke "smoke, jitter" "smoke, half resolution" "smoke, 128 steps" "smoke, slicing 64" "smoke, slicing 128" "smoke, splatting 2 m" "smoke, splatting 1 m" "smoke, splatting 0.5 m")
+if [[ -n $only ]]; then
+  keep() { local c; for c in "$@"; do [[ $c == off || $c =~ $only ]] && echo "$c"; done; }
+  mapfile -t order < <(keep "${order[@]}")
+  mapfile -t quality < <(keep "${quality[@]}")
+fi
 declare -A ms=()
 for ((r = 0; r < rounds; ++r)); do
   for c in "${order[@]}"; do
@@ -48,7 +57,6 @@ done
 # Quality: mean error against a 1024-step march, over the smoke's pixels.
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-quality=(smoke "smoke, jitter" "smoke, half resolution" "smoke, 128 steps" "smoke, slicing 64" "smoke, slicing 128" "smoke, splatting 2 m" "smoke, splatting 1 m" "smoke, splatting 0.5 m")
 declare -A err=()
 for target in srgb8 rgba32f; do
   still() { "$build/demos/polygon" --size "$errsize" "${look[@]}" --color-target "$target" "$@" >/dev/null; }
