@@ -134,7 +134,8 @@ effects:
                       shown as Z×Z (comparison crops)
   --color-target srgb8|rgba16f|rgba32f
                       the view's colour target (default srgb8); a float target keeps the
-                      small opacities of many blended layers (slices, splats) unrounded
+                      small opacities of many blended slices unrounded (splats accumulate
+                      in a float target of their own)
   --transparency sorted|oit
                       how the glass (two panes and a closed cabin) is blended: sorted back
                       to front (default) or weighted blended order-independent transparency
