@@ -79,6 +79,25 @@ BufferObject createBuffer() {
     glCreateBuffers(1, &n);
     return BufferObject(n);
 }
+BufferObject createStorageBuffer(std::size_t bytes, const void* data) {
+    BufferObject b = createBuffer();
+    glNamedBufferData(b.get(), GLsizeiptr(bytes), data, GL_DYNAMIC_DRAW);
+    return b;
+}
+void writeBuffer(const BufferObject& buffer, std::size_t offset, std::size_t bytes, const void* data) {
+    if (bytes) glNamedBufferSubData(buffer.get(), GLintptr(offset), GLsizeiptr(bytes), data);
+}
+void readBuffer(const BufferObject& buffer, std::size_t offset, std::size_t bytes, void* data) {
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (bytes) glGetNamedBufferSubData(buffer.get(), GLintptr(offset), GLsizeiptr(bytes), data);
+}
+void bindStorageBuffer(unsigned binding, const BufferObject& buffer) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer.get());
+}
+void drawPulled(const VertexArrayObject& empty, unsigned mode, int count, int instances) {
+    glBindVertexArray(empty.get());
+    glDrawArraysInstanced(GLenum(mode), 0, count, instances);
+}
 VertexArrayObject createVertexArray() {
     GLuint n = 0;
     glCreateVertexArrays(1, &n);
