@@ -380,6 +380,10 @@ TEST(SplatRender, SceneOfTenThousandSplatsMatchesACpuRenderer) {
     v->setSceneData(node);
     v->frame();
     const FloatImage img = v->renderer().readPixelsLinear();
+    node->setSort(SplatSort::Gpu);
+    v->frame();
+    const FloatImage gpuSorted = v->renderer().readPixelsLinear();
+    EXPECT_EQ(gpuSorted.rgba, img.rgba); // the same order, so the same image
     const Camera& cam = *v->camera();
     const glm::mat4 mv = cam.viewMatrix;
     // Back to front by view depth, then "over" in double: C = c·α + C·(1 − α).
@@ -460,4 +464,30 @@ TEST(SplatNode, RefusesABadCloudAndKeepsTheOld) {
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("2 opacities"), std::string::npos) << e.what();
     }
+}
+
+TEST(SplatRender, GpuRadixSortEqualsStdSortOnRandomDepths) {
+    // 10^5 splats at random depths (a few exact ties, negative depths behind the eye too): the
+    // GPU's order must be std::sort's of (depth descending, index ascending).
+    SplatCloud c = SplatCloud::random(100000, 9, 1.0f, 0.01f, 0);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-10.0f, 40.0f);
+    for (std::size_t i = 0; i < c.size(); ++i)
+        c.positions[i].y = i % 97 == 0 ? 3.0f : u(rng);
+    auto node = GaussianSplatNode::create(c);
+    auto v = floatViewer(-5.0f, 16);
+    v->setSceneData(node);
+    v->frame();
+    const std::vector<std::uint32_t> got = node->lastOrder();
+    ASSERT_EQ(got.size(), c.size());
+    std::vector<std::uint32_t> want(c.size());
+    std::iota(want.begin(), want.end(), 0u);
+    // View depth along +Y from y = −5 is y + 5 (computed as the shader does, in float).
+    const glm::mat4 mv = v->camera()->viewMatrix;
+    auto depth = [&](std::uint32_t i) { return -(mv * glm::vec4(c.positions[i], 1.0f)).z; };
+    std::sort(want.begin(), want.end(), [&](auto a, auto b) {
+        const float da = depth(a), db = depth(b);
+        return da != db ? da > db : a < b;
+    });
+    EXPECT_EQ(got, want);
 }

@@ -19,6 +19,17 @@ namespace sgfx {
 namespace {
 
 constexpr unsigned kSplatBinding = 13, kShBinding = 14, kOrderBinding = 15;
+// The GPU sort's buffers: keys and values in, keys and values out, the histogram.
+constexpr unsigned kKeysIn = 16, kValuesIn = 17, kKeysOut = 18, kValuesOut = 19, kHistogram = 20;
+constexpr std::uint32_t kBlock = 2048; // keys per work group in the histogram and scatter steps
+
+std::unique_ptr<gl::Program> computeProgram(const char* file) {
+    ComposedProgram c;
+    c.compute = nodes::shaderText(file);
+    c.vertexSources = {file};
+    c.description = file;
+    return std::make_unique<gl::Program>(c);
+}
 
 BaseShader makeShader() {
     return BaseShader{"gaussian_splat", "splat.vert", nodes::shaderWithIncludes("splat.vert"), "splat.frag",
@@ -34,10 +45,12 @@ std::uint32_t sortableBits(float f) {
 } // namespace
 
 struct GaussianSplatNode::Gpu {
-    gl::BufferObject splats, sh, order;
+    gl::BufferObject splats, sh, order; // order: the sorted values (the GPU sort's values too)
+    gl::BufferObject keys, keysOut, valuesOut, histogram;
+    std::unique_ptr<gl::Program> keysProgram, histogramProgram, scanProgram, scatterProgram;
     gl::VertexArrayObject empty;
     std::size_t count = 0;
-    std::vector<std::uint64_t> keys; // the CPU sort's (inverted depth, index) pairs
+    std::vector<std::uint64_t> cpuKeys; // the CPU sort's (inverted depth, index) pairs
     std::vector<std::uint32_t> indices;
 };
 
@@ -118,7 +131,12 @@ void GaussianSplatNode::compile(Renderer&) const {
                                        n ? data.data() : nullptr);
     g.sh = gl::createStorageBuffer(std::max<std::size_t>(cloud_.sh.size(), 1) * sizeof(glm::vec3),
                                    n ? cloud_.sh.data() : nullptr);
-    g.order = gl::createStorageBuffer(std::max<std::size_t>(n, 1) * sizeof(std::uint32_t));
+    const std::size_t words = std::max<std::size_t>(n, 1) * sizeof(std::uint32_t);
+    g.order = gl::createStorageBuffer(words);
+    g.keys = gl::createStorageBuffer(words);
+    g.keysOut = gl::createStorageBuffer(words);
+    g.valuesOut = gl::createStorageBuffer(words);
+    g.histogram = gl::createStorageBuffer(256 * ((std::max<std::size_t>(n, 1) + kBlock - 1) / kBlock) * 4);
     g.count = n;
     dirty_ = false;
 }
@@ -128,17 +146,61 @@ void GaussianSplatNode::compile(Renderer&) const {
 void GaussianSplatNode::sortOnCpu(const glm::mat4& modelView) const {
     Gpu& g = *gpu_;
     const std::size_t n = cloud_.size();
-    g.keys.resize(n);
+    g.cpuKeys.resize(n);
     const glm::vec4 row(modelView[0][2], modelView[1][2], modelView[2][2], modelView[3][2]);
     for (std::size_t i = 0; i < n; ++i) {
         const float depth = -glm::dot(row, glm::vec4(cloud_.positions[i], 1.0f));
-        g.keys[i] = (std::uint64_t(~sortableBits(depth)) << 32) | std::uint64_t(i);
+        g.cpuKeys[i] = (std::uint64_t(~sortableBits(depth)) << 32) | std::uint64_t(i);
     }
-    std::sort(g.keys.begin(), g.keys.end());
+    std::sort(g.cpuKeys.begin(), g.cpuKeys.end());
     g.indices.resize(n);
     for (std::size_t i = 0; i < n; ++i)
-        g.indices[i] = std::uint32_t(g.keys[i]);
+        g.indices[i] = std::uint32_t(g.cpuKeys[i]);
     gl::writeBuffer(g.order, 0, n * sizeof(std::uint32_t), g.indices.data());
+}
+
+// An LSD radix sort of 32-bit keys in four passes of 8 bits: per-block histograms, one exclusive
+// scan, a stable scatter; keys and values ping-pong between the two pairs of buffers and end in
+// `keys` and `order` (an even number of passes).
+void GaussianSplatNode::sortOnGpu(Renderer& r, const glm::mat4& modelView) const {
+    Gpu& g = *gpu_;
+    if (!g.keysProgram) {
+        g.keysProgram = computeProgram("splat_sort_keys.comp");
+        g.histogramProgram = computeProgram("splat_sort_histogram.comp");
+        g.scanProgram = computeProgram("splat_sort_scan.comp");
+        g.scatterProgram = computeProgram("splat_sort_scatter.comp");
+    }
+    const auto n = std::uint32_t(g.count);
+    const std::uint32_t groups = (n + kBlock - 1) / kBlock;
+    r.useProgram(*g.keysProgram);
+    g.keysProgram->setUnsigned("u_count", n);
+    g.keysProgram->set("u_depthRow",
+                       glm::vec4(modelView[0][2], modelView[1][2], modelView[2][2], modelView[3][2]));
+    gl::bindStorageBuffer(kSplatBinding, g.splats);
+    gl::bindStorageBuffer(kKeysIn, g.keys);
+    gl::bindStorageBuffer(kValuesIn, g.order);
+    gl::dispatchCompute({(n + 255) / 256, 1, 1});
+    gl::bindStorageBuffer(kHistogram, g.histogram);
+    for (std::uint32_t shift = 0; shift < 32; shift += 8) {
+        const bool even = shift % 16 == 0; // even passes read keys/order, odd ones the other pair
+        gl::bindStorageBuffer(kKeysIn, even ? g.keys : g.keysOut);
+        gl::bindStorageBuffer(kValuesIn, even ? g.order : g.valuesOut);
+        gl::bindStorageBuffer(kKeysOut, even ? g.keysOut : g.keys);
+        gl::bindStorageBuffer(kValuesOut, even ? g.valuesOut : g.order);
+        r.useProgram(*g.histogramProgram);
+        g.histogramProgram->setUnsigned("u_count", n);
+        g.histogramProgram->setUnsigned("u_shift", shift);
+        g.histogramProgram->setUnsigned("u_block", kBlock);
+        gl::dispatchCompute({groups, 1, 1});
+        r.useProgram(*g.scanProgram);
+        g.scanProgram->setUnsigned("u_entries", 256 * groups);
+        gl::dispatchCompute({1, 1, 1});
+        r.useProgram(*g.scatterProgram);
+        g.scatterProgram->setUnsigned("u_count", n);
+        g.scatterProgram->setUnsigned("u_shift", shift);
+        g.scatterProgram->setUnsigned("u_block", kBlock);
+        gl::dispatchCompute({groups, 1, 1});
+    }
 }
 
 std::vector<std::uint32_t> GaussianSplatNode::lastOrder() const {
@@ -155,7 +217,12 @@ void GaussianSplatNode::draw(Renderer& r, gl::Program& program, const RenderItem
     Gpu& g = *gpu_;
     if (g.count == 0) return;
     const glm::mat4 modelView = r.frame().view * item.model;
-    sortOnCpu(modelView);
+    if (sort_ == SplatSort::Gpu) {
+        sortOnGpu(r, modelView);
+        r.useProgram(program);
+    } else {
+        sortOnCpu(modelView);
+    }
     program.set("u_shDegree", cloud_.shDegree);
     gl::bindStorageBuffer(kSplatBinding, g.splats);
     gl::bindStorageBuffer(kShBinding, g.sh);

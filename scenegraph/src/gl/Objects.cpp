@@ -94,6 +94,10 @@ void readBuffer(const BufferObject& buffer, std::size_t offset, std::size_t byte
 void bindStorageBuffer(unsigned binding, const BufferObject& buffer) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer.get());
 }
+void dispatchCompute(const glm::uvec3& groups) {
+    glDispatchCompute(groups.x, groups.y, groups.z);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
 void drawPulled(const VertexArrayObject& empty, unsigned mode, int count, int instances) {
     glBindVertexArray(empty.get());
     glDrawArraysInstanced(GLenum(mode), 0, count, instances);
@@ -199,10 +203,13 @@ ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::
 Program::Program(const ComposedProgram& c)
     : description_(c.description) {
     std::vector<ShaderObject> stages;
-    stages.push_back(compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description));
+    if (!c.compute.empty())
+        stages.push_back(compile(GL_COMPUTE_SHADER, c.compute, c.vertexSources, c.description));
+    else
+        stages.push_back(compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description));
     if (!c.geometry.empty())
         stages.push_back(compile(GL_GEOMETRY_SHADER, c.geometry, c.geometrySources, c.description));
-    if (!c.fragment.empty() || c.feedbackVaryings.empty())
+    if (c.compute.empty() && (!c.fragment.empty() || c.feedbackVaryings.empty()))
         stages.push_back(compile(GL_FRAGMENT_SHADER, c.fragment, c.fragmentSources, c.description));
     name_ = glCreateProgram();
     ++liveObjects().counts[std::size_t(Kind::Program)];

@@ -104,6 +104,9 @@ SGFX_API void writeBuffer(const BufferObject& buffer, std::size_t offset, std::s
 SGFX_API void readBuffer(const BufferObject& buffer, std::size_t offset, std::size_t bytes, void* data);
 /// Binds a buffer (or none) to shader storage binding `binding` (`layout(std430, binding = N)`).
 SGFX_API void bindStorageBuffer(unsigned binding, const BufferObject& buffer);
+/// Runs the bound compute program (Renderer::useProgram) over `groups` work groups; its writes
+/// are visible to every later command (a full barrier).
+SGFX_API void dispatchCompute(const glm::uvec3& groups);
 /// Draws `instances` instances of `count` vertices without attributes (an empty vertex array is
 /// bound for it): shaders that pull their data by gl_VertexID / gl_InstanceID. `mode` is GL's.
 SGFX_API void drawPulled(const VertexArrayObject& empty, unsigned mode, int count, int instances);

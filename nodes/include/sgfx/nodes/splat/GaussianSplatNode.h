@@ -55,6 +55,7 @@ protected:
 private:
     struct Gpu;
     void sortOnCpu(const glm::mat4& modelView) const;
+    void sortOnGpu(Renderer& renderer, const glm::mat4& modelView) const;
     SplatCloud cloud_;
     SplatSort sort_ = SplatSort::Gpu;
     BaseShader shader_;
