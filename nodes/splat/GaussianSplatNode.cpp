@@ -203,6 +203,14 @@ void GaussianSplatNode::sortOnGpu(Renderer& r, const glm::mat4& modelView) const
     }
 }
 
+void GaussianSplatNode::sortFor(Renderer& r, const glm::mat4& modelView) const {
+    if (!gpu_ || dirty_ || gpu_->count == 0) return;
+    if (sort_ == SplatSort::Gpu)
+        sortOnGpu(r, modelView);
+    else
+        sortOnCpu(modelView);
+}
+
 std::vector<std::uint32_t> GaussianSplatNode::lastOrder() const {
     if (!gpu_ || gpu_->count == 0) return {};
     std::vector<std::uint32_t> out(gpu_->count);
@@ -216,13 +224,8 @@ void GaussianSplatNode::draw(Renderer& r, gl::Program& program, const RenderItem
                                "' drawn before the renderer compiled it");
     Gpu& g = *gpu_;
     if (g.count == 0) return;
-    const glm::mat4 modelView = r.frame().view * item.model;
-    if (sort_ == SplatSort::Gpu) {
-        sortOnGpu(r, modelView);
-        r.useProgram(program);
-    } else {
-        sortOnCpu(modelView);
-    }
+    sortFor(r, r.frame().view * item.model);
+    r.useProgram(program);
     program.set("u_shDegree", cloud_.shDegree);
     gl::bindStorageBuffer(kSplatBinding, g.splats);
     gl::bindStorageBuffer(kShBinding, g.sh);

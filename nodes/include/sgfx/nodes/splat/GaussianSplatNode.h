@@ -35,6 +35,9 @@ public:
     void setCloud(SplatCloud cloud);
     void setSort(SplatSort sort) { sort_ = sort; }
     SplatSort sort() const { return sort_; }
+    /// Sorts for a view as a draw does (the node must have been compiled: drawn once), without
+    /// drawing: benchmarks time the sort alone with it.
+    void sortFor(Renderer& renderer, const glm::mat4& modelView) const;
     /// The back-to-front order of the last draw (read back from the GPU for SplatSort::Gpu):
     /// for tests and benchmarks.
     std::vector<std::uint32_t> lastOrder() const;
