@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
         }
         const double ms = median(frame), sortMs = median(sort);
         std::printf("SPLATS count=%zu sort=%s size=%dx%d degree=%d ms_per_frame=%.2f sort_ms=%.2f "
-                    "splats_per_s=%.3g sorted_per_s=%.3g\n",
+                    "splats_per_s=%.0f sorted_per_s=%.0f\n",
                     count, mode.c_str(), w, h, degree, ms, sortMs, double(count) / ms * 1e3,
                     double(count) / sortMs * 1e3);
     }
