@@ -491,3 +491,35 @@ TEST(SplatRender, GpuRadixSortEqualsStdSortOnRandomDepths) {
     });
     EXPECT_EQ(got, want);
 }
+
+TEST(SplatRender, GlassIsOrderedWithTheCloudByItsCentre) {
+    // A red pane, straight alpha 0.5, in front of (y = 0) or behind (y = 4) a splat at y = 2: the
+    // transparent stage sorts the pane and the cloud (one item, its bound's centre) back to front.
+    const SplatCloud c = oneSplat({0, 2, 0}, glm::vec3(0.4f), {1, 0, 0, 0}, 0.9f, 0, 3);
+    for (float paneY : {0.0f, 4.0f}) {
+        auto root = Group::create();
+        auto q = shapes::quad(6, 6);
+        auto m = Material::create();
+        m->ambient = glm::vec3(0);
+        m->diffuse = glm::vec4(0, 0, 0, 0.5f);
+        m->emissive = glm::vec3(1, 0, 0);
+        q->getOrCreateStateSet().material.set(m);
+        q->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+        q->getOrCreateStateSet().cullFace.set(CullFace::None);
+        auto t = Transform::create(glm::rotate(glm::translate(glm::mat4(1.0f), {0, paneY, 0}),
+                                               glm::radians(90.0f), glm::vec3(1, 0, 0)));
+        t->addChild(q);
+        root->addChild(t);
+        root->addChild(GaussianSplatNode::create(c));
+        auto v = floatViewer();
+        v->setSceneData(root);
+        v->frame();
+        const FloatImage img = v->renderer().readPixelsLinear();
+        const glm::dvec4 s = expectedFootprint(c, *v->camera(), glm::dvec3(0, -5, 0))[32 * kSize + 32];
+        const glm::dvec3 red(1, 0, 0);
+        const glm::dvec3 want = paneY < 2.0f ? red * 0.5 + glm::dvec3(s) * 0.5          // pane over splat
+                                             : glm::dvec3(s) + red * 0.5 * (1.0 - s.a); // splat over pane
+        for (int ch = 0; ch < 3; ++ch)
+            EXPECT_NEAR(pixel(img, 32, 32)[ch], want[ch], 2e-3) << "pane at y = " << paneY;
+    }
+}
