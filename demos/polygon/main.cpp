@@ -19,6 +19,7 @@
 #include <sgfx/Visitors.h>
 #include <sgfx/nodes/environment/EnvironmentLightNode.h>
 #include <sgfx/nodes/sky/SkyNode.h>
+#include <sgfx/nodes/splat/GaussianSplatNode.h>
 #include <sgfx/nodes/transparency/TransparencyBin.h>
 #include <sgfx/nodes/volume/VolumeNode.h>
 
@@ -161,6 +162,10 @@ effects:
   --volume-slices N   draw the smoke by slicing with N view-aligned slices instead
   --volume-splats M   draw the smoke by splatting: Gaussian kernels M metres apart, sorted
                       back to front each frame, instead
+  --splats FILE       a 3D Gaussian splatting .ply (bench/splat_bench --write makes one) over
+                      the road ahead of the camera, scaled to 6 m across
+  --splat-sort gpu|cpu
+                      the splats' depth sort every frame (default gpu: compute radix sort)
   --shadows on|off    cascaded sun shadow maps: the scene's sun (--sky's) shadows the scene
                       (rain and smoke cast none); the terrain only receives while the sun is
                       above 30 degrees, where its low hills throw no shadow worth drawing
@@ -223,6 +228,8 @@ struct Options {
     std::optional<std::string> env; // "sky" or a panorama file
     float envIntensity = 1.0f;
     bool smoke = false;
+    std::optional<std::string> splats; // a Gaussian splatting .ply
+    sgfx::SplatSort splatSort = sgfx::SplatSort::Gpu;
     sgfx::VolumeParameters volume = [] {
         sgfx::VolumeParameters p;
         p.size = {40.0f, 40.0f, 24.0f};
@@ -478,6 +485,13 @@ Options parseArgs(int argc, char** argv) {
                 throw UsageError("--env-intensity: X must be in 0..1e6");
         } else if (arg == "--smoke") {
             o.smoke = true;
+        } else if (arg == "--splats") {
+            o.splats = std::string(value());
+        } else if (arg == "--splat-sort") {
+            const std::string_view v = value();
+            if (v != "gpu" && v != "cpu")
+                throw UsageError("--splat-sort: '" + std::string(v) + "' is not gpu or cpu");
+            o.splatSort = v == "gpu" ? sgfx::SplatSort::Gpu : sgfx::SplatSort::Cpu;
         } else if (arg == "--volume-steps") {
             o.volume.steps = parseNumber<int>(arg, value());
         } else if (arg == "--volume-half") {
@@ -593,6 +607,22 @@ sgfx::NodePtr withShadows(const Options& o, sgfx::NodePtr world, const polygon::
     return shadows;
 }
 
+// --splats: the cloud over the road ahead of the start pose, 6 m across, resting on the ground;
+// a transparent item like glass (ordered by its bound's centre), fogged by the fog above it.
+sgfx::NodePtr placedSplats(const Options& o) {
+    auto splats = sgfx::GaussianSplatNode::load(*o.splats);
+    splats->setSort(o.splatSort);
+    const sgfx::BoundingSphere b = splats->bound();
+    const float scale = b.radius > 0.0f ? 3.0f / b.radius : 1.0f;
+    const polygon::CameraPose pose = startPose(o, o.time);
+    glm::vec3 at = pose.eye + 12.0f * glm::normalize(pose.target - pose.eye);
+    at.z = std::max(at.z, 3.0f);
+    auto place = sgfx::Transform::create(glm::scale(glm::translate(glm::mat4(1.0f), at), glm::vec3(scale)) *
+                                         glm::translate(glm::mat4(1.0f), -b.center));
+    place->addChild(splats);
+    return place;
+}
+
 // The sky (its sun becomes the scene's), a smoke cloud over the road ahead of the start pose and
 // --shadows' node over the world and the smoke (the sky beside it: it neither casts nor receives).
 sgfx::NodePtr withSkySmokeAndShadows(const Options& o, sgfx::NodePtr world,
@@ -604,7 +634,7 @@ sgfx::NodePtr withSkySmokeAndShadows(const Options& o, sgfx::NodePtr world,
             if (o.skyHours) sun->direction = -sgfx::sky::sunDirection(*o.skyHours);
             toSun = -glm::normalize(sun->direction);
         }
-    if (!o.skyHours && !o.smoke) return withShadows(o, std::move(world), scene);
+    if (!o.skyHours && !o.smoke && !o.splats) return withShadows(o, std::move(world), scene);
     auto group = sgfx::Group::create();
     const std::shared_ptr<sgfx::ShadowNode> shadows = shadowNode(o, scene);
     sgfx::Group& shadowed = shadows ? *shadows : *group; // where the world and the smoke go
@@ -626,6 +656,7 @@ sgfx::NodePtr withSkySmokeAndShadows(const Options& o, sgfx::NodePtr world,
         place->addChild(sgfx::VolumeNode::create(vp, sgfx::VolumeGrid::noise(64, 7, 4, 0.35f)));
         shadowed.addChild(place);
     }
+    if (o.splats) group->addChild(placedSplats(o));
     return group;
 }
 

@@ -13,6 +13,7 @@
 #include <sgfx/Queries.h>
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
+#include <sgfx/nodes/splat/GaussianSplatNode.h>
 
 #include <chrono>
 #include <cmath>
@@ -27,7 +28,8 @@
 namespace {
 
 const char* const kUsage = R"(usage: sgfx-view [options] FILE...
-Loads the files (.gltf .glb .obj .off .ply .stl; with the OpenSceneGraph bridge also .osgt .osgb
+Loads the files (.gltf .glb .obj .off .ply .stl; a .ply of 3D Gaussian splats (vertex properties
+f_dc_0, opacity, scale_0, rot_0) is drawn as splats; with the OpenSceneGraph bridge also .osgt .osgb
 .osg .ive .flt and the other formats osgDB reads, images found through OSG_FILE_PATH). With a
 display (DISPLAY or WAYLAND_DISPLAY) it opens a window; otherwise, or with --headless or --out, it
 renders a PNG.
@@ -316,8 +318,13 @@ sgfx::NodePtr view::loadFiles(const std::vector<std::string>& files, const Optio
     sgfx::GltfOptions gltf;
     gltf.zUp = !o.keepYUp;
     gltf.creaseAngle = glm::radians(o.crease);
-    for (const std::string& file : files)
-        model->addChild(sgfx::loadModel(file, gltf));
+    for (const std::string& file : files) {
+        // A .ply whose vertices carry f_dc_0, opacity, scale_0 and rot_0 is 3D Gaussian splats.
+        if (sgfx::splat::isSplatPly(file))
+            model->addChild(sgfx::GaussianSplatNode::load(file));
+        else
+            model->addChild(sgfx::loadModel(file, gltf));
+    }
     return model;
 }
 

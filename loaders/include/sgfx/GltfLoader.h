@@ -6,6 +6,7 @@
 /// the element (`meshes[2].primitives[0].indices`) and the reason, and nothing is built.
 #include "sgfx/Export.h"
 #include <sgfx/Group.h>
+#include <sgfx/LoadError.h>
 
 #include <cstddef>
 #include <filesystem>
@@ -17,11 +18,6 @@
 #include <vector>
 
 namespace sgfx {
-
-class SGFX_API LoadError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
 
 /// How glTF content is turned into sgfx nodes (axes, normals, limits).
 struct SGFX_API GltfOptions {

@@ -60,6 +60,8 @@ struct SGFX_API ComposedProgram {
     std::vector<std::string> geometrySources;
     std::vector<std::string> fragmentSources;
     std::string description; ///< "blinn_phong + [debug_tint]"
+    /// A compute program: this stage alone (the others empty); its names are vertexSources'.
+    std::string compute = {};
 };
 
 /// A material shader written once with hook markers (`// @sgfx:NAME` lines). With a geometry

@@ -79,6 +79,29 @@ BufferObject createBuffer() {
     glCreateBuffers(1, &n);
     return BufferObject(n);
 }
+BufferObject createStorageBuffer(std::size_t bytes, const void* data) {
+    BufferObject b = createBuffer();
+    glNamedBufferData(b.get(), GLsizeiptr(bytes), data, GL_DYNAMIC_DRAW);
+    return b;
+}
+void writeBuffer(const BufferObject& buffer, std::size_t offset, std::size_t bytes, const void* data) {
+    if (bytes) glNamedBufferSubData(buffer.get(), GLintptr(offset), GLsizeiptr(bytes), data);
+}
+void readBuffer(const BufferObject& buffer, std::size_t offset, std::size_t bytes, void* data) {
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (bytes) glGetNamedBufferSubData(buffer.get(), GLintptr(offset), GLsizeiptr(bytes), data);
+}
+void bindStorageBuffer(unsigned binding, const BufferObject& buffer) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buffer.get());
+}
+void dispatchCompute(const glm::uvec3& groups) {
+    glDispatchCompute(groups.x, groups.y, groups.z);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+}
+void drawPulled(const VertexArrayObject& empty, unsigned mode, int count, int instances) {
+    glBindVertexArray(empty.get());
+    glDrawArraysInstanced(GLenum(mode), 0, count, instances);
+}
 VertexArrayObject createVertexArray() {
     GLuint n = 0;
     glCreateVertexArrays(1, &n);
@@ -180,10 +203,13 @@ ShaderObject compile(GLenum stage, const std::string& src, std::span<const std::
 Program::Program(const ComposedProgram& c)
     : description_(c.description) {
     std::vector<ShaderObject> stages;
-    stages.push_back(compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description));
+    if (!c.compute.empty())
+        stages.push_back(compile(GL_COMPUTE_SHADER, c.compute, c.vertexSources, c.description));
+    else
+        stages.push_back(compile(GL_VERTEX_SHADER, c.vertex, c.vertexSources, c.description));
     if (!c.geometry.empty())
         stages.push_back(compile(GL_GEOMETRY_SHADER, c.geometry, c.geometrySources, c.description));
-    if (!c.fragment.empty() || c.feedbackVaryings.empty())
+    if (c.compute.empty() && (!c.fragment.empty() || c.feedbackVaryings.empty()))
         stages.push_back(compile(GL_FRAGMENT_SHADER, c.fragment, c.fragmentSources, c.description));
     name_ = glCreateProgram();
     ++liveObjects().counts[std::size_t(Kind::Program)];

@@ -94,6 +94,22 @@ SGFX_API void writeTexture(const TextureObject& texture, int level, int layer, i
 /// Reads level `level` of a texture into `data` (`bytes` long); GL must have finished drawing it.
 SGFX_API void readTexture(const TextureObject& texture, int level, unsigned format, unsigned type,
                           std::size_t bytes, void* data);
+/// A buffer of `bytes` bytes (filled from `data` when not null) for shader storage: node-owned
+/// arrays read by vertex or compute shaders (Gaussian splats, their sort keys and order).
+SGFX_API BufferObject createStorageBuffer(std::size_t bytes, const void* data = nullptr);
+/// Writes `bytes` bytes at `offset` of a buffer.
+SGFX_API void writeBuffer(const BufferObject& buffer, std::size_t offset, std::size_t bytes,
+                          const void* data);
+/// Reads `bytes` bytes at `offset` of a buffer (waits for the GPU's writes to it).
+SGFX_API void readBuffer(const BufferObject& buffer, std::size_t offset, std::size_t bytes, void* data);
+/// Binds a buffer (or none) to shader storage binding `binding` (`layout(std430, binding = N)`).
+SGFX_API void bindStorageBuffer(unsigned binding, const BufferObject& buffer);
+/// Runs the bound compute program (Renderer::useProgram) over `groups` work groups; its writes
+/// are visible to every later command (a full barrier).
+SGFX_API void dispatchCompute(const glm::uvec3& groups);
+/// Draws `instances` instances of `count` vertices without attributes (an empty vertex array is
+/// bound for it): shaders that pull their data by gl_VertexID / gl_InstanceID. `mode` is GL's.
+SGFX_API void drawPulled(const VertexArrayObject& empty, unsigned mode, int count, int instances);
 SGFX_API FramebufferObject createFramebuffer();
 /// A framebuffer drawing into level 0 of `colour`.
 SGFX_API FramebufferObject createFramebuffer(const TextureObject& colour);
