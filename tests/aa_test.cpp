@@ -551,3 +551,20 @@ TEST(AntiAliasing, SupersamplingBeyondTheTextureLimitSaysSo) {
     v->camera()->setViewport(0, 0, kSize, kSize);
     EXPECT_NO_THROW(v->frame());
 }
+
+TEST(Smaa, EdgeErrorBelowFxaa) {
+    for (float tilt : {23.0f, 2.5f, 60.0f}) {
+        const EdgeTilt t(tilt);
+        auto f = edgeViewer(AntiAliasing::fxaa());
+        const EdgeError ef = edgeError(renderFrames(*f));
+        auto n = edgeViewer(AntiAliasing::none());
+        const EdgeError en = edgeError(renderFrames(*n));
+        for (auto p : {AntiAliasing::SmaaPreset::Low, AntiAliasing::SmaaPreset::High,
+                       AntiAliasing::SmaaPreset::Ultra}) {
+            auto v = edgeViewer(AntiAliasing::smaa(p));
+            const EdgeError e = edgeError(renderFrames(*v));
+            std::printf("tilt %.1f preset %d: SMAA mean %.4f worst %.3f, FXAA %.4f %.3f, none %.4f %.3f\n", tilt,
+                        int(p), e.mean, e.worst, ef.mean, ef.worst, en.mean, en.worst);
+        }
+    }
+}

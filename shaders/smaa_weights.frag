@@ -1,0 +1,61 @@
+#version 450 core
+// SMAA blending weights (Jimenez et al. 2012, sec. 4), run on edge pixels only (stencil). For a
+// pixel's top edge (G) and left edge (R): search along the line both ways for its ends, two
+// pixels a bilinear fetch, decoded by the search texture; read the crossing edges at each end
+// (one bilinear fetch gives both sides); look up the revectorised line's coverage of this pixel
+// in the area texture. Output: r/g this pixel takes from above / the pixel above takes from this
+// one; b/a likewise with the left neighbour.
+in vec2 v_uv;
+layout(location = 0) out vec4 sgfx_smaaWeights;
+layout(binding = 0) uniform sampler2D sgfx_smaaEdgesTex; // RG: left, top edges; bilinear
+layout(binding = 1) uniform sampler2D sgfx_smaaArea;     // SmaaTextures.h, texel fetched
+layout(binding = 2) uniform sampler2D sgfx_smaaSearch;   // SmaaTextures.h, texel fetched
+uniform int sgfx_smaaSteps;
+const int kMaxDistance = 72; // smaa::kMaxDistance
+
+vec2 sgfx_texel;
+vec2 edgesAt(vec2 pixel) { // bilinear, `pixel` in window coordinates
+    return textureLod(sgfx_smaaEdgesTex, pixel * sgfx_texel, 0.0).rg;
+}
+// How many of a fetched pair still belong to the line (0..2), or 3: both, and it goes on.
+float decode(float line, float crossing, bool farSide) {
+    return texelFetch(sgfx_smaaSearch, ivec2(round(4.0 * line), round(4.0 * crossing) + (farSide ? 5 : 0)), 0).r;
+}
+
+// Walks from pixel `from` by `dir` (±1) two pixels a step; the fetch lies a quarter pixel from
+// the nearer pixel's centre toward the next. Returns the last pixel on the line.
+int walk(ivec2 p, bool horizontal, int from, int dir, bool farSide) {
+    for (int i = 0; i < sgfx_smaaSteps; ++i) {
+        float at = float(from) + 0.5 + 0.25 * float(dir);
+        vec2 e = horizontal ? edgesAt(vec2(at, float(p.y) + 0.5)) : edgesAt(vec2(float(p.x) + 0.5, at));
+        float n = horizontal ? decode(e.g, e.r, farSide) : decode(e.r, e.g, farSide);
+        if (n < 2.5) return from - dir + dir * int(n);
+        from += 2 * dir;
+    }
+    return from - dir;
+}
+
+vec2 areaOf(float e1, float e2, int d1, int d2) {
+    ivec2 t = ivec2(round(4.0 * vec2(e1, e2))) * kMaxDistance + min(ivec2(d1, d2), ivec2(kMaxDistance - 1));
+    return texelFetch(sgfx_smaaArea, t, 0).rg;
+}
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    sgfx_texel = 1.0 / vec2(textureSize(sgfx_smaaEdgesTex, 0));
+    vec2 e = texelFetch(sgfx_smaaEdgesTex, p, 0).rg;
+    vec4 w = vec4(0.0);
+    if (e.g > 0.0) { // a line along the top of this row: its crossings below (0.75) and above
+        int left = walk(p, true, p.x, -1, true), right = walk(p, true, p.x + 1, 1, false);
+        float e1 = edgesAt(vec2(float(left) + 0.5, float(p.y) + 0.75)).r;
+        float e2 = edgesAt(vec2(float(right) + 1.5, float(p.y) + 0.75)).r;
+        w.rg = areaOf(e1, e2, p.x - left, right - p.x);
+    }
+    if (e.r > 0.0) { // a line along the left of this column: its crossings on the right (0.75)
+        int down = walk(p, false, p.y - 1, -1, false), up = walk(p, false, p.y, 1, true);
+        float e1 = edgesAt(vec2(float(p.x) + 0.25, float(down) - 0.5)).g;
+        float e2 = edgesAt(vec2(float(p.x) + 0.25, float(up) + 0.5)).g;
+        w.ba = areaOf(e1, e2, p.y - down, up - p.y);
+    }
+    sgfx_smaaWeights = w;
+}
