@@ -14,6 +14,7 @@ uniform int sgfx_smaaSteps;
 const int kMaxDistance = 72; // smaa::kMaxDistance
 
 vec2 sgfx_texel;
+ivec2 sgfx_size;
 vec2 edgesAt(vec2 pixel) { // bilinear, `pixel` in window coordinates
     return textureLod(sgfx_smaaEdgesTex, pixel * sgfx_texel, 0.0).rg;
 }
@@ -25,7 +26,9 @@ float decode(float line, float crossing, bool farSide) {
 // Walks from pixel `from` by `dir` (±1) two pixels a step; the fetch lies a quarter pixel from
 // the nearer pixel's centre toward the next. Returns the last pixel on the line.
 int walk(ivec2 p, bool horizontal, int from, int dir, bool farSide) {
+    int size = horizontal ? sgfx_size.x : sgfx_size.y;
     for (int i = 0; i < sgfx_smaaSteps; ++i) {
+        if (from < 0 || from >= size) break; // the image's border ends the line
         float at = float(from) + 0.5 + 0.25 * float(dir);
         vec2 e = horizontal ? edgesAt(vec2(at, float(p.y) + 0.5)) : edgesAt(vec2(float(p.x) + 0.5, at));
         float n = horizontal ? decode(e.g, e.r, farSide) : decode(e.r, e.g, farSide);
@@ -42,18 +45,19 @@ vec2 areaOf(float e1, float e2, int d1, int d2) {
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    sgfx_texel = 1.0 / vec2(textureSize(sgfx_smaaEdgesTex, 0));
+    sgfx_size = textureSize(sgfx_smaaEdgesTex, 0);
+    sgfx_texel = 1.0 / vec2(sgfx_size);
     vec2 e = texelFetch(sgfx_smaaEdgesTex, p, 0).rg;
     vec4 w = vec4(0.0);
     if (e.g > 0.0) { // a line along the top of this row: its crossings below (0.75) and above
         int left = walk(p, true, p.x, -1, true), right = walk(p, true, p.x + 1, 1, false);
         float e1 = edgesAt(vec2(float(left) + 0.5, float(p.y) + 0.75)).r;
-        float e2 = edgesAt(vec2(float(right) + 1.5, float(p.y) + 0.75)).r;
+        float e2 = right + 1 < sgfx_size.x ? edgesAt(vec2(float(right) + 1.5, float(p.y) + 0.75)).r : 0.0;
         w.rg = areaOf(e1, e2, p.x - left, right - p.x);
     }
     if (e.r > 0.0) { // a line along the left of this column: its crossings on the right (0.75)
         int down = walk(p, false, p.y - 1, -1, false), up = walk(p, false, p.y, 1, true);
-        float e1 = edgesAt(vec2(float(p.x) + 0.25, float(down) - 0.5)).g;
+        float e1 = down > 0 ? edgesAt(vec2(float(p.x) + 0.25, float(down) - 0.5)).g : 0.0;
         float e2 = edgesAt(vec2(float(p.x) + 0.25, float(up) + 0.5)).g;
         w.ba = areaOf(e1, e2, p.y - down, up - p.y);
     }
