@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Anti-aliasing cost on the proving ground: alternates `polygon --bench` with --aa none, msaa4,
-# ssaa2, fxaa, taa, smaa (high preset, luma edges) and smaa-t2x, ROUNDS times (interleaved), at each size; prints median ms/frame and the
-# ratio of each mode to no AA (fog off, so only AA differs).
+# ssaa2, fxaa, taa, smaa (high preset, luma edges) and smaa-t2x, ROUNDS times (interleaved), at
+# each size; prints median ms/frame and the ratio of each mode to no AA (fog off, so only AA differs).
 # Usage: bench/aa_table.sh [BUILD_DIR] [ROUNDS] [SIZE:FRAMES ...]   (default 1280x720:24 1920x1080:16)
 set -euo pipefail
 source "$(dirname "$0")/common.sh"

@@ -336,9 +336,11 @@ void smaaTargets(ViewState& s, const gl::RenderTarget& target) {
 // pixels only, then neighbourhood blending of the whole image.
 void smaa1x(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     const AntiAliasing& a = s.settings;
-    // The reference's presets: edge threshold and search steps (two pixels a step).
+    // The reference's presets: edge threshold, search steps (two pixels a step), corner
+    // detection (25 % rounding on high and ultra).
     static constexpr float thresholds[] = {0.15f, 0.1f, 0.1f, 0.05f};
     static constexpr int steps[] = {4, 8, 16, 32};
+    static constexpr float corner[] = {0.0f, 0.0f, 0.75f, 0.75f};
     const std::size_t preset = std::size_t(a.smaaPreset);
     smaaTargets(s, target);
     r.resetStateCache();
@@ -369,6 +371,7 @@ void smaa1x(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     gl::Program& weights = fullscreenProgram(r, base(Stage::SmaaWeights));
     glUseProgram(weights.get());
     weights.set("sgfx_smaaSteps", steps[preset]);
+    weights.set("sgfx_smaaCorner", corner[preset]);
     r.drawFullscreen(weights);
     glDisable(GL_STENCIL_TEST);
     prepareFullscreen(s, target);
