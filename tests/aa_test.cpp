@@ -467,8 +467,8 @@ std::pair<int, int> interiorChangedBy(const AntiAliasing& aa) {
                     break;
                 }
         }
-    std::printf("fog post + AO with %s: %d interior pixels, %d differ by more than 2/255\n", aa.name().c_str(),
-                interior, differing);
+    std::printf("fog post + AO with %s: %d interior pixels, %d differ by more than 2/255\n",
+                aa.name().c_str(), interior, differing);
     return {interior, differing};
 }
 
@@ -583,7 +583,7 @@ std::unique_ptr<Viewer> lineViewer(const AntiAliasing& aa) {
 }
 
 struct LineError {
-    double rowMean = 0; // mean over rows of |black in the row − the strip's exact area in it|, pixels
+    double rowMean = 0;   // mean over rows of |black in the row − the strip's exact area in it|, pixels
     double pixelMean = 0; // mean |value − (1 − coverage)| over the pixels the strip touches
 };
 
@@ -649,9 +649,10 @@ TEST(Smaa, ThinLinesKeepTheirInkBetterThanFxaa) {
     const LineError fx = lineError(renderFrames(*f));
     auto v = lineViewer(AntiAliasing::smaa());
     const LineError sm = lineError(renderFrames(*v));
-    std::printf("1 px line: ink error per row SMAA %.3f FXAA %.3f none %.3f px; per pixel SMAA %.4f FXAA %.4f "
-                "none %.4f\n",
-                sm.rowMean, fx.rowMean, n.rowMean, sm.pixelMean, fx.pixelMean, n.pixelMean);
+    std::printf(
+        "1 px line: ink error per row SMAA %.3f FXAA %.3f none %.3f px; per pixel SMAA %.4f FXAA %.4f "
+        "none %.4f\n",
+        sm.rowMean, fx.rowMean, n.rowMean, sm.pixelMean, fx.pixelMean, n.pixelMean);
     EXPECT_LT(sm.rowMean, fx.rowMean);
     EXPECT_LT(sm.pixelMean, fx.pixelMean);
 }
@@ -715,7 +716,8 @@ TEST(Smaa, SettingsAreValidatedAndNamed) {
         EXPECT_NE(std::string(e.what()).find("smaaEdge"), std::string::npos) << e.what();
     }
     EXPECT_EQ(cam->antiAliasing().mode, AntiAliasing::Mode::None);
-    for (const char* name : {"smaa", "smaa-low", "smaa-ultra-depth", "smaa-colour", "smaa-t2x", "smaa-t2x-medium"})
+    for (const char* name :
+         {"smaa", "smaa-low", "smaa-ultra-depth", "smaa-colour", "smaa-t2x", "smaa-t2x-medium"})
         EXPECT_EQ(AntiAliasing::parse(name).name(), name);
     EXPECT_EQ(AntiAliasing::parse("smaa-t2x-low-colour"),
               AntiAliasing::smaaT2x(AntiAliasing::SmaaPreset::Low, AntiAliasing::SmaaEdge::Colour));
@@ -754,8 +756,8 @@ TEST(Smaa, CornerDetectionKeepsASquaresCornersSharp) {
     const double none = square(AntiAliasing::none());
     const double medium = square(AntiAliasing::smaa(AntiAliasing::SmaaPreset::Medium));
     const double high = square(AntiAliasing::smaa(AntiAliasing::SmaaPreset::High));
-    std::printf("square's corners: total error none %.3f, SMAA medium %.3f, high (corners) %.3f\n", none, medium,
-                high);
+    std::printf("square's corners: total error none %.3f, SMAA medium %.3f, high (corners) %.3f\n", none,
+                medium, high);
     EXPECT_LT(none, 0.05) << "the square lies on pixel boundaries";
     EXPECT_GT(medium, 0.5);
     EXPECT_LT(high, 0.5 * medium);

@@ -15,9 +15,9 @@ namespace {
 // The texel the weights shader fetches for crossing codes c1, c2 and distances d1, d2.
 glm::vec2 texel(int c1, int c2, int d1, int d2) {
     const std::vector<float>& t = smaa::areaTexture();
-    const std::size_t i =
-        (std::size_t(c2 * smaa::kMaxDistance + d2) * smaa::kAreaSize + std::size_t(c1 * smaa::kMaxDistance + d1)) *
-        2;
+    const std::size_t i = (std::size_t(c2 * smaa::kMaxDistance + d2) * smaa::kAreaSize +
+                           std::size_t(c1 * smaa::kMaxDistance + d1)) *
+                          2;
     return {t[i], t[i + 1]};
 }
 
@@ -84,14 +84,14 @@ TEST(SmaaTextures, SearchDecodingFindsTheLinesEndsOnRandomEdges) {
         line[0] = 1;
         if (!farSide) cross[0] = 0; // pixel 0 is on the line
         int scan = 0;
-        while (scan + 1 < n && (farSide ? !cross[scan] : true) && line[scan + 1] && (farSide || !cross[scan + 1]))
+        while (scan + 1 < n && (farSide ? !cross[scan] : true) && line[scan + 1] &&
+               (farSide || !cross[scan + 1]))
             ++scan;
         int walk = -1;
         for (int i = 0; i < n; i += 2) {
             const double l = 0.75 * line[i] + 0.25 * line[i + 1], c = 0.75 * cross[i] + 0.25 * cross[i + 1];
-            const int k = int(smaa::searchTexture()[std::size_t((int(std::lround(4 * c)) + 5 * farSide) *
-                                                                    smaa::kSearchWidth +
-                                                                int(std::lround(4 * l)))]);
+            const int k = int(smaa::searchTexture()[std::size_t(
+                (int(std::lround(4 * c)) + 5 * farSide) * smaa::kSearchWidth + int(std::lround(4 * l)))]);
             EXPECT_EQ(k, smaa::searchDecode(farSide, int(std::lround(4 * l)), int(std::lround(4 * c))));
             if (k < 3) {
                 walk = i - 1 + k;

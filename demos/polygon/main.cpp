@@ -892,9 +892,9 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
         if (aaKey && !aaKeyDown) { // none → MSAA 4× → SSAA 2× → FXAA → TAA → SMAA → SMAA T2x → none
             using M = sgfx::AntiAliasing::Mode;
             static const sgfx::AntiAliasing cycle[] = {
-                sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
-                sgfx::AntiAliasing::fxaa(), sgfx::AntiAliasing::taa(),
-                sgfx::AntiAliasing::smaa(), sgfx::AntiAliasing::smaaT2x()};
+                sgfx::AntiAliasing::none(),   sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
+                sgfx::AntiAliasing::fxaa(),   sgfx::AntiAliasing::taa(),   sgfx::AntiAliasing::smaa(),
+                sgfx::AntiAliasing::smaaT2x()};
             const M current = viewer.camera()->antiAliasing().mode;
             viewer.camera()->setAntiAliasing(cycle[(std::size_t(current) + 1) % std::size(cycle)]);
         }

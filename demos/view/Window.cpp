@@ -91,9 +91,9 @@ public:
     }
 
     void key(int k) {
-        static const sgfx::AntiAliasing cycle[] = {sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4),
-                                                   sgfx::AntiAliasing::ssaa(2), sgfx::AntiAliasing::fxaa(),
-                                                   sgfx::AntiAliasing::taa(), sgfx::AntiAliasing::smaa(),
+        static const sgfx::AntiAliasing cycle[] = {sgfx::AntiAliasing::none(),   sgfx::AntiAliasing::msaa(4),
+                                                   sgfx::AntiAliasing::ssaa(2),  sgfx::AntiAliasing::fxaa(),
+                                                   sgfx::AntiAliasing::taa(),    sgfx::AntiAliasing::smaa(),
                                                    sgfx::AntiAliasing::smaaT2x()};
         switch (k) {
         case GLFW_KEY_ESCAPE:
@@ -308,9 +308,9 @@ public:
         }
         if (ImGui::CollapsingHeader("Anti-aliasing")) {
             static const sgfx::AntiAliasing modes[] = {
-                sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
-                sgfx::AntiAliasing::fxaa(), sgfx::AntiAliasing::taa(),
-                sgfx::AntiAliasing::smaa(), sgfx::AntiAliasing::smaaT2x()};
+                sgfx::AntiAliasing::none(),   sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
+                sgfx::AntiAliasing::fxaa(),   sgfx::AntiAliasing::taa(),   sgfx::AntiAliasing::smaa(),
+                sgfx::AntiAliasing::smaaT2x()};
             int aa = int(s_.antiAliasing.mode);
             if (ImGui::Combo("mode (M)", &aa, "none\0MSAA 4x\0SSAA 2x\0FXAA\0TAA\0SMAA\0SMAA T2x\0"))
                 s_.antiAliasing = modes[aa];

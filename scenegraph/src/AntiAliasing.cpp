@@ -42,17 +42,18 @@ enum class Stage {
     SmaaBlend
 };
 const BaseShader& base(Stage stage) {
-    static const std::array<BaseShader, 11> bases = {fullscreenBase("aa_downsample", "aa_downsample.frag"),
-                                                     fullscreenBase("aa_resolve", "aa_resolve.frag"),
-                                                     fullscreenBase("fxaa_luma", "fxaa_luma.frag"),
-                                                     fullscreenBase("fxaa_edges", "fxaa_edges.frag"),
-                                                     fullscreenBase("fxaa", "fxaa.frag"),
-                                                     fullscreenBase("taa_resolve", "taa_resolve.frag"),
-                                                     fullscreenBase("smaa_edges_luma", "smaa_edges_luma.frag"),
-                                                     fullscreenBase("smaa_edges_colour", "smaa_edges_colour.frag"),
-                                                     fullscreenBase("smaa_edges_depth", "smaa_edges_depth.frag"),
-                                                     fullscreenBase("smaa_weights", "smaa_weights.frag"),
-                                                     fullscreenBase("smaa_blend", "smaa_blend.frag")};
+    static const std::array<BaseShader, 11> bases = {
+        fullscreenBase("aa_downsample", "aa_downsample.frag"),
+        fullscreenBase("aa_resolve", "aa_resolve.frag"),
+        fullscreenBase("fxaa_luma", "fxaa_luma.frag"),
+        fullscreenBase("fxaa_edges", "fxaa_edges.frag"),
+        fullscreenBase("fxaa", "fxaa.frag"),
+        fullscreenBase("taa_resolve", "taa_resolve.frag"),
+        fullscreenBase("smaa_edges_luma", "smaa_edges_luma.frag"),
+        fullscreenBase("smaa_edges_colour", "smaa_edges_colour.frag"),
+        fullscreenBase("smaa_edges_depth", "smaa_edges_depth.frag"),
+        fullscreenBase("smaa_weights", "smaa_weights.frag"),
+        fullscreenBase("smaa_blend", "smaa_blend.frag")};
     return bases[std::size_t(stage)];
 }
 
@@ -143,7 +144,8 @@ gl::RenderTarget& drawTarget(ViewState& s, gl::RenderTarget& target) {
     if (a.mode != AntiAliasing::Mode::Msaa) s.msaa = {};
     if (a.mode != AntiAliasing::Mode::Ssaa) s.ssaa = {};
     const bool smaa = a.mode == AntiAliasing::Mode::Smaa || a.mode == AntiAliasing::Mode::SmaaT2x;
-    if (a.mode != AntiAliasing::Mode::Fxaa && a.mode != AntiAliasing::Mode::Taa && !smaa) s.copy = {}, s.fbo = {};
+    if (a.mode != AntiAliasing::Mode::Fxaa && a.mode != AntiAliasing::Mode::Taa && !smaa)
+        s.copy = {}, s.fbo = {};
     if (a.mode != AntiAliasing::Mode::Fxaa) {
         s.luma = {}, s.lumaFbo = {};
         s.lumaWidth = s.lumaHeight = 0;

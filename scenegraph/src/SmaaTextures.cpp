@@ -58,8 +58,9 @@ const std::vector<float>& areaTexture() {
                 for (int d2 = 0; d2 < kMaxDistance; ++d2)
                     for (int d1 = 0; d1 < kMaxDistance; ++d1) {
                         const glm::vec2 v = area(c1, c2, d1, d2);
-                        const std::size_t i =
-                            (std::size_t(c2 * kMaxDistance + d2) * kAreaSize + std::size_t(c1 * kMaxDistance + d1)) * 2;
+                        const std::size_t i = (std::size_t(c2 * kMaxDistance + d2) * kAreaSize +
+                                               std::size_t(c1 * kMaxDistance + d1)) *
+                                              2;
                         t[i] = v.x;
                         t[i + 1] = v.y;
                     }

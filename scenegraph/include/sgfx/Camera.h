@@ -23,11 +23,11 @@ struct SGFX_API Viewport {
 struct SGFX_API AntiAliasing {
     enum class Mode : std::uint8_t {
         None,
-        Msaa, ///< multisample colour and depth, resolved before the post passes
-        Ssaa, ///< rendered `factor`× larger per axis, box-filtered down
-        Fxaa, ///< fast approximate AA on the final image (Lottes' FXAA 3.11, written from its description)
-        Taa,  ///< temporal: Halton(2,3) sub-pixel jitter, history reprojected and clamped
-        Smaa, ///< morphological AA (Jimenez et al. 2012, SMAA 1x), written from the paper
+        Msaa,    ///< multisample colour and depth, resolved before the post passes
+        Ssaa,    ///< rendered `factor`× larger per axis, box-filtered down
+        Fxaa,    ///< fast approximate AA on the final image (Lottes' FXAA 3.11, written from its description)
+        Taa,     ///< temporal: Halton(2,3) sub-pixel jitter, history reprojected and clamped
+        Smaa,    ///< morphological AA (Jimenez et al. 2012, SMAA 1x), written from the paper
         SmaaT2x, ///< SMAA 1x per frame, two sub-pixel jitters, the last two frames averaged
     };
     enum class FxaaQuality : std::uint8_t { Low, Medium, High };
@@ -87,8 +87,9 @@ struct SGFX_API AntiAliasing {
 
     /// The names command lines and settings files use: none, msaa (4 samples), msaaN (N = 1..8),
     /// ssaaN (N = 2..4), fxaa, fxaa-low, fxaa-high, taa, and
-    /// smaa[-t2x][-low|-medium|-high|-ultra][-luma|-colour|-depth] (default high, luma). parse() throws std::invalid_argument
-    /// listing them for anything else; name() gives parse()'s name back (msaaN, ssaaN spelt out).
+    /// smaa[-t2x][-low|-medium|-high|-ultra][-luma|-colour|-depth] (default high, luma). parse() throws
+    /// std::invalid_argument listing them for anything else; name() gives parse()'s name back (msaaN, ssaaN
+    /// spelt out).
     static AntiAliasing parse(std::string_view name);
     std::string name() const;
     static constexpr std::string_view kNames =

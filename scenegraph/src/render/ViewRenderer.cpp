@@ -511,7 +511,8 @@ void Renderer::View::declareResolve() {
 
 void Renderer::View::declarePostAa() {
     const aa::ViewState& aa = *aa_;
-    static const char* const names[] = {nullptr, nullptr, nullptr, "aa fxaa", "aa taa", "aa smaa", "aa smaa t2x"};
+    static const char* const names[] = {nullptr,  nullptr,   nullptr,      "aa fxaa",
+                                        "aa taa", "aa smaa", "aa smaa t2x"};
     const char* name = names[std::size_t(aa.settings.mode)];
     if (!name) return;
     graph_.addPass(
