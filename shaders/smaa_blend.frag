@@ -16,6 +16,10 @@ void main() {
     if (p.y == 0) down = 0.0;
     if (p.x == last.x) right = 0.0;
     vec4 c = texelFetch(sgfx_aaSource, p, 0);
+    if (max(max(up, down), max(left, right)) == 0.0) { // no edge around: most pixels
+        sgfx_fragColor = vec4(c.rgb, 1.0);
+        return;
+    }
     bool vertical = max(up, down) > max(left, right);
     vec2 w = vertical ? vec2(up, down) : vec2(left, right);
     ivec2 a = vertical ? ivec2(0, 1) : ivec2(-1, 0), b = -a;
