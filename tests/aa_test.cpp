@@ -514,9 +514,8 @@ TEST(AntiAliasing, OitAndSkyFogWorkOnAMultisampledView) {
 }
 
 TEST(AntiAliasing, ResizingReallocatesEveryModesTargets) {
-    for (const AntiAliasing& aa :
-         {AntiAliasing::msaa(4), AntiAliasing::ssaa(3), AntiAliasing::fxaa(), AntiAliasing::taa(),
-          AntiAliasing::smaa(), AntiAliasing::smaaT2x()}) {
+    for (const AntiAliasing& aa : {AntiAliasing::msaa(4), AntiAliasing::ssaa(3), AntiAliasing::fxaa(),
+                                   AntiAliasing::taa(), AntiAliasing::smaa(), AntiAliasing::smaaT2x()}) {
         auto v = edgeViewer(aa);
         for (auto [w, h] : {std::pair{17, 9}, std::pair{1, 1}, std::pair{40, 70}, std::pair{kSize, kSize}}) {
             v->camera()->setViewport(0, 0, w, h);

@@ -477,8 +477,8 @@ void stormSettings(StormScene& s, Viewer& v, int index, int w, int h, int maxW, 
     ap.halfResolution = index % 4 < 2;
     s.ao->setParameters(ap);
     // Anti-aliasing modes in turn; SSAA only where twice the size fits the driver.
-    const AntiAliasing modes[] = {AntiAliasing::msaa(4), AntiAliasing::fxaa(), AntiAliasing::taa(),
-                                  AntiAliasing::none(), AntiAliasing::ssaa(2), AntiAliasing::smaa(),
+    const AntiAliasing modes[] = {AntiAliasing::msaa(4),  AntiAliasing::fxaa(),  AntiAliasing::taa(),
+                                  AntiAliasing::none(),   AntiAliasing::ssaa(2), AntiAliasing::smaa(),
                                   AntiAliasing::smaaT2x()};
     AntiAliasing aa = modes[index % 7];
     if (aa.mode == AntiAliasing::Mode::Ssaa && (2 * w > maxW || 2 * h > maxH)) aa = AntiAliasing::none();

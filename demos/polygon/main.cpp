@@ -930,8 +930,8 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
                                                               : "post") +
                 ", glass " + (scene.glassBin->mode() == sgfx::TransparencyMode::Sorted ? "sorted" : "OIT") +
                 ", AA " +
-                std::array{"none", "MSAA 4x", "SSAA 2x", "FXAA", "TAA", "SMAA",
-                           "SMAA T2x"}[std::size_t(viewer.camera()->antiAliasing().mode)];
+                std::array{"none", "MSAA 4x", "SSAA 2x", "FXAA", "TAA", "SMAA", "SMAA T2x"}[std::size_t(
+                    viewer.camera()->antiAliasing().mode)];
             glfwSetWindowTitle(win, title.c_str());
             titleTime = now;
             frames = 0;
