@@ -10,9 +10,12 @@ layout(location = 0) out vec4 sgfx_smaaWeights;
 layout(binding = 0) uniform sampler2D sgfx_smaaEdgesTex; // RG: left, top edges; bilinear
 layout(binding = 1) uniform sampler2D sgfx_smaaArea;     // SmaaTextures.h, texel fetched
 layout(binding = 2) uniform sampler2D sgfx_smaaSearch;   // SmaaTextures.h, texel fetched
+layout(binding = 3) uniform sampler2D sgfx_smaaDiagArea; // SmaaTextures.h, texel fetched
 uniform int sgfx_smaaSteps;
+uniform int sgfx_smaaDiagSteps; // diagonal search steps, one pixel each; 0: no diagonal patterns
 uniform float sgfx_smaaCorner; // 1 − corner rounding (0.75 for the reference's 25 %), 0: off
 const int kMaxDistance = 72; // smaa::kMaxDistance
+const int kMaxDiagonal = 20; // smaa::kMaxDiagonal
 
 vec2 sgfx_texel;
 ivec2 sgfx_size;
@@ -61,13 +64,49 @@ float edgeG(int x, int y) {
     return texelFetch(sgfx_smaaEdgesTex, clamp(ivec2(x, y), ivec2(0), sgfx_size - 1), 0).g;
 }
 
+// Diagonal patterns (the paper's sec. 4.2), '/' (mx = 1) or '\\' (mx = −1): a run pixel has a top
+// edge and a left edge, its own ('/') or its right neighbour's ('\\'); outside the image: none.
+vec2 edgeAt(ivec2 q) {
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, sgfx_size))) return vec2(0.0);
+    return texelFetch(sgfx_smaaEdgesTex, q, 0).rg;
+}
+float diagLeft(ivec2 q, int mx) {
+    return edgeAt(q + ivec2((1 - mx) / 2, 0)).r;
+}
+bool onRun(ivec2 q, int mx) {
+    return edgeAt(q).g > 0.5 && diagLeft(q, mx) > 0.5;
+}
+int diagWalk(ivec2 p, ivec2 m, int mx) {
+    int d = 0;
+    while (d < sgfx_smaaDiagSteps && onRun(p + (d + 1) * m, mx)) ++d;
+    return d;
+}
+// The run through p: its weights for p's top edge (SmaaTextures.h, diagonalArea), or −1: none.
+// Ends: bit 0 the staircase goes on horizontally, bit 1 vertically.
+vec2 diagonal(ivec2 p, int mx) {
+    if (sgfx_smaaDiagSteps == 0 || !onRun(p, mx)) return vec2(-1.0);
+    ivec2 m = ivec2(mx, 1);
+    int d1 = diagWalk(p, -m, mx), d2 = diagWalk(p, m, mx);
+    if (d1 + d2 < 2) return vec2(-1.0); // a shape's corner or a lone step: orthogonal
+    ivec2 s = p - d1 * m, e = p + d2 * m;
+    int c1 = int(edgeAt(s + ivec2(-mx, -1)).g > 0.5) + 2 * int(diagLeft(s + ivec2(0, -1), mx) > 0.5);
+    int c2 = int(edgeAt(e + ivec2(mx, 0)).g > 0.5) + 2 * int(diagLeft(e + ivec2(mx, 1), mx) > 0.5);
+    ivec2 t = ivec2(c1, c2) * kMaxDiagonal + min(ivec2(d1, d2), ivec2(kMaxDiagonal - 1));
+    return texelFetch(sgfx_smaaDiagArea, t, 0).rg;
+}
+
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     sgfx_size = textureSize(sgfx_smaaEdgesTex, 0);
     sgfx_texel = 1.0 / vec2(sgfx_size);
     vec2 e = texelFetch(sgfx_smaaEdgesTex, p, 0).rg;
     vec4 w = vec4(0.0);
-    if (e.g > 0.0) { // a line along the top of this row: its crossings below (0.75) and above
+    // A diagonal run puts all its weights on the top edges (the blend takes one direction only).
+    vec2 diag = e.g > 0.0 ? diagonal(p, 1) : vec2(-1.0);
+    if (e.g > 0.0 && diag.x < 0.0) diag = diagonal(p, -1);
+    bool onDiagonal = diag.x >= 0.0;
+    if (onDiagonal) w.rg = diag;
+    if (e.g > 0.0 && !onDiagonal) { // a line along the top of this row: crossings below (0.75), above
         int left = walk(p, true, p.x, -1, true), right = walk(p, true, p.x + 1, 1, false);
         float e1 = edgesAt(vec2(float(left) + 0.5, float(p.y) + 0.75)).r;
         float e2 = right + 1 < sgfx_size.x ? edgesAt(vec2(float(right) + 1.5, float(p.y) + 0.75)).r : 0.0;
@@ -76,7 +115,8 @@ void main() {
                              vec2(edgeR(left, p.y - 1), edgeR(right + 1, p.y - 1)),
                              vec2(edgeR(left, p.y + 2), edgeR(right + 1, p.y + 2)));
     }
-    if (e.r > 0.0) { // a line along the left of this column: its crossings on the right (0.75)
+    // A left edge that is a '\\' run's right side is the run's: the run pixel blends it vertically.
+    if (e.r > 0.0 && !onDiagonal && diagonal(p - ivec2(1, 0), -1).x < 0.0) { // crossings right (0.75)
         int down = walk(p, false, p.y - 1, -1, false), up = walk(p, false, p.y, 1, true);
         float e1 = down > 0 ? edgesAt(vec2(float(p.x) + 0.25, float(down) - 0.5)).g : 0.0;
         float e2 = edgesAt(vec2(float(p.x) + 0.25, float(up) + 0.5)).g;

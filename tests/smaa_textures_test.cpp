@@ -102,3 +102,44 @@ TEST(SmaaTextures, SearchDecodingFindsTheLinesEndsOnRandomEdges) {
         EXPECT_EQ(walk, scan) << "trial " << trial;
     }
 }
+
+TEST(SmaaTextures, DiagonalAreaOfAStraight45DegreeRunIsAnEighth) {
+    // No bend at either end: the line y = x − 0.5 through the edges' midpoints cuts a right
+    // triangle with legs of half a pixel off the run pixel and off the pixel above: 1/8 each.
+    ASSERT_EQ(smaa::diagonalAreaTexture().size(),
+              std::size_t(smaa::kDiagonalAreaSize) * smaa::kDiagonalAreaSize * 2);
+    for (auto [d1, d2] : {std::pair{1, 1}, std::pair{0, 5}, std::pair{7, 3}, std::pair{19, 19}}) {
+        const glm::vec2 a = smaa::diagonalArea(0, 0, d1, d2);
+        EXPECT_NEAR(a.x, 0.125, 1e-6) << d1 << "," << d2;
+        EXPECT_NEAR(a.y, 0.125, 1e-6) << d1 << "," << d2;
+        const std::size_t i = (std::size_t(3 * smaa::kMaxDiagonal + d2) * smaa::kDiagonalAreaSize +
+                               std::size_t(3 * smaa::kMaxDiagonal + d1)) *
+                              2; // both ends going on both ways: the shifts cancel
+        EXPECT_NEAR(smaa::diagonalAreaTexture()[i], 0.125f, 1e-6) << d1 << "," << d2;
+    }
+}
+
+TEST(SmaaTextures, DiagonalAreaMatchesAPointCount) {
+    // The header's line (ends moved a quarter pixel by the crossing codes) against a count of a
+    // 500 × 500 grid of points below it in the run pixel and the pixel above: error ≤ 1/500 + ε.
+    constexpr int kGrid = 500;
+    for (int c1 = 0; c1 < 4; ++c1)
+        for (int c2 = 0; c2 < 4; ++c2)
+            for (auto [d1, d2] : {std::pair{0, 2}, std::pair{1, 1}, std::pair{3, 0}, std::pair{4, 9}}) {
+                const double n = d1 + d2 + 1.0, k = d1;
+                const double y0 = -0.5 + 0.25 * ((c1 & 1) ? 1 : 0) - 0.25 * ((c1 & 2) ? 1 : 0);
+                const double y1 = n - 0.5 - 0.25 * ((c2 & 1) ? 1 : 0) + 0.25 * ((c2 & 2) ? 1 : 0);
+                int inRun = 0, inAbove = 0;
+                for (int i = 0; i < kGrid; ++i)
+                    for (int j = 0; j < kGrid; ++j) {
+                        const double x = k + (i + 0.5) / kGrid, f = (j + 0.5) / kGrid;
+                        const double line = y0 + (y1 - y0) * x / n;
+                        inRun += (k - 1.0 + f) < line;
+                        inAbove += (k + f) < line;
+                    }
+                const glm::vec2 a = smaa::diagonalArea(c1, c2, d1, d2);
+                const double tol = 1.0 / kGrid + 1e-4;
+                EXPECT_NEAR(a.x, 1.0 - double(inRun) / (kGrid * kGrid), tol) << c1 << c2 << d1 << d2;
+                EXPECT_NEAR(a.y, double(inAbove) / (kGrid * kGrid), tol) << c1 << c2 << d1 << d2;
+            }
+}

@@ -153,7 +153,7 @@ gl::RenderTarget& drawTarget(ViewState& s, gl::RenderTarget& target) {
     if (a.mode != AntiAliasing::Mode::Fxaa && !smaa) s.stencil = {}, s.stencilWidth = s.stencilHeight = 0;
     if (!smaa) {
         s.smaaEdges = {}, s.smaaWeights = {}, s.smaaEdgesFbo = {}, s.smaaWeightsFbo = {};
-        s.smaaArea = {}, s.smaaSearch = {};
+        s.smaaArea = {}, s.smaaSearch = {}, s.smaaDiagonal = {};
         s.smaaWidth = s.smaaHeight = 0;
     }
     if (a.mode != AntiAliasing::Mode::Taa && a.mode != AntiAliasing::Mode::SmaaT2x) {
@@ -321,6 +321,9 @@ void smaaTargets(ViewState& s, const gl::RenderTarget& target) {
         s.smaaSearch = gl::createTexture2D(GL_R32F, smaa::kSearchWidth, smaa::kSearchHeight);
         glTextureSubImage2D(s.smaaSearch.get(), 0, 0, 0, smaa::kSearchWidth, smaa::kSearchHeight, GL_RED,
                             GL_FLOAT, smaa::searchTexture().data());
+        s.smaaDiagonal = gl::createTexture2D(GL_RG32F, smaa::kDiagonalAreaSize, smaa::kDiagonalAreaSize);
+        glTextureSubImage2D(s.smaaDiagonal.get(), 0, 0, 0, smaa::kDiagonalAreaSize, smaa::kDiagonalAreaSize,
+                            GL_RG, GL_FLOAT, smaa::diagonalAreaTexture().data());
     }
     if (s.smaaEdges && s.smaaWidth == target.width && s.smaaHeight == target.height) return;
     s.smaaEdges = gl::createTexture2D(GL_RG8, target.width, target.height, GL_LINEAR);
@@ -339,8 +342,9 @@ void smaaTargets(ViewState& s, const gl::RenderTarget& target) {
 void smaa1x(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     const AntiAliasing& a = s.settings;
     // The reference's presets: edge threshold, search steps (two pixels a step), corner
-    // detection (25 % rounding on high and ultra).
+    // detection (25 % rounding on high and ultra), diagonal search steps (high and ultra).
     static constexpr float thresholds[] = {0.15f, 0.1f, 0.1f, 0.05f};
+    static constexpr int diagonal[] = {0, 0, 8, 16};
     static constexpr int steps[] = {4, 8, 16, 32};
     static constexpr float corner[] = {0.0f, 0.0f, 0.75f, 0.75f};
     const std::size_t preset = std::size_t(a.smaaPreset);
@@ -370,16 +374,19 @@ void smaa1x(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     r.bindTexture(0, s.smaaEdges.get());
     r.bindTexture(1, s.smaaArea.get());
     r.bindTexture(2, s.smaaSearch.get());
+    r.bindTexture(3, s.smaaDiagonal.get());
     gl::Program& weights = fullscreenProgram(r, base(Stage::SmaaWeights));
     glUseProgram(weights.get());
     weights.set("sgfx_smaaSteps", steps[preset]);
     weights.set("sgfx_smaaCorner", corner[preset]);
+    weights.set("sgfx_smaaDiagSteps", a.smaaDiagonalSteps < 0 ? diagonal[preset] : a.smaaDiagonalSteps);
     r.drawFullscreen(weights);
     glDisable(GL_STENCIL_TEST);
     prepareFullscreen(s, target);
     r.bindTexture(0, s.copy.get());
     r.bindTexture(1, s.smaaWeights.get());
     r.bindTexture(2, 0);
+    r.bindTexture(3, 0);
     r.drawFullscreen(fullscreenProgram(r, base(Stage::SmaaBlend)));
     r.bindTexture(0, 0);
     r.bindTexture(1, 0);

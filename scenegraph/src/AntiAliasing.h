@@ -31,7 +31,7 @@ struct ViewState {
     int stencilWidth = 0, stencilHeight = 0;
     gl::TextureObject smaaEdges, smaaWeights; // SMAA: RG8 edges (bilinear), RGBA16F weights
     gl::FramebufferObject smaaEdgesFbo, smaaWeightsFbo;
-    gl::TextureObject smaaArea, smaaSearch; // SMAA's look-up textures (sgfx/SmaaTextures.h)
+    gl::TextureObject smaaArea, smaaSearch, smaaDiagonal; // SMAA's look-up textures (sgfx/SmaaTextures.h)
     int smaaWidth = 0, smaaHeight = 0;
     gl::TextureObject history[2]; // TAA and SMAA T2x, linear RGBA16F
     int historyWidth = 0, historyHeight = 0, historyIndex = 0;

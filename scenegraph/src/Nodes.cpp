@@ -524,6 +524,8 @@ void AntiAliasing::validate() const {
         refuse("smaaPreset has an invalid value " + std::to_string(int(smaaPreset)));
     if (std::uint8_t(smaaEdge) > std::uint8_t(SmaaEdge::Depth))
         refuse("smaaEdge has an invalid value " + std::to_string(int(smaaEdge)));
+    if (smaaDiagonalSteps < -1 || smaaDiagonalSteps > 19)
+        refuse("smaaDiagonalSteps = " + std::to_string(smaaDiagonalSteps) + " is outside [-1, 19]");
 }
 
 void Camera::setAntiAliasing(const AntiAliasing& aa) {

@@ -69,6 +69,59 @@ const std::vector<float>& areaTexture() {
     return texels;
 }
 
+namespace {
+
+// ∫ over [x0, x1] of clamp(h(x) − b, 0, 1) for the line h from (0, h0) to (n, hn): the area of the
+// square [x0, x1] × [b, b + 1] below the line. Exact: the integrand is linear between the points
+// where the line crosses b and b + 1, so the trapezoid rule is exact on each piece.
+double areaBelow(double h0, double hn, double n, double x0, double x1, double b) {
+    auto h = [&](double x) { return h0 + (hn - h0) * x / n; };
+    auto f = [&](double x) { return std::clamp(h(x) - b, 0.0, 1.0); };
+    std::vector<double> xs{x0, x1};
+    for (double level : {b, b + 1.0}) {
+        const double x = (level - h0) * n / (hn - h0); // the slope is never 0 here
+        if (x > x0 && x < x1) xs.push_back(x);
+    }
+    std::sort(xs.begin(), xs.end());
+    double sum = 0.0;
+    for (std::size_t i = 1; i < xs.size(); ++i)
+        sum += 0.5 * (f(xs[i - 1]) + f(xs[i])) * (xs[i] - xs[i - 1]);
+    return sum;
+}
+
+} // namespace
+
+glm::vec2 diagonalArea(int c1, int c2, int d1, int d2) {
+    // Run pixel k covers [k, k + 1] × [k − 1, k]; its left and top edges' midpoints lie on
+    // y = x − 0.5. Going on horizontally past an end lifts the lower end (shallower) or lowers
+    // the upper one; vertically the reverse.
+    const double n = d1 + d2 + 1.0, k = d1;
+    const double h0 = -0.5 + 0.25 * ((c1 & 1) - (c1 >> 1 & 1));
+    const double hn = n - 0.5 + 0.25 * ((c2 >> 1 & 1) - (c2 & 1));
+    const double inside = areaBelow(h0, hn, n, k, k + 1.0, k - 1.0);
+    const double above = areaBelow(h0, hn, n, k, k + 1.0, k);
+    return glm::vec2(float(1.0 - inside), float(above));
+}
+
+const std::vector<float>& diagonalAreaTexture() {
+    static const std::vector<float> texels = [] {
+        std::vector<float> t(std::size_t(kDiagonalAreaSize) * kDiagonalAreaSize * 2, 0.0f);
+        for (int c2 = 0; c2 < 4; ++c2)
+            for (int c1 = 0; c1 < 4; ++c1)
+                for (int d2 = 0; d2 < kMaxDiagonal; ++d2)
+                    for (int d1 = 0; d1 < kMaxDiagonal; ++d1) {
+                        const glm::vec2 v = diagonalArea(c1, c2, d1, d2);
+                        const std::size_t i = (std::size_t(c2 * kMaxDiagonal + d2) * kDiagonalAreaSize +
+                                               std::size_t(c1 * kMaxDiagonal + d1)) *
+                                              2;
+                        t[i] = v.x;
+                        t[i + 1] = v.y;
+                    }
+        return t;
+    }();
+    return texels;
+}
+
 int searchDecode(bool farSide, int line, int crossing) {
     if (line == 2 || crossing == 2 || line < 0 || line > 4 || crossing < 0 || crossing > 4) return 0;
     const bool lineFirst = line >= 3, lineNext = line == 1 || line == 4;

@@ -32,7 +32,7 @@ struct SGFX_API AntiAliasing {
     };
     enum class FxaaQuality : std::uint8_t { Low, Medium, High };
     /// SMAA presets: edge threshold and search steps of the reference's presets (low 0.15 / 4,
-    /// medium 0.1 / 8, high 0.1 / 16, ultra 0.05 / 32). Diagonal patterns are not implemented.
+    /// medium 0.1 / 8, high 0.1 / 16, ultra 0.05 / 32); diagonal patterns on high (8 steps) and ultra (16).
     enum class SmaaPreset : std::uint8_t { Low, Medium, High, Ultra };
     /// What SMAA looks for edges in: perceptual luma, the largest colour channel difference, or depth.
     enum class SmaaEdge : std::uint8_t { Luma, Colour, Depth };
@@ -43,6 +43,9 @@ struct SGFX_API AntiAliasing {
     float taaFeedback = 0.9375f; ///< TAA: history weight once 1/(1 − feedback) = 16 frames are in, [0, 0.98]
     SmaaPreset smaaPreset = SmaaPreset::High;
     SmaaEdge smaaEdge = SmaaEdge::Luma;
+    /// SMAA diagonal search steps, one pixel a step: −1 the preset's (high 8, ultra 16, else off),
+    /// 0 off, up to smaa::kMaxDiagonal − 1.
+    int smaaDiagonalSteps = -1;
 
     static AntiAliasing none() { return {}; }
     static AntiAliasing msaa(int samples = 4) {

@@ -40,4 +40,19 @@ SGFX_API int searchDecode(bool farSide, int line, int crossing);
 SGFX_API const std::vector<float>& searchTexture();
 inline constexpr int kSearchWidth = 5, kSearchHeight = 10;
 
+// Diagonal patterns (the paper's sec. 4.2): a run of pixels along a 45° staircase, each with both
+// its crossing edges (top and left for '/', top and the right neighbour's left for '\\'). The run
+// is d1 + d2 + 1 pixels long, this one d1 from its lower end. c1, c2: how the staircase goes on
+// past the lower and upper end, bit 0 horizontally (the line is shallower there), bit 1
+// vertically (steeper). The revectorised line runs through the edge midpoints, each end moved a
+// quarter pixel toward the side the staircase goes on. x: the part of this pixel beyond the line
+// (this pixel takes it from above), y: the part of the pixel above on this side (it takes it from
+// this one), both exact areas (the line clipped against the pixel squares). Mirrored for '\\'.
+SGFX_API glm::vec2 diagonalArea(int c1, int c2, int d1, int d2);
+// Distances 0..kMaxDiagonal − 1: the ultra preset's 16 one-pixel steps plus the ends.
+inline constexpr int kMaxDiagonal = 20;
+// 4·kMaxDiagonal square, two floats a texel: texel (c1·kMaxDiagonal + d1, c2·kMaxDiagonal + d2).
+SGFX_API const std::vector<float>& diagonalAreaTexture();
+inline constexpr int kDiagonalAreaSize = 4 * kMaxDiagonal;
+
 } // namespace sgfx::smaa
