@@ -641,8 +641,10 @@ TEST(Smaa, EdgeErrorIsBelowFxaasAndPresetsReachLongerSteps) {
 
 TEST(Smaa, DiagonalPatternsLowerTheErrorNear45Degrees) {
     // Edges near 45° against their exact area coverage: SMAA high with its diagonal patterns
-    // against the same preset with them switched off (short orthogonal steps) and FXAA.
-    for (float tilt : {42.0f, 45.0f, 48.0f}) {
+    // against the same preset with them switched off (short orthogonal steps) and FXAA. 42°-48°
+    // run down to the right ('\\' runs), 138° up to the right ('/'). Measured on llvmpipe (64²):
+    // 42°: 0.059 against 0.105 without and FXAA's 0.113; 45°: 0.094, 0.218, 0.221; 138°: as 42°.
+    for (float tilt : {42.0f, 45.0f, 138.0f}) {
         const EdgeTilt t(tilt);
         auto f = edgeViewer(AntiAliasing::fxaa());
         const double fxaa = edgeError(renderFrames(*f)).mean;
@@ -657,6 +659,16 @@ TEST(Smaa, DiagonalPatternsLowerTheErrorNear45Degrees) {
         EXPECT_LT(diag, orth) << tilt;
         EXPECT_LT(diag, fxaa) << tilt;
     }
+    // Low and medium search no diagonals (the reference's presets); ultra does, 16 steps.
+    const EdgeTilt t(42.0f);
+    AntiAliasing medium = AntiAliasing::smaa(AntiAliasing::SmaaPreset::Medium), mediumOff = medium;
+    mediumOff.smaaDiagonalSteps = 0;
+    auto m = edgeViewer(medium), mo = edgeViewer(mediumOff);
+    EXPECT_EQ(renderFrames(*m).pixels, renderFrames(*mo).pixels);
+    AntiAliasing ultraOff = AntiAliasing::smaa(AntiAliasing::SmaaPreset::Ultra);
+    ultraOff.smaaDiagonalSteps = 0;
+    auto u = edgeViewer(AntiAliasing::smaa(AntiAliasing::SmaaPreset::Ultra)), uo = edgeViewer(ultraOff);
+    EXPECT_LT(edgeError(renderFrames(*u)).mean, edgeError(renderFrames(*uo)).mean);
 }
 
 TEST(Smaa, ThinLinesKeepTheirInkBetterThanFxaa) {
