@@ -10,6 +10,7 @@ layout(binding = 1) uniform sampler2D sgfx_taaDepth;
 layout(binding = 2) uniform sampler2D sgfx_taaHistory; // linear, RGBA16F
 uniform mat4 sgfx_taaReprojection; // previous view-projection × inverse of this one (no jitter)
 uniform float sgfx_taaAlpha;       // weight of this frame
+uniform int sgfx_taaKeepCurrent;   // SMAA T2x: the history keeps this frame alone, not the blend
 
 // The history at uv through a Catmull-Rom spline (nine bilinear taps, after Jimenez's
 // "Filmic SMAA", SIGGRAPH 2016): a bilinear fetch blurs the history a little on every frame the
@@ -59,5 +60,5 @@ void main() {
         history = clamp(historyCatmullRom(prevUv, size), lo, hi);
     vec4 result = mix(history, current, sgfx_taaAlpha);
     sgfx_fragColor = result;
-    sgfx_taaHistoryOut = result;
+    sgfx_taaHistoryOut = sgfx_taaKeepCurrent != 0 ? current : result;
 }

@@ -477,9 +477,10 @@ void stormSettings(StormScene& s, Viewer& v, int index, int w, int h, int maxW, 
     ap.halfResolution = index % 4 < 2;
     s.ao->setParameters(ap);
     // Anti-aliasing modes in turn; SSAA only where twice the size fits the driver.
-    const AntiAliasing modes[] = {AntiAliasing::msaa(4), AntiAliasing::fxaa(), AntiAliasing::taa(),
-                                  AntiAliasing::none(), AntiAliasing::ssaa(2)};
-    AntiAliasing aa = modes[index % 5];
+    const AntiAliasing modes[] = {AntiAliasing::msaa(4),  AntiAliasing::fxaa(),  AntiAliasing::taa(),
+                                  AntiAliasing::none(),   AntiAliasing::ssaa(2), AntiAliasing::smaa(),
+                                  AntiAliasing::smaaT2x()};
+    AntiAliasing aa = modes[index % 7];
     if (aa.mode == AntiAliasing::Mode::Ssaa && (2 * w > maxW || 2 * h > maxH)) aa = AntiAliasing::none();
     v.camera()->setAntiAliasing(aa);
     s.root->setMode(FogMode(index % 3));

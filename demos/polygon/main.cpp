@@ -127,10 +127,12 @@ effects:
   --ao-half           compute the occlusion at half resolution
   --ao-debug raw|blurred
                       show the occlusion map instead of the scene
-  --aa none|msaa|msaa2|msaa4|msaa8|ssaa2|ssaa3|ssaa4|fxaa|fxaa-low|fxaa-high|taa
-                      anti-aliasing of the camera (default none; msaa = msaa4); TAA
-                      converges over 16 frames: --bench and --frames show it, a still
-                      renders 16 frames first
+  --aa none|msaa|msaa2|msaa4|msaa8|ssaa2|ssaa3|ssaa4|fxaa|fxaa-low|fxaa-high|taa|
+       smaa|smaa-low|smaa-medium|smaa-ultra|smaa-colour|smaa-depth|smaa-t2x
+                      anti-aliasing of the camera (default none; msaa = msaa4; smaa =
+                      high preset on luma, smaa[-t2x][-PRESET][-luma|-colour|-depth]);
+                      TAA converges over 16 frames, SMAA T2x over 2: --bench and
+                      --frames show it, a still renders 16 frames first
   --crop X,Y,W,H,Z    write only the W×H region at (X, Y) of the image, each pixel
                       shown as Z×Z (comparison crops)
   --color-target srgb8|rgba16f|rgba32f
@@ -737,7 +739,9 @@ int runStill(const Options& o, const polygon::PolygonScene& scene) {
     auto viewer = makeHeadlessViewer(o);
     setupCamera(o, *viewer, startPose(o, o.time));
     viewer->setSceneData(sceneWithEffects(o, scene, viewer->camera()));
-    const int frames = o.aa.mode == sgfx::AntiAliasing::Mode::Taa ? 16 : 1; // TAA's history fills
+    const bool temporal =
+        o.aa.mode == sgfx::AntiAliasing::Mode::Taa || o.aa.mode == sgfx::AntiAliasing::Mode::SmaaT2x;
+    const int frames = temporal ? 16 : 1; // TAA's (and SMAA T2x's) history fills
     for (int i = 0; i < frames; ++i)
         viewer->frame();
     if (o.crop) {
@@ -934,11 +938,12 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
                                         : sgfx::TransparencyMode::Sorted);
         transparencyKeyDown = transparencyKey;
         const bool aaKey = glfwGetKey(win, GLFW_KEY_M) == GLFW_PRESS;
-        if (aaKey && !aaKeyDown) { // none → MSAA 4× → SSAA 2× → FXAA → TAA → none
+        if (aaKey && !aaKeyDown) { // none → MSAA 4× → SSAA 2× → FXAA → TAA → SMAA → SMAA T2x → none
             using M = sgfx::AntiAliasing::Mode;
             static const sgfx::AntiAliasing cycle[] = {
-                sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
-                sgfx::AntiAliasing::fxaa(), sgfx::AntiAliasing::taa()};
+                sgfx::AntiAliasing::none(),   sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
+                sgfx::AntiAliasing::fxaa(),   sgfx::AntiAliasing::taa(),   sgfx::AntiAliasing::smaa(),
+                sgfx::AntiAliasing::smaaT2x()};
             const M current = viewer.camera()->antiAliasing().mode;
             viewer.camera()->setAntiAliasing(cycle[(std::size_t(current) + 1) % std::size(cycle)]);
         }
@@ -974,8 +979,8 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
                                                               : "post") +
                 ", glass " + (scene.glassBin->mode() == sgfx::TransparencyMode::Sorted ? "sorted" : "OIT") +
                 ", AA " +
-                std::array{"none", "MSAA 4x", "SSAA 2x", "FXAA",
-                           "TAA"}[std::size_t(viewer.camera()->antiAliasing().mode)];
+                std::array{"none", "MSAA 4x", "SSAA 2x", "FXAA", "TAA", "SMAA", "SMAA T2x"}[std::size_t(
+                    viewer.camera()->antiAliasing().mode)];
             glfwSetWindowTitle(win, title.c_str());
             titleTime = now;
             frames = 0;

@@ -91,9 +91,10 @@ public:
     }
 
     void key(int k) {
-        static const sgfx::AntiAliasing cycle[] = {sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4),
-                                                   sgfx::AntiAliasing::ssaa(2), sgfx::AntiAliasing::fxaa(),
-                                                   sgfx::AntiAliasing::taa()};
+        static const sgfx::AntiAliasing cycle[] = {sgfx::AntiAliasing::none(),   sgfx::AntiAliasing::msaa(4),
+                                                   sgfx::AntiAliasing::ssaa(2),  sgfx::AntiAliasing::fxaa(),
+                                                   sgfx::AntiAliasing::taa(),    sgfx::AntiAliasing::smaa(),
+                                                   sgfx::AntiAliasing::smaaT2x()};
         switch (k) {
         case GLFW_KEY_ESCAPE:
             glfwSetWindowShouldClose(win_, GLFW_TRUE);
@@ -307,10 +308,11 @@ public:
         }
         if (ImGui::CollapsingHeader("Anti-aliasing")) {
             static const sgfx::AntiAliasing modes[] = {
-                sgfx::AntiAliasing::none(), sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
-                sgfx::AntiAliasing::fxaa(), sgfx::AntiAliasing::taa()};
+                sgfx::AntiAliasing::none(),   sgfx::AntiAliasing::msaa(4), sgfx::AntiAliasing::ssaa(2),
+                sgfx::AntiAliasing::fxaa(),   sgfx::AntiAliasing::taa(),   sgfx::AntiAliasing::smaa(),
+                sgfx::AntiAliasing::smaaT2x()};
             int aa = int(s_.antiAliasing.mode);
-            if (ImGui::Combo("mode (M)", &aa, "none\0MSAA 4x\0SSAA 2x\0FXAA\0TAA\0"))
+            if (ImGui::Combo("mode (M)", &aa, "none\0MSAA 4x\0SSAA 2x\0FXAA\0TAA\0SMAA\0SMAA T2x\0"))
                 s_.antiAliasing = modes[aa];
         }
         if (ImGui::CollapsingHeader("Particles and sky")) {

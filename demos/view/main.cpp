@@ -42,7 +42,8 @@ renders a PNG.
   --fog-mode MODE    forward (default), split (seed 2's pre-pass) or post (seed 1's post-process)
   --ao               screen-space ambient occlusion (radius a tenth of the model's size)
   --aa MODE          anti-aliasing: none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low,
-                     fxaa-high, taa
+                     fxaa-high, taa, smaa, smaa-t2x, smaa[-t2x][-low|-medium|-high|-ultra]
+                     [-luma|-colour|-depth]
   --weather KIND     none, rain or snow particles over the model
   --sky HOURS        physical sky and sun at this solar time (0..24)
   --env SOURCE       image-based light: sky (default: the sky of --sky's time, drawn or not),
@@ -289,7 +290,8 @@ int runHeadless(const view::Options& o, view::ViewScene& scene, double loadMs, c
         const auto t0 = std::chrono::steady_clock::now();
         // Particles and TAA need a few frames to settle; one is enough for the rest.
         const bool settle = panels[p].weather != view::Weather::None ||
-                            panels[p].antiAliasing.mode == sgfx::AntiAliasing::Mode::Taa;
+                            panels[p].antiAliasing.mode == sgfx::AntiAliasing::Mode::Taa ||
+                            panels[p].antiAliasing.mode == sgfx::AntiAliasing::Mode::SmaaT2x;
         for (int f = 0; f < (settle ? 30 : 1); ++f)
             viewer->frame();
         const sgfx::Image img = viewer->capture();

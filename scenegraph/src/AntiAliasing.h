@@ -29,7 +29,11 @@ struct ViewState {
     int lumaWidth = 0, lumaHeight = 0;
     gl::TextureObject stencil; // FXAA: the edge pixels
     int stencilWidth = 0, stencilHeight = 0;
-    gl::TextureObject history[2]; // TAA, linear RGBA16F
+    gl::TextureObject smaaEdges, smaaWeights; // SMAA: RG8 edges (bilinear), RGBA16F weights
+    gl::FramebufferObject smaaEdgesFbo, smaaWeightsFbo;
+    gl::TextureObject smaaArea, smaaSearch, smaaDiagonal; // SMAA's look-up textures (sgfx/SmaaTextures.h)
+    int smaaWidth = 0, smaaHeight = 0;
+    gl::TextureObject history[2]; // TAA and SMAA T2x, linear RGBA16F
     int historyWidth = 0, historyHeight = 0, historyIndex = 0;
     glm::mat4 jitter{1.0f};
     glm::mat4 viewProjection{1.0f}, previousViewProjection{1.0f}; // without jitter
@@ -48,7 +52,7 @@ void begin(ViewState& s, const Camera& camera, const glm::mat4& viewProjection, 
 gl::RenderTarget& drawTarget(ViewState& s, gl::RenderTarget& target);
 // Multisample resolve or supersample downsample of colour and depth into `to`.
 void resolve(Renderer& r, ViewState& s, gl::RenderTarget& from, gl::RenderTarget& to);
-// FXAA or TAA on the finished single-sample image.
+// FXAA, SMAA or TAA on the finished single-sample image.
 void finish(Renderer& r, ViewState& s, gl::RenderTarget& target);
 
 // The i-th element (1-based) of the Halton sequence in `base`.

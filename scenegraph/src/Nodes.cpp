@@ -464,6 +464,23 @@ AntiAliasing AntiAliasing::parse(std::string_view v) {
     if (v == "fxaa-low") return fxaa(FxaaQuality::Low);
     if (v == "fxaa-high") return fxaa(FxaaQuality::High);
     if (v == "taa") return taa();
+    if (v.starts_with("smaa")) {
+        // smaa[-t2x][-low|-medium|-high|-ultra][-luma|-colour|-depth], each part optional.
+        std::string_view rest = v.substr(4);
+        auto take = [&](std::string_view part) {
+            if (!rest.starts_with(part)) return false;
+            rest.remove_prefix(part.size());
+            return true;
+        };
+        AntiAliasing a = take("-t2x") ? smaaT2x() : smaa();
+        static constexpr std::string_view presets[] = {"-low", "-medium", "-high", "-ultra"};
+        static constexpr std::string_view edges[] = {"-luma", "-colour", "-depth"};
+        for (std::size_t i = 0; i < 4; ++i)
+            if (take(presets[i])) a.smaaPreset = SmaaPreset(i);
+        for (std::size_t i = 0; i < 3; ++i)
+            if (take(edges[i])) a.smaaEdge = SmaaEdge(i);
+        if (rest.empty()) return a;
+    }
     throw std::invalid_argument("anti-aliasing '" + std::string(v) + "' is not one of " +
                                 std::string(kNames));
 }
@@ -482,13 +499,20 @@ std::string AntiAliasing::name() const {
                                                   : "fxaa";
     case Mode::Taa:
         return "taa";
+    case Mode::Smaa:
+    case Mode::SmaaT2x: {
+        static const char* const presets[] = {"-low", "-medium", "", "-ultra"};
+        static const char* const edges[] = {"", "-colour", "-depth"};
+        return std::string(mode == Mode::SmaaT2x ? "smaa-t2x" : "smaa") + presets[std::size_t(smaaPreset)] +
+               edges[std::size_t(smaaEdge)];
+    }
     }
     return "none";
 }
 
 void AntiAliasing::validate() const {
     auto refuse = [](const std::string& what) { throw std::invalid_argument("sgfx: AntiAliasing: " + what); };
-    if (std::uint8_t(mode) > std::uint8_t(Mode::Taa))
+    if (std::uint8_t(mode) > std::uint8_t(Mode::SmaaT2x))
         refuse("mode has an invalid value " + std::to_string(int(mode)));
     if (samples < 1 || samples > 64) refuse("samples = " + std::to_string(samples) + " is outside [1, 64]");
     if (factor < 1 || factor > 4) refuse("factor = " + std::to_string(factor) + " is outside [1, 4]");
@@ -496,6 +520,12 @@ void AntiAliasing::validate() const {
         refuse("fxaaQuality has an invalid value " + std::to_string(int(fxaaQuality)));
     if (!(taaFeedback >= 0.0f && taaFeedback <= 0.98f))
         refuse("taaFeedback = " + std::to_string(taaFeedback) + " is outside [0, 0.98]");
+    if (std::uint8_t(smaaPreset) > std::uint8_t(SmaaPreset::Ultra))
+        refuse("smaaPreset has an invalid value " + std::to_string(int(smaaPreset)));
+    if (std::uint8_t(smaaEdge) > std::uint8_t(SmaaEdge::Depth))
+        refuse("smaaEdge has an invalid value " + std::to_string(int(smaaEdge)));
+    if (smaaDiagonalSteps < -1 || smaaDiagonalSteps > 19)
+        refuse("smaaDiagonalSteps = " + std::to_string(smaaDiagonalSteps) + " is outside [-1, 19]");
 }
 
 void Camera::setAntiAliasing(const AntiAliasing& aa) {

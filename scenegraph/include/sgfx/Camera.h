@@ -23,17 +23,29 @@ struct SGFX_API Viewport {
 struct SGFX_API AntiAliasing {
     enum class Mode : std::uint8_t {
         None,
-        Msaa, ///< multisample colour and depth, resolved before the post passes
-        Ssaa, ///< rendered `factor`× larger per axis, box-filtered down
-        Fxaa, ///< fast approximate AA on the final image (Lottes' FXAA 3.11, written from its description)
-        Taa,  ///< temporal: Halton(2,3) sub-pixel jitter, history reprojected and clamped
+        Msaa,    ///< multisample colour and depth, resolved before the post passes
+        Ssaa,    ///< rendered `factor`× larger per axis, box-filtered down
+        Fxaa,    ///< fast approximate AA on the final image (Lottes' FXAA 3.11, written from its description)
+        Taa,     ///< temporal: Halton(2,3) sub-pixel jitter, history reprojected and clamped
+        Smaa,    ///< morphological AA (Jimenez et al. 2012, SMAA 1x), written from the paper
+        SmaaT2x, ///< SMAA 1x per frame, two sub-pixel jitters, the last two frames averaged
     };
     enum class FxaaQuality : std::uint8_t { Low, Medium, High };
+    /// SMAA presets: edge threshold and search steps of the reference's presets (low 0.15 / 4,
+    /// medium 0.1 / 8, high 0.1 / 16, ultra 0.05 / 32); diagonal patterns on high (8 steps) and ultra (16).
+    enum class SmaaPreset : std::uint8_t { Low, Medium, High, Ultra };
+    /// What SMAA looks for edges in: perceptual luma, the largest colour channel difference, or depth.
+    enum class SmaaEdge : std::uint8_t { Luma, Colour, Depth };
     Mode mode = Mode::None;
     int samples = 4; ///< MSAA samples; clamped to GL_MAX_SAMPLES with a warning
     int factor = 2;  ///< SSAA per axis, 2..4
     FxaaQuality fxaaQuality = FxaaQuality::Medium;
     float taaFeedback = 0.9375f; ///< TAA: history weight once 1/(1 − feedback) = 16 frames are in, [0, 0.98]
+    SmaaPreset smaaPreset = SmaaPreset::High;
+    SmaaEdge smaaEdge = SmaaEdge::Luma;
+    /// SMAA diagonal search steps, one pixel a step: −1 the preset's (high 8, ultra 16, else off),
+    /// 0 off, up to smaa::kMaxDiagonal − 1.
+    int smaaDiagonalSteps = -1;
 
     static AntiAliasing none() { return {}; }
     static AntiAliasing msaa(int samples = 4) {
@@ -60,17 +72,32 @@ struct SGFX_API AntiAliasing {
         a.taaFeedback = feedback;
         return a;
     }
+    static AntiAliasing smaa(SmaaPreset preset = SmaaPreset::High, SmaaEdge edge = SmaaEdge::Luma) {
+        AntiAliasing a;
+        a.mode = Mode::Smaa;
+        a.smaaPreset = preset;
+        a.smaaEdge = edge;
+        return a;
+    }
+    static AntiAliasing smaaT2x(SmaaPreset preset = SmaaPreset::High, SmaaEdge edge = SmaaEdge::Luma) {
+        AntiAliasing a = smaa(preset, edge);
+        a.mode = Mode::SmaaT2x;
+        return a;
+    }
     /// Throws std::invalid_argument naming the field (samples < 1, factor outside 1..4, ...).
     void validate() const;
     bool operator==(const AntiAliasing&) const = default;
 
     /// The names command lines and settings files use: none, msaa (4 samples), msaaN (N = 1..8),
-    /// ssaaN (N = 2..4), fxaa, fxaa-low, fxaa-high, taa. parse() throws std::invalid_argument
-    /// listing them for anything else; name() gives parse()'s name back (msaaN, ssaaN spelt out).
+    /// ssaaN (N = 2..4), fxaa, fxaa-low, fxaa-high, taa, and
+    /// smaa[-t2x][-low|-medium|-high|-ultra][-luma|-colour|-depth] (default high, luma). parse() throws
+    /// std::invalid_argument listing them for anything else; name() gives parse()'s name back (msaaN, ssaaN
+    /// spelt out).
     static AntiAliasing parse(std::string_view name);
     std::string name() const;
     static constexpr std::string_view kNames =
-        "none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low, fxaa-high, taa";
+        "none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low, fxaa-high, taa, "
+        "smaa[-t2x][-low|-medium|-high|-ultra][-luma|-colour|-depth]";
 };
 
 /// A view into the graph: its children are the scene. View space looks down -Z.

@@ -511,14 +511,17 @@ void Renderer::View::declareResolve() {
 
 void Renderer::View::declarePostAa() {
     const aa::ViewState& aa = *aa_;
-    if (aa.settings.mode != AntiAliasing::Mode::Fxaa && aa.settings.mode != AntiAliasing::Mode::Taa) return;
+    static const char* const names[] = {nullptr,  nullptr,   nullptr,      "aa fxaa",
+                                        "aa taa", "aa smaa", "aa smaa t2x"};
+    const char* name = names[std::size_t(aa.settings.mode)];
+    if (!name) return;
     graph_.addPass(
-        aa.settings.mode == AntiAliasing::Mode::Fxaa ? "aa fxaa" : "aa taa",
+        name,
         [&](FrameGraph::Builder& b) {
             PassBuilder pb(b, graph_.blackboard, &queue_);
             pb.sample(resources::ViewDepth);
             pb.write(resources::ViewColour);
-            b.sideEffect(); // TAA keeps its history
+            b.sideEffect(); // TAA and SMAA T2x keep their history
         },
         [this](PassCommands&) {
             legacyState(true, *s_.current);
@@ -559,7 +562,8 @@ void Renderer::View::executeGraph() {
     });
     s_.graph = outer;
     const aa::ViewState& aa = *aa_;
-    if (aa.settings.mode != AntiAliasing::Mode::Fxaa && aa.settings.mode != AntiAliasing::Mode::Taa)
+    if (aa.settings.mode == AntiAliasing::Mode::None || aa.settings.mode == AntiAliasing::Mode::Msaa ||
+        aa.settings.mode == AntiAliasing::Mode::Ssaa)
         aa::finish(r_, *aa_, target_);
     const std::string name = camera_.name.empty() ? "view " + std::to_string(s_.graphs.size()) : camera_.name;
     s_.graphs.push_back({name, std::move(graph_), firstTimer, s_.timers.count() - firstTimer});
