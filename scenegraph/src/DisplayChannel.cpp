@@ -29,27 +29,27 @@ bool finite(const glm::mat4& m) {
 
 } // namespace
 
-Frustum Frustum::fromAngles(float leftDeg, float rightDeg, float downDeg, float upDeg, float zNear,
+OffAxisFrustum OffAxisFrustum::fromAngles(float leftDeg, float rightDeg, float downDeg, float upDeg, float zNear,
                             float zFar) {
     const float angles[] = {leftDeg, rightDeg, downDeg, upDeg};
     const char* names[] = {"left", "right", "down", "up"};
     for (int i = 0; i < 4; ++i)
         if (!(std::abs(angles[i]) < 90.0f))
-            fail("Frustum::fromAngles", std::string(names[i]) + " = " + num(angles[i]) +
+            fail("OffAxisFrustum::fromAngles", std::string(names[i]) + " = " + num(angles[i]) +
                                             " degrees is outside (-90, 90)");
-    Frustum f;
+    OffAxisFrustum f;
     f.zNear = zNear;
     f.zFar = zFar;
     f.left = zNear * std::tan(glm::radians(leftDeg));
     f.right = zNear * std::tan(glm::radians(rightDeg));
     f.bottom = zNear * std::tan(glm::radians(downDeg));
     f.top = zNear * std::tan(glm::radians(upDeg));
-    f.validate("Frustum::fromAngles");
+    f.validate("OffAxisFrustum::fromAngles");
     return f;
 }
 
-Frustum Frustum::sub(double x0, double x1, double y0, double y1) const {
-    Frustum f = *this;
+OffAxisFrustum OffAxisFrustum::sub(double x0, double x1, double y0, double y1) const {
+    OffAxisFrustum f = *this;
     f.left = float(left + (double(right) - left) * x0);
     f.right = float(left + (double(right) - left) * x1);
     f.bottom = float(bottom + (double(top) - bottom) * y0);
@@ -57,9 +57,9 @@ Frustum Frustum::sub(double x0, double x1, double y0, double y1) const {
     return f;
 }
 
-glm::mat4 Frustum::projection() const { return glm::frustum(left, right, bottom, top, zNear, zFar); }
+glm::mat4 OffAxisFrustum::projection() const { return glm::frustum(left, right, bottom, top, zNear, zFar); }
 
-void Frustum::validate(std::string_view where) const {
+void OffAxisFrustum::validate(std::string_view where) const {
     const float v[] = {left, right, bottom, top, zNear, zFar};
     const char* names[] = {"left", "right", "bottom", "top", "zNear", "zFar"};
     for (int i = 0; i < 6; ++i)

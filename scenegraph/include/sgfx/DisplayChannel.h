@@ -15,22 +15,22 @@ namespace sgfx {
 
 /// An off-axis perspective frustum (glFrustum's): the image's edges on the near plane, in the
 /// channel's view space, metres; left < right, bottom < top, 0 < zNear < zFar.
-struct SGFX_API Frustum {
+struct SGFX_API OffAxisFrustum {
     float left = -0.1f, right = 0.1f, bottom = -0.1f, top = 0.1f;
     float zNear = 0.1f, zFar = 1000.0f;
 
     /// From angles in degrees from the view axis: left and down negative, right and up positive
     /// (each in (-90, 90), left < right, down < up).
-    static Frustum fromAngles(float leftDeg, float rightDeg, float downDeg, float upDeg, float zNear,
+    static OffAxisFrustum fromAngles(float leftDeg, float rightDeg, float downDeg, float upDeg, float zNear,
                               float zFar);
     /// The part of this frustum between fractions x0..x1 of its width and y0..y1 of its height
     /// (0 left/bottom, 1 right/top): a screen's share of a wall's overall frustum.
-    Frustum sub(double x0, double x1, double y0, double y1) const;
+    OffAxisFrustum sub(double x0, double x1, double y0, double y1) const;
     /// glm::frustum(left, right, bottom, top, zNear, zFar).
     glm::mat4 projection() const;
     /// Throws std::invalid_argument naming `where` and the field (non-finite, left >= right, ...).
     void validate(std::string_view where) const;
-    bool operator==(const Frustum&) const = default;
+    bool operator==(const OffAxisFrustum&) const = default;
 };
 
 /// One channel of a display.
@@ -39,7 +39,7 @@ struct SGFX_API DisplayChannel {
     /// The channel's view in the eye's view space (rotation, then translation from the eye point):
     /// the channel's camera sits at viewOffset's origin and looks down its −Z. Identity: the eye's view.
     glm::mat4 viewOffset{1.0f};
-    Frustum frustum;
+    OffAxisFrustum frustum;
     /// Where the channel's image lies in the display's composite, pixels, origin bottom left; its
     /// width and height are the channel's resolution.
     Viewport viewport;
