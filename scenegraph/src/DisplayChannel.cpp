@@ -29,14 +29,14 @@ bool finite(const glm::mat4& m) {
 
 } // namespace
 
-OffAxisFrustum OffAxisFrustum::fromAngles(float leftDeg, float rightDeg, float downDeg, float upDeg, float zNear,
-                            float zFar) {
+OffAxisFrustum OffAxisFrustum::fromAngles(float leftDeg, float rightDeg, float downDeg, float upDeg,
+                                          float zNear, float zFar) {
     const float angles[] = {leftDeg, rightDeg, downDeg, upDeg};
     const char* names[] = {"left", "right", "down", "up"};
     for (int i = 0; i < 4; ++i)
         if (!(std::abs(angles[i]) < 90.0f))
-            fail("OffAxisFrustum::fromAngles", std::string(names[i]) + " = " + num(angles[i]) +
-                                            " degrees is outside (-90, 90)");
+            fail("OffAxisFrustum::fromAngles",
+                 std::string(names[i]) + " = " + num(angles[i]) + " degrees is outside (-90, 90)");
     OffAxisFrustum f;
     f.zNear = zNear;
     f.zFar = zFar;
@@ -57,7 +57,9 @@ OffAxisFrustum OffAxisFrustum::sub(double x0, double x1, double y0, double y1) c
     return f;
 }
 
-glm::mat4 OffAxisFrustum::projection() const { return glm::frustum(left, right, bottom, top, zNear, zFar); }
+glm::mat4 OffAxisFrustum::projection() const {
+    return glm::frustum(left, right, bottom, top, zNear, zFar);
+}
 
 void OffAxisFrustum::validate(std::string_view where) const {
     const float v[] = {left, right, bottom, top, zNear, zFar};
@@ -70,7 +72,9 @@ void OffAxisFrustum::validate(std::string_view where) const {
     if (!(zFar > zNear)) fail(where, "frustum.zFar = " + num(zFar) + " is not beyond zNear = " + num(zNear));
 }
 
-glm::mat4 DisplayChannel::viewMatrix(const glm::mat4& eyeView) const { return glm::inverse(viewOffset) * eyeView; }
+glm::mat4 DisplayChannel::viewMatrix(const glm::mat4& eyeView) const {
+    return glm::inverse(viewOffset) * eyeView;
+}
 
 void DisplayChannel::validate() const {
     const std::string where = "channel '" + name + "'";
@@ -82,8 +86,8 @@ void DisplayChannel::validate() const {
         fail(where, "viewOffset is not a rotation and translation");
     constexpr int kMax = 16384;
     if (viewport.width < 1 || viewport.height < 1 || viewport.width > kMax || viewport.height > kMax)
-        fail(where, "viewport size " + std::to_string(viewport.width) + "x" + std::to_string(viewport.height) +
-                        " is outside 1..16384");
+        fail(where, "viewport size " + std::to_string(viewport.width) + "x" +
+                        std::to_string(viewport.height) + " is outside 1..16384");
     if (viewport.x < 0 || viewport.y < 0 || viewport.x + viewport.width > kMax ||
         viewport.y + viewport.height > kMax)
         fail(where, "viewport origin (" + std::to_string(viewport.x) + ", " + std::to_string(viewport.y) +

@@ -22,7 +22,7 @@ struct SGFX_API OffAxisFrustum {
     /// From angles in degrees from the view axis: left and down negative, right and up positive
     /// (each in (-90, 90), left < right, down < up).
     static OffAxisFrustum fromAngles(float leftDeg, float rightDeg, float downDeg, float upDeg, float zNear,
-                              float zFar);
+                                     float zFar);
     /// The part of this frustum between fractions x0..x1 of its width and y0..y1 of its height
     /// (0 left/bottom, 1 right/top): a screen's share of a wall's overall frustum.
     OffAxisFrustum sub(double x0, double x1, double y0, double y1) const;
