@@ -86,8 +86,8 @@ PixelView threeDPixel(double px, double py, double collar) {
 
 // A box of six coloured walls 10 m around the eye at the origin, unlit (the application's program).
 const std::array<glm::vec3, 6> kWallColour = {
-    glm::vec3(1, 0, 0), glm::vec3(0, 1, 1), glm::vec3(0, 1, 0), glm::vec3(1, 0, 1), glm::vec3(0, 0, 1),
-    glm::vec3(1, 1, 0)}; // +X, −X, +Y, −Y, +Z, −Z (world)
+    glm::vec3(1, 0, 0), glm::vec3(0, 1, 1), glm::vec3(0, 1, 0),
+    glm::vec3(1, 0, 1), glm::vec3(0, 0, 1), glm::vec3(1, 1, 0)}; // +X, −X, +Y, −Y, +Z, −Z (world)
 
 NodePtr box(bool white) {
     auto root = Group::create();
@@ -148,10 +148,12 @@ glm::dvec2 centre(int x, int y) {
 // ---- .view files ---------------------------------------------------------------------------------
 
 TEST(OsgViewConfig, OsgSampleFilesGiveTheirParameters) {
-    SGFX_REQUIRE(fs::exists(configs() / "PanoramicSphericalDisplay.view"), "../shared/assets/osg/Configuration");
+    SGFX_REQUIRE(fs::exists(configs() / "PanoramicSphericalDisplay.view"),
+                 "../shared/assets/osg/Configuration");
     const std::vector<IntensityPoint> map = {{0, 100}, {90, 100}, {135, 50}, {180, 0}};
-    for (const auto& [file, kind] : {std::pair{"PanoramicSphericalDisplay.view", SphericalDisplayKind::Panoramic},
-                                     std::pair{"3DSphericalDisplay.view", SphericalDisplayKind::ThreeD}}) {
+    for (const auto& [file, kind] :
+         {std::pair{"PanoramicSphericalDisplay.view", SphericalDisplayKind::Panoramic},
+          std::pair{"3DSphericalDisplay.view", SphericalDisplayKind::ThreeD}}) {
         SCOPED_TRACE(file);
         const OsgViewConfig c = loadOsgView(configs() / file);
         EXPECT_EQ(c.kind, OsgViewConfig::Kind::Spherical);
@@ -260,9 +262,11 @@ TEST(SphericalDisplay, PanoramicMeshMatchesTheInverse) {
     int checked = 0;
     for (const WarpVertex& v : m.vertices) {
         const auto pv = panoramicPixel(v.pixel.x, v.pixel.y, p.collar);
-        if (!pv || glm::length(glm::dvec2(v.pixel) - glm::dvec2(32.0)) < 0.5) continue; // azimuth undefined at 0
+        if (!pv || glm::length(glm::dvec2(v.pixel) - glm::dvec2(32.0)) < 0.5)
+            continue; // azimuth undefined at 0
         ++checked;
-        EXPECT_LT(glm::length(pv->direction - glm::dvec3(v.direction)), 1e-4) << v.pixel.x << "," << v.pixel.y;
+        EXPECT_LT(glm::length(pv->direction - glm::dvec3(v.direction)), 1e-4)
+            << v.pixel.x << "," << v.pixel.y;
         EXPECT_NEAR(pv->angleDeg, v.angleDeg, 1e-3);
     }
     EXPECT_GT(checked, 10000);
@@ -270,7 +274,8 @@ TEST(SphericalDisplay, PanoramicMeshMatchesTheInverse) {
 
 TEST(SphericalDisplay, IntensityAtIsOsgsPiecewiseLinearMap) {
     const auto& map = sampleParams(SphericalDisplayKind::Panoramic).intensityMap;
-    for (double a = -10.0; a <= 190.0; a += 0.5) EXPECT_NEAR(intensityAt(map, a), sampleIntensity(a), 1e-6) << a;
+    for (double a = -10.0; a <= 190.0; a += 0.5)
+        EXPECT_NEAR(intensityAt(map, a), sampleIntensity(a), 1e-6) << a;
     EXPECT_EQ(intensityAt({}, 120.0), 1.0);
 }
 
@@ -309,13 +314,14 @@ TEST(SphericalDisplayRender, EachPixelShowsTheWorldInItsDirection) {
                 const glm::ivec3 want = glm::ivec3(kWallColour[std::size_t(*wall)] * 255.0f);
                 if (glm::any(glm::greaterThan(glm::abs(glm::ivec3(got) - want), glm::ivec3(1)))) {
                     if (++wrong <= 5)
-                        ADD_FAILURE() << "pixel " << x << "," << y << " wall " << *wall << " got " << got.r << " "
-                                      << got.g << " " << got.b;
+                        ADD_FAILURE() << "pixel " << x << "," << y << " wall " << *wall << " got " << got.r
+                                      << " " << got.g << " " << got.b;
                 }
             }
         }
         EXPECT_EQ(wrong, 0);
-        for (int f = 0; f < 6; ++f) EXPECT_GT(seen[std::size_t(f)], 8) << "wall " << f << " sampled";
+        for (int f = 0; f < 6; ++f)
+            EXPECT_GT(seen[std::size_t(f)], 8) << "wall " << f << " sampled";
     }
 }
 
@@ -331,13 +337,15 @@ TEST(SphericalDisplayRender, WhiteWorldGivesTheIntensityMapWithoutSeams) {
         for (int y = 0; y < kOut; ++y) {
             for (int x = 0; x < kOut; ++x) {
                 const glm::dvec2 c = centre(x, y);
-                const std::optional<PixelView> pv = kind == SphericalDisplayKind::Panoramic
-                                                        ? panoramicPixel(c.x, c.y, p.collar)
-                                                        : std::optional<PixelView>(threeDPixel(c.x, c.y, p.collar));
+                const std::optional<PixelView> pv =
+                    kind == SphericalDisplayKind::Panoramic
+                        ? panoramicPixel(c.x, c.y, p.collar)
+                        : std::optional<PixelView>(threeDPixel(c.x, c.y, p.collar));
                 if (!pv) continue;
                 const int want = srgbByte(sampleIntensity(pv->angleDeg));
                 const glm::ivec4 got = pixelAt(img, x, y);
-                for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(got[k] - want));
+                for (int k = 0; k < 3; ++k)
+                    worst = std::max(worst, std::abs(got[k] - want));
                 EXPECT_LE(std::abs(got.g - want), 2) << x << "," << y << " angle " << pv->angleDeg;
                 minAngle = std::min(minAngle, pv->angleDeg);
                 maxAngle = std::max(maxAngle, pv->angleDeg);

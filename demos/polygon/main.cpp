@@ -9,11 +9,11 @@
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Manipulator.h>
 #include <sgfx/OsgViewConfig.h>
-#include <sgfx/nodes/spherical/SphericalDisplayRig.h>
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 #include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/nodes/particles/ParticleSystemNode.h>
 #include <sgfx/nodes/shadow/ShadowNode.h>
+#include <sgfx/nodes/spherical/SphericalDisplayRig.h>
 
 #include <filesystem>
 #include <sgfx/ObjWriter.h>

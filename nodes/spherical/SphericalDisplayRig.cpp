@@ -21,7 +21,8 @@ void require(bool ok, const std::string& what) {
 // Eye view space (looking down −Z, +Y up) → display frame (+Y forward, +Z up, +X right), OSG's
 // frame for the cube faces (SphericalDisplay::configure: the front face is +Y, the top +Z).
 glm::mat4 displayFromEye() {
-    return glm::mat4(glm::vec4(1, 0, 0, 0), glm::vec4(0, 0, 1, 0), glm::vec4(0, -1, 0, 0), glm::vec4(0, 0, 0, 1));
+    return glm::mat4(glm::vec4(1, 0, 0, 0), glm::vec4(0, 0, 1, 0), glm::vec4(0, -1, 0, 0),
+                     glm::vec4(0, 0, 0, 1));
 }
 
 std::shared_ptr<ShaderProgram> warpProgram() {
@@ -65,8 +66,10 @@ std::shared_ptr<Geometry> warpGeometry(const SphericalDisplayParams& p, const Sp
 
 void SphericalDisplaySetup::validate() const {
     require(width >= 1 && width <= 16384 && height >= 1 && height <= 16384,
-            "width and height must be in 1..16384, got " + std::to_string(width) + "x" + std::to_string(height));
-    require(faceSize >= 1 && faceSize <= 8192, "faceSize must be in 1..8192, got " + std::to_string(faceSize));
+            "width and height must be in 1..16384, got " + std::to_string(width) + "x" +
+                std::to_string(height));
+    require(faceSize >= 1 && faceSize <= 8192,
+            "faceSize must be in 1..8192, got " + std::to_string(faceSize));
     require(std::isfinite(zNear) && std::isfinite(zFar) && zNear > 0.0f && zFar > zNear,
             "need 0 < zNear < zFar, finite");
     require(meshSteps == 0 || (meshSteps >= 2 && meshSteps <= 1024),
@@ -76,7 +79,8 @@ void SphericalDisplaySetup::validate() const {
 glm::mat4 SphericalDisplayRig::faceRotation(int face) {
     static const glm::vec3 axis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     static const glm::vec3 up[6] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, -1, 0}, {0, 1, 0}};
-    if (face < 0 || face > 5) throw std::invalid_argument("SphericalDisplayRig::faceRotation: face must be 0..5");
+    if (face < 0 || face > 5)
+        throw std::invalid_argument("SphericalDisplayRig::faceRotation: face must be 0..5");
     return glm::lookAt(glm::vec3(0.0f), axis[face], up[face]);
 }
 
@@ -122,7 +126,8 @@ void SphericalDisplayRig::setEyeView(const glm::mat4& view) {
     if (!(std::abs(glm::determinant(glm::mat3(view))) > 1e-12f))
         throw std::invalid_argument("SphericalDisplayRig::setEyeView: singular matrix");
     const glm::mat4 world = displayFromEye() * view;
-    for (int f = 0; f < 6; ++f) faces_[std::size_t(f)]->viewMatrix = faceRotation(f) * world;
+    for (int f = 0; f < 6; ++f)
+        faces_[std::size_t(f)]->viewMatrix = faceRotation(f) * world;
 }
 
 void SphericalDisplayRig::configureOutputCamera(Camera& output) const {

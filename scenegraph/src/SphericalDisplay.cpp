@@ -43,14 +43,15 @@ WarpMesh panoramicMesh(const SphericalDisplayParams& p, int width, int height, i
     for (int i = 0; i < n; ++i) {
         for (int j = 0; j < n; ++j) {
             const double theta = double(i) / (n - 1) * 2.0 * pi, phi = (1.0 - double(j) / (n - 1)) * pi;
-            const glm::dvec3 dir(std::sin(phi) * std::sin(theta), std::sin(phi) * std::cos(theta), std::cos(phi));
+            const glm::dvec3 dir(std::sin(phi) * std::sin(theta), std::sin(phi) * std::cos(theta),
+                                 std::cos(phi));
             const glm::dvec3 pos = applyProjector(p.projector, dir);
             double alpha = std::atan2(pos.x, pos.y);
             if (alpha < 0.0) alpha += 2.0 * pi;
             const double rho = std::sqrt(pos.x * pos.x + pos.y * pos.y);
             const double beta = std::atan2(rho, pos.z), gamma = std::atan2(rho, pos.z + distance);
-            const glm::dvec2 v = centre + glm::dvec2(std::sin(alpha), -std::cos(alpha)) * (gamma * 2.0 / pi) *
-                                              screenRadius;
+            const glm::dvec2 v =
+                centre + glm::dvec2(std::sin(alpha), -std::cos(alpha)) * (gamma * 2.0 / pi) * screenRadius;
             m.vertices.push_back({glm::vec2(v), glm::vec3(dir), float(glm::degrees(beta))});
         }
     }
@@ -59,7 +60,8 @@ WarpMesh panoramicMesh(const SphericalDisplayParams& p, int width, int height, i
     };
     for (int i = 0; i + 1 < n; ++i) {
         for (int j = 0; j + 1 < n; ++j) {
-            const std::uint32_t i1 = j + (i + 1) * n, i2 = j + i * n, i3 = j + 1 + i * n, i4 = j + 1 + (i + 1) * n;
+            const std::uint32_t i1 = j + (i + 1) * n, i2 = j + i * n, i3 = j + 1 + i * n,
+                                i4 = j + 1 + (i + 1) * n;
             // OSG drops every quad with a corner outside the image's circle.
             if (!inside(i1) || !inside(i2) || !inside(i3) || !inside(i4)) continue;
             m.indices.insert(m.indices.end(), {i1, i2, i3, i1, i3, i4});
@@ -80,7 +82,8 @@ WarpMesh threeDMesh(const SphericalDisplayParams& p, int width, int height, int 
                 p, width, height, glm::vec2(float(width) * j / (n - 1), float(height) * i / (n - 1))));
     for (int i = 0; i + 1 < n; ++i) {
         for (int j = 0; j + 1 < n; ++j) {
-            const std::uint32_t a = j + i * n, b = j + 1 + i * n, c = j + (i + 1) * n, d = j + 1 + (i + 1) * n;
+            const std::uint32_t a = j + i * n, b = j + 1 + i * n, c = j + (i + 1) * n,
+                                d = j + 1 + (i + 1) * n;
             m.indices.insert(m.indices.end(), {c, a, b, c, b, d});
         }
     }
@@ -90,7 +93,8 @@ WarpMesh threeDMesh(const SphericalDisplayParams& p, int width, int height, int 
 } // namespace
 
 void SphericalDisplayParams::validate() const {
-    require(std::isfinite(radius) && radius > 0.0, "radius must be finite and > 0, got " + std::to_string(radius));
+    require(std::isfinite(radius) && radius > 0.0,
+            "radius must be finite and > 0, got " + std::to_string(radius));
     require(std::isfinite(collar) && collar >= 0.0 && collar < radius,
             "collar must be in [0, radius), got " + std::to_string(collar));
     require(intensityMap.size() <= std::size_t(kMaxIntensityPoints),
@@ -106,7 +110,8 @@ void SphericalDisplayParams::validate() const {
         require(i == 0 || q.angleDeg > intensityMap[i - 1].angleDeg, at + "angles must increase");
     }
     for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) require(std::isfinite(projector[c][r]), "projectorMatrix: not finite");
+        for (int r = 0; r < 4; ++r)
+            require(std::isfinite(projector[c][r]), "projectorMatrix: not finite");
 }
 
 double intensityAt(const std::vector<IntensityPoint>& map, double angleDeg) {
@@ -143,7 +148,8 @@ WarpMesh sphericalWarpMesh(const SphericalDisplayParams& p, int width, int heigh
     if (steps != 0 && (steps < 2 || steps > 1024))
         throw std::invalid_argument("spherical display: steps must be 0 or in 2..1024, got " +
                                     std::to_string(steps));
-    if (p.kind == SphericalDisplayKind::Panoramic) return panoramicMesh(p, width, height, steps ? steps : 160);
+    if (p.kind == SphericalDisplayKind::Panoramic)
+        return panoramicMesh(p, width, height, steps ? steps : 160);
     return threeDMesh(p, width, height, steps ? steps : 50);
 }
 

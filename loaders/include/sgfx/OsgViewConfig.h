@@ -18,8 +18,8 @@ struct SGFX_API OsgViewConfig {
         Spherical,    ///< setUpViewFor3DSphericalDisplay / setUpViewForPanoramicSphericalDisplay
     };
     Kind kind = Kind::SingleScreen;
-    unsigned screenNum = 0;             ///< SingleScreen's screen (Spherical: spherical.screenNum)
-    SphericalDisplayParams spherical;   ///< Spherical only
+    unsigned screenNum = 0;           ///< SingleScreen's screen (Spherical: spherical.screenNum)
+    SphericalDisplayParams spherical; ///< Spherical only
 };
 
 /// Reads a `.view` file: one `osgViewer::View { ... }` holding setUpViewOnSingleScreen N or a

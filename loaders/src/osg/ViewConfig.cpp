@@ -33,7 +33,8 @@ std::vector<Token> tokenize(std::string_view s) {
             ++i;
         } else {
             std::size_t j = i;
-            while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j])) && s[j] != '{' && s[j] != '}')
+            while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j])) && s[j] != '{' &&
+                   s[j] != '}')
                 ++j;
             out.push_back({std::string(s.substr(i, j - i)), line});
             i = j;
@@ -44,13 +45,16 @@ std::vector<Token> tokenize(std::string_view s) {
 
 class Parser {
 public:
-    Parser(std::vector<Token> tokens, std::string source) : t_(std::move(tokens)), source_(std::move(source)) {}
+    Parser(std::vector<Token> tokens, std::string source)
+        : t_(std::move(tokens))
+        , source_(std::move(source)) {}
 
     OsgViewConfig parse();
 
 private:
     [[noreturn]] void fail(int line, std::string_view field, std::string_view why) const {
-        throw LoadError(source_ + ":" + std::to_string(line) + ": " + std::string(field) + ": " + std::string(why));
+        throw LoadError(source_ + ":" + std::to_string(line) + ": " + std::string(field) + ": " +
+                        std::string(why));
     }
     int lineHere() const { return pos_ < t_.size() ? t_[pos_].line : (t_.empty() ? 1 : t_.back().line); }
     const Token& next(std::string_view field) {
@@ -59,7 +63,8 @@ private:
     }
     void expect(std::string_view what, std::string_view field) {
         const Token& tok = next(field);
-        if (tok.text != what) fail(tok.line, field, "expected '" + std::string(what) + "', got '" + tok.text + "'");
+        if (tok.text != what)
+            fail(tok.line, field, "expected '" + std::string(what) + "', got '" + tok.text + "'");
     }
     bool peek(std::string_view what) const { return pos_ < t_.size() && t_[pos_].text == what; }
     double number(std::string_view field) {
@@ -74,7 +79,8 @@ private:
     unsigned count(std::string_view field) {
         const int line = lineHere();
         const double v = number(field);
-        if (v < 0.0 || v > 65535.0 || v != std::floor(v)) fail(line, field, "expected a whole number 0..65535");
+        if (v < 0.0 || v > 65535.0 || v != std::floor(v))
+            fail(line, field, "expected a whole number 0..65535");
         return unsigned(v);
     }
     void spherical(OsgViewConfig& c, SphericalDisplayKind kind, int line);
@@ -103,19 +109,22 @@ void Parser::intensityMap(SphericalDisplayParams& p) {
                      [](const auto& a, const auto& b) { return a.first.angleDeg < b.first.angleDeg; });
     for (std::size_t i = 1; i < points.size(); ++i)
         if (points[i].first.angleDeg == points[i - 1].first.angleDeg)
-            fail(points[i].second, "intensityMap angle", "repeated angle " + std::to_string(points[i].first.angleDeg));
+            fail(points[i].second, "intensityMap angle",
+                 "repeated angle " + std::to_string(points[i].first.angleDeg));
     if (points.size() > std::size_t(SphericalDisplayParams::kMaxIntensityPoints))
         fail(points.back().second, "intensityMap",
              "at most " + std::to_string(SphericalDisplayParams::kMaxIntensityPoints) + " points");
     p.intensityMap.clear();
-    for (const auto& q : points) p.intensityMap.push_back(q.first);
+    for (const auto& q : points)
+        p.intensityMap.push_back(q.first);
 }
 
 void Parser::projectorMatrix(SphericalDisplayParams& p) {
     expect("{", "projectorMatrix");
     // The file lists OSG's matrix row by row (row vectors); its transpose acts on column vectors,
     // i.e. entry k goes to glm column k / 4, row k % 4.
-    for (int k = 0; k < 16; ++k) p.projector[k / 4][k % 4] = number("projectorMatrix");
+    for (int k = 0; k < 16; ++k)
+        p.projector[k / 4][k % 4] = number("projectorMatrix");
     expect("}", "projectorMatrix");
 }
 
@@ -172,7 +181,8 @@ OsgViewConfig Parser::parse() {
             c.kind = OsgViewConfig::Kind::SingleScreen;
             c.screenNum = count("setUpViewOnSingleScreen");
         } else {
-            fail(key.line, key.text, "unsupported (sgfx reads setUpViewOnSingleScreen and the spherical displays)");
+            fail(key.line, key.text,
+                 "unsupported (sgfx reads setUpViewOnSingleScreen and the spherical displays)");
         }
     }
     expect("}", "osgViewer::View");

@@ -31,8 +31,8 @@ struct SGFX_API IntensityPoint {
 struct SGFX_API SphericalDisplayParams {
     static constexpr int kMaxIntensityPoints = 32;
     SphericalDisplayKind kind = SphericalDisplayKind::Panoramic;
-    double radius = 1.0; ///< the mirror's radius
-    double collar = 0.45; ///< the collar's radius; the projector sits sqrt(radius² − collar²) below
+    double radius = 1.0;    ///< the mirror's radius
+    double collar = 0.45;   ///< the collar's radius; the projector sits sqrt(radius² − collar²) below
     unsigned screenNum = 0; ///< OSG's screen; kept, no meaning headless
     /// Sorted by angle, angles distinct; empty: 100 % everywhere (OSG: no intensity map).
     std::vector<IntensityPoint> intensityMap;
@@ -72,6 +72,7 @@ SGFX_API WarpMesh sphericalWarpMesh(const SphericalDisplayParams& p, int width, 
 
 /// The direction (display frame) and intensity angle OSG's 3D mesh gives the point `pixel` of the
 /// image (create3DSphericalDisplayDistortionMesh, off-centre projection): exact, not interpolated.
-SGFX_API WarpVertex sphericalThreeDAt(const SphericalDisplayParams& p, int width, int height, glm::vec2 pixel);
+SGFX_API WarpVertex sphericalThreeDAt(const SphericalDisplayParams& p, int width, int height,
+                                      glm::vec2 pixel);
 
 } // namespace sgfx
