@@ -272,6 +272,50 @@ TEST(SphericalDisplay, PanoramicMeshMatchesTheInverse) {
     EXPECT_GT(checked, 10000);
 }
 
+// The projector matrix turns each direction before it is placed (OSG: pos = dir * projectorMatrix): a
+// 90° turn about the vertical moves every vertex to where the forward map puts the turned direction.
+TEST(SphericalDisplay, ProjectorMatrixTurnsDirectionsBeforeTheyArePlaced) {
+    SphericalDisplayParams p = sampleParams(SphericalDisplayKind::Panoramic);
+    p.projector = glm::rotate(glm::dmat4(1.0), kPi / 2, glm::dvec3(0, 0, 1));
+    const WarpMesh m = sphericalWarpMesh(p, kOut, kOut, 40);
+    const double d = std::sqrt(1.0 - p.collar * p.collar), r = kOut * 0.5;
+    int checked = 0;
+    for (const WarpVertex& v : m.vertices) {
+        const glm::dvec3 q = glm::dmat3(p.projector) * glm::dvec3(v.direction);
+        const double rho = std::hypot(q.x, q.y);
+        if (rho < 1e-6) continue;
+        const double alpha = std::atan2(q.x, q.y), gamma = std::atan2(rho, q.z + d);
+        const glm::dvec2 want =
+            glm::dvec2(r) + glm::dvec2(std::sin(alpha), -std::cos(alpha)) * gamma * 2.0 / kPi * r;
+        EXPECT_LT(glm::length(glm::dvec2(v.pixel) - want), 1e-3);
+        EXPECT_NEAR(v.angleDeg, glm::degrees(std::atan2(rho, q.z)), 1e-3);
+        ++checked;
+    }
+    EXPECT_GT(checked, 1000);
+    // Forward (+Y), turned to −X, lands where −X did without the turn: the image's left, not its bottom.
+    const WarpVertex forward = m.vertices[std::size_t(0 * 40 + 20)]; // theta 0, phi ~ 90°
+    EXPECT_NEAR(forward.direction.y, 1.0f, 0.01f);
+    EXPECT_LT(forward.pixel.x, 0.5 * r);
+}
+
+// Every prefix of a sample file is either read or refused with a LoadError: never a crash or hang.
+TEST(OsgViewConfig, TruncatedFilesAreRefusedCleanly) {
+    const std::string text = "osgViewer::View\n{\n  setUpViewFor3DSphericalDisplay\n  {\n    radius 1.0\n"
+                             "    collar 0.43\n    intensityMap\n    {\n      0 100\n      180 0\n    }\n"
+                             "    projectorMatrix { 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 }\n  }\n}\n";
+    int refused = 0;
+    for (std::size_t n = 0; n < text.size(); ++n) {
+        try {
+            parseOsgView(text.substr(0, n), "cut.view");
+        } catch (const LoadError& e) {
+            EXPECT_NE(std::string(e.what()).find("cut.view:"), std::string::npos);
+            ++refused;
+        }
+    }
+    EXPECT_EQ(refused, int(text.size()) - 1) << "only the whole text (its last newline aside) is complete";
+    EXPECT_NO_THROW(parseOsgView(text, "whole.view"));
+}
+
 TEST(SphericalDisplay, IntensityAtIsOsgsPiecewiseLinearMap) {
     const auto& map = sampleParams(SphericalDisplayKind::Panoramic).intensityMap;
     for (double a = -10.0; a <= 190.0; a += 0.5)
