@@ -764,7 +764,8 @@ int runOsgView(const Options& o, const polygon::PolygonScene& scene) {
     const auto t0 = std::chrono::steady_clock::now();
     viewer->frame();
     viewer->capture();
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     viewer->writeScreenshot(o.out);
     reportGlErrors(*viewer);
     std::cout << "wrote " << o.out << " (" << o.osgView << ": "
