@@ -556,6 +556,7 @@ Options parseArgs(int argc, char** argv) {
             throw UsageError("unknown option '" + std::string(arg) + "'");
         }
     }
+    if (!o.osgView.empty() && o.mode != Mode::Still) throw UsageError("--osg-view: only for the still image");
     try {
         o.fogParameters.validate();
     } catch (const std::invalid_argument& e) {
