@@ -8,10 +8,12 @@
 #include <sgfx/GltfWriter.h>
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Manipulator.h>
+#include <sgfx/OsgViewConfig.h>
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 #include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/nodes/particles/ParticleSystemNode.h>
 #include <sgfx/nodes/shadow/ShadowNode.h>
+#include <sgfx/nodes/spherical/SphericalDisplayRig.h>
 
 #include <filesystem>
 #include <sgfx/ObjWriter.h>
@@ -103,6 +105,9 @@ options:
   --lamps N           dusk (a low, dim sun and a faint sky) with N street lamps along the
                       roads, 0..100000: spot lights with a range (the light list's benchmark)
   --frames N          with --window: close after N frames (scripted runs)
+  --osg-view FILE     the still image through an OpenSceneGraph .view display: a panoramic or 3D
+                      spherical-mirror projector (six cube faces warped, intensity map) of
+                      --size; setUpViewOnSingleScreen gives the plain image
   --count-fragments   with --bench: also count fragments that pass the depth test (an
                       occlusion query per frame, which itself costs a little time)
 
@@ -216,6 +221,7 @@ struct Options {
     bool countFragments = false;
     sgfx::RendererOptions::ColorTarget colorTarget = sgfx::RendererOptions::ColorTarget::Srgb8;
     long windowFrames = 0; // --window: quit after this many frames (0 = until closed)
+    std::string osgView;   // --osg-view: a .view file for the still image
     std::optional<sgfx::FogMode> fog = sgfx::FogMode::Forward;
     sgfx::FogParameters fogParameters = sgfx::FogParameters::ground();
     sgfx::TransparencyMode transparency = sgfx::TransparencyMode::Sorted;
@@ -541,6 +547,8 @@ Options parseArgs(int argc, char** argv) {
                 o.lighting = sgfx::RendererOptions::Lighting::PerVertex;
             else
                 throw UsageError("--lighting: '" + std::string(v) + "' is not 'pixel' or 'vertex'");
+        } else if (arg == "--osg-view") {
+            o.osgView = value();
         } else if (arg == "--lamps") {
             o.lamps = parseNumber<int>(arg, value());
             if (*o.lamps < 0 || *o.lamps > 100000) throw UsageError("--lamps: N must be in 0..100000");
@@ -548,6 +556,7 @@ Options parseArgs(int argc, char** argv) {
             throw UsageError("unknown option '" + std::string(arg) + "'");
         }
     }
+    if (!o.osgView.empty() && o.mode != Mode::Still) throw UsageError("--osg-view: only for the still image");
     try {
         o.fogParameters.validate();
     } catch (const std::invalid_argument& e) {
@@ -735,7 +744,41 @@ void reportGlErrors(sgfx::Viewer& viewer) {
         std::cerr << "polygon: GL: " << e << "\n";
 }
 
+// --osg-view: the still image through an OSG spherical display, from the same eye.
+int runOsgView(const Options& o, const polygon::PolygonScene& scene) {
+    const sgfx::OsgViewConfig config = sgfx::loadOsgView(o.osgView);
+    auto viewer = makeHeadlessViewer(o);
+    sgfx::SphericalDisplaySetup setup;
+    setup.width = o.width;
+    setup.height = o.height;
+    setup.zNear = polygon::kPathNear;
+    setup.zFar = polygon::kPathFar;
+    auto rig = sgfx::SphericalDisplayRig::create(config.spherical, setup,
+                                                 sceneWithEffects(o, scene, viewer->camera()));
+    const polygon::CameraPose pose = startPose(o, o.time);
+    rig->setEyeView(glm::lookAt(pose.eye, pose.target, pose.up));
+    for (const auto& face : rig->faces())
+        face->clearColor = o.lamps ? kDuskColor : kSkyColor;
+    rig->configureOutputCamera(*viewer->camera());
+    viewer->setSceneData(rig->root());
+    viewer->frame(); // the first frame compiles the programs: the second one is timed
+    const auto t0 = std::chrono::steady_clock::now();
+    viewer->frame();
+    viewer->capture();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    viewer->writeScreenshot(o.out);
+    reportGlErrors(*viewer);
+    std::cout << "wrote " << o.out << " (" << o.osgView << ": "
+              << (config.spherical.kind == sgfx::SphericalDisplayKind::Panoramic ? "panoramic" : "3D")
+              << " spherical display, " << o.width << "x" << o.height << ", six " << setup.faceSize
+              << "² faces; second frame " << ms << " ms)\n";
+    return 0;
+}
+
 int runStill(const Options& o, const polygon::PolygonScene& scene) {
+    if (!o.osgView.empty() && sgfx::loadOsgView(o.osgView).kind == sgfx::OsgViewConfig::Kind::Spherical)
+        return runOsgView(o, scene);
     auto viewer = makeHeadlessViewer(o);
     setupCamera(o, *viewer, startPose(o, o.time));
     viewer->setSceneData(sceneWithEffects(o, scene, viewer->camera()));
