@@ -50,30 +50,27 @@ DisplayConfig DisplayConfig::parse(std::string_view json, const std::string& sou
     for (const char* layout : {"wall", "cylinder", "dome", "channels"}) {
         if (!root.has(layout)) continue;
         if (!config.layout.empty())
-            root.fail(layout, "a description has one layout, and this one is already a " + config.layout);
+            root.fail(layout, "a description has one layout, and this one already has " + config.layout);
         config.layout = layout;
     }
-    display::Layout built;
-    if (config.layout == "wall")
-        built = display::readWall(root);
-    else if (config.layout == "cylinder")
-        built = display::readCylinder(root);
-    else if (config.layout == "dome")
-        built = display::readDome(root);
-    else if (config.layout == "channels")
-        built = display::readChannels(root);
-    else
+    if (config.layout.empty())
         Object::fail(source, "the description",
                      "has no layout (one of the keys wall, cylinder, dome, channels)");
-    config.channels = std::move(built.channels);
-    config.overall = built.overall;
     try {
-        validateChannels(config.channels);
-        if (config.overall) config.overall->validate("overall");
-    } catch (const std::invalid_argument& e) {
-        // What the layout made from the numbers (a frustum, an overlap of viewports) is checked
+        display::Layout built = config.layout == "wall"       ? display::readWall(root)
+                                : config.layout == "cylinder" ? display::readCylinder(root)
+                                : config.layout == "dome"     ? display::readDome(root)
+                                                              : display::readChannels(root);
+        // What the layout made of the numbers (each frustum, the viewports' overlaps) is checked
         // here; the message names the channel and its field.
-        Object::fail(source, config.layout, e.what());
+        validateChannels(built.channels);
+        if (built.overall) built.overall->validate("overall frustum");
+        config.channels = std::move(built.channels);
+        config.overall = built.overall;
+    } catch (const std::invalid_argument& e) {
+        std::string why = e.what();
+        if (why.rfind("sgfx: ", 0) == 0) why = why.substr(6);
+        Object::fail(source, config.layout, why);
     }
     config.composite = compositeViewport(config.channels);
     return config;
