@@ -529,3 +529,29 @@ TEST(DisplayConfig, FileErrors) {
     expectError(dir / "missing.json", "cannot be opened");
     std::filesystem::remove_all(dir);
 }
+
+// The JSON examples of docs/display-channels.md are descriptions this reader accepts.
+TEST(DisplayConfig, DocsExamplesParse) {
+    const auto page = std::filesystem::path(SGFX_SOURCE_DIR) / "docs" / "display-channels.md";
+    std::ifstream in(page);
+    ASSERT_TRUE(in) << page;
+    std::string line, block;
+    bool inside = false;
+    std::vector<std::string> layouts;
+    while (std::getline(in, line)) {
+        if (!inside && line == "```json") {
+            inside = true;
+            block.clear();
+        } else if (inside && line == "```") {
+            inside = false;
+            try {
+                layouts.push_back(DisplayConfig::parse(block, page.string()).layout);
+            } catch (const LoadError& e) {
+                ADD_FAILURE() << e.what() << "\n" << block;
+            }
+        } else if (inside) {
+            block += line + "\n";
+        }
+    }
+    EXPECT_EQ(layouts, (std::vector<std::string>{"wall", "cylinder", "dome", "channels"}));
+}
