@@ -555,3 +555,56 @@ TEST(DisplayConfig, DocsExamplesParse) {
     }
     EXPECT_EQ(layouts, (std::vector<std::string>{"wall", "cylinder", "dome", "channels"}));
 }
+
+// Rendered, a wall's channels are crops of the overall frustum's image at the composite's size:
+// 2 × 2 screens of 48 × 32 pixels with 3- and 2-pixel bezels (rounded from 2.6 and 2.4), the eye
+// off centre, unlit shapes across the screens' edges. Differences can only come from a pixel
+// centre within float rounding (~1e-5 pixel) of a triangle's edge.
+TEST(DisplayConfig, WallChannelsRenderAsCropsOfTheReference) {
+    const DisplayConfig wall = DisplayConfig::parse(R"({"wall": {"columns": 2, "rows": 2,
+        "screen": {"width": 0.48, "height": 0.32}, "bezel": {"horizontal": 0.026, "vertical": 0.024},
+        "distance": 1.0, "resolution": [48, 32], "eye": [0.05, -0.03]}})",
+                                                    "small-wall.json");
+    ASSERT_EQ(wall.composite, (Viewport{0, 0, 99, 66}));
+    auto scene = Group::create();
+    const glm::vec4 colours[] = {{1, 0.2f, 0.1f, 1}, {0.1f, 1, 0.3f, 1}, {0.2f, 0.4f, 1, 1}};
+    for (int i = 0; i < 3; ++i) {
+        auto m = white();
+        m->diffuse = colours[i];
+        auto s = i == 1 ? shapes::box({1.5f, 0.5f, 0.4f}) : shapes::sphere(0.6f, 24, 12);
+        s->getOrCreateStateSet().material.set(m);
+        // In front of the eye (world +Y ahead, Z up), each across a bezel gap.
+        auto t = Transform::create(
+            glm::translate(glm::mat4(1.0f), {-0.5f + 0.5f * float(i), 3.5f, 0.15f * float(i - 1)}) *
+            glm::rotate(glm::mat4(1.0f), 0.4f * float(i), glm::vec3(0, 0, 1)));
+        t->addChild(s);
+        scene->addChild(t);
+    }
+    const auto render = [&](const OffAxisFrustum& f, const Viewport& size) {
+        auto v = Viewer::createHeadless(size.width, size.height);
+        v->camera()->viewMatrix = kEyeView;
+        v->camera()->projectionMatrix = f.projection();
+        v->camera()->clearColor = {0, 0, 0, 1};
+        v->setSceneData(scene);
+        v->frame();
+        return v->capture();
+    };
+    const Image reference = render(*wall.overall, wall.composite);
+    int lit = 0, differing = 0;
+    for (const DisplayChannel& c : wall.channels) {
+        const Image img = render(c.frustum, c.viewport);
+        for (int y = 0; y < c.viewport.height; ++y)
+            for (int x = 0; x < c.viewport.width; ++x) {
+                // Image rows run from the top; viewports from the bottom.
+                const glm::ivec4 a = test::pixelAt(img, x, y);
+                const glm::ivec4 b =
+                    test::pixelAt(reference, c.viewport.x + x,
+                                  wall.composite.height - (c.viewport.y + c.viewport.height) + y);
+                lit += a.r + a.g + a.b > 0;
+                differing += glm::any(glm::greaterThan(glm::abs(a - b), glm::ivec4(1)));
+            }
+    }
+    EXPECT_GT(lit, 1000) << "the shapes are not in view";
+    std::printf("wall crops: %d lit pixels, %d differ from the reference\n", lit, differing);
+    EXPECT_LE(differing, 2) << "pixels of the channels that differ from the reference's crop";
+}
