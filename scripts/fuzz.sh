@@ -63,6 +63,19 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
   -artifact_prefix="$out/artifacts/" "$out/corpus" "$seeds"
 echo "sgfx fuzz: no crash, leak or sanitizer error in ${seconds} s"
 
+# The display descriptions' reader: a small JSON parser, so a shorter run (SGFX_FUZZ_DISPLAY_SECONDS,
+# 20) from the example configs, with the format's keys as a dictionary.
+display_seconds=${SGFX_FUZZ_DISPLAY_SECONDS:-20}
+cmake --build "$out" -j "$jobs" --target display_fuzzer
+display_seeds=$out/seeds-display
+rm -rf "$display_seeds"
+mkdir -p "$display_seeds" "$out/corpus-display"
+cp "$root"/demos/cluster/configs/*.json "$display_seeds/"
+echo "sgfx fuzz (display): $(ls "$display_seeds" | wc -l) seeds, ${display_seconds} s"
+"$out/fuzz/display_fuzzer" -max_total_time="$display_seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 \
+  -dict="$root/fuzz/display.dict" -artifact_prefix="$out/artifacts/" "$out/corpus-display" "$display_seeds"
+echo "sgfx fuzz (display): no crash, leak or sanitizer error in ${display_seconds} s"
+
 # The OpenSceneGraph bridge's target (built when OSG is found): the first byte of an input picks the
 # format, the seeds are OSG's small sample files as .osgt. osgDB's own readers crash on corrupt
 # files; loadOsg reads each in a child process first, so a finding here is the bridge's bug (or a

@@ -4,7 +4,7 @@
 # UndefinedBehaviorSanitizer and LeakSanitizer (suppressions: tests/sanitizers/lsan.supp).
 # SGFX_SKIP_SANITIZERS=1 runs the first stage only (for quick local runs). Then the scene-query tests
 # are built with ThreadSanitizer and run (SGFX_SKIP_TSAN=1 skips them). A last stage builds the
-# glTF loader's and the OSG bridge's libFuzzer targets with clang and runs each for 60 s (scripts/fuzz.sh); SGFX_SKIP_FUZZ=1
+# glTF loader's and the OSG bridge's libFuzzer targets with clang and runs each for 60 s, the display descriptions' for 20 s (scripts/fuzz.sh); SGFX_SKIP_FUZZ=1
 # skips it. The packaging stage builds the libraries shared (scripts/package.sh), checks that install
 # and the Debian packages (tests/packaging/); SGFX_SKIP_PACKAGING=1 skips it.
 set -euo pipefail
