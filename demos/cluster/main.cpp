@@ -27,7 +27,7 @@ using Clock = std::chrono::steady_clock;
 
 struct Options {
     std::string config, out;
-    int frames = 20;
+    int frames = 20, channels = 0;
     bool reference = false, stats = false;
     double scale = 1.0, timeout = 5.0, firstFrameTimeout = 60.0, dt = 1.0 / 60.0;
     sgfxcluster::ApplicationOptions app;
@@ -51,6 +51,8 @@ void parse(CLI::App& cli, Options& o) {
         ->check(CLI::Range(0.0, 1.0));
     cli.add_option("--rain", o.app.rainDrops, "rain drops around the eye (0: none)");
     cli.add_option("--drive", o.app.drive, "the vehicle drives (1) or stands (0)");
+    cli.add_option("--channels", o.channels, "only the first N channels (benchmarks; 0: all)")
+        ->check(CLI::Range(0, 4096));
     cli.add_flag("--stats", o.stats, "print frame, barrier, packet and gather figures (rank 0)");
     const std::string test = ""; // an empty group hides the test hooks from --help
     cli.add_option("--test-stall-rank", o.stallRank)->group(test);
@@ -98,9 +100,16 @@ int runReference(const Options& o, const sgfx::DisplayConfig& config) {
         throw std::invalid_argument(o.config + ": layout '" + config.layout +
                                     "' has no overall frustum (walls only): --reference needs one");
     sgfxcluster::Application app(o.app);
-    auto viewer = makeViewer(app, scaled(config.composite, o.scale, "composite"), *config.overall);
-    for (int f = 0; f < o.frames; ++f)
+    const sgfx::Viewport size = scaled(config.composite, o.scale, "composite");
+    auto viewer = makeViewer(app, size, *config.overall);
+    auto start = Clock::now();
+    for (int f = 0; f < o.frames; ++f) {
+        if (f == 1) start = Clock::now(); // frame 0 compiles the shaders
         drawFrame(*viewer, app, app.step(std::uint64_t(f), o.dt), nullptr);
+    }
+    if (o.stats)
+        std::printf("reference: size=%dx%d frames=%d frame_ms=%.2f\n", size.width, size.height, o.frames,
+                    1e3 * std::chrono::duration<double>(Clock::now() - start).count() / std::max(o.frames - 1, 1));
     if (!o.out.empty()) viewer->writeScreenshot(o.out);
     return 0;
 }
@@ -143,7 +152,8 @@ void printFigures(const Options& o, const sgfxcluster::ClusterSync& sync, const 
                 1e3 * f.barrierSeconds / n, double(f.packetBytes) / n, 1e3 * f.gatherSeconds);
 }
 
-int runCluster(const Options& o, const sgfx::DisplayConfig& config, sgfxcluster::ClusterSync& sync) {
+int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::ClusterSync& sync) {
+    if (o.channels > 0 && std::size_t(o.channels) < config.channels.size()) config.channels.resize(std::size_t(o.channels));
     const int channels = int(config.channels.size());
     if (sync.size() != channels) {
         if (sync.rank() == 0)

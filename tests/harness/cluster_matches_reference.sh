@@ -9,4 +9,6 @@ here=$(dirname "$0")
 mkdir -p "$work"
 "$mpirun" --allow-run-as-root --oversubscribe -np 4 "$cluster" --config "$config" --out "$work/wall.png" --stats "$@"
 "$cluster" --config "$config" --reference --out "$work/reference.png" "$@"
-python3 "$here/composite_compare.py" "$work/wall.png" "$work/reference.png" --tolerance 1
+# Triangle-edge pixels (a surface edge on the other side of a pixel centre under the channel's own
+# projection) are allowed up to 0.2 % of the pixels: docs/cluster.md has the measured counts.
+python3 "$here/composite_compare.py" "$work/wall.png" "$work/reference.png" --tolerance 1 --edge-fraction 0.002
