@@ -29,6 +29,8 @@ struct Options {
     std::string config, out;
     int frames = 20, channels = 0;
     bool reference = false, stats = false;
+    // The proving ground's depth range (CameraPath.h); 0: the description's own.
+    float zNear = 0.5f, zFar = 2000.0f;
     double scale = 1.0, timeout = 5.0, firstFrameTimeout = 60.0, dt = 1.0 / 60.0;
     sgfxcluster::ApplicationOptions app;
     // Test hooks (hidden from --help): a rank stops answering, or kills itself, at a frame.
@@ -42,6 +44,9 @@ void parse(CLI::App& cli, Options& o) {
     cli.add_flag("--reference", o.reference, "one process, one view: the display's overall frustum (walls)");
     cli.add_option("--scale", o.scale, "channel resolutions times this (exact pixels only)")
         ->check(CLI::Range(1e-3, 16.0));
+    cli.add_option("--near", o.zNear, "near plane (m) for every channel, same directions (0: the description's)")
+        ->check(CLI::Range(0.0, 1e6));
+    cli.add_option("--far", o.zFar, "far plane (m), likewise")->check(CLI::Range(0.0, 1e9));
     cli.add_option("--timeout", o.timeout, "seconds a rank may lag before the run stops")->check(CLI::Range(0.1, 600.0));
     cli.add_option("--first-frame-timeout", o.firstFrameTimeout, "the same for frame 0 (shader compiles)")
         ->check(CLI::Range(0.1, 3600.0));
@@ -74,6 +79,19 @@ sgfx::Viewport scaled(const sgfx::Viewport& v, double scale, const std::string& 
             scaled(v.width, scale, what + ".width"), scaled(v.height, scale, what + ".height")};
 }
 
+// The same directions on another near plane (the edges scale with it) and another far plane: the
+// application's depth range, not the display's (the proving ground's roads lie centimetres over
+// its terrain, which a 0.1 m near plane cannot tell apart at a few hundred metres).
+sgfx::OffAxisFrustum depthRange(sgfx::OffAxisFrustum f, const Options& o) {
+    if (o.zNear > 0.0f) {
+        const float k = o.zNear / f.zNear;
+        f = {f.left * k, f.right * k, f.bottom * k, f.top * k, o.zNear, f.zFar};
+    }
+    if (o.zFar > 0.0f) f.zFar = o.zFar;
+    f.validate("--near/--far");
+    return f;
+}
+
 std::unique_ptr<sgfx::Viewer> makeViewer(const sgfxcluster::Application& app, const sgfx::Viewport& size,
                                          const sgfx::OffAxisFrustum& frustum) {
     auto viewer = sgfx::Viewer::createHeadless(size.width, size.height);
@@ -101,7 +119,7 @@ int runReference(const Options& o, const sgfx::DisplayConfig& config) {
                                     "' has no overall frustum (walls only): --reference needs one");
     sgfxcluster::Application app(o.app);
     const sgfx::Viewport size = scaled(config.composite, o.scale, "composite");
-    auto viewer = makeViewer(app, size, *config.overall);
+    auto viewer = makeViewer(app, size, depthRange(*config.overall, o));
     auto start = Clock::now();
     for (int f = 0; f < o.frames; ++f) {
         if (f == 1) start = Clock::now(); // frame 0 compiles the shaders
@@ -169,7 +187,7 @@ int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::Cluste
         viewports.push_back(scaled(c.viewport, o.scale, "channel '" + c.name + "' viewport"));
     const sgfx::DisplayChannel& mine = config.channels[std::size_t(sync.rank())];
     sgfxcluster::Application app(o.app);
-    auto viewer = makeViewer(app, viewports[std::size_t(sync.rank())], mine.frustum);
+    auto viewer = makeViewer(app, viewports[std::size_t(sync.rank())], depthRange(mine.frustum, o));
     Figures fig;
     for (int f = 0; f < o.frames; ++f) {
         const auto start = Clock::now();
