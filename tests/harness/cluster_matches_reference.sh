@@ -10,5 +10,6 @@ mkdir -p "$work"
 "$mpirun" --allow-run-as-root --oversubscribe -np 4 "$cluster" --config "$config" --out "$work/wall.png" --stats "$@"
 "$cluster" --config "$config" --reference --out "$work/reference.png" "$@"
 # Triangle-edge pixels (a surface edge on the other side of a pixel centre under the channel's own
-# projection) are allowed up to 0.2 % of the pixels: docs/cluster.md has the measured counts.
-python3 "$here/composite_compare.py" "$work/wall.png" "$work/reference.png" --tolerance 1 --edge-fraction 0.002
+# projection) may differ more, up to 0.1 % of the pixels: docs/cluster.md has the measured counts
+# (at most 3 of 57600 over 14 camera positions and two sizes).
+python3 "$here/composite_compare.py" "$work/wall.png" "$work/reference.png" --tolerance 1 --allow-fraction 0.001

