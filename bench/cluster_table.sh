@@ -11,14 +11,21 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 config=$root/demos/cluster/configs/wall-2x2.json
 cluster=$build/demos/sgfx-cluster
 common="--config $config --scale $scale --frames $frames --stats"
-echo "| ranks | channel | frame ms | frame-lock wait ms | packet bytes/frame | gather ms (once) |"
-echo "|---|---|---|---|---|---|"
-for ranks in 1 2 4; do
-  line=$(mpirun --allow-run-as-root --oversubscribe -np $ranks "$cluster" $common --channels $ranks | grep '^cluster:')
-  get() { echo "$line" | sed -n "s/.* $1=\([^ ]*\).*/\1/p"; }
-  echo "| $ranks | $(get channel) | $(get frame_ms) | $(get barrier_ms) | $(get packet_bytes) | $(get gather_ms) |"
+echo "| ranks | llvmpipe threads/rank | channel | frame ms | frame-lock wait ms | packet bytes/frame | gather ms (once) |"
+echo "|---|---|---|---|---|---|---|"
+for threads in default 1; do
+  for ranks in 1 2 4; do
+    env=""
+    [ "$threads" = default ] || env="-x LP_NUM_THREADS=$threads"
+    line=$(mpirun --allow-run-as-root --oversubscribe $env -np $ranks "$cluster" $common --channels $ranks |
+      grep '^cluster:')
+    get() { echo "$line" | sed -n "s/.* $1=\([^ ]*\).*/\1/p"; }
+    echo "| $ranks | $threads | $(get channel) | $(get frame_ms) | $(get barrier_ms) | $(get packet_bytes) |" \
+      "$(get gather_ms) |"
+  done
 done
 line=$("$cluster" $common --reference | grep '^reference:')
 echo
 echo "Reference (one process, the whole wall in one view): $(echo "$line" | sed 's/^reference: //')"
+echo "Load average while measured: $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), llvmpipe (OSMesa)"

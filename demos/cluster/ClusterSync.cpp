@@ -31,6 +31,12 @@ bool waitAll(std::vector<MPI_Request>& requests, Clock::time_point deadline) {
     }
 }
 
+std::string seconds(double s) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f s", s);
+    return text;
+}
+
 } // namespace
 
 ClusterSync::ClusterSync(int& argc, char**& argv) {
@@ -72,8 +78,7 @@ void ClusterSync::broadcast(std::vector<std::byte>& packet, std::uint64_t frame,
             MPI_Isend(packet.data(), int(packet.size()), MPI_BYTE, r, kPacket, MPI_COMM_WORLD,
                       &sends[std::size_t(r - 1)]);
         if (!waitAll(sends, deadline))
-            fail("could not send the packet of frame " + std::to_string(frame) + " within " +
-                 std::to_string(limit) + " s");
+            fail("could not send the packet of frame " + std::to_string(frame) + " within " + seconds(limit));
         return;
     }
     for (;;) {
@@ -89,7 +94,7 @@ void ClusterSync::broadcast(std::vector<std::byte>& packet, std::uint64_t frame,
         }
         if (Clock::now() > deadline)
             fail(describe(0) + " sent no frame packet for frame " + std::to_string(frame) + " within " +
-                 std::to_string(limit) + " s (stalled or died); stopping");
+                 seconds(limit) + " (stalled or died); stopping");
         std::this_thread::sleep_for(std::chrono::microseconds(200));
     }
 }
@@ -119,8 +124,8 @@ double ClusterSync::frameBarrier(std::uint64_t frame, double limitSeconds) {
         // The others are waiting for this answer: let it leave before a stop aborts the run.
         waitAll(sends, after(all ? limitSeconds : 1.0));
         if (!all)
-            fail(describe(go[1]) + " did not finish " + what + " within " + std::to_string(limitSeconds) +
-                 " s (stalled or died); stopping all ranks");
+            fail(describe(go[1]) + " did not finish " + what + " within " + seconds(limitSeconds) +
+                 " (stalled or died); stopping all ranks");
         return std::chrono::duration<double>(Clock::now() - start).count();
     }
     const int mine = int(frame);
@@ -129,8 +134,8 @@ double ClusterSync::frameBarrier(std::uint64_t frame, double limitSeconds) {
     MPI_Irecv(go.data(), 2, MPI_INT, 0, kGo, MPI_COMM_WORLD, &requests[1]);
     // Longer than rank 0's limit, so that rank 0's verdict (naming the late rank) arrives first.
     if (!waitAll(requests, after(limitSeconds + 2.0)))
-        fail(describe(0) + " did not release " + what + " within " + std::to_string(limitSeconds + 2.0) +
-             " s (stalled or died); stopping");
+        fail(describe(0) + " did not release " + what + " within " + seconds(limitSeconds + 2.0) +
+             " (stalled or died); stopping");
     if (go[0] != 0)
         fail("stopping at " + what + ": rank 0 reports " + describe(go[1]) + " did not finish it");
     return std::chrono::duration<double>(Clock::now() - start).count();

@@ -156,9 +156,17 @@ struct Figures {
     int measured = 0;
 };
 
+// Says when it fires (wall-clock seconds), so a test can time the run's end from the failure.
 void testHooks(const Options& o, int rank, int frame) {
-    if (rank == o.killRank && frame == o.killFrame) std::raise(SIGKILL);
-    if (rank == o.stallRank && frame == o.stallFrame) std::this_thread::sleep_for(std::chrono::hours(1));
+    const bool kill = rank == o.killRank && frame == o.killFrame;
+    const bool stall = rank == o.stallRank && frame == o.stallFrame;
+    if (!kill && !stall) return;
+    const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    std::fprintf(stderr, "sgfx-cluster: test hook: rank %d %s at frame %d, t=%.3f\n", rank,
+                 kill ? "kills itself" : "stalls", frame, now);
+    std::fflush(stderr);
+    if (kill) std::raise(SIGKILL);
+    std::this_thread::sleep_for(std::chrono::hours(1));
 }
 
 void printFigures(const Options& o, const sgfxcluster::ClusterSync& sync, const Figures& f,
