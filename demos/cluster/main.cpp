@@ -44,7 +44,8 @@ void parse(CLI::App& cli, Options& o) {
     cli.add_flag("--reference", o.reference, "one process, one view: the display's overall frustum (walls)");
     cli.add_option("--scale", o.scale, "channel resolutions times this (exact pixels only)")
         ->check(CLI::Range(1e-3, 16.0));
-    cli.add_option("--near", o.zNear, "near plane (m) for every channel, same directions (0: the description's)")
+    cli.add_option("--near", o.zNear,
+                   "near plane (m) for every channel, same directions (0: the description's)")
         ->check(CLI::Range(0.0, 1e6));
     cli.add_option("--far", o.zFar, "far plane (m), likewise")->check(CLI::Range(0.0, 1e9));
     cli.add_option("--timeout", o.timeout, "seconds a rank may lag before the run stops")->check(CLI::Range(0.1, 600.0));
@@ -127,7 +128,8 @@ int runReference(const Options& o, const sgfx::DisplayConfig& config) {
     }
     if (o.stats)
         std::printf("reference: size=%dx%d frames=%d frame_ms=%.2f\n", size.width, size.height, o.frames,
-                    1e3 * std::chrono::duration<double>(Clock::now() - start).count() / std::max(o.frames - 1, 1));
+                    1e3 * std::chrono::duration<double>(Clock::now() - start).count() /
+                        std::max(o.frames - 1, 1));
     if (!o.out.empty()) viewer->writeScreenshot(o.out);
     return 0;
 }
@@ -161,7 +163,8 @@ void testHooks(const Options& o, int rank, int frame) {
     const bool kill = rank == o.killRank && frame == o.killFrame;
     const bool stall = rank == o.stallRank && frame == o.stallFrame;
     if (!kill && !stall) return;
-    const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    const double now =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
     std::fprintf(stderr, "sgfx-cluster: test hook: rank %d %s at frame %d, t=%.3f\n", rank,
                  kill ? "kills itself" : "stalls", frame, now);
     std::fflush(stderr);
@@ -179,7 +182,8 @@ void printFigures(const Options& o, const sgfxcluster::ClusterSync& sync, const 
 }
 
 int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::ClusterSync& sync) {
-    if (o.channels > 0 && std::size_t(o.channels) < config.channels.size()) config.channels.resize(std::size_t(o.channels));
+    if (o.channels > 0 && std::size_t(o.channels) < config.channels.size())
+        config.channels.resize(std::size_t(o.channels));
     const int channels = int(config.channels.size());
     if (sync.size() != channels) {
         if (sync.rank() == 0)
