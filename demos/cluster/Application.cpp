@@ -127,7 +127,11 @@ FramePacket Application::step(std::uint64_t frame, double dt) {
     p.dt = dt;
     p.simulationTime = simulationTime_;
     const float lap = float(std::fmod(double(options_.pathStart) + double(frame) / kPathFrames, 1.0));
-    const polygon::CameraPose pose = polygon::cameraPose(lap, s.polygon.extent);
+    polygon::CameraPose pose = polygon::cameraPose(lap, s.polygon.extent);
+    if (options_.look.size() == 6) {
+        pose.eye = {options_.look[0], options_.look[1], options_.look[2]};
+        pose.target = {options_.look[3], options_.look[4], options_.look[5]};
+    }
     p.eyeView = glm::lookAt(pose.eye, pose.target, pose.up);
     // The application's update: the rain follows the eye, the fog breathes, the vehicle drives.
     s.rainPlace->setMatrix(glm::translate(glm::mat4(1.0f), pose.eye + glm::vec3(0.0f, 0.0f, kRainAbove)));

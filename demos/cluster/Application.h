@@ -25,6 +25,8 @@ struct ApplicationOptions {
     float pathStart = 0.1f;       ///< where on the camera path's lap frame 0 is (0..1)
     std::uint32_t rainDrops = 20000;
     bool drive = true;            ///< the vehicle drives its loop
+    /// A fixed eye and target (x, y, z each) instead of the camera path; empty: the path.
+    std::vector<float> look;
 };
 
 class Application {

@@ -55,6 +55,8 @@ void parse(CLI::App& cli, Options& o) {
         ->check(CLI::Range(0.01, 16.0));
     cli.add_option("--path-start", o.app.pathStart, "where on the camera path's lap frame 0 is")
         ->check(CLI::Range(0.0, 1.0));
+    cli.add_option("--look", o.app.look, "a fixed eye and target instead of the camera path: EX EY EZ TX TY TZ")
+        ->expected(6);
     cli.add_option("--rain", o.app.rainDrops, "rain drops around the eye (0: none)");
     cli.add_option("--drive", o.app.drive, "the vehicle drives (1) or stands (0)");
     cli.add_option("--channels", o.channels, "only the first N channels (benchmarks; 0: all)")
