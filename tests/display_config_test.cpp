@@ -14,7 +14,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
+
+#include <unistd.h>
 
 using namespace sgfx;
 
@@ -357,4 +360,198 @@ TEST(DisplayConfig, GeneralChannels) {
     EXPECT_EQ(cfg.composite, (Viewport{0, 0, 90, 40}));
     EXPECT_EQ(cfg.find("r"), &r);
     EXPECT_EQ(cfg.find("x"), nullptr);
+}
+
+namespace {
+
+// A wall description with one field replaced (or, with an empty value, removed); `field` is
+// written as the JSON text of its key and value.
+std::string wallWith(const std::string& key, const std::string& value) {
+    std::vector<std::pair<std::string, std::string>> fields = {
+        {"columns", "2"},
+        {"rows", "2"},
+        {"screen", R"({"width": 0.8, "height": 0.45})"},
+        {"distance", "1.2"},
+        {"resolution", "[160, 90]"}};
+    bool replaced = false;
+    std::string body;
+    for (auto& [k, v] : fields) {
+        if (k == key) {
+            replaced = true;
+            if (value.empty()) continue;
+            v = value;
+        }
+        body += (body.empty() ? "" : ", ") + ("\"" + k + "\": " + v);
+    }
+    if (!replaced) body += ", \"" + key + "\": " + value;
+    return R"({"wall": {)" + body + "}}";
+}
+
+std::string domeOf(const std::string& channels) {
+    return R"({"dome": {"channels": [)" + channels + "]}}";
+}
+
+const char* const kFov = R"("fov": {"left": -40, "right": 40, "down": -30, "up": 30})";
+
+std::string domeChannel(const std::string& extra) {
+    return std::string(R"({"yaw": 0, "pitch": 0, )") + kFov + R"(, "resolution": [8, 8])" + extra + "}";
+}
+
+// The message of the LoadError that parsing `json` as "bad-display.json" throws ("" if none).
+std::string errorOf(const std::string& json) {
+    try {
+        (void)DisplayConfig::parse(json, "bad-display.json");
+    } catch (const LoadError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+} // namespace
+
+// Every kind of bad description: a LoadError naming the file, the field's JSON path and the
+// reason; never another exception.
+TEST(DisplayConfig, ErrorsNameTheFileTheFieldAndTheReason) {
+    struct Case {
+        std::string json, path, reason;
+    };
+    std::string tooMany;
+    for (int i = 0; i < 65; ++i)
+        tooMany += (i ? ", " : "") + domeChannel("");
+    const std::string deep = std::string(200, '[') + std::string(200, ']');
+    const std::vector<Case> cases = {
+        // Missing fields, wrong types, out of range, unknown keys.
+        {wallWith("distance", ""), "wall.distance", "is missing"},
+        {wallWith("columns", R"("2")"), "wall.columns", "is string (\"2\"), not an integer"},
+        {wallWith("columns", "2.5"), "wall.columns", "not an integer"},
+        {wallWith("columns", "18446744073709551615"), "wall.columns", "out of range 1..64"},
+        {wallWith("columns", "0"), "wall.columns", "out of range 1..64"},
+        {wallWith("distance", "-1"), "wall.distance", "-1 is out of range (0, 10000]"},
+        {wallWith("distance", "1e400"), "invalid JSON", "number overflow parsing '1e400'"},
+        {wallWith("screen", R"({"width": 0.8})"), "wall.screen.height", "is missing"},
+        {wallWith("screen", "[0.8, 0.45]"), "wall.screen", "not an object"},
+        {wallWith("resolution", "[160]"), "wall.resolution", "has 1 elements, expected 2"},
+        {wallWith("resolution", "[0, 90]"), "wall.resolution[0]", "out of range 1..16384"},
+        {wallWith("colums", "2"), "wall.colums", "unknown key (expected one of: columns, rows"},
+        {wallWith("bezel", R"({"horizontal": 1000})"), "wall.bezel.horizontal", "more than 16384"},
+        {wallWith("far", "0.05"), "wall.far", "not beyond near = 0.1"},
+        {wallWith("eye", "[0, null]"), "wall.eye[1]", "null"},
+        {R"({"wall": 3})", "wall", "not an object"},
+        {R"({"name": "x"})", "the description", "has no layout"},
+        {R"([1, 2])", "the description", "is array"},
+        {R"({"wall": {}, "dome": {}})", "dome", "one layout"},
+        {R"({"nmae": "x"})", "nmae", "unknown key"},
+        {R"({"name": "", "dome": {}})", "name", "is empty"},
+        // Too many channels.
+        {wallWith("rows", "9").replace(wallWith("rows", "9").find("\"columns\": 2"), 12, "\"columns\": 8"),
+         "wall", "8 columns × 9 rows is more than 64 channels"},
+        {domeOf(tooMany), "dome.channels", "has 65 elements, expected 1..64"},
+        {R"({"cylinder": {"projectors": 65, "fov": {"horizontal": 5, "up": 5, "down": -5}, "resolution": [8, 8]}})",
+         "cylinder.projectors", "out of range 1..64"},
+        // Cylinders.
+        {R"({"cylinder": {"projectors": 7, "fov": {"horizontal": 60, "up": 5, "down": -5}, "resolution": [8, 8]}})",
+         "cylinder.projectors", "cover more than 360 degrees"},
+        {R"({"cylinder": {"projectors": 2, "fov": {"horizontal": 60, "up": 5, "down": -5}, "overlap": 60, "resolution": [8, 8]}})",
+         "cylinder.overlap", "out of range [0, 60)"},
+        {R"({"cylinder": {"projectors": 2, "fov": {"horizontal": 60, "up": 5, "down": -5}, "yaw": [-30, 30], "resolution": [8, 8]}})",
+         "cylinder.yaw[1]", "listed left to right"},
+        {R"({"cylinder": {"projectors": 2, "fov": {"horizontal": 60, "up": 5, "down": -5}, "overlap": 5, "yaw": [30, -30], "resolution": [8, 8]}})",
+         "cylinder.overlap", "not both"},
+        {R"({"cylinder": {"projectors": 2, "fov": {"horizontal": 60, "up": -5, "down": 5}, "resolution": [8, 8]}})",
+         "cylinder.fov.up", "not above down"},
+        {R"({"cylinder": {"projectors": 2, "fov": {"horizontal": 180, "up": 5, "down": -5}, "resolution": [8, 8]}})",
+         "cylinder.fov.horizontal", "out of range (0, 180)"},
+        // Domes.
+        {domeOf(domeChannel("") + ", " + domeChannel(R"(, "viewport": [8, 0])")), "dome.channels[0].viewport",
+         "give every channel a viewport or none"},
+        {domeOf(domeChannel(R"(, "name": "a", "viewport": [0, 0])") + ", " +
+                domeChannel(R"(, "name": "b", "viewport": [4, 4])")),
+         "dome", "channel 'b': viewport overlaps channel 'a'"},
+        {domeOf(domeChannel(R"(, "name": "a")") + ", " + domeChannel(R"(, "name": "a")")), "dome",
+         "channel 'a': the name is used twice"},
+        {domeOf(R"({"yaw": 0, "pitch": 95, )" + std::string(kFov) + R"(, "resolution": [8, 8]})"),
+         "dome.channels[0].pitch", "out of range [-90, 90]"},
+        {domeOf(
+             R"({"yaw": 0, "pitch": 0, "fov": {"left": 10, "right": -10, "down": -30, "up": 30}, "resolution": [8, 8]})"),
+         "dome.channels[0].fov.right", "not right of left"},
+        {domeOf(
+             R"({"yaw": 0, "pitch": 0, "fov": {"left": -90, "right": 10, "down": -30, "up": 30}, "resolution": [8, 8]})"),
+         "dome.channels[0].fov.left", "out of range (-90, 90)"},
+        {domeOf(domeChannel(R"(, "rol": 3)")), "dome.channels[0].rol", "unknown key"},
+        // The general form.
+        {R"({"channels": [{"name": "a", "frustum": {"left": -1, "right": 1, "down": -1, "up": 1}, "resolution": [8, 8]},
+            {"name": "b", "frustum": {"left": -1, "right": 1, "down": -1, "up": 1}, "resolution": [8, 8]},
+            {"name": "c", "frustum": {"left": "-1", "right": 1, "down": -1, "up": 1}, "resolution": [8, 8]}]})",
+         "channels[2].frustum.left", "not a number"},
+        {R"({"channels": [{"name": "a", "frustum": {"left": -1, "right": 1, "bottom": -1, "up": 1}, "resolution": [8, 8]}]})",
+         "channels[0].frustum.bottom", "mixes near-plane extents"},
+        {R"({"channels": [{"name": "a", "frustum": {"left": -1, "right": 1, "top": 1}, "resolution": [8, 8]}]})",
+         "channels[0].frustum.bottom", "is missing"},
+        {R"({"channels": [{"frustum": {"left": -1, "right": 1, "down": -1, "up": 1}, "resolution": [8, 8]}]})",
+         "channels[0].name", "is missing"},
+        {R"({"channels": [{"name": "a", "offset": {"translation": [0, 0]}, "frustum": {"left": -1, "right": 1, "down": -1, "up": 1}, "resolution": [8, 8]}]})",
+         "channels[0].offset.translation", "has 2 elements, expected 3"},
+        {R"({"channels": []})", "channels", "has 0 elements, expected 1..64"},
+        // Not JSON at all: nlohmann's line and column.
+        {"{\"wall\": {\n  \"columns\": 2,\n  \"rows\": 2,,\n}}", "invalid JSON",
+         "parse error at line 3, column 13"},
+        {"{\"wall\": ", "invalid JSON", "line 1, column 10"},
+        {deep, "the description", "nested deeper than 16 levels"},
+        {"   \n\t ", "the description", "the text is empty"},
+    };
+    for (const Case& c : cases) {
+        std::string message;
+        EXPECT_NO_THROW(message = errorOf(c.json)) << c.json; // a LoadError or nothing
+        SCOPED_TRACE(c.json.substr(0, 200));
+        EXPECT_NE(message.find("'bad-display.json'"), std::string::npos) << message;
+        EXPECT_NE(message.find(c.path), std::string::npos) << "path '" << c.path << "' in: " << message;
+        EXPECT_NE(message.find(c.reason), std::string::npos) << "reason '" << c.reason << "' in: " << message;
+    }
+}
+
+// Files: an empty one, one that is not there; the file's path is in the message.
+TEST(DisplayConfig, FileErrors) {
+    const auto dir = std::filesystem::temp_directory_path() / ("sgfx-display-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const auto empty = dir / "empty.json";
+    { std::ofstream(empty).flush(); }
+    const auto expectError = [](const std::filesystem::path& file, const std::string& reason) {
+        try {
+            (void)DisplayConfig::load(file);
+            ADD_FAILURE() << file << " loaded";
+        } catch (const LoadError& e) {
+            const std::string m = e.what();
+            EXPECT_NE(m.find(file.string()), std::string::npos) << m;
+            EXPECT_NE(m.find(reason), std::string::npos) << m;
+        }
+    };
+    expectError(empty, "the text is empty");
+    expectError(dir / "missing.json", "cannot be opened");
+    std::filesystem::remove_all(dir);
+}
+
+// The JSON examples of docs/display-channels.md are descriptions this reader accepts.
+TEST(DisplayConfig, DocsExamplesParse) {
+    const auto page = std::filesystem::path(SGFX_SOURCE_DIR) / "docs" / "display-channels.md";
+    std::ifstream in(page);
+    ASSERT_TRUE(in) << page;
+    std::string line, block;
+    bool inside = false;
+    std::vector<std::string> layouts;
+    while (std::getline(in, line)) {
+        if (!inside && line == "```json") {
+            inside = true;
+            block.clear();
+        } else if (inside && line == "```") {
+            inside = false;
+            try {
+                layouts.push_back(DisplayConfig::parse(block, page.string()).layout);
+            } catch (const LoadError& e) {
+                ADD_FAILURE() << e.what() << "\n" << block;
+            }
+        } else if (inside) {
+            block += line + "\n";
+        }
+    }
+    EXPECT_EQ(layouts, (std::vector<std::string>{"wall", "cylinder", "dome", "channels"}));
 }

@@ -29,9 +29,10 @@ Json parseJson(std::string_view text, const std::string& source) {
     };
     try {
         return Json::parse(text.begin(), text.end(), depthGuard);
-    } catch (const Json::parse_error& e) {
-        // nlohmann's message names the line and column: "[json.exception.parse_error.101] parse
-        // error at line 3, column 5: syntax error ...".
+    } catch (const Json::exception& e) {
+        // nlohmann's message names the line and column ("[json.exception.parse_error.101] parse
+        // error at line 3, column 5: syntax error ...") or the number too large for a double
+        // ("[json.exception.out_of_range.406] number overflow parsing '1e400'").
         std::string why = e.what();
         if (const auto cut = why.find("] "); cut != std::string::npos) why = why.substr(cut + 2);
         throw LoadError("sgfx: display description '" + source + "': invalid JSON: " + why);
