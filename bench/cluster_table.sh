@@ -11,8 +11,8 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 config=$root/demos/cluster/configs/wall-2x2.json
 cluster=$build/demos/sgfx-cluster
 common="--config $config --scale $scale --frames $frames --stats"
-echo "| ranks | llvmpipe threads/rank | channel | frame ms | frame-lock wait ms | packet bytes/frame | gather ms (once) |"
-echo "|---|---|---|---|---|---|---|"
+echo "| ranks | llvmpipe threads/rank | channel | frame ms | frame-lock wait ms (rank 0) | least wait ms (any rank) | packet bytes/frame | gather ms (once) |"
+echo "|---|---|---|---|---|---|---|---|"
 for threads in default 1; do
   for ranks in 1 2 4; do
     env=""
@@ -20,9 +20,20 @@ for threads in default 1; do
     line=$(mpirun --allow-run-as-root --oversubscribe $env -np $ranks "$cluster" $common --channels $ranks |
       grep '^cluster:')
     get() { echo "$line" | sed -n "s/.* $1=\([^ ]*\).*/\1/p"; }
-    echo "| $ranks | $threads | $(get channel) | $(get frame_ms) | $(get barrier_ms) | $(get packet_bytes) |" \
+    echo "| $ranks | $threads | $(get channel) | $(get frame_ms) | $(get barrier_ms) | $(get barrier_least_ms) |" \
+      "$(get packet_bytes) |" \
       "$(get gather_ms) |"
   done
+done
+echo
+echo "Messaging alone (--sync-only: packet and frame lock, nothing drawn), 1000 frames:"
+echo
+echo "| ranks | frame ms | frame-lock wait ms (rank 0) | least wait ms (any rank) |"
+echo "|---|---|---|---|"
+for ranks in 2 4; do
+  line=$(mpirun --allow-run-as-root --oversubscribe -np $ranks "$cluster" --config "$config" --frames 1000 --stats \
+    --sync-only --channels $ranks | grep '^cluster:')
+  echo "| $ranks | $(get frame_ms) | $(get barrier_ms) | $(get barrier_least_ms) |"
 done
 line=$("$cluster" $common --reference | grep '^reference:')
 echo

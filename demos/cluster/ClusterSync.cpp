@@ -109,6 +109,10 @@ double ClusterSync::frameBarrier(std::uint64_t frame, double limitSeconds) {
         for (int r = 1; r < size_; ++r)
             MPI_Irecv(&frames[std::size_t(r - 1)], 1, MPI_INT, r, kDone, MPI_COMM_WORLD, &dones[std::size_t(r - 1)]);
         const bool all = waitAll(dones, after(limitSeconds));
+        for (int r = 1; r < size_ && all; ++r)
+            if (frames[std::size_t(r - 1)] != int(frame))
+                fail(describe(r) + " finished frame " + std::to_string(frames[std::size_t(r - 1)]) +
+                     " when rank 0 waited for " + what);
         if (!all)
             for (int r = 1; r < size_ && go[1] < 0; ++r) {
                 int finished = 0;
@@ -171,6 +175,12 @@ std::vector<sgfx::Image> ClusterSync::gather(const sgfx::Image& mine) {
         images.push_back(std::move(im));
     }
     return images;
+}
+
+std::vector<double> ClusterSync::gather(double mine) {
+    std::vector<double> all(rank_ == 0 ? std::size_t(size_) : 0);
+    MPI_Gather(&mine, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    return all;
 }
 
 } // namespace sgfxcluster

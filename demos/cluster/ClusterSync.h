@@ -42,6 +42,8 @@ public:
     /// MPI_Gatherv of every rank's RGBA8 image to rank 0 (called by all ranks after the last
     /// barrier). Rank 0 gets them in rank order; other ranks get an empty vector.
     std::vector<sgfx::Image> gather(const sgfx::Image& mine);
+    /// MPI_Gather of one number per rank to rank 0 (after the last barrier, like gather()).
+    std::vector<double> gather(double mine);
 
     /// Prints the message on this rank's stderr (prefixed with its rank and host) and ends the
     /// whole run with MPI_Abort (exit status `code`).

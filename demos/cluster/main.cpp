@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <sgfx_glad/gl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -28,7 +29,7 @@ using Clock = std::chrono::steady_clock;
 struct Options {
     std::string config, out;
     int frames = 20, channels = 0;
-    bool reference = false, stats = false;
+    bool reference = false, stats = false, syncOnly = false;
     // The proving ground's depth range (CameraPath.h); 0: the description's own.
     float zNear = 0.5f, zFar = 2000.0f;
     double scale = 1.0, timeout = 5.0, firstFrameTimeout = 60.0, dt = 1.0 / 60.0;
@@ -61,6 +62,7 @@ void parse(CLI::App& cli, Options& o) {
     cli.add_option("--drive", o.app.drive, "the vehicle drives (1) or stands (0)");
     cli.add_option("--channels", o.channels, "only the first N channels (benchmarks; 0: all)")
         ->check(CLI::Range(0, 4096));
+    cli.add_flag("--sync-only", o.syncOnly, "packets and frame lock without drawing (the messaging's own cost)");
     cli.add_flag("--stats", o.stats, "print frame, barrier, packet and gather figures (rank 0)");
     const std::string test = ""; // an empty group hides the test hooks from --help
     cli.add_option("--test-stall-rank", o.stallRank)->group(test);
@@ -156,6 +158,8 @@ sgfx::Image composite(const std::vector<sgfx::Image>& images, const std::vector<
 
 struct Figures {
     double frameSeconds = 0.0, barrierSeconds = 0.0, gatherSeconds = 0.0;
+    // Every rank's total frame-lock wait: the least is the slowest rank's, about the messaging alone.
+    std::vector<double> barrierByRank;
     std::size_t packetBytes = 0;
     int measured = 0;
 };
@@ -177,10 +181,12 @@ void testHooks(const Options& o, int rank, int frame) {
 void printFigures(const Options& o, const sgfxcluster::ClusterSync& sync, const Figures& f,
                   const sgfx::Viewport& channel) {
     const double n = std::max(f.measured, 1);
-    std::printf("cluster: ranks=%d channel=%dx%d frames=%d frame_ms=%.2f barrier_ms=%.3f packet_bytes=%.1f "
-                "gather_ms=%.2f\n",
+    const auto [least, most] = std::minmax_element(f.barrierByRank.begin(), f.barrierByRank.end());
+    std::printf("cluster: ranks=%d channel=%dx%d frames=%d frame_ms=%.2f barrier_ms=%.3f barrier_least_ms=%.3f "
+                "barrier_most_ms=%.3f packet_bytes=%.1f gather_ms=%.2f\n",
                 sync.size(), channel.width, channel.height, o.frames, 1e3 * f.frameSeconds / n,
-                1e3 * f.barrierSeconds / n, double(f.packetBytes) / n, 1e3 * f.gatherSeconds);
+                1e3 * f.barrierSeconds / n, 1e3 * *least / n, 1e3 * *most / n, double(f.packetBytes) / n,
+                1e3 * f.gatherSeconds);
 }
 
 int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::ClusterSync& sync) {
@@ -210,7 +216,10 @@ int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::Cluste
         sync.broadcast(bytes, std::uint64_t(f), o.firstFrameTimeout);
         const sgfxcluster::FramePacket packet = sgfxcluster::FramePacket::deserialize(bytes);
         testHooks(o, sync.rank(), f);
-        drawFrame(*viewer, app, packet, &mine);
+        if (o.syncOnly)
+            app.apply(packet);
+        else
+            drawFrame(*viewer, app, packet, &mine);
         const double wait = sync.frameBarrier(std::uint64_t(f), f == 0 ? o.firstFrameTimeout : o.timeout);
         if (f > 0 || o.frames == 1) { // frame 0 compiles the shaders
             fig.frameSeconds += std::chrono::duration<double>(Clock::now() - start).count();
@@ -222,6 +231,7 @@ int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::Cluste
     const auto gatherStart = Clock::now();
     const std::vector<sgfx::Image> images = sync.gather(viewer->capture());
     fig.gatherSeconds = std::chrono::duration<double>(Clock::now() - gatherStart).count();
+    fig.barrierByRank = sync.gather(fig.barrierSeconds);
     if (sync.rank() != 0) return 0;
     if (o.stats) printFigures(o, sync, fig, viewports[0]);
     if (!o.out.empty())
