@@ -22,7 +22,8 @@ FramePacket sample() {
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
             p.eyeView[c][r] = float(c * 4 + r) * 0.37f - 1.5f;
-    p.changes = {{1, {0.0125f}}, {2, std::vector<float>(16, -3.25f)}, {100, {}}, {4000000000u, {1e-30f, 7.0f}}};
+    p.changes = {
+        {1, {0.0125f}}, {2, std::vector<float>(16, -3.25f)}, {100, {}}, {4000000000u, {1e-30f, 7.0f}}};
     return p;
 }
 
@@ -73,7 +74,8 @@ TEST(FramePacket, RefusesGarbage) {
     EXPECT_NE(refusal(b).find("change count: 1000 changes do not fit"), std::string::npos) << refusal(b);
     b = good;
     poke<std::uint32_t>(b, 104, 65); // the first change's value count
-    EXPECT_NE(refusal(b).find("change id 1: 65 values, over the limit of 64"), std::string::npos) << refusal(b);
+    EXPECT_NE(refusal(b).find("change id 1: 65 values, over the limit of 64"), std::string::npos)
+        << refusal(b);
     b = good;
     poke<double>(b, 16, std::numeric_limits<double>::quiet_NaN()); // dt
     EXPECT_NE(refusal(b).find("dt: not finite"), std::string::npos) << refusal(b);

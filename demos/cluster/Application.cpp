@@ -101,21 +101,21 @@ void Application::track() {
                              }};
     tracked_[kRainPlace] = {[&s] { return flat(s.rainPlace->matrix()); },
                             [&s](const std::vector<float>& v) { s.rainPlace->setMatrix(matrix(v)); }};
-    tracked_[kVehiclePose] = {[&s] { return flat(s.polygon.vehiclePose->matrix()); },
-                              [&s](const std::vector<float>& v) { s.polygon.vehiclePose->setMatrix(matrix(v)); }};
+    tracked_[kVehiclePose] = {
+        [&s] { return flat(s.polygon.vehiclePose->matrix()); },
+        [&s](const std::vector<float>& v) { s.polygon.vehiclePose->setMatrix(matrix(v)); }};
     for (std::size_t i = 0; i < s.dofs.size(); ++i) {
         sgfx::DOFTransform* d = s.dofs[i].get();
-        tracked_[kVehicleDofs + std::uint32_t(i)] = {
-            [d] {
-                std::vector<float> v;
-                for (const sgfx::DOFTransform::Axis& a : d->axes())
-                    v.push_back(float(a.value));
-                return v;
-            },
-            [d](const std::vector<float>& v) {
-                for (std::size_t a = 0; a < v.size(); ++a)
-                    d->set(d->axes()[a].name, double(v[a]));
-            }};
+        tracked_[kVehicleDofs + std::uint32_t(i)] = {[d] {
+                                                         std::vector<float> v;
+                                                         for (const sgfx::DOFTransform::Axis& a : d->axes())
+                                                             v.push_back(float(a.value));
+                                                         return v;
+                                                     },
+                                                     [d](const std::vector<float>& v) {
+                                                         for (std::size_t a = 0; a < v.size(); ++a)
+                                                             d->set(d->axes()[a].name, double(v[a]));
+                                                     }};
     }
 }
 
@@ -157,8 +157,8 @@ void Application::apply(const FramePacket& packet) {
     for (const FramePacket::Change& c : packet.changes) {
         const auto it = tracked_.find(c.id);
         if (it == tracked_.end())
-            throw std::invalid_argument("frame packet " + std::to_string(packet.frame) + ": unknown change id " +
-                                        std::to_string(c.id));
+            throw std::invalid_argument("frame packet " + std::to_string(packet.frame) +
+                                        ": unknown change id " + std::to_string(c.id));
         const std::size_t want = it->second.read().size();
         if (c.values.size() != want)
             throw std::invalid_argument("frame packet " + std::to_string(packet.frame) + ": change id " +

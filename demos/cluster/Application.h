@@ -21,10 +21,10 @@ class Camera;
 namespace sgfxcluster {
 
 struct ApplicationOptions {
-    float sceneScale = 0.25f;     ///< polygon::SceneOptions::scale
-    float pathStart = 0.1f;       ///< where on the camera path's lap frame 0 is (0..1)
+    float sceneScale = 0.25f; ///< polygon::SceneOptions::scale
+    float pathStart = 0.1f;   ///< where on the camera path's lap frame 0 is (0..1)
     std::uint32_t rainDrops = 20000;
-    bool drive = true;            ///< the vehicle drives its loop
+    bool drive = true; ///< the vehicle drives its loop
     /// A fixed eye and target (x, y, z each) instead of the camera path; empty: the path.
     std::vector<float> look;
 };

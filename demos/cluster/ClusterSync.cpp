@@ -54,7 +54,9 @@ ClusterSync::ClusterSync(int& argc, char**& argv) {
         hosts_.emplace_back(all.data() + std::size_t(r) * kHostChars);
 }
 
-ClusterSync::~ClusterSync() { MPI_Finalize(); }
+ClusterSync::~ClusterSync() {
+    MPI_Finalize();
+}
 
 std::string ClusterSync::describe(int rank) const {
     return "rank " + std::to_string(rank) + " (host " + host(rank) + ")";
@@ -107,7 +109,8 @@ double ClusterSync::frameBarrier(std::uint64_t frame, double limitSeconds) {
         std::vector<MPI_Request> dones(std::size_t(size_ - 1));
         std::vector<int> frames(std::size_t(size_ - 1));
         for (int r = 1; r < size_; ++r)
-            MPI_Irecv(&frames[std::size_t(r - 1)], 1, MPI_INT, r, kDone, MPI_COMM_WORLD, &dones[std::size_t(r - 1)]);
+            MPI_Irecv(&frames[std::size_t(r - 1)], 1, MPI_INT, r, kDone, MPI_COMM_WORLD,
+                      &dones[std::size_t(r - 1)]);
         const bool all = waitAll(dones, after(limitSeconds));
         for (int r = 1; r < size_ && all; ++r)
             if (frames[std::size_t(r - 1)] != int(frame))
@@ -162,8 +165,8 @@ std::vector<sgfx::Image> ClusterSync::gather(const sgfx::Image& mine) {
         if (total > std::size_t(1) << 31) throw std::runtime_error("gather: composite over 2 GiB");
         all.resize(total);
     }
-    MPI_Gatherv(mine.pixels.data(), int(mine.pixels.size()), MPI_BYTE, all.data(), counts.data(), offsets.data(),
-                MPI_BYTE, 0, MPI_COMM_WORLD);
+    MPI_Gatherv(mine.pixels.data(), int(mine.pixels.size()), MPI_BYTE, all.data(), counts.data(),
+                offsets.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
     std::vector<sgfx::Image> images;
     if (rank_ != 0) return images;
     for (std::size_t r = 0; r < std::size_t(size_); ++r) {

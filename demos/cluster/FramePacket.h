@@ -18,7 +18,7 @@ namespace sgfxcluster {
 struct FramePacket {
     static constexpr std::uint32_t kMagic = 0x50464753u; // "SGFP" read as little-endian bytes
     static constexpr std::uint16_t kVersion = 1;
-    static constexpr std::size_t kMaxChanges = 4096;      // a frame that changes more is an error
+    static constexpr std::size_t kMaxChanges = 4096;       // a frame that changes more is an error
     static constexpr std::size_t kMaxValuesPerChange = 64; // a mat4 is 16
 
     /// One changed thing: a parameter or transform the application numbered (ids are the

@@ -40,7 +40,8 @@ struct Options {
 
 void parse(CLI::App& cli, Options& o) {
     cli.add_option("--config", o.config, "display description (JSON, demos/cluster/configs/)")->required();
-    cli.add_option("--frames", o.frames, "frames to run (the last is written)")->check(CLI::Range(1, 1000000));
+    cli.add_option("--frames", o.frames, "frames to run (the last is written)")
+        ->check(CLI::Range(1, 1000000));
     cli.add_option("--out", o.out, "composite PNG written by rank 0");
     cli.add_flag("--reference", o.reference, "one process, one view: the display's overall frustum (walls)");
     cli.add_option("--scale", o.scale, "channel resolutions times this (exact pixels only)")
@@ -49,20 +50,23 @@ void parse(CLI::App& cli, Options& o) {
                    "near plane (m) for every channel, same directions (0: the description's)")
         ->check(CLI::Range(0.0, 1e6));
     cli.add_option("--far", o.zFar, "far plane (m), likewise")->check(CLI::Range(0.0, 1e9));
-    cli.add_option("--timeout", o.timeout, "seconds a rank may lag before the run stops")->check(CLI::Range(0.1, 600.0));
+    cli.add_option("--timeout", o.timeout, "seconds a rank may lag before the run stops")
+        ->check(CLI::Range(0.1, 600.0));
     cli.add_option("--first-frame-timeout", o.firstFrameTimeout, "the same for frame 0 (shader compiles)")
         ->check(CLI::Range(0.1, 3600.0));
     cli.add_option("--scene-scale", o.app.sceneScale, "proving ground size (polygon --scale)")
         ->check(CLI::Range(0.01, 16.0));
     cli.add_option("--path-start", o.app.pathStart, "where on the camera path's lap frame 0 is")
         ->check(CLI::Range(0.0, 1.0));
-    cli.add_option("--look", o.app.look, "a fixed eye and target instead of the camera path: EX EY EZ TX TY TZ")
+    cli.add_option("--look", o.app.look,
+                   "a fixed eye and target instead of the camera path: EX EY EZ TX TY TZ")
         ->expected(6);
     cli.add_option("--rain", o.app.rainDrops, "rain drops around the eye (0: none)");
     cli.add_option("--drive", o.app.drive, "the vehicle drives (1) or stands (0)");
     cli.add_option("--channels", o.channels, "only the first N channels (benchmarks; 0: all)")
         ->check(CLI::Range(0, 4096));
-    cli.add_flag("--sync-only", o.syncOnly, "packets and frame lock without drawing (the messaging's own cost)");
+    cli.add_flag("--sync-only", o.syncOnly,
+                 "packets and frame lock without drawing (the messaging's own cost)");
     cli.add_flag("--stats", o.stats, "print frame, barrier, packet and gather figures (rank 0)");
     const std::string test = ""; // an empty group hides the test hooks from --help
     cli.add_option("--test-stall-rank", o.stallRank)->group(test);
@@ -74,8 +78,9 @@ void parse(CLI::App& cli, Options& o) {
 int scaled(int v, double scale, const std::string& what) {
     const double s = v * scale;
     if (std::abs(s - std::round(s)) > 1e-6)
-        throw std::invalid_argument("--scale " + std::to_string(scale) + ": " + what + " " + std::to_string(v) +
-                                    " becomes " + std::to_string(s) + ", not a whole number of pixels");
+        throw std::invalid_argument("--scale " + std::to_string(scale) + ": " + what + " " +
+                                    std::to_string(v) + " becomes " + std::to_string(s) +
+                                    ", not a whole number of pixels");
     return int(std::round(s));
 }
 
@@ -182,11 +187,12 @@ void printFigures(const Options& o, const sgfxcluster::ClusterSync& sync, const 
                   const sgfx::Viewport& channel) {
     const double n = std::max(f.measured, 1);
     const auto [least, most] = std::minmax_element(f.barrierByRank.begin(), f.barrierByRank.end());
-    std::printf("cluster: ranks=%d channel=%dx%d frames=%d frame_ms=%.2f barrier_ms=%.3f barrier_least_ms=%.3f "
-                "barrier_most_ms=%.3f packet_bytes=%.1f gather_ms=%.2f\n",
-                sync.size(), channel.width, channel.height, o.frames, 1e3 * f.frameSeconds / n,
-                1e3 * f.barrierSeconds / n, 1e3 * *least / n, 1e3 * *most / n, double(f.packetBytes) / n,
-                1e3 * f.gatherSeconds);
+    std::printf(
+        "cluster: ranks=%d channel=%dx%d frames=%d frame_ms=%.2f barrier_ms=%.3f barrier_least_ms=%.3f "
+        "barrier_most_ms=%.3f packet_bytes=%.1f gather_ms=%.2f\n",
+        sync.size(), channel.width, channel.height, o.frames, 1e3 * f.frameSeconds / n,
+        1e3 * f.barrierSeconds / n, 1e3 * *least / n, 1e3 * *most / n, double(f.packetBytes) / n,
+        1e3 * f.gatherSeconds);
 }
 
 int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::ClusterSync& sync) {
@@ -195,10 +201,11 @@ int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::Cluste
     const int channels = int(config.channels.size());
     if (sync.size() != channels) {
         if (sync.rank() == 0)
-            std::fprintf(stderr,
-                         "sgfx-cluster: %s has %d channels but the run has %d ranks: start one rank per channel "
-                         "(mpirun -np %d)\n",
-                         o.config.c_str(), channels, sync.size(), channels);
+            std::fprintf(
+                stderr,
+                "sgfx-cluster: %s has %d channels but the run has %d ranks: start one rank per channel "
+                "(mpirun -np %d)\n",
+                o.config.c_str(), channels, sync.size(), channels);
         return 2;
     }
     sync.setTimeout(o.timeout);
