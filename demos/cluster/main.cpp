@@ -29,7 +29,7 @@ using Clock = std::chrono::steady_clock;
 struct Options {
     std::string config, out;
     int frames = 20, channels = 0;
-    bool reference = false, stats = false, syncOnly = false;
+    bool reference = false, stats = false, syncOnly = false, egl = false;
     // The proving ground's depth range (CameraPath.h); 0: the description's own.
     float zNear = 0.5f, zFar = 2000.0f;
     double scale = 1.0, timeout = 5.0, firstFrameTimeout = 60.0, dt = 1.0 / 60.0;
@@ -65,6 +65,7 @@ void parse(CLI::App& cli, Options& o) {
     cli.add_option("--drive", o.app.drive, "the vehicle drives (1) or stands (0)");
     cli.add_option("--channels", o.channels, "only the first N channels (benchmarks; 0: all)")
         ->check(CLI::Range(0, 4096));
+    cli.add_flag("--egl", o.egl, "render through EGL on the machine's GPU instead of OSMesa");
     cli.add_flag("--sync-only", o.syncOnly,
                  "packets and frame lock without drawing (the messaging's own cost)");
     cli.add_flag("--stats", o.stats, "print frame, barrier, packet and gather figures (rank 0)");
@@ -103,8 +104,9 @@ sgfx::OffAxisFrustum depthRange(sgfx::OffAxisFrustum f, const Options& o) {
 }
 
 std::unique_ptr<sgfx::Viewer> makeViewer(const sgfxcluster::Application& app, const sgfx::Viewport& size,
-                                         const sgfx::OffAxisFrustum& frustum) {
-    auto viewer = sgfx::Viewer::createHeadless(size.width, size.height);
+                                         const sgfx::OffAxisFrustum& frustum, bool egl) {
+    auto viewer = sgfx::Viewer::createHeadless(
+        size.width, size.height, egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
     viewer->setSceneData(app.scene());
     auto& cam = *viewer->camera();
     cam.clearColor = sgfxcluster::Application::skyColor();
@@ -129,7 +131,7 @@ int runReference(const Options& o, const sgfx::DisplayConfig& config) {
                                     "' has no overall frustum (walls only): --reference needs one");
     sgfxcluster::Application app(o.app);
     const sgfx::Viewport size = scaled(config.composite, o.scale, "composite");
-    auto viewer = makeViewer(app, size, depthRange(*config.overall, o));
+    auto viewer = makeViewer(app, size, depthRange(*config.overall, o), o.egl);
     auto start = Clock::now();
     for (int f = 0; f < o.frames; ++f) {
         if (f == 1) start = Clock::now(); // frame 0 compiles the shaders
@@ -214,7 +216,7 @@ int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::Cluste
         viewports.push_back(scaled(c.viewport, o.scale, "channel '" + c.name + "' viewport"));
     const sgfx::DisplayChannel& mine = config.channels[std::size_t(sync.rank())];
     sgfxcluster::Application app(o.app);
-    auto viewer = makeViewer(app, viewports[std::size_t(sync.rank())], depthRange(mine.frustum, o));
+    auto viewer = makeViewer(app, viewports[std::size_t(sync.rank())], depthRange(mine.frustum, o), o.egl);
     Figures fig;
     for (int f = 0; f < o.frames; ++f) {
         const auto start = Clock::now();
