@@ -404,10 +404,12 @@ TEST(Multiview, SoftParticlesAndTriangleOrdersArePerChannel) {
     EXPECT_EQ(v->stats().triangleSorts, 0u);
 }
 
-// The particles step once per frame with two channels, the first of which does not see them:
-// their records equal a single view's after the same frames, bit for bit.
-TEST(Multiview, ParticlesStepOncePerFrame) {
-    auto make = [] {
+// The particles step once per frame with two channels, the first of which does not see them,
+// and their emitter follows the eye (as the polygon demo's rain: an update callback reading the
+// viewer's camera, so every channel sees the same drops): their records equal a single view's
+// after the same frames and eye path, bit for bit.
+TEST(Multiview, ParticlesStepOncePerFrameAndFollowTheEye) {
+    auto make = [](const std::shared_ptr<Camera>& eye, std::shared_ptr<ParticleSystemNode>& node) {
         ParticleSettings s;
         s.capacity = 200;
         s.seed = 3;
@@ -416,21 +418,33 @@ TEST(Multiview, ParticlesStepOncePerFrame) {
         s.emitter.velocitySpread = 0.5f;
         s.emitter.acceleration = {0.0f, 0.0f, -3.0f};
         s.emitter.lifetime = 0.7f;
-        return ParticleSystemNode::create(s);
+        node = ParticleSystemNode::create(s);
+        auto follow = Transform::create();
+        follow->updateCallback = [weak = std::weak_ptr<const Camera>(eye)](Node& n, UpdateVisitor&) {
+            if (const auto cam = weak.lock())
+                static_cast<Transform&>(n).setMatrix(glm::translate(
+                    glm::mat4(1.0f), glm::vec3(glm::inverse(cam->viewMatrix)[3]) + glm::vec3(0, 8, -1)));
+        };
+        follow->addChild(node);
+        return follow;
     };
-    auto single = make(), multiNode = make();
+    std::shared_ptr<ParticleSystemNode> single, multiNode;
     auto ref = viewerAt(kW, kH, {0, -8, 1}, {0, 0, 1});
-    ref->setSceneData(single);
+    ref->setSceneData(make(ref->camera(), single));
     auto multi = viewerAt(1, 1, {0, -8, 1}, {0, 0, 1});
     const OffAxisFrustum f = OffAxisFrustum::fromAngles(-30, 30, -20, 20, 0.1f, 200.0f);
     multi->setChannels({channel("away", f, {0, 0, kW, kH}, yaw(180.0f)), channel("towards", f, {kW, 0, kW, kH})});
-    multi->setSceneData(multiNode);
+    multi->setSceneData(make(multi->camera(), multiNode));
     constexpr int kFrames = 12;
     for (int n = 0; n < kFrames; ++n) {
-        ref->frame(1.0 / 30.0);
-        multi->frame(1.0 / 30.0);
+        const glm::vec3 eye(0.2f * float(n), -8.0f, 1.0f);
+        for (Viewer* v : {ref.get(), multi.get()}) {
+            v->camera()->setLookAt(eye, eye + glm::vec3(0, 8, 0), {0, 0, 1});
+            v->frame(1.0 / 30.0);
+        }
     }
     EXPECT_EQ(multi->channelStats(0).drawCalls, 0u); // the first channel saw nothing
+    EXPECT_GT(multi->channelStats(1).drawCalls, 0u);
     EXPECT_EQ(multiNode->steps(), single->steps());
     EXPECT_EQ(multiNode->steps(), std::uint32_t(kFrames));
     const auto a = single->readRecords(), b = multiNode->readRecords();
@@ -439,6 +453,10 @@ TEST(Multiview, ParticlesStepOncePerFrame) {
     for (std::size_t i = 0; i < a.size(); ++i)
         differ += a[i].age != b[i].age || a[i].position != b[i].position || a[i].velocity != b[i].velocity;
     EXPECT_EQ(differ, 0);
+    double meanX = 0.0;
+    for (const auto& r : b)
+        meanX += r.position.x / double(b.size());
+    EXPECT_GT(meanX, 0.3); // many born around the moved eye (x up to 2.2 m), not where it started
 }
 
 // Bad channels are refused naming the channel and the field, the previous channels kept; removing
