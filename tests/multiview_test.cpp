@@ -48,8 +48,9 @@ std::shared_ptr<Node> panel(float w, float h, const glm::mat4& m, std::shared_pt
 
 // Vertical panel at y facing −Y, centred at (x, y, z).
 glm::mat4 upright(float x, float y, float z, float yawDeg = 0.0f) {
-    return glm::rotate(glm::rotate(glm::translate(glm::mat4(1.0f), {x, y, z}), glm::radians(yawDeg), {0, 0, 1}),
-                       glm::radians(90.0f), glm::vec3(1, 0, 0));
+    return glm::rotate(
+        glm::rotate(glm::translate(glm::mat4(1.0f), {x, y, z}), glm::radians(yawDeg), {0, 0, 1}),
+        glm::radians(90.0f), glm::vec3(1, 0, 0));
 }
 
 std::unique_ptr<Viewer> viewerAt(int w, int h, glm::vec3 eye, glm::vec3 at) {
@@ -139,7 +140,8 @@ std::shared_ptr<Node> provingScene() {
     fog->addChild(panel(200, 200, glm::mat4(1.0f), flat({0.2f, 0.45f, 0.1f})));
     fog->addChild(panel(3, 2, upright(-2.5f, 4, 1.2f, 20), flat({0.8f, 0.2f, 0.1f})));
     fog->addChild(panel(2, 3, upright(2.0f, 8, 1.5f, -35), flat({0.1f, 0.3f, 0.9f})));
-    fog->addChild(panel(4, 2.5f, upright(0.3f, 1, 1.4f, 10), flat({0.7f, 0.9f, 1.0f}, 0.4f), BlendMode::Alpha));
+    fog->addChild(
+        panel(4, 2.5f, upright(0.3f, 1, 1.4f, 10), flat({0.7f, 0.9f, 1.0f}, 0.4f), BlendMode::Alpha));
     auto place = Transform::create(glm::translate(glm::mat4(1.0f), {0.0f, 3.0f, 1.6f}));
     place->addChild(particleCloud(60));
     fog->addChild(place);
@@ -395,7 +397,8 @@ TEST(Multiview, SoftParticlesAndTriangleOrdersArePerChannel) {
     for (std::size_t i = 0; i < 2; ++i) {
         const int got = pixelAt(v->captureChannel(i), kW / 2, kH / 2).r;
         EXPECT_NEAR(got, srgbByte(0.8 * gaps[i] / softness), 2) << "channel " << i;
-        std::printf("soft particle channel %zu: %d, closed form %d\n", i, got, srgbByte(0.8 * gaps[i] / softness));
+        std::printf("soft particle channel %zu: %d, closed form %d\n", i, got,
+                    srgbByte(0.8 * gaps[i] / softness));
     }
     v->setChannels({channel("front", f, {0, 0, kW, kH}), channel("left", f, {kW, 0, kW, kH}, yaw(25.0f))});
     v->frame(0.0);
@@ -434,7 +437,8 @@ TEST(Multiview, ParticlesStepOncePerFrameAndFollowTheEye) {
     ref->setSceneData(make(ref->camera(), single));
     auto multi = viewerAt(1, 1, {0, -8, 1}, {0, 0, 1});
     const OffAxisFrustum f = OffAxisFrustum::fromAngles(-30, 30, -20, 20, 0.1f, 200.0f);
-    multi->setChannels({channel("away", f, {0, 0, kW, kH}, yaw(180.0f)), channel("towards", f, {kW, 0, kW, kH})});
+    multi->setChannels(
+        {channel("away", f, {0, 0, kW, kH}, yaw(180.0f)), channel("towards", f, {kW, 0, kW, kH})});
     multi->setSceneData(make(multi->camera(), multiNode));
     constexpr int kFrames = 12;
     for (int n = 0; n < kFrames; ++n) {
@@ -468,7 +472,8 @@ std::shared_ptr<Node> shadowScene() {
     white->diffuse = glm::vec4(1.0f);
     white->specular = glm::vec3(0.0f);
     auto sun = Light::create(LightType::Directional);
-    sun->direction = -glm::normalize(glm::vec3(std::cos(glm::radians(40.0f)), 0.0f, std::sin(glm::radians(40.0f))));
+    sun->direction =
+        -glm::normalize(glm::vec3(std::cos(glm::radians(40.0f)), 0.0f, std::sin(glm::radians(40.0f))));
     auto shadows = ShadowNode::create(sun);
     auto ground = shapes::quad(200, 200);
     ground->getOrCreateStateSet().material.set(white);
@@ -569,7 +574,7 @@ TEST(Multiview, BadChannelsLeaksAndResizes) {
     EXPECT_EQ(pixelAt(img, 70, 30), glm::ivec4(0, 0, 0, 255)); // below channel b
     EXPECT_EQ(pixelAt(img, 70, 5), pixelAt(v->captureChannel(1), 10, 1)); // b starts at row 4
     EXPECT_NE(pixelAt(img, 70, 5), glm::ivec4(0, 0, 0, 255));
-    EXPECT_GT(counts()[2], single[2]);                          // the composite and b's targets
+    EXPECT_GT(counts()[2], single[2]); // the composite and b's targets
 
     DisplayChannel flatFrustum = channel("c", f, {100, 0, 8, 8});
     flatFrustum.frustum.right = flatFrustum.frustum.left;

@@ -89,8 +89,9 @@ Image ViewerChannels::crop(const Image& all, std::size_t i) const {
     // The viewport's origin is bottom left; the image's rows run top to bottom.
     const int top = all.height - (vp.y + vp.height);
     for (int y = 0; y < vp.height; ++y) {
-        const auto src = all.pixels.begin() +
-                         std::ptrdiff_t((std::size_t(top + y) * std::size_t(all.width) + std::size_t(vp.x)) * c);
+        const auto src =
+            all.pixels.begin() +
+            std::ptrdiff_t((std::size_t(top + y) * std::size_t(all.width) + std::size_t(vp.x)) * c);
         std::copy(src, src + std::ptrdiff_t(std::size_t(vp.width) * c),
                   out.pixels.begin() + std::ptrdiff_t(std::size_t(y) * std::size_t(vp.width) * c));
     }

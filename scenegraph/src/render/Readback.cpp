@@ -7,9 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
-#include <cstddef>
 #include <vector>
 
 namespace sgfx {
@@ -107,16 +107,15 @@ void Renderer::copySceneInto(gl::RenderTarget& composite, glm::ivec2 size, const
     const gl::RenderTarget& scene = impl_->scene;
     if (!scene.fbo || region.z != scene.width || region.w != scene.height || region.x < 0 || region.y < 0 ||
         region.x + region.z > size.x || region.y + region.w > size.y)
-        throw std::invalid_argument("sgfx: Renderer::copySceneInto: region " + std::to_string(region.z) + "x" +
-                                    std::to_string(region.w) + " at (" + std::to_string(region.x) + ", " +
-                                    std::to_string(region.y) + ") does not fit a " + std::to_string(size.x) +
-                                    "x" + std::to_string(size.y) + " composite or the " +
-                                    std::to_string(scene.width) + "x" + std::to_string(scene.height) +
-                                    " scene target");
+        throw std::invalid_argument("sgfx: Renderer::copySceneInto: region " + std::to_string(region.z) +
+                                    "x" + std::to_string(region.w) + " at (" + std::to_string(region.x) +
+                                    ", " + std::to_string(region.y) + ") does not fit a " +
+                                    std::to_string(size.x) + "x" + std::to_string(size.y) +
+                                    " composite or the " + std::to_string(scene.width) + "x" +
+                                    std::to_string(scene.height) + " scene target");
     gl::StateCache& cache = impl_->cache;
-    const bool remade =
-        !composite.fbo || composite.width != size.x || composite.height != size.y ||
-        composite.colorFormat != scene.colorFormat;
+    const bool remade = !composite.fbo || composite.width != size.x || composite.height != size.y ||
+                        composite.colorFormat != scene.colorFormat;
     composite.resize(size.x, size.y, scene.colorFormat);
     // Through the cache: the composite bound with sRGB conversion off (the blit copies the stored,
     // already encoded values), no scissor, every colour channel written.
@@ -128,7 +127,8 @@ void Renderer::copySceneInto(gl::RenderTarget& composite, glm::ivec2 size, const
         glClearNamedFramebufferfv(composite.fbo.get(), GL_COLOR, 0, &black[0]);
     }
     glBlitNamedFramebuffer(scene.fbo.get(), composite.fbo.get(), 0, 0, scene.width, scene.height, region.x,
-                           region.y, region.x + region.z, region.y + region.w, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+                           region.y, region.x + region.z, region.y + region.w, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
 }
 
 } // namespace sgfx

@@ -92,7 +92,8 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     std::erase_if(impl_->aaViews, [](const auto& e) { return e.second.owner.expired(); });
     ++impl_->frames;
     std::erase_if(impl_->sortedMeshes, [&](const auto& e) {
-        return e.second.owner.expired() || (e.second.viewTracked && e.second.view.expired()) || impl_->frames - e.second.lastUse > 600;
+        return e.second.owner.expired() || (e.second.viewTracked && e.second.view.expired()) ||
+               impl_->frames - e.second.lastUse > 600;
     });
     impl_->timers.clear();
     impl_->graphs.clear();
