@@ -39,6 +39,27 @@ TEST(Window, GlfwWindowRendersAndPresents) {
     EXPECT_NEAR(px[0], srgbByte(0.5), 1);
     EXPECT_NEAR(px[1], srgbByte(0.25), 1);
     EXPECT_NEAR(px[2], 0, 1);
+
+    // With display channels the window shows their composite, scaled to the window: two 20×32
+    // channels 8 pixels apart (a 48×32 composite) fill the 96×64 window, the gap between them
+    // black. (One window per process: a second GLFW window here finds no GL strings.)
+    DisplayChannel a, b;
+    a.name = "a";
+    a.viewport = {0, 0, 20, 32};
+    b.name = "b";
+    b.viewport = {28, 0, 20, 32};
+    v.setChannels({a, b});
+    std::uint8_t clear[4] = {}, gap[4] = {};
+    v.finalDrawCallback = [&](Viewer&) {
+        glReadBuffer(GL_BACK);
+        glReadPixels(10, 10, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, clear);
+        glReadPixels(47, 30, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, gap); // composite texel 23: the gap
+    };
+    v.frame();
+    EXPECT_EQ(v.capture().width, 48);
+    EXPECT_NEAR(clear[0], srgbByte(0.5), 1);
+    EXPECT_NEAR(clear[1], srgbByte(0.25), 1);
+    EXPECT_EQ(gap[0] + gap[1] + gap[2], 0);
     for (const auto& e : v.renderer().takeGlErrors())
         ADD_FAILURE() << "GL: " << e;
 }

@@ -132,6 +132,8 @@ effects:
   --ao-half           compute the occlusion at half resolution
   --ao-debug raw|blurred
                       show the occlusion map instead of the scene
+  --channels CxR      split the view's frustum into C×R display channels of (W/C)×(H/R)
+                      pixels (Viewer::setChannels, docs/multi-view.md), 1..8 each
   --aa none|msaa|msaa2|msaa4|msaa8|ssaa2|ssaa3|ssaa4|fxaa|fxaa-low|fxaa-high|taa|
        smaa|smaa-low|smaa-medium|smaa-ultra|smaa-colour|smaa-depth|smaa-t2x
                       anti-aliasing of the camera (default none; msaa = msaa4; smaa =
@@ -207,6 +209,7 @@ struct Options {
     int width = 1280, height = 720;
     float time = kStillTime;
     std::optional<polygon::CameraPose> look;
+    int channelsX = 1, channelsY = 1; ///< --channels CxR
     float scale = 1.0f;
     std::uint64_t seed = 1;
     std::optional<bool> drive; // --drive; unset: on except in --bench
@@ -435,6 +438,12 @@ Options parseArgs(int argc, char** argv) {
                 o.fogParameters.sky = sgfx::FogSky::Distance;
             else
                 throw UsageError("--fog-sky: '" + std::string(v) + "' is not off, far or distance");
+        } else if (arg == "--channels") {
+            const std::string v(value());
+            char x = 0, rest = 0;
+            if (std::sscanf(v.c_str(), "%d%c%d%c", &o.channelsX, &x, &o.channelsY, &rest) != 3 || x != 'x' ||
+                o.channelsX < 1 || o.channelsX > 8 || o.channelsY < 1 || o.channelsY > 8)
+                throw UsageError("--channels: '" + v + "' is not CxR with C and R in 1..8");
         } else if (arg == "--aa") {
             try {
                 o.aa = sgfx::AntiAliasing::parse(value());
@@ -736,6 +745,24 @@ void setupCamera(const Options& o, sgfx::Viewer& viewer, const polygon::CameraPo
     cam.clearColor = o.lamps ? kDuskColor : kSkyColor;
     cam.setPerspective(polygon::kPathFovyDegrees, polygon::kPathNear, polygon::kPathFar);
     cam.setLookAt(pose.eye, pose.target, pose.up);
+    if (o.channelsX * o.channelsY == 1) return;
+    // The camera's frustum cut into a wall of channels (docs/multi-view.md).
+    const int w = o.width / o.channelsX, h = o.height / o.channelsY;
+    sgfx::OffAxisFrustum whole;
+    whole.zNear = polygon::kPathNear;
+    whole.zFar = polygon::kPathFar;
+    whole.top = whole.zNear * std::tan(glm::radians(polygon::kPathFovyDegrees) / 2.0f);
+    whole.bottom = -whole.top;
+    whole.right = whole.top * float(w * o.channelsX) / float(h * o.channelsY);
+    whole.left = -whole.right;
+    std::vector<sgfx::DisplayChannel> channels;
+    for (int r = 0; r < o.channelsY; ++r)
+        for (int c = 0; c < o.channelsX; ++c)
+            channels.push_back({"c" + std::to_string(c) + "r" + std::to_string(r), glm::mat4(1.0f),
+                                whole.sub(double(c) / o.channelsX, double(c + 1) / o.channelsX,
+                                          double(r) / o.channelsY, double(r + 1) / o.channelsY),
+                                sgfx::Viewport{c * w, r * h, w, h}});
+    viewer.setChannels(std::move(channels));
 }
 
 // GL errors are library problems worth seeing, not something to hide.

@@ -1,5 +1,6 @@
 #include "sgfx/Viewer.h"
 
+#include "ViewerChannels.h"
 #include "sgfx/Drawable.h"
 #include "sgfx/Effect.h"
 #include "sgfx/Geometry.h"
@@ -7,6 +8,8 @@
 #include "sgfx/gl/Objects.h"
 
 #include <sgfx_glad/gl.h>
+
+#include <stdexcept>
 
 namespace sgfx {
 
@@ -81,6 +84,7 @@ Viewer::~Viewer() {
     context_->makeCurrent();
     ReleaseVisitor release;
     camera_->accept(release);
+    channels_.reset();
     camera_.reset();
     scene_.reset();
     renderer_.reset();
@@ -95,6 +99,44 @@ void Viewer::setSceneData(NodePtr scene) {
 void Viewer::setDatabasePager(std::shared_ptr<DatabasePager> pager) {
     pager_ = std::move(pager);
     renderer_->setDatabasePager(pager_.get());
+}
+
+void Viewer::setChannels(std::vector<DisplayChannel> channels) {
+    // Made and checked first: on error the previous channels stay.
+    std::unique_ptr<ViewerChannels> next =
+        channels.empty() ? nullptr : std::make_unique<ViewerChannels>(std::move(channels));
+    context_->makeCurrent(); // the old composite's GL objects die here
+    channels_ = std::move(next);
+}
+
+const std::vector<DisplayChannel>& Viewer::channels() const {
+    static const std::vector<DisplayChannel> none;
+    return channels_ ? channels_->channels() : none;
+}
+
+Camera& Viewer::channelCamera(std::size_t i) {
+    if (!channels_) throw std::out_of_range("sgfx: Viewer::channelCamera: no channels are set");
+    return channels_->camera(i);
+}
+
+const FrameStats& Viewer::channelStats(std::size_t i) const {
+    if (!channels_) throw std::out_of_range("sgfx: Viewer::channelStats: no channels are set");
+    return channels_->channelStats(i);
+}
+
+const FrameStats& Viewer::stats() const {
+    return channels_ ? channels_->stats() : renderer_->stats();
+}
+
+Image Viewer::capture() {
+    context_->makeCurrent();
+    return channels_ ? renderer_->readPixels(channels_->composite()) : renderer_->readPixels();
+}
+
+Image Viewer::captureChannel(std::size_t i) {
+    if (!channels_) throw std::out_of_range("sgfx: Viewer::captureChannel: no channels are set");
+    (void)channels_->channels().at(i); // out of range before the read-back
+    return channels_->crop(capture(), i);
 }
 
 void Viewer::frame(double dt) {
@@ -129,12 +171,16 @@ void Viewer::renderFrame() {
         if (w > 0 && h > 0 && (w != camera_->viewport.width || h != camera_->viewport.height))
             camera_->setViewport(0, 0, w, h);
     }
-    renderer_->render(*camera_, update_.simulationTime, update_.frameNumber);
+    if (channels_)
+        channels_->render(*renderer_, *camera_, update_.simulationTime, update_.frameNumber);
+    else
+        renderer_->render(*camera_, update_.simulationTime, update_.frameNumber);
+    const gl::RenderTarget& shown = channels_ ? channels_->composite() : renderer_->sceneTarget();
     if (!context_->isWindow() || !finalDrawCallback) {
-        renderer_->present();
+        renderer_->present(shown);
         return;
     }
-    renderer_->blitToWindow();
+    renderer_->blitToWindow(shown);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, context_->width(), context_->height());
     glDisable(GL_FRAMEBUFFER_SRGB);

@@ -153,10 +153,22 @@ public:
     Image readPixels();
     /// The last frame as linear RGBA floats, top row first (exact with a float colour target).
     FloatImage readPixelsLinear();
+    /// A target as readPixels() reads the scene target (a multi-channel display's composite).
+    Image readPixels(const gl::RenderTarget& target);
+    FloatImage readPixelsLinear(const gl::RenderTarget& target);
     /// Ends the frame: copies the scene target to the window's back buffer and swaps (windows),
     /// or submits the queued work (headless).
     void present();
     void blitToWindow(); ///< the copy alone, without the swap
+    /// As present() and blitToWindow(), showing `shown` (scaled to the window) instead.
+    void present(const gl::RenderTarget& shown);
+    void blitToWindow(const gl::RenderTarget& shown);
+    /// Multi-channel displays (Viewer::setChannels): copies the scene target (the view rendered
+    /// last) pixel for pixel into `region` (x, y, width, height; origin bottom left) of
+    /// `composite`, which is (re)made at `size` in the scene target's colour format when it
+    /// differs, and then cleared to opaque black. The region must have the scene target's size and
+    /// lie inside `size` (std::invalid_argument).
+    void copySceneInto(gl::RenderTarget& composite, glm::ivec2 size, const glm::ivec4& region);
 
     /// Draws the queue's items with each item's composed program (the main pass), or with
     /// `override` for geometry-only passes (depth pre-pass, G-buffer).

@@ -1,6 +1,7 @@
 #pragma once
 #include "sgfx/Camera.h"
 #include "sgfx/DatabasePager.h"
+#include "sgfx/DisplayChannel.h"
 #include "sgfx/Export.h"
 #include "sgfx/GraphicsContext.h"
 #include "sgfx/Renderer.h"
@@ -9,8 +10,11 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <vector>
 
 namespace sgfx {
+
+class ViewerChannels;
 
 /// One context, one camera, one scene: update → cull → render → present, each frame.
 /// Destroy the scene before or with the Viewer; GL objects die with their owners while the
@@ -37,12 +41,33 @@ public:
     /// Cull, draw and present. It only reads the scene graph, so scene queries (Queries.h) may
     /// run on other threads meanwhile, once prepareForQueries(scene) has run after update().
     void renderFrame();
-    Image capture() { return renderer_->readPixels(); }
+    /// The last frame: the view, or with channels their composite (docs/multi-view.md).
+    Image capture();
     void writeScreenshot(const std::filesystem::path& png) { writePng(png, capture()); }
+
+    /// Several views of the camera's eye in one frame (a wall of screens, the projectors of a
+    /// cylinder or dome; docs/multi-view.md): each channel renders the scene through a camera of
+    /// its own (channelCamera) with its view offset and off-axis frustum, into its rectangle of
+    /// one composite image, which capture() returns and a window shows. The camera stays the eye:
+    /// move it as before. Checked with validateChannels (std::invalid_argument naming the channel
+    /// and field; the previous channels kept); an empty vector returns to the single view.
+    void setChannels(std::vector<DisplayChannel> channels);
+    /// The channels set (empty: the single view).
+    const std::vector<DisplayChannel>& channels() const;
+    /// Channel i's camera (throws std::out_of_range): its view, projection, viewport and
+    /// settings are copied from the eye each frame; what the renderer keeps per camera (TAA and
+    /// SMAA T2x history, per-triangle orders, anti-aliasing targets) is kept per channel.
+    Camera& channelCamera(std::size_t i);
+    /// Channel i's image of the last frame (its rectangle of the composite).
+    Image captureChannel(std::size_t i);
+    /// Channel i's statistics of the last frame (throws std::out_of_range).
+    const FrameStats& channelStats(std::size_t i) const;
 
     Renderer& renderer() { return *renderer_; }
     GraphicsContext& context() { return *context_; }
-    const FrameStats& stats() const { return renderer_->stats(); }
+    /// The last frame's statistics; with channels, the sums over the channels (counts and
+    /// times added, pass times listed channel after channel).
+    const FrameStats& stats() const;
     double simulationTime() const { return update_.simulationTime; }
 
     /// The pager PagedLODs load through (one per viewer, its thread started at the first
@@ -63,6 +88,7 @@ private:
     UpdateVisitor update_;
     std::unique_ptr<Renderer> renderer_;
     std::shared_ptr<DatabasePager> pager_;
+    std::unique_ptr<ViewerChannels> channels_; // null: the single view
 };
 
 } // namespace sgfx

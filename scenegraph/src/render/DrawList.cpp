@@ -506,6 +506,8 @@ void Renderer::DrawList::drawSortedTriangles(const RenderItem& item, const gl::G
     Impl::SortedMesh& mesh = s.sortedMeshes[{&g, s.camera}];
     if (!mesh.sort || mesh.revision != g.revision() || mesh.owner.expired()) {
         mesh.owner = g.weak_from_this();
+        mesh.view = s.camera->weak_from_this();
+        mesh.viewTracked = !mesh.view.expired();
         mesh.revision = g.revision();
         mesh.sort = std::make_unique<TriangleDepthSort>(g);
         mesh.indices = gl::createBuffer();

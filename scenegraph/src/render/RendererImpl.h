@@ -52,10 +52,12 @@ struct Renderer::Impl {
         gl::RenderTarget target;
     };
     std::unordered_map<const Camera*, CameraTarget> cameraTargets;
-    // Per-triangle back-to-front orders, one per (mesh, view); dropped when the mesh dies, is
-    // edited, or was not drawn for a while.
+    // Per-triangle back-to-front orders, one per (mesh, view); dropped when the mesh or the view's
+    // camera dies (a display channel removed), the mesh is edited, or was not drawn for a while.
     struct SortedMesh {
         std::weak_ptr<const Node> owner;
+        std::weak_ptr<const Node> view; // tracked when the camera is shared-owned (viewTracked)
+        bool viewTracked = false;
         std::uint64_t revision = 0;
         std::uint64_t lastUse = 0;
         std::unique_ptr<TriangleDepthSort> sort;

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstddef>
 #include <map>
 #include <stdexcept>
@@ -91,7 +92,8 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     std::erase_if(impl_->aaViews, [](const auto& e) { return e.second.owner.expired(); });
     ++impl_->frames;
     std::erase_if(impl_->sortedMeshes, [&](const auto& e) {
-        return e.second.owner.expired() || impl_->frames - e.second.lastUse > 600;
+        return e.second.owner.expired() || (e.second.viewTracked && e.second.view.expired()) ||
+               impl_->frames - e.second.lastUse > 600;
     });
     impl_->timers.clear();
     impl_->graphs.clear();
@@ -296,6 +298,23 @@ void importTarget(FrameGraph& g, const gl::RenderTarget& t, std::string_view col
                      g.import(std::string(depth), {format::Depth32F, size, t.samples}, t.depth.get()));
 }
 
+// An assigned perspective projection (glm::frustum: a display channel's off-axis frustum) as the
+// nominal planes and the smallest symmetric perspective that contains it, so what splits the view
+// by distance (shadow cascades) covers it; orthographic projections are left as they are.
+void nominalOffAxis(const glm::mat4& p, ViewInfo& info) {
+    if (p[2][3] != -1.0f || p[3][3] != 0.0f || p[0][0] <= 0.0f || p[1][1] <= 0.0f) return;
+    // glm::frustum: P22 = −(f + n)/(f − n), P32 = −2fn/(f − n); P00 = 2n/(r − l), P20 = (r + l)/(r − l).
+    const double n = double(p[3][2]) / (double(p[2][2]) - 1.0), f = double(p[3][2]) / (double(p[2][2]) + 1.0);
+    if (!(n > 0.0 && f > n && std::isfinite(f))) return;
+    const double halfW = (1.0 + std::abs(double(p[2][0]))) / double(p[0][0]); // max(|l|, |r|) / n
+    const double halfH = (1.0 + std::abs(double(p[2][1]))) / double(p[1][1]);
+    info.perspective = true;
+    info.nominalNear = float(n);
+    info.nominalFar = float(f);
+    info.fovy = float(glm::degrees(2.0 * std::atan(halfH)));
+    info.aspect = float(halfW / halfH);
+}
+
 } // namespace
 
 // What the visible effects declare, interleaved with the renderer's own passes in frame order.
@@ -312,6 +331,7 @@ void Renderer::View::buildGraph(int depth) {
     info.fovy = camera_.fovy();
     info.aspect = camera_.viewport.aspect();
     info.perspective = camera_.perspective();
+    if (!info.perspective) nominalOffAxis(camera_.projectionMatrix, info);
     FrameSetup setup(info, queue_, &plan_);
     for (const EffectNode* e : plan_.effects)
         e->setupFrame(setup);
