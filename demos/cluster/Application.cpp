@@ -69,6 +69,9 @@ Application::Application(const ApplicationOptions& options)
         sgfx::particles::Emitter e = rain->settings().emitter;
         e.lifetime = (kPathHighest + kRainAbove - kRainLowest) / -e.velocity.z;
         rain->setEmitter(e);
+        // Simulated on every rank every frame, seen or not: a system culled on one rank would make
+        // up the missed frames in one longer step and drift from the ranks that saw it.
+        rain->setCullingActive(false);
         s.rainPlace->addChild(rain);
     }
     s.fog = sgfx::FogNode::create(sgfx::FogParameters::ground());

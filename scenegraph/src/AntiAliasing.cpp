@@ -94,7 +94,7 @@ float halton(std::uint32_t index, std::uint32_t base) {
 }
 
 void begin(ViewState& s, const Camera& camera, const glm::mat4& viewProjection, int width, int height,
-           std::vector<std::string>& warnings) {
+           std::uint64_t frameNumber, std::vector<std::string>& warnings) {
     const AntiAliasing& a = camera.antiAliasing();
     if (!(a == s.settings)) s.frames = 0, s.warned = false;
     s.settings = a;
@@ -130,7 +130,8 @@ void begin(ViewState& s, const Camera& camera, const glm::mat4& viewProjection, 
     // Halton(2, 3) points within the pixel, 16 of them in turn: the image moves by minus the
     // offset, so each pixel samples the scene at (h₂, h₃) from its lower left corner. SMAA T2x:
     // two points a quarter pixel from the centre on a diagonal, in turn (Jimenez et al. 2012, sec. 6).
-    const std::uint32_t i = s.sequence++ % 16 + 1;
+    const std::uint64_t n = frameNumber > 0 ? frameNumber - 1 : s.sequence++;
+    const auto i = std::uint32_t(n % 16 + 1);
     const glm::vec2 offset = a.mode == AntiAliasing::Mode::SmaaT2x
                                  ? (i % 2 ? glm::vec2(0.25f, -0.25f) : glm::vec2(-0.25f, 0.25f))
                                  : glm::vec2(halton(i, 2) - 0.5f, halton(i, 3) - 0.5f);

@@ -45,9 +45,11 @@ struct ViewState {
 };
 
 // Chooses the draw target's sample count, clamps MSAA to the driver's limit (with a warning)
-// and computes TAA's jitter for this frame; `viewProjection` is without jitter.
+// and computes TAA's jitter for this frame; `viewProjection` is without jitter. The jitter follows
+// `frameNumber` when it is set (1, 2, ...: every channel of a frame, on every cluster rank, jitters
+// alike), else a count of the view's own frames.
 void begin(ViewState& s, const Camera& camera, const glm::mat4& viewProjection, int width, int height,
-           std::vector<std::string>& warnings);
+           std::uint64_t frameNumber, std::vector<std::string>& warnings);
 // Where the view is drawn: the multisample or supersampled target, or `target` itself.
 gl::RenderTarget& drawTarget(ViewState& s, gl::RenderTarget& target);
 // Multisample resolve or supersample downsample of colour and depth into `to`.
