@@ -194,8 +194,8 @@ void Renderer::View::beginProjection() {
     }
     aa::ViewState& aa = s_.aaViews[&camera_];
     if (aa.owner.expired()) aa = {}, aa.owner = camera_.weak_from_this();
-    aa::begin(aa, camera_, projection * camera_.viewMatrix, target_.width, target_.height, r_.frame_.frameNumber,
-              s_.warnings);
+    aa::begin(aa, camera_, projection * camera_.viewMatrix, target_.width, target_.height,
+              r_.frame_.frameNumber, s_.warnings);
     aa_ = &aa;
     draw_ = &aa::drawTarget(aa, target_);
     unjittered_ = projection;
