@@ -397,6 +397,25 @@ TEST(AntiAliasing, TaaDropsItsHistoryWhenTheCameraJumps) {
     EXPECT_GT(edgeError(jumped).worst, 0.3) << "one jittered sample, no history";
 }
 
+TEST(AntiAliasing, TaaJitterFollowsTheFrameNumber) {
+    // Display channels and cluster ranks must jitter alike: a view that has drawn 16 frames and
+    // then cuts equals a brand-new view drawn once as frame 17, and not one drawn as frame 18.
+    const glm::vec3 along(-std::sin(kAngle) * 5.0f, std::cos(kAngle) * 5.0f, 0.0f);
+    auto moved = [&](Viewer& v) { v.camera()->setLookAt(along + glm::vec3(0, 0, 10), along, {0, 1, 0}); };
+    auto v = edgeViewer(AntiAliasing::taa());
+    renderFrames(*v, 16);
+    moved(*v);
+    const Image jumped = renderFrames(*v, 1);
+    auto firstDrawnAs = [&](std::uint64_t frameNumber) {
+        auto fresh = edgeViewer(AntiAliasing::taa());
+        moved(*fresh);
+        fresh->renderer().render(*fresh->camera(), 0.0, frameNumber);
+        return fresh->capture();
+    };
+    EXPECT_EQ(channelsDiffering(jumped, firstDrawnAs(17), 0), 0);
+    EXPECT_GT(channelsDiffering(jumped, firstDrawnAs(18), 0), 0) << "the jitter must depend on the frame";
+}
+
 TEST(AntiAliasing, SixteenSamplesOnLlvmpipeGiveTheDriversMaximumAndAWarning) {
     auto v = edgeViewer(AntiAliasing::msaa(16));
     const EdgeError e = edgeError(renderFrames(*v));
