@@ -368,18 +368,27 @@ TEST(Resources, ThousandCreateDestroyCyclesOfEachEffectKeepMemoryFlat) {
         for (int i = 0; i < 4; ++i)
             v->frame();
         const long objects0 = gl::liveObjects().total();
-        const long rss0 = sgfxdemo::residentKb();
-        for (int i = 0; i < 1000; ++i)
-            cycle(kind);
-        for (int i = 0; i < 4; ++i)
-            v->frame(); // the last cycle's dead camera target goes at the next frame, pooled ones later
-        const long growth = sgfxdemo::residentKb() - rss0;
-        RecordProperty(std::string(names[kind]) + "_rss_growth_kb", int(growth));
-        std::printf("effect %s: 1000 cycles, RSS growth %ld kB\n", names[kind], growth);
+        // Two blocks of 500 cycles. Mesa's state caches and malloc's arenas grow RSS in single
+        // steps (1 MB jumps seen here, once 4.1 MB on CI) that level off; a leak grows in every
+        // block, so only growth in both blocks fails.
+        long growth[2] = {};
+        for (long& g : growth) {
+            const long rss0 = sgfxdemo::residentKb();
+            for (int i = 0; i < 500; ++i)
+                cycle(kind);
+            for (int i = 0; i < 4; ++i)
+                v->frame(); // the last cycle's dead camera target goes at the next frame, pooled ones later
+            g = sgfxdemo::residentKb() - rss0;
+        }
+        const long steady = std::min(growth[0], growth[1]);
+        RecordProperty(std::string(names[kind]) + "_rss_growth_kb", int(growth[0] + growth[1]));
+        std::printf("effect %s: 2 x 500 cycles, RSS growth %ld + %ld kB\n", names[kind], growth[0],
+                    growth[1]);
 #ifndef __SANITIZE_ADDRESS__
-        EXPECT_LT(growth, 4096) << "RSS grew by " << growth << " kB over 1000 cycles";
+        EXPECT_LT(steady, 2048) << "RSS grew by " << growth[0] << " and " << growth[1]
+                                << " kB in two blocks of 500 cycles";
 #else
-        (void)growth; // AddressSanitizer's quarantine holds freed memory: RSS says nothing here
+        (void)steady; // AddressSanitizer's quarantine holds freed memory: RSS says nothing here
 #endif
         // Every object a cycle made died with it (targets of dead cameras included).
         EXPECT_EQ(gl::liveObjects().total(), objects0);
