@@ -31,6 +31,7 @@
 #include <gtest/gtest.h>
 #include <sgfx_glad/gl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
