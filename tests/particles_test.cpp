@@ -6,6 +6,7 @@
 #include <sgfx/CullVisitor.h>
 #include <sgfx/Group.h>
 #include <sgfx/Shapes.h>
+#include <sgfx/gl/Objects.h>
 #include <sgfx/nodes/fog/FogNode.h>
 #include <sgfx/nodes/particles/ParticleSystemNode.h>
 #include <sgfx/nodes/transparency/TransparencyBin.h>
@@ -110,6 +111,7 @@ struct RefCase {
     particles::Respawn respawn;
     particles::RotationBounce bounce;
     particles::StartMode start;
+    ParticleUpdate update = ParticleUpdate::TransformFeedback;
 };
 
 class GpuMatchesCpu : public ::testing::TestWithParam<RefCase> {};
@@ -187,6 +189,7 @@ TEST_P(GpuMatchesCpu, After200VariedStepsEveryRecordMatches) {
     s.respawn = c.respawn;
     s.bounce = c.bounce;
     s.start = c.start;
+    s.update = c.update;
     s.emitter.size = {4.0f, 2.0f};
     s.emitter.velocity = {1.0f, -0.5f, 3.0f};
     s.emitter.velocitySpread = 0.8f;
@@ -232,6 +235,7 @@ TEST_P(GpuMatchesCpu, After200VariedStepsEveryRecordMatches) {
             const auto gpu = sim.node->readRecords();
             for (std::uint32_t i = 0; i < s.capacity; ++i)
                 expectClose(gpu[i], cpu[i], i, step);
+            ASSERT_EQ(sim.node->lastFrame().update, c.update); // the path asked for ran
         }
     }
     EXPECT_EQ(sim.node->steps(), 200u);
@@ -247,7 +251,148 @@ INSTANTIATE_TEST_SUITE_P(
                       RefCase{ParticleLayout::Interleaved, particles::Respawn::Paper,
                               particles::RotationBounce::Clamp, particles::StartMode::Burst},
                       RefCase{ParticleLayout::Split, particles::Respawn::Paper,
-                              particles::RotationBounce::Clamp, particles::StartMode::Steady}));
+                              particles::RotationBounce::Clamp, particles::StartMode::Steady},
+                      RefCase{ParticleLayout::Split, particles::Respawn::CarryAge,
+                              particles::RotationBounce::Reflect, particles::StartMode::Ramp,
+                              ParticleUpdate::Compute},
+                      RefCase{ParticleLayout::Interleaved, particles::Respawn::Paper,
+                              particles::RotationBounce::Clamp, particles::StartMode::Burst,
+                              ParticleUpdate::Compute}));
+
+// ---------------------------------------------------------------- update paths
+// 10^4 particles (two rows of compute work groups), 20 fixed steps of 1/30 s with a 0.25 s life
+// (every particle respawns about twice), on each update path and layout: every record equals the
+// CPU reference (ParticleMath.h) within expectClose's tolerance.
+struct UpdateCase {
+    ParticleUpdate update;
+    ParticleLayout layout;
+};
+class UpdatePaths : public ::testing::TestWithParam<UpdateCase> {};
+
+ParticleSettings movingSystem(std::uint32_t n) {
+    ParticleSettings s;
+    s.capacity = n;
+    s.seed = 5;
+    s.emitter.size = {3.0f, 1.0f};
+    s.emitter.velocity = {0.5f, 1.0f, 4.0f};
+    s.emitter.velocitySpread = 1.5f;
+    s.emitter.acceleration = {0.0f, 0.3f, -9.81f};
+    s.emitter.rotationRange = 1.1f;
+    s.emitter.rotationSpeed = 3.0f;
+    s.emitter.lifetime = 0.25f;
+    return s;
+}
+
+// The CPU reference after `steps` steps of `dt` from the start mode's records.
+std::vector<ParticleRecord> cpuReference(const ParticleSettings& s, const glm::mat4& place, int steps, float dt) {
+    particles::StepInput in;
+    in.emitterToWorld = place;
+    in.emitter = s.emitter;
+    in.seed = s.seed;
+    in.respawn = s.respawn;
+    in.bounce = s.bounce;
+    std::vector<ParticleRecord> cpu(s.capacity);
+    for (std::uint32_t i = 0; i < s.capacity; ++i)
+        cpu[i] = particles::initial(in, i, s.start, 0, s.capacity);
+    in.dt = dt;
+    for (int step = 1; step <= steps; ++step) {
+        in.step = std::uint32_t(step);
+        for (std::uint32_t i = 0; i < s.capacity; ++i)
+            cpu[i] = particles::update(cpu[i], in, i);
+    }
+    return cpu;
+}
+
+TEST_P(UpdatePaths, TwentyFixedStepsMatchTheCpuReference) {
+    ParticleSettings s = movingSystem(10000);
+    s.update = GetParam().update;
+    s.layout = GetParam().layout;
+    const glm::mat4 place = glm::rotate(glm::translate(glm::mat4(1.0f), {-2, 4, 1}), 0.7f, glm::vec3(0, 0, 1));
+    Sim sim = makeSim(s, place);
+    sim.v->frame(0.0);
+    for (int step = 0; step < 20; ++step)
+        sim.node->queueStep(1.0f / 30.0f);
+    sim.v->frame(0.0);
+    ASSERT_EQ(sim.node->steps(), 20u);
+    EXPECT_EQ(sim.node->lastFrame().update, s.update);
+    EXPECT_EQ(sim.node->lastFrame().steps, 20u);
+    EXPECT_FALSE(sim.node->lastFrame().measured);
+    const auto cpu = cpuReference(s, place, 20, 1.0f / 30.0f);
+    const auto gpu = sim.node->readRecords();
+    ASSERT_EQ(gpu.size(), cpu.size());
+    for (std::uint32_t i = 0; i < s.capacity; ++i)
+        expectClose(gpu[i], cpu[i], i, 20);
+}
+
+INSTANTIATE_TEST_SUITE_P(Particles, UpdatePaths,
+                         ::testing::Values(UpdateCase{ParticleUpdate::TransformFeedback, ParticleLayout::Interleaved},
+                                           UpdateCase{ParticleUpdate::TransformFeedback, ParticleLayout::Split},
+                                           UpdateCase{ParticleUpdate::Compute, ParticleLayout::Interleaved},
+                                           UpdateCase{ParticleUpdate::Compute, ParticleLayout::Split}));
+
+// Auto times both paths once (into the spare copy), keeps one, reports it, and the particles are
+// still exactly the reference's: the timing steps did not touch them.
+TEST(Particles, AutoUpdatePicksAPathReportsItAndLeavesTheParticlesAlone) {
+    ParticleSettings s = movingSystem(10000);
+    ASSERT_EQ(s.update, ParticleUpdate::Auto); // the default
+    Sim sim = makeSim(s, glm::mat4(1.0f));
+    sim.v->frame(0.0);
+    EXPECT_EQ(sim.node->lastFrame().steps, 0u);
+    for (int step = 0; step < 3; ++step)
+        sim.node->queueStep(1.0f / 30.0f);
+    sim.v->frame(0.0);
+    const ParticleFrameInfo first = sim.node->lastFrame();
+    EXPECT_TRUE(first.measured);
+    EXPECT_TRUE(first.update == ParticleUpdate::TransformFeedback || first.update == ParticleUpdate::Compute);
+    EXPECT_GT(first.transformFeedbackMs, 0.0f);
+    EXPECT_GT(first.computeMs, 0.0f);
+    EXPECT_EQ(first.update, first.computeMs <= first.transformFeedbackMs ? ParticleUpdate::Compute
+                                                                          : ParticleUpdate::TransformFeedback);
+    EXPECT_EQ(first.steps, 3u);
+    const auto cpu = cpuReference(s, glm::mat4(1.0f), 3, 1.0f / 30.0f);
+    const auto gpu = sim.node->readRecords();
+    for (std::uint32_t i = 0; i < s.capacity; ++i)
+        expectClose(gpu[i], cpu[i], i, 3);
+    // Measured once: the next frame keeps the choice and its timings.
+    sim.node->queueStep(1.0f / 30.0f);
+    sim.v->frame(0.0);
+    EXPECT_EQ(sim.node->lastFrame().update, first.update);
+    EXPECT_EQ(sim.node->lastFrame().computeMs, first.computeMs);
+    EXPECT_EQ(sim.node->lastFrame().steps, 1u);
+}
+
+// The compute path's program and bindings leave no GL object behind, and switching paths on a
+// running system keeps its particles.
+TEST(Particles, ComputeUpdateLeaksNoGlObjectsAndSwitchesPathsMidRun) {
+    const long before = gl::liveObjects().total();
+    {
+        ParticleSettings s = movingSystem(1000);
+        s.update = ParticleUpdate::Compute;
+        s.layout = ParticleLayout::Split;
+        Sim sim = makeSim(s, glm::mat4(1.0f));
+        sim.v->frame(0.0);
+        for (int step = 0; step < 3; ++step)
+            sim.node->queueStep(1.0f / 30.0f);
+        sim.v->frame(0.0); // steps 1..3 by compute
+        EXPECT_EQ(sim.node->lastFrame().update, ParticleUpdate::Compute);
+        s.update = ParticleUpdate::TransformFeedback;
+        sim.node->setSettings(s);
+        sim.node->queueStep(1.0f / 30.0f);
+        sim.v->frame(0.0); // step 4 by transform feedback
+        EXPECT_EQ(sim.node->lastFrame().update, ParticleUpdate::TransformFeedback);
+        const auto cpu = cpuReference(s, glm::mat4(1.0f), 4, 1.0f / 30.0f);
+        const auto gpu = sim.node->readRecords();
+        for (std::uint32_t i = 0; i < s.capacity; ++i)
+            expectClose(gpu[i], cpu[i], i, 4);
+        sim.node->releaseGLObjects();
+        s.update = ParticleUpdate::Compute;
+        sim.node->setSettings(s);
+        sim.node->queueStep(1.0f / 30.0f);
+        sim.v->frame(0.0); // made again after the release
+        EXPECT_EQ(sim.node->lastFrame().update, ParticleUpdate::Compute);
+    }
+    EXPECT_EQ(gl::liveObjects().total(), before);
+}
 
 TEST(Particles, KinematicsFollowTheClosedForm) {
     ParticleSettings s;
@@ -688,6 +833,7 @@ TEST(Particles, BadSettingsAreRefusedAndTheSystemKeepsRunning) {
         {[](ParticleSettings& s) { s.sizeStart = -0.1f; }, "sizeStart"},
         {[](ParticleSettings& s) { s.colorEnd.a = 2.0f; }, "colorEnd"},
         {[](ParticleSettings& s) { s.shape = ParticleShape(9); }, "shape"},
+        {[](ParticleSettings& s) { s.update = ParticleUpdate(3); }, "update has an invalid value 3"},
     };
     for (const auto& [edit, needle] : cases) {
         ParticleSettings bad = good;

@@ -1,14 +1,16 @@
 // Particle showcase and benchmark.
 //
 //   particles [--preset all|rain|snow|leaves|smoke|jet|sparks|cloud] [--count N]
-//             [--path gs|instanced|pulled|points] [--layout interleaved|split] [--size WxH] [--out FILE]
-//             [--bench N] [--egl]
+//             [--path gs|instanced|pulled|points] [--layout interleaved|split]
+//             [--update auto|tf|compute] [--size WxH] [--out FILE] [--bench N] [--egl]
 //
 // Without --bench: simulates two seconds at 30 Hz and writes a PNG of the preset(s) over a
 // ground plane in fog. With --bench N: the "cloud" scene (sprites, the OSG peer's scene in
 // bench/osg_particles.cpp) is stepped and drawn N frames after warm-up, and one line reports
 // the median ms per frame and the GPU ms of the simulation and of the drawing:
 //   PARTICLES count=... path=... layout=... frame_ms=... sim_ms=... update_ms=... draw_ms=...
+//             update=tf|compute [auto_tf_ms=... auto_compute_ms=...]
+// (update: the simulation path the steps ran on, --update's or Auto's pick, whose timings follow)
 // (sim_ms: the simulation step alone, CPU-timed with glFinish; update_ms and draw_ms: GPU timer
 // queries, which llvmpipe fills unreliably)
 #include <sgfx/GraphicsContext.h>
@@ -37,6 +39,7 @@ struct Options {
     std::uint32_t count = 0; // 0: the preset's own
     sgfx::ParticlePath path = sgfx::ParticlePath::Auto;
     sgfx::ParticleLayout layout = sgfx::ParticleLayout::Interleaved;
+    sgfx::ParticleUpdate update = sgfx::ParticleUpdate::Auto;
     int width = 640, height = 360;
     std::string out = "particles.png";
     int bench = 0;
@@ -81,6 +84,12 @@ Options parse(int argc, char** argv) {
             if (v != "interleaved" && v != "split")
                 usage("--layout: '" + v + "' is not interleaved or split");
             o.layout = v == "split" ? sgfx::ParticleLayout::Split : sgfx::ParticleLayout::Interleaved;
+        } else if (a == "--update") {
+            const std::string v = value();
+            if (v != "auto" && v != "tf" && v != "compute") usage("--update: '" + v + "' is not auto, tf or compute");
+            o.update = v == "tf"        ? sgfx::ParticleUpdate::TransformFeedback
+                       : v == "compute" ? sgfx::ParticleUpdate::Compute
+                                        : sgfx::ParticleUpdate::Auto;
         } else if (a == "--size") {
             const std::string v = value();
             const auto x = v.find('x');
@@ -161,6 +170,7 @@ int main(int argc, char** argv) try {
         sgfx::ParticleSettings s = p->settings();
         s.path = o.path;
         s.layout = o.layout;
+        s.update = o.update;
         p->setSettings(s);
         auto t = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), at));
         t->addChild(p);
@@ -209,7 +219,7 @@ int main(int argc, char** argv) try {
         std::printf("GL_RENDERER: %s\n", viewer->context().renderer().c_str());
         std::printf(
             "PARTICLES count=%u path=%s layout=%s size=%dx%d frame_ms=%.2f sim_ms=%.2f update_ms=%.2f "
-            "draw_ms=%.2f\n",
+            "draw_ms=%.2f",
             systems[0]->settings().capacity,
             systems[0]->resolvedPath() == sgfx::ParticlePath::GeometryShader ? "gs"
             : systems[0]->resolvedPath() == sgfx::ParticlePath::Instanced    ? "instanced"
@@ -217,6 +227,11 @@ int main(int argc, char** argv) try {
                                                                              : "points",
             o.layout == sgfx::ParticleLayout::Split ? "split" : "interleaved", o.width, o.height, med(frame),
             med(sim), med(update), med(draw));
+        const sgfx::ParticleFrameInfo& info = systems[0]->lastFrame();
+        std::printf(" update=%s", info.update == sgfx::ParticleUpdate::Compute ? "compute" : "tf");
+        if (info.measured)
+            std::printf(" auto_tf_ms=%.2f auto_compute_ms=%.2f", info.transformFeedbackMs, info.computeMs);
+        std::printf("\n");
         return 0;
     }
 

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -34,6 +35,13 @@ constexpr unsigned kBufferUnit = Renderer::kFirstDrawableUnit;
 // Bytes per particle of each stream: one interleaved record, or (age + P, v, r0, r).
 constexpr std::array<int, 4> kSplitStrides{16, 12, 12, 12};
 constexpr int kRecordBytes = 52;
+
+// The compute step's shader storage bindings: copy M from kSourceBinding, M' from kTargetBinding
+// (one per stream; the splats use 13..20, the renderer's lights 8 and 9).
+constexpr unsigned kSourceBinding = 21, kTargetBinding = 25;
+// Work groups per row of a dispatch (GL guarantees 65535 in x and y; 2^24 particles need 262144
+// groups): short rows, so the tests' 10^4 particles already span two.
+constexpr std::uint32_t kGroupsPerRow = 128;
 
 void check(const char* name, float v, double lo, double hi, bool openLow = false) {
     nodes::checkRange("ParticleSettings", name, v, lo, hi, openLow);
@@ -58,12 +66,49 @@ const BaseShader& updateShader(ParticleLayout layout) {
     return layout == ParticleLayout::Split ? split : interleaved;
 }
 
+std::unique_ptr<gl::Program> computeProgram(ParticleLayout layout) {
+    const bool split = layout == ParticleLayout::Split;
+    std::string defines = "#define SGFX_PARTICLE_SOURCE " + std::to_string(kSourceBinding) +
+                          "\n#define SGFX_PARTICLE_TARGET " + std::to_string(kTargetBinding) + "\n";
+    if (split) defines += "#define SGFX_PARTICLE_SPLIT\n";
+    ComposedProgram c;
+    c.compute = nodes::shaderWithIncludes("particle_update.comp");
+    c.compute.insert(c.compute.find('\n') + 1, defines); // after #version
+    c.vertexSources = {"particle_update.comp"};
+    c.description = split ? "particle_update_split (compute)" : "particle_update_interleaved (compute)";
+    return std::make_unique<gl::Program>(c);
+}
+
+// The uniforms of one step (particle_motion.glsl), the same for both update paths.
+void setStepUniforms(gl::Program& program, const ParticleSettings& s, const glm::mat4& emitterMatrix,
+                     float dt, std::uint32_t step) {
+    const particles::Emitter& e = s.emitter;
+    program.set("u_emitter", emitterMatrix);
+    program.set("u_emitterSize", e.size);
+    program.set("u_velocity", e.velocity);
+    program.set("u_spread", e.velocitySpread);
+    program.set("u_acceleration", e.acceleration);
+    program.set("u_krot", e.rotationRange);
+    program.set("u_kvel", e.rotationSpeed);
+    program.set("u_tmax", e.lifetime);
+    program.set("u_dt", dt);
+    program.setUnsigned("u_step", step);
+    program.setUnsigned("u_seed", s.seed);
+    program.set("u_carryAge", s.respawn == particles::Respawn::CarryAge ? 1 : 0);
+    program.set("u_reflect", s.bounce == particles::RotationBounce::Reflect ? 1 : 0);
+}
+
+double medianOf3(std::array<double, 3> v) {
+    std::sort(v.begin(), v.end());
+    return v[1];
+}
+
 // A draw program's base: the path's vertex (and geometry) stage and the built-in material's
 // fragment stage, with the shape and the soft-particle modifier compiled in.
 BaseShader drawShader(ParticlePath path, ParticleShape shape, bool soft, ParticleLayout layout) {
     static const char* const shapes[] = {"sprite", "hexagon", "tetrahedron", "quad"};
     const std::string defines = "#define SGFX_PARTICLE_SHAPE " + std::to_string(int(shape)) + "\n";
-    auto withDefines = [&](std::string src) { return nodes::afterVersion(std::move(src), defines); };
+    auto withDefines = [&](const std::string& src) { return nodes::afterVersion(src, defines); };
     std::string fragment = ShaderComposer::blinnPhong().fragmentSource;
     if (soft) fragment = nodes::afterVersion(std::move(fragment), nodes::shaderText("particle_soft.glsl"));
     static const char* const paths[] = {"", "particles_gs_", "particles_instanced_", "particles_pulled_",
@@ -191,6 +236,9 @@ void ParticleSettings::validate() const {
         nodes::refuse("ParticleSettings", "path has an invalid value " + std::to_string(int(path)));
     if (std::uint8_t(layout) > std::uint8_t(ParticleLayout::Split))
         nodes::refuse("ParticleSettings", "layout has an invalid value " + std::to_string(int(layout)));
+    if (std::uint8_t(update) > std::uint8_t(ParticleUpdate::Compute))
+        nodes::refuse("ParticleSettings", "update has an invalid value " + std::to_string(int(update)) +
+                                              " (Auto, TransformFeedback or Compute)");
 }
 
 // ---------------------------------------------------------------- GPU state
@@ -204,6 +252,8 @@ struct ParticleSystemNode::Gpu {
     std::array<gl::VertexArrayObject, 2> pointVao, instanceVao;
     gl::VertexArrayObject emptyVao;
     std::array<std::array<gl::TextureObject, 4>, 2> bufferTextures; // vertex pulling's views
+    std::unique_ptr<gl::Program> compute; // the compute step, made at its first use
+    ParticleFrameInfo choice;             // the update path steps take (Auto: once measured)
 
     int streams() const { return layout == ParticleLayout::Split ? 4 : 1; }
     int stride(int s) const {
@@ -264,7 +314,11 @@ struct ParticleSystemNode::Gpu {
         return true;
     }
 
-    // Binds copy `c` from particle `first` on as the transform feedback targets.
+    void step(PassCommands& c, gl::Program& feedbackProgram, ParticleUpdate how,
+              const std::function<void(gl::Program&)>& uniforms);
+    void measure(PassCommands& c, gl::Program& feedbackProgram,
+                 const std::function<void(gl::Program&)>& uniforms);
+
     // What a transform feedback into particles [first, first + count) of copy `c` writes.
     std::vector<FeedbackBuffer> feedback(int c, std::uint32_t first, std::uint32_t count) const {
         std::vector<FeedbackBuffer> out;
@@ -275,6 +329,60 @@ struct ParticleSystemNode::Gpu {
         return out;
     }
 };
+
+// One step M → M' into the other copy by `how` (the caller swaps the copies); `uniforms` sets
+// the step's uniforms on the program that runs it.
+void ParticleSystemNode::Gpu::step(PassCommands& c, gl::Program& feedbackProgram, ParticleUpdate how,
+                                   const std::function<void(gl::Program&)>& uniforms) {
+    const int src = current, dst = 1 - src;
+    if (how != ParticleUpdate::Compute) {
+        uniforms(feedbackProgram);
+        c.transformFeedback(feedbackProgram, pointVao[std::size_t(src)].get(), feedback(dst, 0, capacity), 0,
+                            capacity);
+        return;
+    }
+    if (!compute) compute = computeProgram(layout);
+    uniforms(*compute);
+    compute->setUnsigned("u_count", capacity);
+    for (int s = 0; s < streams(); ++s) {
+        gl::bindStorageBuffer(kSourceBinding + unsigned(s), buffers[std::size_t(src)][std::size_t(s)]);
+        gl::bindStorageBuffer(kTargetBinding + unsigned(s), buffers[std::size_t(dst)][std::size_t(s)]);
+    }
+    const std::uint32_t groups = (capacity + 63) / 64;
+    const std::uint32_t row = std::min(groups, kGroupsPerRow);
+    c.dispatch(*compute, {row, (groups + row - 1) / row, 1}); // ends with a full memory barrier
+    // Nothing left bound: Mesa would keep a buffer bound to an indexed binding alive past its owner.
+    static const gl::BufferObject none;
+    for (int s = 0; s < streams(); ++s) {
+        gl::bindStorageBuffer(kSourceBinding + unsigned(s), none);
+        gl::bindStorageBuffer(kTargetBinding + unsigned(s), none);
+    }
+}
+
+// ParticleUpdate::Auto: one warm-up step of each path (shader compilation), then 3 timed steps of
+// each, interleaved, all into the spare copy (M is untouched); keeps the faster median.
+void ParticleSystemNode::Gpu::measure(PassCommands& c, gl::Program& feedbackProgram,
+                                      const std::function<void(gl::Program&)>& uniforms) {
+    auto timed = [&](ParticleUpdate how) {
+        gl::finish();
+        const auto t0 = std::chrono::steady_clock::now();
+        step(c, feedbackProgram, how, uniforms);
+        gl::finish();
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    };
+    timed(ParticleUpdate::TransformFeedback);
+    timed(ParticleUpdate::Compute);
+    std::array<double, 3> tf{}, cs{};
+    for (std::size_t i = 0; i < 3; ++i) {
+        tf[i] = timed(ParticleUpdate::TransformFeedback);
+        cs[i] = timed(ParticleUpdate::Compute);
+    }
+    choice.measured = true;
+    choice.transformFeedbackMs = float(medianOf3(tf));
+    choice.computeMs = float(medianOf3(cs));
+    choice.update = choice.computeMs <= choice.transformFeedbackMs ? ParticleUpdate::Compute
+                                                                  : ParticleUpdate::TransformFeedback;
+}
 
 // ---------------------------------------------------------------- passes
 // The simulation's handle on its node: the frame graph's execute advances the particles (GPU state
@@ -471,22 +579,7 @@ void ParticleSystemNode::simulate(PassCommands& c, SimulationPart part) {
     const ParticleSettings& s = settings_;
     gl::Program& program = c.program(updateShader(s.layout));
     emitterMatrix_ = lastModel_;
-    auto setCommon = [&](float dt) {
-        const particles::Emitter& e = s.emitter;
-        program.set("u_emitter", emitterMatrix_);
-        program.set("u_emitterSize", e.size);
-        program.set("u_velocity", e.velocity);
-        program.set("u_spread", e.velocitySpread);
-        program.set("u_acceleration", e.acceleration);
-        program.set("u_krot", e.rotationRange);
-        program.set("u_kvel", e.rotationSpeed);
-        program.set("u_tmax", e.lifetime);
-        program.set("u_dt", dt);
-        program.setUnsigned("u_step", step_);
-        program.setUnsigned("u_seed", s.seed);
-        program.set("u_carryAge", s.respawn == particles::Respawn::CarryAge ? 1 : 0);
-        program.set("u_reflect", s.bounce == particles::RotationBounce::Reflect ? 1 : 0);
-    };
+    auto setCommon = [&](float dt) { setStepUniforms(program, s, emitterMatrix_, dt, step_); };
     // Sets up particles [first, first + count) of copy `c` by the start mode `init` (1..3).
     auto initialise = [&](int copy, int init, std::uint32_t first, std::uint32_t count) {
         setCommon(0.0f);
@@ -551,17 +644,28 @@ void ParticleSystemNode::simulate(PassCommands& c, SimulationPart part) {
         resetPending_ = false;
     }
     if (part == SimulationPart::Buffers) return;
-    if (gpu_) {
+    lastFrame_.steps = std::uint32_t(gpu_ ? pendingSteps_.size() : 0);
+    if (gpu_ && !pendingSteps_.empty()) {
         program.set("u_init", 0);
+        Gpu& g = *gpu_;
+        if (s.update != ParticleUpdate::Auto) {
+            g.choice = ParticleFrameInfo{};
+            g.choice.update = s.update;
+        } else if (!g.choice.measured) {
+            g.measure(c, program, [&](gl::Program& p) {
+                setStepUniforms(p, s, emitterMatrix_, pendingSteps_.front(), step_ + 1);
+            });
+        }
         for (const float dt : pendingSteps_) {
             ++step_;
-            setCommon(dt);
-            const int src = gpu_->current, dst = 1 - src;
-            // One simulation step: M to M' (the seed's transform feedback).
-            c.transformFeedback(program, gpu_->pointVao[std::size_t(src)].get(),
-                                gpu_->feedback(dst, 0, gpu_->capacity), 0, gpu_->capacity);
-            gpu_->current = dst; // M' becomes M (seed: the pointers swap)
+            // One simulation step: M to M' (the seed's transform feedback, or the compute shader).
+            g.step(c, program, g.choice.update,
+                   [&](gl::Program& p) { setStepUniforms(p, s, emitterMatrix_, dt, step_); });
+            g.current = 1 - g.current; // M' becomes M (seed: the pointers swap)
         }
+        const std::uint32_t steps = lastFrame_.steps;
+        lastFrame_ = g.choice;
+        lastFrame_.steps = steps;
     }
     pendingSteps_.clear();
 }

@@ -98,6 +98,9 @@ void dispatchCompute(const glm::uvec3& groups) {
     glDispatchCompute(groups.x, groups.y, groups.z);
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
 }
+void finish() {
+    glFinish();
+}
 void drawPulled(const VertexArrayObject& empty, unsigned mode, int count, int instances) {
     glBindVertexArray(empty.get());
     glDrawArraysInstanced(GLenum(mode), 0, count, instances);

@@ -107,6 +107,9 @@ SGFX_API void bindStorageBuffer(unsigned binding, const BufferObject& buffer);
 /// Runs the bound compute program (Renderer::useProgram) over `groups` work groups; its writes
 /// are visible to every later command (a full barrier).
 SGFX_API void dispatchCompute(const glm::uvec3& groups);
+/// Waits until the GPU has run every command issued so far (glFinish): CPU timing of GPU work
+/// (ParticleUpdate::Auto's measurement), never on a frame's normal path.
+SGFX_API void finish();
 /// Draws `instances` instances of `count` vertices without attributes (an empty vertex array is
 /// bound for it): shaders that pull their data by gl_VertexID / gl_InstanceID. `mode` is GL's.
 SGFX_API void drawPulled(const VertexArrayObject& empty, unsigned mode, int count, int instances);

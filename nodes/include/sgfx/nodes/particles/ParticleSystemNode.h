@@ -45,6 +45,17 @@ enum class ParticlePath : std::uint8_t { Auto, GeometryShader, Instanced, Pulled
 /// (age + position, velocity, r0, r), one buffer each.
 enum class ParticleLayout : std::uint8_t { Interleaved, Split };
 
+/// How a simulation step runs, both over the same buffers and the same GLSL equations
+/// (particle_motion.glsl, mirrored by ParticleMath.h):
+///  TransformFeedback: one vertex per particle, rasterizer off, outputs captured (the seed);
+///  Compute:           a compute shader (64 particles per work group) reading copy M and writing
+///                     M' as shader storage, then a memory barrier before the draws;
+///  Auto:              the faster of the two, timed once per buffer allocation (so per context,
+///                     capacity and layout): 3 steps of each at the node's capacity, after one
+///                     warm-up step each; lastFrame() reports the choice and the timings.
+/// The start mode's records (reset, growth) are written by transform feedback on either path.
+enum class ParticleUpdate : std::uint8_t { Auto, TransformFeedback, Compute };
+
 /// A particle system: emitter, forces, look, count, and how it is simulated and drawn.
 struct SGFX_API ParticleSettings {
     particles::Emitter emitter;
@@ -60,12 +71,24 @@ struct SGFX_API ParticleSettings {
     float softness = 0.0f; ///< soft particles: fade within this distance of opaque surfaces (m)
     ParticlePath path = ParticlePath::Auto;
     ParticleLayout layout = ParticleLayout::Interleaved;
+    ParticleUpdate update = ParticleUpdate::Auto;
 
     /// Throws std::invalid_argument naming the field and the allowed range.
     void validate() const;
 };
 
-/// A GPU particle system (particle seed): simulated by transform feedback, drawn lit and
+/// What the node's simulation did at its last frame (GL thread; tests, benches, tuning).
+struct SGFX_API ParticleFrameInfo {
+    /// The update path the steps ran on (Auto resolved); Auto until the first step has run.
+    ParticleUpdate update = ParticleUpdate::Auto;
+    /// Whether `update` was picked by Auto's timing, and the ms per step it measured (median of
+    /// 3, CPU-timed up to a glFinish); 0 when not measured.
+    bool measured = false;
+    float transformFeedbackMs = 0.0f, computeMs = 0.0f;
+    std::uint32_t steps = 0; ///< steps run by the last simulate()
+};
+
+/// A GPU particle system (particle seed): simulated by transform feedback or a compute shader, drawn lit and
 /// composed like any surface. Presets: rain(), snow(), leaves(), smoke(), waterJet(), sparks().
 /// See docs/effects/particles.md.
 class SGFX_API ParticleSystemNode : public Drawable {
@@ -116,6 +139,8 @@ public:
     std::vector<particles::ParticleRecord> readRecords() const;
     /// The path the draws use on the current driver (Auto resolved).
     ParticlePath resolvedPath() const;
+    /// The update path and, under ParticleUpdate::Auto, what its timing measured.
+    const ParticleFrameInfo& lastFrame() const { return lastFrame_; }
 
     /// Drawable
     const BaseShader& baseShader() const override;
@@ -150,6 +175,7 @@ private:
     glm::mat4 emitterMatrix_{1.0f};
     mutable glm::mat4 lastModel_{1.0f}; ///< world matrix seen by the last cull
     std::unique_ptr<Gpu> gpu_;
+    ParticleFrameInfo lastFrame_;
     std::shared_ptr<Pass> pass_;
     mutable std::unique_ptr<BaseShader> shader_; ///< draw program base for (path, shape, soft)
     mutable int shaderKey_ = -1;
