@@ -284,7 +284,8 @@ ParticleSettings movingSystem(std::uint32_t n) {
 }
 
 // The CPU reference after `steps` steps of `dt` from the start mode's records.
-std::vector<ParticleRecord> cpuReference(const ParticleSettings& s, const glm::mat4& place, int steps, float dt) {
+std::vector<ParticleRecord> cpuReference(const ParticleSettings& s, const glm::mat4& place, int steps,
+                                         float dt) {
     particles::StepInput in;
     in.emitterToWorld = place;
     in.emitter = s.emitter;
@@ -307,7 +308,8 @@ TEST_P(UpdatePaths, TwentyFixedStepsMatchTheCpuReference) {
     ParticleSettings s = movingSystem(10000);
     s.update = GetParam().update;
     s.layout = GetParam().layout;
-    const glm::mat4 place = glm::rotate(glm::translate(glm::mat4(1.0f), {-2, 4, 1}), 0.7f, glm::vec3(0, 0, 1));
+    const glm::mat4 place =
+        glm::rotate(glm::translate(glm::mat4(1.0f), {-2, 4, 1}), 0.7f, glm::vec3(0, 0, 1));
     Sim sim = makeSim(s, place);
     sim.v->frame(0.0);
     for (int step = 0; step < 20; ++step)
@@ -324,11 +326,12 @@ TEST_P(UpdatePaths, TwentyFixedStepsMatchTheCpuReference) {
         expectClose(gpu[i], cpu[i], i, 20);
 }
 
-INSTANTIATE_TEST_SUITE_P(Particles, UpdatePaths,
-                         ::testing::Values(UpdateCase{ParticleUpdate::TransformFeedback, ParticleLayout::Interleaved},
-                                           UpdateCase{ParticleUpdate::TransformFeedback, ParticleLayout::Split},
-                                           UpdateCase{ParticleUpdate::Compute, ParticleLayout::Interleaved},
-                                           UpdateCase{ParticleUpdate::Compute, ParticleLayout::Split}));
+INSTANTIATE_TEST_SUITE_P(
+    Particles, UpdatePaths,
+    ::testing::Values(UpdateCase{ParticleUpdate::TransformFeedback, ParticleLayout::Interleaved},
+                      UpdateCase{ParticleUpdate::TransformFeedback, ParticleLayout::Split},
+                      UpdateCase{ParticleUpdate::Compute, ParticleLayout::Interleaved},
+                      UpdateCase{ParticleUpdate::Compute, ParticleLayout::Split}));
 
 // Auto times both paths once (into the spare copy), keeps one, reports it, and the particles are
 // still exactly the reference's: the timing steps did not touch them.
@@ -347,7 +350,7 @@ TEST(Particles, AutoUpdatePicksAPathReportsItAndLeavesTheParticlesAlone) {
     EXPECT_GT(first.transformFeedbackMs, 0.0f);
     EXPECT_GT(first.computeMs, 0.0f);
     EXPECT_EQ(first.update, first.computeMs <= first.transformFeedbackMs ? ParticleUpdate::Compute
-                                                                          : ParticleUpdate::TransformFeedback);
+                                                                         : ParticleUpdate::TransformFeedback);
     EXPECT_EQ(first.steps, 3u);
     const auto cpu = cpuReference(s, glm::mat4(1.0f), 3, 1.0f / 30.0f);
     const auto gpu = sim.node->readRecords();

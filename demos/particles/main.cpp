@@ -86,7 +86,8 @@ Options parse(int argc, char** argv) {
             o.layout = v == "split" ? sgfx::ParticleLayout::Split : sgfx::ParticleLayout::Interleaved;
         } else if (a == "--update") {
             const std::string v = value();
-            if (v != "auto" && v != "tf" && v != "compute") usage("--update: '" + v + "' is not auto, tf or compute");
+            if (v != "auto" && v != "tf" && v != "compute")
+                usage("--update: '" + v + "' is not auto, tf or compute");
             o.update = v == "tf"        ? sgfx::ParticleUpdate::TransformFeedback
                        : v == "compute" ? sgfx::ParticleUpdate::Compute
                                         : sgfx::ParticleUpdate::Auto;

@@ -252,8 +252,8 @@ struct ParticleSystemNode::Gpu {
     std::array<gl::VertexArrayObject, 2> pointVao, instanceVao;
     gl::VertexArrayObject emptyVao;
     std::array<std::array<gl::TextureObject, 4>, 2> bufferTextures; // vertex pulling's views
-    std::unique_ptr<gl::Program> compute; // the compute step, made at its first use
-    ParticleFrameInfo choice;             // the update path steps take (Auto: once measured)
+    std::unique_ptr<gl::Program> compute;                           // the compute step, made at its first use
+    ParticleFrameInfo choice; // the update path steps take (Auto: once measured)
 
     int streams() const { return layout == ParticleLayout::Split ? 4 : 1; }
     int stride(int s) const {
@@ -381,7 +381,7 @@ void ParticleSystemNode::Gpu::measure(PassCommands& c, gl::Program& feedbackProg
     choice.transformFeedbackMs = float(medianOf3(tf));
     choice.computeMs = float(medianOf3(cs));
     choice.update = choice.computeMs <= choice.transformFeedbackMs ? ParticleUpdate::Compute
-                                                                  : ParticleUpdate::TransformFeedback;
+                                                                   : ParticleUpdate::TransformFeedback;
 }
 
 // ---------------------------------------------------------------- passes
