@@ -333,10 +333,11 @@ INSTANTIATE_TEST_SUITE_P(
                       UpdateCase{ParticleUpdate::Compute, ParticleLayout::Interleaved},
                       UpdateCase{ParticleUpdate::Compute, ParticleLayout::Split}));
 
-// Auto times both paths once (into the spare copy), keeps one, reports it, and the particles are
-// still exactly the reference's: the timing steps did not touch them.
+// Auto times both paths once (into the spare copy) from 2^16 particles on, keeps one, reports it,
+// and the particles are still exactly the reference's: the timing steps did not touch them.
+// Below 2^16 it takes transform feedback untimed.
 TEST(Particles, AutoUpdatePicksAPathReportsItAndLeavesTheParticlesAlone) {
-    ParticleSettings s = movingSystem(10000);
+    ParticleSettings s = movingSystem(1u << 16);
     ASSERT_EQ(s.update, ParticleUpdate::Auto); // the default
     Sim sim = makeSim(s, glm::mat4(1.0f));
     sim.v->frame(0.0);
@@ -346,7 +347,6 @@ TEST(Particles, AutoUpdatePicksAPathReportsItAndLeavesTheParticlesAlone) {
     sim.v->frame(0.0);
     const ParticleFrameInfo first = sim.node->lastFrame();
     EXPECT_TRUE(first.measured);
-    EXPECT_TRUE(first.update == ParticleUpdate::TransformFeedback || first.update == ParticleUpdate::Compute);
     EXPECT_GT(first.transformFeedbackMs, 0.0f);
     EXPECT_GT(first.computeMs, 0.0f);
     EXPECT_EQ(first.update, first.computeMs <= first.transformFeedbackMs ? ParticleUpdate::Compute
@@ -362,6 +362,13 @@ TEST(Particles, AutoUpdatePicksAPathReportsItAndLeavesTheParticlesAlone) {
     EXPECT_EQ(sim.node->lastFrame().update, first.update);
     EXPECT_EQ(sim.node->lastFrame().computeMs, first.computeMs);
     EXPECT_EQ(sim.node->lastFrame().steps, 1u);
+    // Below 2^16: transform feedback, untimed.
+    s.capacity = (1u << 16) - 1;
+    sim.node->setSettings(s);
+    sim.node->queueStep(1.0f / 30.0f);
+    sim.v->frame(0.0);
+    EXPECT_EQ(sim.node->lastFrame().update, ParticleUpdate::TransformFeedback);
+    EXPECT_FALSE(sim.node->lastFrame().measured);
 }
 
 // The compute path's program and bindings leave no GL object behind, and switching paths on a

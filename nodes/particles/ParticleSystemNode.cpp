@@ -42,6 +42,9 @@ constexpr unsigned kSourceBinding = 21, kTargetBinding = 25;
 // Work groups per row of a dispatch (GL guarantees 65535 in x and y; 2^24 particles need 262144
 // groups): short rows, so the tests' 10^4 particles already span two.
 constexpr std::uint32_t kGroupsPerRow = 128;
+// ParticleUpdate::Auto times the paths from this many particles on; below, a step costs well under
+// a millisecond either way, less than compiling the compute program and timing it would.
+constexpr std::uint32_t kAutoMeasureFrom = 1u << 16;
 
 void check(const char* name, float v, double lo, double hi, bool openLow = false) {
     nodes::checkRange("ParticleSettings", name, v, lo, hi, openLow);
@@ -648,9 +651,9 @@ void ParticleSystemNode::simulate(PassCommands& c, SimulationPart part) {
     if (gpu_ && !pendingSteps_.empty()) {
         program.set("u_init", 0);
         Gpu& g = *gpu_;
-        if (s.update != ParticleUpdate::Auto) {
+        if (s.update != ParticleUpdate::Auto || g.capacity < kAutoMeasureFrom) {
             g.choice = ParticleFrameInfo{};
-            g.choice.update = s.update;
+            g.choice.update = s.update != ParticleUpdate::Auto ? s.update : ParticleUpdate::TransformFeedback;
         } else if (!g.choice.measured) {
             g.measure(c, program, [&](gl::Program& p) {
                 setStepUniforms(p, s, emitterMatrix_, pendingSteps_.front(), step_ + 1);

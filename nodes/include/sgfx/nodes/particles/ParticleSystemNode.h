@@ -50,9 +50,11 @@ enum class ParticleLayout : std::uint8_t { Interleaved, Split };
 ///  TransformFeedback: one vertex per particle, rasterizer off, outputs captured (the seed);
 ///  Compute:           a compute shader (64 particles per work group) reading copy M and writing
 ///                     M' as shader storage, then a memory barrier before the draws;
-///  Auto:              the faster of the two, timed once per buffer allocation (so per context,
-///                     capacity and layout): 3 steps of each at the node's capacity, after one
-///                     warm-up step each; lastFrame() reports the choice and the timings.
+///  Auto:              from 65536 particles, the faster of the two, timed once per buffer
+///                     allocation (so per context, capacity and layout): 3 steps of each at the
+///                     node's capacity, after one warm-up step each; lastFrame() reports the
+///                     choice and the timings. Below 65536, TransformFeedback untimed (a step
+///                     costs well under a millisecond either way).
 /// The start mode's records (reset, growth) are written by transform feedback on either path.
 enum class ParticleUpdate : std::uint8_t { Auto, TransformFeedback, Compute };
 
