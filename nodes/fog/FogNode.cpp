@@ -280,7 +280,7 @@ void FogNode::setupFrame(FrameSetup& f) const {
         if (f.once("fog post-process")) addPostPass(f);
         return;
     }
-    deferred_ = mode_ == FogMode::Forward && canDefer(f);
+    deferred_ = mode_ == FogMode::Forward && deferOpaque_ && canDefer(f);
     if (mode_ == FogMode::ForwardSplit && f.once("fog: nearest depth")) addNearestDepth(f);
     const bool sky = parameters_.sky != FogSky::Off && f.once("fog sky");
     if (deferred_)

@@ -86,6 +86,10 @@ public:
     /// item of the view is below this node, no effect with colour code comes after it, and the
     /// view draws single-sample; otherwise the materials fog every fragment as before.
     bool lastFrameDeferred() const { return deferred_; }
+    /// Forward mode: false keeps the fog in every material even where deferring is exact (for
+    /// comparisons); default true.
+    void setDeferOpaque(bool allow) { deferOpaque_ = allow; }
+    bool deferOpaque() const { return deferOpaque_; }
 
     /// Sets the fog uniforms (fog_optical_depth.glsl) on any program that declares them, for a view
     /// whose eye is at `eye`.
@@ -102,6 +106,7 @@ private:
     /// Set by setupFrame for the view about to be drawn (views are set up and drawn one after
     /// the other), read by snippet() when that view's materials are composed.
     mutable bool deferred_ = false;
+    bool deferOpaque_ = true;
 };
 
 } // namespace sgfx
