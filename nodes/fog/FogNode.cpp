@@ -155,9 +155,9 @@ bool FogNode::canDefer(const FrameSetup& f) const {
     if (f.view().samples > 1 || f.itemsWithEffect(*this, q.opaque) != q.opaque.size()) return false;
     for (const EffectSet& set : q.effectSets) {
         const auto self = std::find(set.effects.begin(), set.effects.end(), this);
-        if (self != set.effects.end() && std::any_of(std::next(self), set.effects.end(), [](const EffectNode* e) {
-                return !e->snippet().colorCode.empty();
-            }))
+        if (self != set.effects.end() &&
+            std::any_of(std::next(self), set.effects.end(),
+                        [](const EffectNode* e) { return !e->snippet().colorCode.empty(); }))
             return false;
     }
     return true;
