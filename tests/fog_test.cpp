@@ -104,17 +104,45 @@ const char* modeName(FogMode m) {
     return m == FogMode::Forward ? "Forward" : m == FogMode::ForwardSplit ? "ForwardSplit" : "PostProcess";
 }
 
+// How the fog reaches the pixels: a mode, and for Forward whether the opaque items may be fogged
+// by the full-screen pass after them (deferred) or keep the fog in their materials.
+struct Path {
+    FogMode mode = FogMode::Forward;
+    bool defer = true;
+};
+const Path kDeferred{FogMode::Forward, true}, kInMaterials{FogMode::Forward, false};
+const Path kPaths[] = {kDeferred, kInMaterials, {FogMode::ForwardSplit}, {FogMode::PostProcess}};
+
+std::string pathName(Path p) {
+    return p.mode != FogMode::Forward ? modeName(p.mode) : p.defer ? "Forward/deferred" : "Forward/materials";
+}
+
+void PrintTo(Path p, std::ostream* os) {
+    *os << pathName(p);
+}
+
+std::shared_ptr<FogNode> fogOn(const FogParameters& params, Path path) {
+    auto node = FogNode::create(params, path.mode);
+    node->setDeferOpaque(path.defer);
+    return node;
+}
+
+// After a frame whose opaque items all lie below the node: the pass ran exactly on that path.
+void expectDeferredAsAsked(const FogNode& node, Path path) {
+    EXPECT_EQ(node.lastFrameDeferred(), path.mode == FogMode::Forward && path.defer) << pathName(path);
+}
+
 } // namespace
 
 // A 400 m × 400 m ground plane seen from 8 m: every pixel that sees the plane equals
 // mix(surface, fog, k(O, P)) and every sky pixel mix(clear, fog, k(O, O + D·skyDistance)).
-class FogPlane : public ::testing::TestWithParam<std::tuple<FogMode, FogResponse>> {};
+class FogPlane : public ::testing::TestWithParam<std::tuple<Path, FogResponse>> {};
 
 TEST_P(FogPlane, EveryPixelMatchesTheClosedForm) {
-    const auto [mode, response] = GetParam();
+    const auto [path, response] = GetParam();
     auto v = perspectiveViewer({0, 0, 8}, {0, 60, 0});
     const FogParameters params = testFog(response);
-    auto fogNode = FogNode::create(params, mode);
+    auto fogNode = fogOn(params, path);
     const glm::vec3 surface(0.2f, 0.5f, 0.1f);
     const double half = 200.0, cy = 190.0;
     fogNode->addChild(panel(float(2 * half), float(2 * half),
@@ -124,6 +152,7 @@ TEST_P(FogPlane, EveryPixelMatchesTheClosedForm) {
     v->setSceneData(root);
     v->frame();
     expectNoGlErrors(*v);
+    expectDeferredAsAsked(*fogNode, path);
     const Image img = v->capture();
     const Camera& cam = *v->camera();
     const glm::dvec3 clear(cam.clearColor);
@@ -155,18 +184,24 @@ TEST_P(FogPlane, EveryPixelMatchesTheClosedForm) {
             }
             const int e = channelError(img, x, y, expected);
             worst = std::max(worst, e);
-            EXPECT_LE(e, 2) << modeName(mode) << " pixel (" << x << "," << y << ")";
+            EXPECT_LE(e, 2) << pathName(path) << " pixel (" << x << "," << y << ")";
         }
     EXPECT_GT(plane, kSize * kSize / 3);
     EXPECT_GT(sky, kSize * kSize / 8);
-    std::printf("%s/%s: %d plane and %d sky pixels, worst error %d/255\n", modeName(mode),
+    std::printf("%s/%s: %d plane and %d sky pixels, worst error %d/255\n", pathName(path).c_str(),
                 response == FogResponse::Linear ? "Linear" : "Exponential", plane, sky, worst);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllModes, FogPlane,
-    ::testing::Combine(::testing::Values(FogMode::Forward, FogMode::ForwardSplit, FogMode::PostProcess),
-                       ::testing::Values(FogResponse::Linear, FogResponse::Exponential)));
+INSTANTIATE_TEST_SUITE_P(AllModes, FogPlane,
+                         ::testing::Combine(::testing::ValuesIn(kPaths),
+                                            ::testing::Values(FogResponse::Linear, FogResponse::Exponential)),
+                         [](const auto& param) {
+                             std::string name =
+                                 pathName(std::get<0>(param.param)) +
+                                 (std::get<1>(param.param) == FogResponse::Linear ? "Linear" : "Exponential");
+                             std::erase(name, '/');
+                             return name;
+                         });
 
 // An opaque wall behind a pane of glass, looking horizontally through the centre pixel.
 struct GlassResult {
@@ -174,7 +209,7 @@ struct GlassResult {
     double kn, kf; // fog amounts on [O, Pn] and [Pn, P]
 };
 
-GlassResult renderGlass(FogMode mode, float alpha, float glassDist, float wallDist) {
+GlassResult renderGlass(Path path, float alpha, float glassDist, float wallDist) {
     const glm::vec3 wall(0.9f, 0.3f, 0.1f), pane(0.1f, 0.6f, 0.3f);
     FogParameters params = testFog(FogResponse::Exponential);
     params.density = 0.01f;
@@ -182,7 +217,7 @@ GlassResult renderGlass(FogMode mode, float alpha, float glassDist, float wallDi
     GlassResult out{};
     for (bool withGlass : {true, false}) {
         auto v = perspectiveViewer({0, 0, 3}, {0, 10, 3});
-        auto fogNode = FogNode::create(params, mode);
+        auto fogNode = fogOn(params, path);
         fogNode->addChild(panel(400, 400, facingCamera(wallDist, 3), flat(wall)));
         if (withGlass) {
             auto g = panel(20, 20, facingCamera(glassDist, 3), flat(pane, alpha));
@@ -198,6 +233,7 @@ GlassResult renderGlass(FogMode mode, float alpha, float glassDist, float wallDi
         v->setSceneData(fogNode);
         v->frame();
         expectNoGlErrors(*v);
+        expectDeferredAsAsked(*fogNode, path);
         const Image img = v->capture();
         (withGlass ? out.glass : out.noGlass) = pixelAt(img, kSize / 2, kSize / 2);
         const Ray r = rayThrough(*v->camera(), kSize / 2 + 0.5, kSize / 2 + 0.5);
@@ -209,20 +245,25 @@ GlassResult renderGlass(FogMode mode, float alpha, float glassDist, float wallDi
     return out;
 }
 
+// Both Forward paths: the glass fogs itself; the wall behind it is fogged by its material or,
+// deferred, by the pass before the glass is drawn.
 TEST(FogGlass, ForwardExponentialMatchesPhysicalCompositing) {
     const glm::dvec3 cb(0.9, 0.3, 0.1), cg(0.1, 0.6, 0.3), cf(0.8, 0.8, 0.9);
-    for (auto [gd, wd] : {std::pair{5.0f, 30.0f}, std::pair{20.0f, 80.0f}, std::pair{2.0f, 150.0f}})
-        for (float a : {0.0f, 0.3f, 1.0f}) {
-            const GlassResult r = renderGlass(FogMode::Forward, a, gd, wd);
-            const glm::dvec3 physical =
-                (1 - r.kn) * (double(a) * cg + (1 - double(a)) * mixd(cb, cf, r.kf)) + r.kn * cf;
-            for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(r.glass[c], srgbByte(physical[c]), 2) << "alpha " << a << " glass at " << gd;
-            if (a == 0.0f) {
+    for (Path path : {kDeferred, kInMaterials})
+        for (auto [gd, wd] : {std::pair{5.0f, 30.0f}, std::pair{20.0f, 80.0f}, std::pair{2.0f, 150.0f}})
+            for (float a : {0.0f, 0.3f, 1.0f}) {
+                if (!path.defer && gd != 20.0f) continue; // the fallback: one distance is enough
+                const GlassResult r = renderGlass(path, a, gd, wd);
+                const glm::dvec3 physical =
+                    (1 - r.kn) * (double(a) * cg + (1 - double(a)) * mixd(cb, cf, r.kf)) + r.kn * cf;
                 for (int c = 0; c < 3; ++c)
-                    EXPECT_NEAR(r.glass[c], r.noGlass[c], 1) << "clear glass must not change the pixel";
+                    EXPECT_NEAR(r.glass[c], srgbByte(physical[c]), 2)
+                        << pathName(path) << " alpha " << a << " glass at " << gd;
+                if (a == 0.0f) {
+                    for (int c = 0; c < 3; ++c)
+                        EXPECT_NEAR(r.glass[c], r.noGlass[c], 1) << "clear glass must not change the pixel";
+                }
             }
-        }
 }
 
 // The glass test with a transmissive pane (KHR_materials_transmission: white, smooth, thin, no
@@ -238,11 +279,12 @@ TEST(FogGlass, TransmissivePaneMatchesPhysicalCompositing) {
     params.falloff = 0.02f;
     const glm::dvec3 cf(params.color);
     double sensitivity = 0.0;
-    for (FogMode mode : {FogMode::Forward, FogMode::ForwardSplit})
+    for (Path path : {kDeferred, kInMaterials, Path{FogMode::ForwardSplit}})
         for (auto [gd, wd] : {std::pair{5.0f, 30.0f}, std::pair{20.0f, 80.0f}, std::pair{2.0f, 150.0f}}) {
+            if (!path.defer && gd != 20.0f) continue; // the fallback: one distance is enough
             auto v = perspectiveViewer({0, 0, 3}, {0, 10, 3});
             v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
-            auto fogNode = FogNode::create(params, mode);
+            auto fogNode = fogOn(params, path);
             fogNode->addChild(panel(400, 400, facingCamera(wd, 3), flat(glm::vec3(cb))));
             auto m = metallicRoughness(glm::vec3(1.0f), 0.0f, 0.0f);
             m->transmission = 1.0f;
@@ -250,6 +292,7 @@ TEST(FogGlass, TransmissivePaneMatchesPhysicalCompositing) {
             v->setSceneData(fogNode);
             v->frame();
             expectNoGlErrors(*v);
+            expectDeferredAsAsked(*fogNode, path);
             const FloatImage img = v->renderer().readPixelsLinear();
             const float* p = &img.rgba[(std::size_t(kSize / 2) * std::size_t(kSize) + kSize / 2) * 4];
             const Ray r = rayThrough(*v->camera(), kSize / 2 + 0.5, kSize / 2 + 0.5);
@@ -261,7 +304,7 @@ TEST(FogGlass, TransmissivePaneMatchesPhysicalCompositing) {
             const glm::dvec3 twice = (1 - kn) * (1 - F) * mixd(cb, cf, kOf(params, r.origin, pw)) + kn * cf;
             for (int c = 0; c < 3; ++c)
                 EXPECT_NEAR(p[c], physical[c], 2e-3)
-                    << modeName(mode) << " glass at " << gd << " channel " << c;
+                    << pathName(path) << " glass at " << gd << " channel " << c;
             sensitivity = std::max(sensitivity, glm::length(physical - twice));
         }
     EXPECT_GT(sensitivity, 0.02) << "the cases tell single from double fog";
@@ -273,11 +316,11 @@ TEST(FogGlass, PaperModesAreCharacterised) {
         for (float a : {0.0f, 0.3f, 1.0f}) {
             const double al = a;
             // ForwardSplit (seed §2): glass fogged on [O, Pn], the wall behind it on [Pn, P] only.
-            const GlassResult s = renderGlass(FogMode::ForwardSplit, a, gd, wd);
+            const GlassResult s = renderGlass({FogMode::ForwardSplit}, a, gd, wd);
             const glm::dvec3 split = al * mixd(cg, cf, s.kn) + (1 - al) * mixd(cb, cf, s.kf);
             const glm::dvec3 physical = (1 - s.kn) * (al * cg + (1 - al) * mixd(cb, cf, s.kf)) + s.kn * cf;
             // PostProcess (seed §1): one k from the glass depth over the composited pixel.
-            const GlassResult p = renderGlass(FogMode::PostProcess, a, gd, wd);
+            const GlassResult p = renderGlass({FogMode::PostProcess}, a, gd, wd);
             const glm::dvec3 post = mixd(al * cg + (1 - al) * cb, cf, p.kn);
             double splitErr = 0, postErr = 0;
             for (int c = 0; c < 3; ++c) {
@@ -324,11 +367,11 @@ TEST(FogSplit, EpsilonScalesWithDistance) {
 
 TEST(FogForeign, ApplicationShaderGetsTheSameFogAsTheBuiltInMaterial) {
     const glm::vec3 surface(0.2f, 0.5f, 0.1f);
-    for (FogMode mode : {FogMode::Forward, FogMode::ForwardSplit, FogMode::PostProcess}) {
+    for (Path path : kPaths) {
         Image images[2];
         for (int foreign = 0; foreign < 2; ++foreign) {
             auto v = perspectiveViewer({0, 0, 8}, {0, 60, 0});
-            auto fogNode = FogNode::create(testFog(FogResponse::Exponential), mode);
+            auto fogNode = fogOn(testFog(FogResponse::Exponential), path);
             auto q = shapes::quad(400, 400);
             auto& ss = q->getOrCreateStateSet();
             if (foreign) {
@@ -343,9 +386,10 @@ TEST(FogForeign, ApplicationShaderGetsTheSameFogAsTheBuiltInMaterial) {
             v->setSceneData(fogNode);
             v->frame();
             expectNoGlErrors(*v);
+            expectDeferredAsAsked(*fogNode, path);
             images[foreign] = v->capture();
         }
-        EXPECT_EQ(channelsDiffering(images[0], images[1]), 0) << modeName(mode);
+        EXPECT_EQ(channelsDiffering(images[0], images[1]), 0) << pathName(path);
     }
 }
 
@@ -387,32 +431,114 @@ TEST(FogScope, OnlyTheSubtreeIsFoggedAndTheInnerNodeWins) {
             p.fog ? mixd(glm::dvec3(c), glm::dvec3(p.fog->color), kOf(*p.fog, eye, world)) : glm::dvec3(c);
         EXPECT_LE(channelError(img, px.x, px.y, expected), 2) << "probe at " << p.x << "," << p.y;
     }
+    // Fog on a subtree falls back to the materials: the unfogged panel would get the pass's fog.
+    EXPECT_FALSE(outer->lastFrameDeferred());
+    EXPECT_FALSE(inner->lastFrameDeferred());
+    // With the outer node over everything it still does: the inner fog's colour code runs after
+    // it in the nested items, and a pass after the opaque items would swap the two.
+    v->setSceneData(outer);
+    v->frame();
+    EXPECT_FALSE(outer->lastFrameDeferred());
+    EXPECT_FALSE(inner->lastFrameDeferred());
 }
 
 TEST(FogSky, OffLeavesTheClearColourAndFarPlaneFogsToTheFarPlane) {
-    for (FogSky sky : {FogSky::Off, FogSky::FarPlane}) {
-        auto v = perspectiveViewer({0, 0, 8}, {0, 60, 20}, 0.5f, 300.0f);
-        FogParameters p = testFog(FogResponse::Exponential);
-        p.sky = sky;
-        auto fogNode = FogNode::create(p);
-        fogNode->addChild(panel(1, 1, glm::translate(glm::mat4(1.0f), {0, 5, 0}), flat({1, 1, 1})));
-        v->setSceneData(fogNode);
-        v->frame();
-        expectNoGlErrors(*v);
-        const Image img = v->capture();
-        const Camera& cam = *v->camera();
-        for (auto [x, y] : {std::pair{5, 5}, std::pair{kSize / 2, 10}, std::pair{kSize - 3, kSize / 3}}) {
-            const Ray r = rayThrough(cam, x + 0.5, y + 0.5);
-            // Where the ray meets the far plane (view-space depth = far).
-            const glm::dvec3 fwd = -glm::dvec3(glm::transpose(glm::dmat3(cam.viewMatrix))[2]);
-            const glm::dvec3 farPoint = r.origin + r.dir * (300.0 / glm::dot(r.dir, fwd));
-            const double k = sky == FogSky::Off ? 0.0 : kOf(p, r.origin, farPoint);
-            EXPECT_LE(channelError(img, x, y, mixd(glm::dvec3(cam.clearColor), glm::dvec3(p.color), k)), 2)
-                << (sky == FogSky::Off ? "Off" : "FarPlane") << " pixel " << x << "," << y << " k " << k
-                << " got " << pixelAt(img, x, y)[0] << "," << pixelAt(img, x, y)[1] << ","
-                << pixelAt(img, x, y)[2];
+    for (Path path : {kDeferred, kInMaterials})
+        for (FogSky sky : {FogSky::Off, FogSky::FarPlane}) {
+            auto v = perspectiveViewer({0, 0, 8}, {0, 60, 20}, 0.5f, 300.0f);
+            FogParameters p = testFog(FogResponse::Exponential);
+            p.sky = sky;
+            auto fogNode = fogOn(p, path);
+            fogNode->addChild(panel(1, 1, glm::translate(glm::mat4(1.0f), {0, 5, 0}), flat({1, 1, 1})));
+            v->setSceneData(fogNode);
+            v->frame();
+            expectNoGlErrors(*v);
+            expectDeferredAsAsked(*fogNode, path);
+            const Image img = v->capture();
+            const Camera& cam = *v->camera();
+            for (auto [x, y] : {std::pair{5, 5}, std::pair{kSize / 2, 10}, std::pair{kSize - 3, kSize / 3}}) {
+                const Ray r = rayThrough(cam, x + 0.5, y + 0.5);
+                // Where the ray meets the far plane (view-space depth = far).
+                const glm::dvec3 fwd = -glm::dvec3(glm::transpose(glm::dmat3(cam.viewMatrix))[2]);
+                const glm::dvec3 farPoint = r.origin + r.dir * (300.0 / glm::dot(r.dir, fwd));
+                const double k = sky == FogSky::Off ? 0.0 : kOf(p, r.origin, farPoint);
+                EXPECT_LE(channelError(img, x, y, mixd(glm::dvec3(cam.clearColor), glm::dvec3(p.color), k)),
+                          2)
+                    << pathName(path) << (sky == FogSky::Off ? " Off" : " FarPlane") << " pixel " << x << ","
+                    << y << " k " << k << " got " << pixelAt(img, x, y)[0] << "," << pixelAt(img, x, y)[1]
+                    << "," << pixelAt(img, x, y)[2];
+            }
         }
+}
+
+// A lit scene of every kind of opaque item (lit material, alpha-masked, foreign shader) with
+// blended glass in front, seen from an orbit: the deferred pass and the fog in the materials give
+// the same image within 1 LSB (the deferred colour is stored in sRGB8 before it is fogged; where
+// the lit colour exceeds 1 the target clips it before the pass, which it does not in a material). Then
+// a multisampled view, which has no single depth per pixel, falls back.
+TEST(FogDeferred, EqualsTheFogInTheMaterialsOnAnOrbit) {
+    auto scene = [] {
+        auto root = Group::create();
+        auto ambient = Light::create(LightType::Ambient);
+        ambient->color = glm::vec3(0.15f);
+        root->addChild(ambient);
+        auto sun = Light::create(LightType::Directional);
+        sun->direction = {-0.3f, -0.5f, -0.8f};
+        sun->color = glm::vec3(0.4f); // every surface stays below 1: an sRGB8 target clips above
+        root->addChild(sun);
+        auto ground = shapes::quad(300, 300);
+        ground->getOrCreateStateSet().material.set(Material::create());
+        root->addChild(ground);
+        for (int i = 0; i < 6; ++i) {
+            const float a = float(i) * 1.05f, r = 6.0f + 9.0f * float(i);
+            auto t =
+                Transform::create(glm::translate(glm::mat4(1.0f), {r * std::cos(a), r * std::sin(a), 1.5f}));
+            t->addChild(shapes::box({2, 2, 3 + float(i)}));
+            auto m = metallicRoughness({0.8f - 0.1f * float(i), 0.3f, 0.2f + 0.1f * float(i)}, 0.0f, 0.6f);
+            if (i == 2) m->alphaCutoff = 0.5f; // the masked variant
+            t->getOrCreateStateSet().material.set(m);
+            root->addChild(t);
+        }
+        auto app = shapes::quad(4, 4);
+        app->getOrCreateStateSet().program.set(ShaderProgram::create("app", kForeignVert, kForeignFrag));
+        app->getOrCreateStateSet().setUniform("appColor", glm::vec3(0.2f, 0.5f, 0.1f));
+        root->addChild(panel(4, 4, facingCamera(-4, 2), flat({0.3f, 0.3f, 0.3f})));
+        auto appAt = Transform::create(facingCamera(4, 2));
+        appAt->addChild(app);
+        root->addChild(appAt);
+        auto glass = panel(6, 4, facingCamera(0, 2), flat({0.1f, 0.6f, 0.3f}, 0.4f));
+        glass->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+        glass->getOrCreateStateSet().cullFace.set(CullFace::None);
+        root->addChild(glass);
+        return root;
+    };
+    FogParameters p = FogParameters::ground();
+    p.density = 0.03f;
+    p.falloff = 0.1f;
+    for (float angle : {0.4f, 2.2f}) {
+        const glm::vec3 eye(30 * std::cos(angle), 30 * std::sin(angle), 6 + 4 * std::sin(angle));
+        Image images[2];
+        for (Path path : {kDeferred, kInMaterials}) {
+            auto v = perspectiveViewer(eye, {0, 0, 1}, 0.5f, 1000.0f);
+            auto fogNode = fogOn(p, path);
+            fogNode->addChild(scene());
+            v->setSceneData(fogNode);
+            v->frame();
+            expectNoGlErrors(*v);
+            expectDeferredAsAsked(*fogNode, path);
+            images[path.defer ? 0 : 1] = v->capture();
+        }
+        EXPECT_EQ(channelsDiffering(images[0], images[1], 1), 0) << "orbit angle " << angle;
+        EXPECT_GT(channelsDiffering(images[0], images[1], 0), 0) << "the paths are really different";
     }
+    auto v = perspectiveViewer({30, 0, 6}, {0, 0, 1});
+    v->camera()->setAntiAliasing(AntiAliasing::msaa(4));
+    auto fogNode = FogNode::create(p);
+    fogNode->addChild(scene());
+    v->setSceneData(fogNode);
+    v->frame();
+    expectNoGlErrors(*v);
+    EXPECT_FALSE(fogNode->lastFrameDeferred());
 }
 
 TEST(FogNodeApi, BadParametersAreRefusedAndThePreviousOnesStay) {

@@ -122,6 +122,47 @@ void FogNode::addPostPass(FrameSetup& f) const {
         });
 }
 
+// Forward mode, deferred opaque: seed §1 on the draw target after the opaque items, before the
+// transmission copy (glass sees fogged opaque, as when the materials fogged it) and before the
+// blended items, which fog themselves. Pixels at depth 1 take the sky rule of the sky pass, which
+// this replaces; with `sky` false (another fog owns the sky) they are left alone.
+void FogNode::addOpaquePass(FrameSetup& f, bool sky) const {
+    struct Data {
+        ResourceId depth, colour;
+    };
+    FogParameters p = parameters_;
+    if (!sky) p.sky = FogSky::Off;
+    f.addPass<Data>(
+        "fog opaque", PassPhase::AfterOpaque,
+        [](PassBuilder& b, Data& d) {
+            d.depth = b.sample(b.get(resources::DrawDepth), "sgfx_fogSceneDepth");
+            d.colour = b.write(resources::DrawColour); // a colour-only target: no depth feedback loop
+        },
+        [p](PassCommands& c, const Data& d) {
+            gl::Program& program = c.program(fullscreenBase(true), std::array{&fullscreenDecl(true)});
+            c.target({d.colour});
+            c.bind(program, "sgfx_fogSceneDepth", d.depth);
+            setUniforms(program, p, c.frame().eye);
+            c.fullscreen(program, {.blend = BlendMode::Alpha});
+        });
+}
+
+// Deferring is exact when the pass reaches every opaque fragment the materials would have fogged
+// and nothing would have changed the colour after the fog: every opaque item is below this node,
+// no effect after it in their sets has colour code, and the depth holds one sample a pixel.
+bool FogNode::canDefer(const FrameSetup& f) const {
+    const RenderQueue& q = f.queue();
+    if (f.view().samples > 1 || f.itemsWithEffect(*this, q.opaque) != q.opaque.size()) return false;
+    for (const EffectSet& set : q.effectSets) {
+        const auto self = std::find(set.effects.begin(), set.effects.end(), this);
+        if (self != set.effects.end() &&
+            std::any_of(std::next(self), set.effects.end(),
+                        [](const EffectNode* e) { return !e->snippet().colorCode.empty(); }))
+            return false;
+    }
+    return true;
+}
+
 // The forward modes' sky: pixels still at the far plane after the opaque items.
 void FogNode::addSkyPass(FrameSetup& f) const {
     struct Data {
@@ -212,6 +253,15 @@ const ShaderSnippet& FogNode::snippet() const {
         sn.samplers = {{"sgfx_fogNearestDepth", std::string(kNearestDepth)}};
         return sn;
     }();
+    // Deferred opaque: the "fog opaque" pass fogs opaque and masked variants, which compile no fog.
+    static const ShaderSnippet blended = [] {
+        ShaderSnippet sn = snippetOf("fog_blended", "", text("fog_optical_depth.glsl"),
+                                     "// blended and transmissive variants only\n"
+                                     "#if defined(SGFX_BLEND) || defined(SGFX_TRANSMISSION)\n" +
+                                         text("fog_forward.glsl") + "\n#endif");
+        sn.transmittedCode = text("fog_forward_transmitted.glsl");
+        return sn;
+    }();
     static const ShaderSnippet post = snippetOf("fog_post", "", ""); // the pass does it all
     switch (mode_) {
     case FogMode::ForwardSplit:
@@ -221,7 +271,7 @@ const ShaderSnippet& FogNode::snippet() const {
     case FogMode::Forward:
         break;
     }
-    return forward;
+    return deferred_ ? blended : forward;
 }
 
 void FogNode::setupFrame(FrameSetup& f) const {
@@ -230,12 +280,19 @@ void FogNode::setupFrame(FrameSetup& f) const {
         if (f.once("fog post-process")) addPostPass(f);
         return;
     }
+    deferred_ = mode_ == FogMode::Forward && deferOpaque_ && canDefer(f);
     if (mode_ == FogMode::ForwardSplit && f.once("fog: nearest depth")) addNearestDepth(f);
-    if (parameters_.sky != FogSky::Off && f.once("fog sky")) addSkyPass(f);
+    const bool sky = parameters_.sky != FogSky::Off && f.once("fog sky");
+    if (deferred_)
+        addOpaquePass(f, sky);
+    else if (sky)
+        addSkyPass(f);
 }
 
 void FogNode::applyUniforms(gl::Program& program, const DrawContext& context) const {
-    if (mode_ != FogMode::PostProcess) setUniforms(program, parameters_, context.frame.eye);
+    if (mode_ == FogMode::PostProcess) return;
+    if (deferred_ && program.location("sgfx_fogDensity") < 0) return; // an opaque variant: no fog code
+    setUniforms(program, parameters_, context.frame.eye);
 }
 
 void FogNode::setUniforms(gl::Program& program, const FogParameters& p, const glm::vec3& eye) {

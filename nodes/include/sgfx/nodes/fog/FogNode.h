@@ -14,6 +14,9 @@ namespace sgfx {
 enum class FogMode : std::uint8_t {
     /// Every fragment, opaque or transparent, is fogged over its whole segment from the eye.
     /// Exact through alpha-blended glass with the Exponential response. No pre-pass. Default.
+    /// When the node covers every opaque and masked item of a single-sample view, those are
+    /// fogged by one full-screen pass after them, from the depth buffer (the same result; see
+    /// FogNode::lastFrameDeferred); blended and transmissive items keep the per-fragment fog.
     Forward,
     /// Seed §2: a depth pre-pass of the whole view; in every material, fragments in front
     /// (‖P−O‖ − ‖Pn−O‖ < ε) get F_n on [O, Pn], those behind get F_f on [Pn, P].
@@ -78,6 +81,16 @@ public:
     const FogParameters& parameters() const { return parameters_; }
     FogMode mode() const { return mode_; }
 
+    /// Forward mode: whether the view set up last fogged its opaque and masked items in one
+    /// full-screen pass ("fog opaque") instead of in their materials. It does when every opaque
+    /// item of the view is below this node, no effect with colour code comes after it, and the
+    /// view draws single-sample; otherwise the materials fog every fragment as before.
+    bool lastFrameDeferred() const { return deferred_; }
+    /// Forward mode: false keeps the fog in every material even where deferring is exact (for
+    /// comparisons); default true.
+    void setDeferOpaque(bool allow) { deferOpaque_ = allow; }
+    bool deferOpaque() const { return deferOpaque_; }
+
     /// Sets the fog uniforms (fog_optical_depth.glsl) on any program that declares them, for a view
     /// whose eye is at `eye`.
     static void setUniforms(gl::Program& program, const FogParameters& parameters, const glm::vec3& eye);
@@ -86,8 +99,14 @@ private:
     void addPostPass(FrameSetup& frame) const;
     void addSkyPass(FrameSetup& frame) const;
     void addNearestDepth(FrameSetup& frame) const;
+    void addOpaquePass(FrameSetup& frame, bool sky) const;
+    bool canDefer(const FrameSetup& frame) const;
     FogParameters parameters_;
     FogMode mode_ = FogMode::Forward;
+    /// Set by setupFrame for the view about to be drawn (views are set up and drawn one after
+    /// the other), read by snippet() when that view's materials are composed.
+    mutable bool deferred_ = false;
+    bool deferOpaque_ = true;
 };
 
 } // namespace sgfx
