@@ -404,6 +404,8 @@ TEST(FogScope, OnlyTheSubtreeIsFoggedAndTheInnerNodeWins) {
     innerP.color = {0.9f, 0.2f, 0.2f};
     auto outer = FogNode::create(outerP);
     auto inner = FogNode::create(innerP);
+    outer->setDeferOpaque(true); // allowed, so the fallbacks below are the node's own choice
+    inner->setDeferOpaque(true);
     const glm::vec3 c(0.1f, 0.4f, 0.2f);
     auto at = [](float x, float y) { return glm::translate(glm::mat4(1.0f), {x, y, 0}); };
     outer->addChild(panel(1, 1, at(-1, 1), flat(c)));
@@ -534,11 +536,25 @@ TEST(FogDeferred, EqualsTheFogInTheMaterialsOnAnOrbit) {
     auto v = perspectiveViewer({30, 0, 6}, {0, 0, 1});
     v->camera()->setAntiAliasing(AntiAliasing::msaa(4));
     auto fogNode = FogNode::create(p);
+    fogNode->setDeferOpaque(true);
     fogNode->addChild(scene());
     v->setSceneData(fogNode);
     v->frame();
     expectNoGlErrors(*v);
     EXPECT_FALSE(fogNode->lastFrameDeferred());
+}
+
+TEST(FogNodeApi, DeferringIsOffByDefault) {
+    auto v = perspectiveViewer({30, 0, 6}, {0, 0, 1});
+    auto fogNode = FogNode::create(FogParameters::ground());
+    fogNode->addChild(panel(4, 4, glm::mat4(1.0f), flat({0.5f, 0.5f, 0.5f})));
+    v->setSceneData(fogNode);
+    v->frame();
+    EXPECT_FALSE(fogNode->deferOpaque());
+    EXPECT_FALSE(fogNode->lastFrameDeferred());
+    fogNode->setDeferOpaque(true);
+    v->frame();
+    EXPECT_TRUE(fogNode->lastFrameDeferred()) << "the same scene defers once allowed";
 }
 
 TEST(FogNodeApi, BadParametersAreRefusedAndThePreviousOnesStay) {

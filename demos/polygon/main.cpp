@@ -112,10 +112,11 @@ options:
                       occlusion query per frame, which itself costs a little time)
 
 effects:
-  --fog off|forward|split|post
+  --fog off|forward|deferred|split|post
                       height fog over the whole scene (default forward): in every material
-                      (forward), the paper's depth pre-pass split (split) or its full-screen
-                      post-process (post)
+                      (forward), forward with the opaque items' fog in one pass after them where
+                      exact (deferred), the paper's depth pre-pass split (split) or its
+                      full-screen post-process (post)
   --fog-preset solid|ground
                       the paper's figure 1 parameters: solid (rho0 = 1e-4, b = 1e-4) or
                       ground fog (rho0 = 1e-3, b = 4.5e-3, default)
@@ -226,6 +227,7 @@ struct Options {
     long windowFrames = 0; // --window: quit after this many frames (0 = until closed)
     std::string osgView;   // --osg-view: a .view file for the still image
     std::optional<sgfx::FogMode> fog = sgfx::FogMode::Forward;
+    bool fogDeferOpaque = false; // --fog deferred: Forward with the opaque items' fog in one pass
     sgfx::FogParameters fogParameters = sgfx::FogParameters::ground();
     sgfx::TransparencyMode transparency = sgfx::TransparencyMode::Sorted;
     sgfx::AntiAliasing aa;
@@ -407,12 +409,16 @@ Options parseArgs(int argc, char** argv) {
                 o.fog.reset();
             else if (v == "forward")
                 o.fog = sgfx::FogMode::Forward;
-            else if (v == "split")
+            else if (v == "deferred") {
+                o.fog = sgfx::FogMode::Forward;
+                o.fogDeferOpaque = true;
+            } else if (v == "split")
                 o.fog = sgfx::FogMode::ForwardSplit;
             else if (v == "post")
                 o.fog = sgfx::FogMode::PostProcess;
             else
-                throw UsageError("--fog: '" + std::string(v) + "' is not off, forward, split or post");
+                throw UsageError("--fog: '" + std::string(v) +
+                                 "' is not off, forward, deferred, split or post");
         } else if (arg == "--fog-preset") {
             const std::string_view v = value();
             const sgfx::FogParameters keep = o.fogParameters; // response and sky stay as chosen
@@ -963,6 +969,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     setupCamera(o, viewer, startPose(o, o.time));
     // Fog is always in the graph here so F can cycle it: off, forward, split, post.
     auto fog = sgfx::FogNode::create(o.fogParameters, o.fog.value_or(sgfx::FogMode::Forward));
+    fog->setDeferOpaque(o.fogDeferOpaque);
     fog->enabled = o.fog.has_value();
     fog->addChild(withShadows(o, withRain(o, scene.root, viewer.camera()), scene));
     viewer.setSceneData(fog);

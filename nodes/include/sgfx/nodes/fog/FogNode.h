@@ -86,8 +86,9 @@ public:
     /// item of the view is below this node, no effect with colour code comes after it, and the
     /// view draws single-sample; otherwise the materials fog every fragment as before.
     bool lastFrameDeferred() const { return deferred_; }
-    /// Forward mode: false keeps the fog in every material even where deferring is exact (for
-    /// comparisons); default true.
+    /// Forward mode: true lets the node defer its opaque items' fog to one full-screen pass where
+    /// that is exact. Default false: on llvmpipe the pass costs what it saves (docs/effects/fog.md,
+    /// "Cost"), and on an sRGB8 target an overbright surface is clipped before the pass fogs it.
     void setDeferOpaque(bool allow) { deferOpaque_ = allow; }
     bool deferOpaque() const { return deferOpaque_; }
 
@@ -106,7 +107,7 @@ private:
     /// Set by setupFrame for the view about to be drawn (views are set up and drawn one after
     /// the other), read by snippet() when that view's materials are composed.
     mutable bool deferred_ = false;
-    bool deferOpaque_ = true;
+    bool deferOpaque_ = false;
 };
 
 } // namespace sgfx
