@@ -77,7 +77,7 @@ pct() { awk -v x="$1" 'BEGIN { printf "%+.0f %%", (x - 1) * 100 }'; }
 
 stamp "$build"
 echo
-echo "Foreign content: the proving ground exported at full detail ($scene; ${export_flags[*]:-default scale}), sgfx loading the glTF (metallic-roughness), OSG the OBJ, orbit camera, $frames frames a run, $rounds interleaved rounds."
+echo "Foreign content: the proving ground exported at full detail ($scene; ${export_flags[*]:-default scale}), sgfx loading the glTF (metallic-roughness; sgfx-view flags: ${SGFX_VIEW_FLAGS:-none}), OSG the OBJ (osg_view flags: ${OSG_VIEW_FLAGS:-none}), orbit camera, $frames frames a run, $rounds interleaved rounds."
 echo
 echo "| size | fog | sgfx ms | OSG ms | sgfx × OSG |"
 echo "|---|---|---:|---:|---:|"
