@@ -76,7 +76,8 @@ renders a PNG.
                      one is an error listing the files' animations)
   --list-animations  print each animation's index, name, duration and channels, then exit
   --bench N          headless: time N frames (after 3 warm-up frames, each ended by glFinish)
-                     and print a BENCH line (median_ms=...) like polygon --bench's; no PNG
+                     and print a BENCH line (median_ms=...) like polygon --bench's; with --out
+                     the last frame is also written (as osg_view --frames writes its own)
   --orbit            with --bench: the orbit camera of bench/foreign_table.sh (eye at 1.5 times
                      the bounding radius, 30 degrees elevation, 60 degree vertical field of
                      view, the azimuth advancing 360/N degrees a frame from --yaw)
@@ -246,8 +247,8 @@ view::Options parse(int argc, char** argv) {
         throw UsageError("--pick: the pixel is outside the " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
     if (o.orbit && !o.benchFrames) throw UsageError("--orbit needs --bench N");
-    if (o.benchFrames && (o.window || o.compare || o.pick || o.outGiven))
-        throw UsageError("--bench cannot go with --window, --self-test, --compare, --pick or --out");
+    if (o.benchFrames && (o.window || o.compare || o.pick))
+        throw UsageError("--bench cannot go with --window, --self-test, --compare or --pick");
     if (o.pick || o.benchFrames) o.headless = true;
     if (o.outGiven && !o.window) o.headless = true;
     if (o.compare) o.headless = true;
@@ -314,6 +315,7 @@ int runBench(const view::Options& o, view::ViewScene& scene) {
     }
     for (const std::string& e : viewer->renderer().takeGlErrors())
         std::fprintf(stderr, "sgfx-view: GL: %s\n", e.c_str());
+    if (o.outGiven) sgfx::writePng(o.out, viewer->capture()); // the last frame, to set beside OSG's
     const double n = double(o.benchFrames), mean = std::accumulate(ms.begin(), ms.end(), 0.0) / n;
     std::printf(
         "BENCH sgfx ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f triangles=%.0f draw_calls=%.1f "
