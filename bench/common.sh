@@ -24,7 +24,7 @@ stamp() {
   [ -n "$(git -C "$src" status --porcelain --untracked-files=no 2>/dev/null)" ] && rev="$rev+dirty"
   local png; png=$(mktemp --suffix=.png)
   local gl; gl=$("$build/demos/polygon" --size 16x16 --scale 0.05 --fog off --out "$png" "$@" 2>/dev/null |
-    sed -n 's/^frame: .* culled (\(.*\))$/\1/p')
+    sed -n 's/^frame: .* culled (\(.*\))$/\1/p') || true # no polygon: an unknown renderer
   rm -f "$png"
   echo "Measured $(date -u '+%F %H:%M') UTC at git $rev on ${gl:-an unknown renderer}, $(nproc) CPU cores."
 }
