@@ -8,6 +8,8 @@ source "$(dirname "$0")/common.sh"
 build=${1:-build}; rounds=${2:-3}; shift $(( $# < 2 ? $# : 2 ))
 sizes=("$@"); [ ${#sizes[@]} -gt 0 ] || sizes=(1280x720:24 1920x1080:16)
 modes=(none msaa4 ssaa2 fxaa taa smaa smaa-t2x)
+stamp "$build"
+echo
 echo "| size | none ms (FPS) | MSAA 4x | SSAA 2x | FXAA | TAA | SMAA | SMAA T2x |"
 echo "|---|---|---|---|---|---|---|---|"
 for entry in "${sizes[@]}"; do

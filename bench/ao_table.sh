@@ -9,6 +9,8 @@ source "$(dirname "$0")/common.sh"
 build=${1:-build}; rounds=${2:-3}; shift $(( $# < 2 ? $# : 2 ))
 sizes=("$@"); [ ${#sizes[@]} -gt 0 ] || sizes=(1280x720:24 1920x1080:16)
 configs=(off "16" "32" "64" "16h" "32h" "64h")
+stamp "$build"
+echo
 echo "| size | AO | ms/frame (FPS) | vs off | G-buffer ms | occlusion ms | blur ms |"
 echo "|---|---|---|---|---|---|---|"
 for entry in "${sizes[@]}"; do

@@ -10,6 +10,11 @@
 // x columns: exactly the nx/2 far columns are in view (half the leaves when nx is even), and the
 // other planes hold all of them, with each box >= 2 px in radius (so OSG's default small-feature
 // culling drops none).
+//
+// Mixed-state variant (--mixed, both sides): each leaf Transform also rotates its box about a
+// tilted axis and scales it non-uniformly (factors in [0.7, 1], so every bounding sphere shrinks
+// and the camera keeps exactly the same leaves: leafMatrix), and the leaves use 8 distinct boxes,
+// each with its own material (StateSet): stateOf.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -49,6 +54,46 @@ inline void cellCenter(int i, int j, int k, float out[3]) {
     out[0] = float(i) * kSpacing;
     out[1] = float(j) * kSpacing;
     out[2] = float(k) * kSpacing;
+}
+
+// --mixed: which of the 8 boxes (StateSets) cell (i, j, k) uses.
+constexpr int kStates = 8;
+inline int stateOf(int i, int j, int k) {
+    return (i + 3 * j + 5 * k) % kStates;
+}
+
+// The leaf matrix of cell (i, j, k), column-major (OpenGL's and osg::Matrixf's memory layout):
+// translate(centre) * rotate(angle, axis) * scale(s) when mixed, else the translation alone.
+inline void leafMatrix(int i, int j, int k, bool mixed, float m[16]) {
+    float c[3];
+    cellCenter(i, j, k, c);
+    float r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; // rotation * scale, column-major 3x3
+    if (mixed) {
+        const float angle = 2.0f * kPi * float((7 * i + 13 * j + 17 * k) % 31) / 31.0f;
+        const float len = std::sqrt(14.0f), x = 1.0f / len, y = 2.0f / len, z = 3.0f / len;
+        const float co = std::cos(angle), si = std::sin(angle), t = 1.0f - co;
+        // Rodrigues' rotation matrix about (x, y, z), column-major.
+        const float rot[9] = {t * x * x + co,     t * x * y + si * z, t * x * z - si * y,
+                              t * x * y - si * z, t * y * y + co,     t * y * z + si * x,
+                              t * x * z + si * y, t * y * z - si * x, t * z * z + co};
+        const float s[3] = {0.7f + 0.1f * float((5 * i + k) % 4), 0.7f + 0.1f * float((3 * j + i) % 4),
+                            0.7f + 0.1f * float((7 * k + j) % 4)};
+        for (int col = 0; col < 3; ++col)
+            for (int row = 0; row < 3; ++row)
+                r[col * 3 + row] = rot[col * 3 + row] * s[col];
+    }
+    for (int col = 0; col < 3; ++col) {
+        for (int row = 0; row < 3; ++row)
+            m[col * 4 + row] = r[col * 3 + row];
+        m[col * 4 + 3] = 0.0f;
+    }
+    m[12] = c[0], m[13] = c[1], m[14] = c[2], m[15] = 1.0f;
+}
+
+// The colour of box `state` under --mixed (each box its own material).
+inline void stateColour(int state, float rgb[3]) {
+    for (int c = 0; c < 3; ++c)
+        rgb[c] = 0.3f + 0.4f * float((state >> c) & 1);
 }
 
 struct View {
@@ -139,12 +184,12 @@ inline int defaultFrames(long n) {
     return int(std::clamp(3000000L / std::max(1L, n), 7L, 300L));
 }
 
-// Median of a sample (sorted in place).
-// The command line both sides take: --n N, --frames F, --no-memory, and (OSG only) --no-geode.
+// The command line both sides take: --n N, --frames F, --no-memory, --mixed, and (OSG only)
+// --no-geode.
 struct Args {
     long n = 10000;
     int frames = 0; // 0: defaultFrames(n)
-    bool memory = true, geode = true;
+    bool memory = true, geode = true, mixed = false;
 };
 // Returns false (after printing the usage) for an unknown option or a bad number.
 inline bool parseArgs(int argc, char** argv, const char* program, bool geodeOption, Args& a) {
@@ -158,13 +203,15 @@ inline bool parseArgs(int argc, char** argv, const char* program, bool geodeOpti
             if (*end || a.frames < 0) a.n = -1;
         } else if (!std::strcmp(argv[i], "--no-memory")) {
             a.memory = false;
+        } else if (!std::strcmp(argv[i], "--mixed")) {
+            a.mixed = true;
         } else if (geodeOption && !std::strcmp(argv[i], "--no-geode")) {
             a.geode = false;
         } else {
             a.n = -1;
         }
         if (a.n < 0) {
-            std::fprintf(stderr, "usage: %s [--n N] [--frames F] [--no-memory]%s\n", program,
+            std::fprintf(stderr, "usage: %s [--n N] [--frames F] [--no-memory] [--mixed]%s\n", program,
                          geodeOption ? " [--no-geode]" : "");
             return false;
         }
@@ -173,6 +220,7 @@ inline bool parseArgs(int argc, char** argv, const char* program, bool geodeOpti
     return true;
 }
 
+// Median of a sample (sorted in place).
 inline double median(std::vector<double>& v) {
     std::sort(v.begin(), v.end());
     const std::size_t m = v.size() / 2;

@@ -25,6 +25,8 @@ for ((r = 0; r < rounds; ++r)); do
 done
 for c in "${configs[@]}"; do echo "# $size $c: ${runs[$c]}" >&2; done
 base=$(median ${runs[lamps0]})
+stamp "$build"
+echo
 echo "| scene ($size, $frames frames, median of $rounds) | ms/frame | FPS | x 0 lamps |"
 echo "|---|---:|---:|---:|"
 for c in "${configs[@]}"; do

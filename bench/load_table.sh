@@ -13,6 +13,8 @@ trap 'rm -rf "$work"' EXIT
 "$build/demos/polygon" --scale "$scale" --export-gltf "$work/polygon.glb" >/dev/null
 "$build/demos/polygon" --scale "$scale" --export-gltf "$work/polygon.gltf" >/dev/null
 "$build/demos/polygon" --scale "$scale" --export-obj "$work/polygon.obj" >/dev/null
+stamp "$build"
+echo
 echo "| file | size (MB) | triangles | load ms (median of 5) | peak RSS (MB) |"
 echo "|---|---:|---:|---:|---:|"
 for f in ../shared/assets/gltf/MetalRoughSpheresNoTextures/glTF/MetalRoughSpheresNoTextures.gltf \

@@ -33,6 +33,8 @@ for ((r = 0; r < rounds; ++r)); do
   done
 done
 for c in "${configs[@]}"; do echo "# $size $c ms:${runs[$c]} ratio:${ratios[$c]}" >&2; done
+stamp "$build"
+echo
 echo "| configuration ($size, $frames frames, $rounds interleaved rounds) | median ms/frame | median of per-round ratios |"
 echo "|---|---:|---:|"
 for c in "${configs[@]}"; do

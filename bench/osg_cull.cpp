@@ -6,8 +6,11 @@
 // StateGraph::prune (counted with the cull). CullSettings are OSG's defaults (DEFAULT_CULLING,
 // COMPUTE_NEAR_FAR_USING_BOUNDING_VOLUMES). No GL context: culling never touches GL.
 //
-//   osg_cull [--n N] [--frames F] [--no-memory] [--no-geode]
-//     --no-geode  put the Geometry straight under each MatrixTransform (OSG >= 3.4 allows it)
+//   osg_cull [--n N] [--frames F] [--no-memory] [--no-geode] [--mixed]
+//     --no-geode  put the Geometry straight under each MatrixTransform (OSG >= 3.4 allows it) and
+//                 switch small-feature culling off (sgfx has none): OSG's leanest setup
+//     --mixed     cull_scene.h's mixed-state scene: rotated, non-uniformly scaled leaves over 8
+//                 boxes with their own osg::Material each; small-feature culling off as well
 #include "alloc_count.h"
 #include "cull_scene.h"
 
@@ -39,7 +42,7 @@ double peakRssMb() {
     return double(ru.ru_maxrss) / 1024.0;
 }
 
-osg::ref_ptr<osg::Geometry> makeBox() {
+osg::ref_ptr<osg::Geometry> makeBox(int state) {
     const float h = cullscene::kBoxSize * 0.5f;
     osg::ref_ptr<osg::Vec3Array> v = new osg::Vec3Array;
     for (int c = 0; c < 8; ++c)
@@ -56,7 +59,11 @@ osg::ref_ptr<osg::Geometry> makeBox() {
     g->setVertexArray(v.get());
     g->setNormalArray(nrm.get(), osg::Array::BIND_PER_VERTEX);
     g->addPrimitiveSet(new osg::DrawElementsUShort(GL_TRIANGLES, 36, idx));
-    g->getOrCreateStateSet()->setAttributeAndModes(new osg::Material);
+    osg::ref_ptr<osg::Material> material = new osg::Material;
+    float rgb[3];
+    cullscene::stateColour(state, rgb);
+    material->setDiffuse(osg::Material::FRONT_AND_BACK, osg::Vec4(rgb[0], rgb[1], rgb[2], 1.0f));
+    g->getOrCreateStateSet()->setAttributeAndModes(material.get());
     return g;
 }
 
@@ -112,15 +119,19 @@ int main(int argc, char** argv) {
     const bool memory = args.memory;
     const bool geode = args.geode;
 
-    osg::ref_ptr<osg::Geometry> box = makeBox();
-    osg::ref_ptr<osg::Node> leaf = box;
-    if (geode) {
-        osg::ref_ptr<osg::Geode> gd = new osg::Geode;
-        gd->addDrawable(box.get());
-        leaf = gd;
+    std::vector<osg::ref_ptr<osg::Node>> leaves; // one, or kStates with --mixed
+    for (int b = 0; b < (args.mixed ? cullscene::kStates : 1); ++b) {
+        osg::ref_ptr<osg::Geometry> box = makeBox(b);
+        osg::ref_ptr<osg::Node> leaf = box;
+        if (geode) {
+            osg::ref_ptr<osg::Geode> gd = new osg::Geode;
+            gd->addDrawable(box.get());
+            leaf = gd;
+        }
+        leaves.push_back(leaf);
     }
     NodeBytes nodeBytes;
-    if (memory) nodeBytes = measureNodes(leaf.get());
+    if (memory) nodeBytes = measureNodes(leaves.front().get());
 
     const cullscene::Dims d = cullscene::dims(n);
     long groups = 0;
@@ -136,11 +147,10 @@ int main(int argc, char** argv) {
             return g;
         },
         [&](int i, int j, int k) -> osg::ref_ptr<osg::Node> {
-            float c[3];
-            cullscene::cellCenter(i, j, k, c);
-            osg::ref_ptr<osg::MatrixTransform> t =
-                new osg::MatrixTransform(osg::Matrix::translate(c[0], c[1], c[2]));
-            t->addChild(leaf.get());
+            float m[16];
+            cullscene::leafMatrix(i, j, k, args.mixed, m);
+            osg::ref_ptr<osg::MatrixTransform> t = new osg::MatrixTransform(osg::Matrixf(m));
+            t->addChild(leaves[args.mixed ? std::size_t(cullscene::stateOf(i, j, k)) : 0].get());
             return t;
         });
     const double sceneBytes = double(alloccount::live - sceneBefore);
@@ -154,6 +164,8 @@ int main(int argc, char** argv) {
     camera->setViewMatrixAsLookAt(osg::Vec3d(v.eye[0], v.eye[1], v.eye[2]),
                                   osg::Vec3d(v.center[0], v.center[1], v.center[2]),
                                   osg::Vec3d(v.up[0], v.up[1], v.up[2]));
+    if (!geode || args.mixed) // sgfx culls no small features: compare frustum culling alone
+        camera->setCullingMode(camera->getCullingMode() & ~osg::CullSettings::SMALL_FEATURE_CULLING);
     camera->addChild(root.get());
     root->getBound(); // bounds are lazy: computed once, outside the timed frames
 
@@ -223,11 +235,11 @@ int main(int argc, char** argv) {
                 "nodes_per_s=%.4g "
                 "queued=%zu fraction=%.4f sort_ms=%.4f near=%.3f far=%.3f peak_rss_mb=%.1f "
                 "scene_bytes_per_leaf=%.1f group_bytes=%.1f transform_bytes=%.1f sizeof_group=%zu "
-                "sizeof_transform=%zu geode=%d\n",
+                "sizeof_transform=%zu geode=%d mixed=%d\n",
                 d.count(), groups, frames, ms, cullMs.front(), cullscene::median(cullCpuMs),
                 double(nodes) / (ms * 1e-3), queued, double(queued) / double(d.count()),
                 cullscene::median(sortMs), nearPlane, farPlane, peakRssMb(),
                 memory ? sceneBytes / double(d.count()) : 0.0, nodeBytes.group, nodeBytes.transform,
-                sizeof(osg::Group), sizeof(osg::MatrixTransform), geode ? 1 : 0);
+                sizeof(osg::Group), sizeof(osg::MatrixTransform), geode ? 1 : 0, int(args.mixed));
     return 0;
 }

@@ -13,6 +13,8 @@ shift $(($# > 2 ? 2 : $#))
 files=("$@")
 ((${#files[@]})) || files=("$assets/cessna.osgt" "$assets/lz.osgt")
 export OSG_FILE_PATH=${OSG_FILE_PATH:-$assets}
+stamp "$build"
+echo
 echo "| file | loader | median ms | ratio to OSG (median of rounds) | resident growth MiB |"
 echo "|---|---|---:|---:|---:|"
 for f in "${files[@]}"; do

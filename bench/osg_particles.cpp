@@ -4,7 +4,12 @@
 // particles, seen from (0, −60, 20) towards (0, 0, 8) with a 50° field of view. Alpha-blended,
 // unlit, untextured (osgParticle's default attributes without texture).
 //
-//   osg_particles N [--size WxH] [--frames F] [--no-draw]
+//   osg_particles N [--size WxH] [--frames F] [--no-draw] [--shape quad|point]
+//
+// --shape: quad (default) draws each particle as a camera-facing quad of 0.1 m, like sgfx's
+// instanced and pulled paths; point draws GL_POINTS (osgParticle::Particle::POINT) like sgfx's
+// points path, of osg::Point's size in pixels: the 0.1 m projected at the look distance (61.2 m)
+// for the image height, at least 1 (bench/particles_table.sh pairs each with its sgfx peer).
 //
 // --no-draw: the particle system's Geode is not drawn (node mask 0), so the frame is osgParticle's
 // simulation alone (the emitter and program nodes still run).
@@ -16,6 +21,7 @@
 
 #include <osg/BlendFunc>
 #include <osg/Geode>
+#include <osg/Point>
 #include <osgParticle/AccelOperator>
 #include <osgParticle/BoxPlacer>
 #include <osgParticle/ModularEmitter>
@@ -28,6 +34,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -36,12 +43,14 @@
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: osg_particles N [--size WxH] [--frames F]\n");
+        std::fprintf(stderr,
+                     "usage: osg_particles N [--size WxH] [--frames F] [--no-draw] [--shape quad|point]\n");
         return 2;
     }
     const long n = std::strtol(argv[1], nullptr, 10);
     int width = 1280, height = 720, frames = 10;
     bool draw = true;
+    bool points = false;
     for (int i = 2; i < argc; i += 2) {
         if (!std::strcmp(argv[i], "--no-draw")) {
             draw = false;
@@ -51,6 +60,11 @@ int main(int argc, char** argv) {
         if (i + 1 >= argc) break;
         if (!std::strcmp(argv[i], "--size") && std::sscanf(argv[i + 1], "%dx%d", &width, &height) == 2)
             continue;
+        if (!std::strcmp(argv[i], "--shape") &&
+            (!std::strcmp(argv[i + 1], "point") || !std::strcmp(argv[i + 1], "quad"))) {
+            points = !std::strcmp(argv[i + 1], "point");
+            continue;
+        }
         if (!std::strcmp(argv[i], "--frames")) {
             frames = std::atoi(argv[i + 1]);
             continue;
@@ -80,11 +94,15 @@ int main(int argc, char** argv) {
     ps->setDefaultAttributes("", false, false);
     osgParticle::Particle& tpl = ps->getDefaultParticleTemplate();
     tpl.setLifeTime(kLife);
-    tpl.setShape(osgParticle::Particle::QUAD);
+    tpl.setShape(points ? osgParticle::Particle::POINT : osgParticle::Particle::QUAD);
     tpl.setSizeRange(osgParticle::rangef(0.1f, 0.1f));
     tpl.setAlphaRange(osgParticle::rangef(0.8f, 0.8f));
     tpl.setColorRange(osgParticle::rangev4(osg::Vec4(1, 0.9f, 0.7f, 0.8f), osg::Vec4(1, 0.9f, 0.7f, 0.8f)));
     ps->getOrCreateStateSet()->setAttributeAndModes(new osg::BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA));
+    if (points) { // 0.1 m at 61.2 m under a 50 degree vertical field of view, in pixels
+        const double px = 0.1 / (2.0 * 61.2 * std::tan(osg::DegreesToRadians(25.0))) * height;
+        ps->getOrCreateStateSet()->setAttributeAndModes(new osg::Point(float(std::max(1.0, px))));
+    }
 
     osg::ref_ptr<osgParticle::ModularEmitter> emitter = new osgParticle::ModularEmitter;
     emitter->setParticleSystem(ps.get());
@@ -157,10 +175,10 @@ int main(int argc, char** argv) {
         std::sort(v.begin(), v.end());
         return v[v.size() / 2];
     };
-    std::printf(
-        "OSG_PARTICLES count=%ld live=%d size=%dx%d drawn=%d frame_ms=%.2f update_ms=%.2f draw_ms=%.2f\n", n,
-        ps->numParticles() - ps->numDeadParticles(), width, height, int(draw), med(total), med(update),
-        med(drawMs));
+    std::printf("OSG_PARTICLES count=%ld live=%d size=%dx%d drawn=%d shape=%s frame_ms=%.2f update_ms=%.2f "
+                "draw_ms=%.2f\n",
+                n, ps->numParticles() - ps->numDeadParticles(), width, height, int(draw),
+                points ? "point" : "quad", med(total), med(update), med(drawMs));
     OSMesaDestroyContext(ctx);
     return 0;
 }

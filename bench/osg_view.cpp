@@ -3,7 +3,17 @@
 // the same file rendered by OSG and by sgfx (`sgfx-view FILE --out x.png`) can be set side by side
 // (docs/coming-from-osg.md, scripts/osg-figures.sh).
 //
-//   osg_view FILE [--size WxH] [--out PNG] [--yaw DEG] [--pitch DEG] [--fog DENSITY] [--no-ground]
+//   osg_view FILE [--size WxH] [--out PNG] [--yaw DEG] [--pitch DEG] [--fog DENSITY|auto|on|off]
+//            [--no-ground] [--frames N [--orbit]] [--osg-options STRING]
+//
+// --frames N times N frames (after 3 warm-up frames, each ended by glFinish, as `polygon --bench`
+// and `sgfx-view --bench`) and prints a BENCH line with their median; the PNG is then written only
+// when --out is given. --orbit moves the camera along bench/foreign_table.sh's orbit, the formula
+// of sgfx-view --orbit (demos/view/main.cpp orbitCamera): around the centre C of the bounding box
+// at 1.5 R (R half its diagonal), 30 degrees above the horizontal, the azimuth advancing 360/N
+// degrees a frame from --yaw, a 60 degree vertical field of view, near 0.01 R and far 4 R.
+// --fog auto (or on) picks the EXP2 density that hides half of the model's centre seen from the
+// orbit (exp(-(1.5 R rho)^2) = 1/2), as sgfx-view's --fog auto hides half of it.
 //
 // The camera is sgfx-view's headless one (demos/view/main.cpp homeCamera, sgfx::CameraManipulator
 // ::home): a 40 degree vertical field of view, the model's world bounding box (active children)
@@ -34,6 +44,7 @@
 #include <osg/Material>
 #include <osg/NodeVisitor>
 #include <osg/TriangleFunctor>
+#include <osgDB/Options>
 #include <osgDB/ReadFile>
 #include <osgViewer/Viewer>
 
@@ -44,9 +55,12 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -58,8 +72,30 @@ struct Options {
     std::string out = "osg_view.png";
     float yaw = 30.0f, pitch = 25.0f; // sgfx-view's defaults
     float fogDensity = 0.0f;          // > 0: osg::Fog EXP2 on the root StateSet
+    bool autoFog = false;             // --fog auto|on: the density from the model's radius
     bool ground = true;
+    int frames = 0;            // --frames N: time N frames and print a BENCH line
+    bool orbit = false;        // --orbit: the orbit camera of the header
+    std::string readerOptions; // --osg-options: osgDB::Options' string (the plugins' switches)
 };
+
+// The median of the frame times.
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// --fog: a density (> 0), auto/on (from the radius) or off.
+bool parseFog(const std::string& v, Options& opt) {
+    opt.autoFog = v == "auto" || v == "on";
+    if (opt.autoFog || v == "off") return true;
+    char* end = nullptr;
+    const float d = std::strtof(v.c_str(), &end);
+    if (v.empty() || *end || !std::isfinite(d) || d <= 0.0f) return false;
+    opt.fogDensity = d;
+    return true;
+}
 
 // sgfx-view's scene values (demos/view/ViewScene.cpp), linear.
 constexpr float kFovyDegrees = 40.0f;
@@ -152,12 +188,29 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(-360.0f, 360.0f));
     app.add_option("--pitch", opt.pitch, "camera elevation, degrees (default 25)")
         ->check(CLI::Range(-89.0f, 89.0f));
-    app.add_option("--fog", opt.fogDensity, "osg::Fog EXP2 of this density (1/m) on the root, clear colour")
-        ->check(CLI::PositiveNumber);
+    std::string fog = "off";
+    app.add_option("--fog", fog,
+                   "osg::Fog EXP2 of this density (1/m) on the root, clear colour; auto or on: the model's "
+                   "centre half hidden from the orbit; off (default): none");
     bool noGround = false;
     app.add_flag("--no-ground", noGround, "no ground plane under the model");
+    app.add_option("--frames", opt.frames, "time N frames, print a BENCH line (no PNG unless --out)")
+        ->check(CLI::Range(1, 100000));
+    app.add_option(
+        "--osg-options", opt.readerOptions,
+        "osgDB reader options, e.g. noRotation for an OBJ that is Z up already (polygon's exports)");
+    app.add_flag("--orbit", opt.orbit, "with --frames: the orbit camera of bench/foreign_table.sh");
     CLI11_PARSE(app, argc, argv);
     opt.ground = !noGround;
+    const bool writePng = opt.frames == 0 || app.count("--out") > 0;
+    if (!parseFog(fog, opt)) {
+        std::fprintf(stderr, "osg_view: --fog: '%s' is not a density > 0, auto, on or off\n", fog.c_str());
+        return 2;
+    }
+    if (opt.orbit && opt.frames == 0) {
+        std::fprintf(stderr, "osg_view: --orbit needs --frames N\n");
+        return 2;
+    }
     if (std::sscanf(size.c_str(), "%dx%d", &opt.width, &opt.height) != 2 || opt.width < 16 ||
         opt.height < 16 || opt.width > 8192 || opt.height > 8192) {
         std::fprintf(stderr, "osg_view: --size: '%s' is not WxH (16..8192)\n", size.c_str());
@@ -198,7 +251,8 @@ int main(int argc, char** argv) {
     }
 
     // ---- load (images resolve through OSG_FILE_PATH and the file's folder, osgDB's own rules)
-    osg::ref_ptr<osg::Node> model = osgDB::readRefNodeFile(opt.file);
+    osg::ref_ptr<osgDB::Options> readOptions = new osgDB::Options(opt.readerOptions);
+    osg::ref_ptr<osg::Node> model = osgDB::readRefNodeFile(opt.file, readOptions.get());
     if (!model) {
         std::fprintf(stderr, "osg_view: osgDB cannot read %s\n", opt.file.c_str());
         return 1;
@@ -211,6 +265,7 @@ int main(int argc, char** argv) {
     osg::BoundingBox box = boundsVisitor.getBoundingBox();
     if (!box.valid()) box.set(-0.5f, -0.5f, -0.5f, 0.5f, 0.5f, 0.5f);
     const float radius = std::max(0.5f * (box._max - box._min).length(), 1e-4f);
+    if (opt.autoFog) opt.fogDensity = std::sqrt(std::log(2.0f)) / (1.5f * radius);
 
     // ---- the scene around it: ground, sun, ambient, fog
     osg::ref_ptr<osg::Group> root = new osg::Group;
@@ -258,8 +313,40 @@ int main(int argc, char** argv) {
     camera->setViewMatrixAsLookAt(centre - look * distance, centre, osg::Vec3(0, 0, 1));
     camera->setProjectionMatrixAsPerspective(kFovyDegrees, aspect, distance * 0.02, distance * 20.0);
     viewer.realize();
+    // --orbit: the pose of frame i (the header's formula).
+    auto pose = [&](int i) {
+        if (!opt.orbit) return;
+        const float a = osg::DegreesToRadians(opt.yaw + 360.0f * float(i) / float(opt.frames));
+        const float e = osg::DegreesToRadians(30.0f);
+        const osg::Vec3 dir{-std::sin(a) * std::cos(e), std::cos(a) * std::cos(e), -std::sin(e)};
+        camera->setViewMatrixAsLookAt(centre - dir * (1.5f * radius), centre, osg::Vec3(0, 0, 1));
+        camera->setProjectionMatrixAsPerspective(60.0, aspect, 0.01 * radius, 4.0 * radius);
+    };
+    pose(0);
     viewer.frame();
     glFinish();
+    if (opt.frames > 0) {
+        using clock = std::chrono::steady_clock;
+        for (int i = 0; i < 2; ++i) { // with the frame above, 3 warm-up frames
+            viewer.frame();
+            glFinish();
+        }
+        std::vector<double> ms;
+        for (int i = 0; i < opt.frames; ++i) {
+            pose(i);
+            const auto t0 = clock::now();
+            viewer.frame();
+            glFinish();
+            ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+        }
+        const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / double(ms.size());
+        std::printf(
+            "BENCH osg ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f size=%dx%d camera=%s fog=%d "
+            "fog_density=%g drawables=%zu triangles=%zu renderer=%s\n",
+            mean, 1000.0 / mean, opt.frames, median(ms), opt.width, opt.height, opt.orbit ? "orbit" : "home",
+            int(opt.fogDensity > 0.0f), double(opt.fogDensity), count.drawables, count.triangles, renderer);
+        if (!writePng) return 0;
+    }
 
     // ---- the frame as PNG, top row first, as drawn (display values, see the header)
     const std::size_t row = std::size_t(opt.width) * 3;

@@ -12,6 +12,8 @@ bin="$build/bench/paged_terrain"
 "$bin" --frames 2 --size 8x8 --grid 1 | grep -q 'returned=yes' || { echo "paged_terrain failed its smoke run" >&2; exit 1; }
 # m LINES NAME: the median of NAME over the PAGED lines.
 m() { median $(echo "$1" | field "$2"); }
+stamp "$build"
+echo
 echo "| loader delay | frames streaming / idle | streaming ms median / p95 / max | idle ms median / p95 / max | attach frames, max ms | largest streaming frame / median (/ 31 around it) | files loaded / expired | RSS MB start / peak / end | heap MB start / peak / end | GL buffers, VAOs, textures start / peak / end |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for delay in 0 200; do

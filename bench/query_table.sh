@@ -89,6 +89,8 @@ stats() {
 
 m1="× OSG (median of rounds)"; m2=""; sep="|---|---|---:|---:|---:|---:|---|"
 if (( ref2 >= 0 )); then m2=" × OSG merged | range |"; sep+="---:|---|"; fi
+stamp "$build"
+echo
 echo "| workload | program | geometries | rays | rays per CPU s | $m1 | range |$m2 hits | mean hit z |"
 echo "$sep---:|---:|"
 for w in "${workloads[@]}"; do

@@ -3,7 +3,7 @@
 // the opaque sort is timed separately. Prints one CULL line in the format osg_cull prints, so
 // bench/cull_table.sh compares like with like. No GL context: culling never touches GL.
 //
-//   sgfx_cull [--n N] [--frames F] [--no-memory]
+//   sgfx_cull [--n N] [--frames F] [--no-memory] [--mixed]   (--mixed: cull_scene.h's mixed-state scene)
 #include "alloc_count.h"
 #include "sgfx_cull_scene.h"
 
@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
 
     cullscene::NodeBytes nodeBytes;
     if (memory) nodeBytes = cullscene::measureSgfxNodes();
-    const cullscene::SgfxScene scene = cullscene::buildSgfxScene(n, memory);
+    const cullscene::SgfxScene scene = cullscene::buildSgfxScene(n, memory, args.mixed);
     sgfx::Camera& camera = *scene.camera;
 
     sgfx::RenderQueue queue;
@@ -65,11 +65,11 @@ int main(int argc, char** argv) {
                 "nodes_per_s=%.4g "
                 "queued=%zu fraction=%.4f sort_ms=%.4f near=%.3f far=%.3f peak_rss_mb=%.1f "
                 "scene_bytes_per_leaf=%.1f group_bytes=%.1f transform_bytes=%.1f sizeof_group=%zu "
-                "sizeof_transform=%zu\n",
+                "sizeof_transform=%zu mixed=%d\n",
                 leaves, scene.groups, frames, ms, cullMs.front(), cullscene::median(cullCpuMs),
                 double(scene.nodes()) / (ms * 1e-3), queued, double(queued) / double(leaves),
                 cullscene::median(sortMs), double(nearPlane), double(farPlane), cullscene::peakRssMb(),
                 memory ? scene.heapBytes / double(leaves) : 0.0, nodeBytes.group, nodeBytes.transform,
-                sizeof(sgfx::Group), sizeof(sgfx::Transform));
+                sizeof(sgfx::Group), sizeof(sgfx::Transform), int(args.mixed));
     return 0;
 }

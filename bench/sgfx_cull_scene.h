@@ -12,6 +12,7 @@
 #include <sgfx/StateSet.h>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include <sys/resource.h>
 
@@ -26,10 +27,15 @@ inline double peakRssMb() {
     return double(ru.ru_maxrss) / 1024.0; // ru_maxrss is in KiB on Linux
 }
 
-// One box Geometry with a Material, shared by every leaf.
-inline std::shared_ptr<sgfx::Geometry> makeBox() {
+// One box Geometry with a Material, shared by every leaf (--mixed: box `state` of kStates, each
+// with its own material colour).
+inline std::shared_ptr<sgfx::Geometry> makeBox(int state = 0) {
     std::shared_ptr<sgfx::Geometry> box = sgfx::shapes::box(glm::vec3(kBoxSize));
-    box->getOrCreateStateSet().material.set(sgfx::Material::create());
+    auto material = sgfx::Material::create();
+    float rgb[3];
+    stateColour(state, rgb);
+    material->diffuse = glm::vec4(rgb[0], rgb[1], rgb[2], 1.0f);
+    box->getOrCreateStateSet().material.set(material);
     return box;
 }
 
@@ -37,16 +43,17 @@ struct SgfxScene {
     Dims dims{};
     long groups = 0;
     double heapBytes = 0; // live heap the build added (when counting)
-    std::shared_ptr<sgfx::Geometry> box;
+    std::vector<std::shared_ptr<sgfx::Geometry>> boxes; // one, or kStates with --mixed
     std::shared_ptr<sgfx::Camera> camera; // the scene is its child
 
     long nodes() const { return groups + dims.count(); } // Groups and Transforms
 };
 
-inline SgfxScene buildSgfxScene(long n, bool countHeap) {
+inline SgfxScene buildSgfxScene(long n, bool countHeap, bool mixed = false) {
     SgfxScene s;
     s.dims = dims(n);
-    s.box = makeBox();
+    for (int b = 0; b < (mixed ? kStates : 1); ++b)
+        s.boxes.push_back(makeBox(b));
     alloccount::enabled = countHeap;
     const long long before = alloccount::live;
     sgfx::NodePtr root = build<sgfx::NodePtr>(
@@ -59,10 +66,10 @@ inline SgfxScene buildSgfxScene(long n, bool countHeap) {
             return g;
         },
         [&](int i, int j, int k) -> sgfx::NodePtr {
-            float c[3];
-            cellCenter(i, j, k, c);
-            auto t = sgfx::Transform::create(glm::translate(glm::mat4(1.0f), glm::vec3(c[0], c[1], c[2])));
-            t->addChild(s.box);
+            float m[16];
+            leafMatrix(i, j, k, mixed, m);
+            auto t = sgfx::Transform::create(glm::make_mat4(m));
+            t->addChild(s.boxes[mixed ? std::size_t(stateOf(i, j, k)) : 0]);
             return t;
         });
     s.heapBytes = double(alloccount::live - before);

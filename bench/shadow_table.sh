@@ -30,6 +30,8 @@ minus() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", a - b }'; }
 shadow_ms() { tr ' ' '\n' | awk -F= '/^shadow__cascade_/ { s += $2 } END { printf "%.3f", s }'; }
 echo "Shadow maps ${map}x${map}, ${distance} m; fog off; $rounds interleaved round(s)."
 echo
+stamp "$build"
+echo
 echo "| size | renderer | shadows | ms/frame (FPS) | Δ over off | shadow passes GPU ms | main: opaque GPU ms |"
 echo "|---|---|---|---|---|---|---|"
 ratio_rows=()

@@ -5,6 +5,8 @@
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 build=${1:-build}; size=${2:-320x240}; frames=${3:-5}
+stamp "$build"
+echo
 echo "| splats | sort | ms/frame | splats drawn/s | sort ms | splats sorted/s |"
 echo "|---|---|---|---|---|---|"
 for n in 100000 1000000; do

@@ -8,6 +8,8 @@ set -euo pipefail
 source "$(dirname "$0")/common.sh"
 build=${1:-build}; rounds=${2:-3}; size=${3:-1280x720}; frames=${4:-40}
 glass_view=(--look 22,8,3.5,30,22,2)
+stamp "$build"
+echo
 echo "| view ($size, fog off) | sorted ms (FPS) | OIT ms (FPS) | OIT / sorted |"
 echo "|---|---|---|---|"
 for view in path glass; do

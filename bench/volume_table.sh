@@ -47,6 +47,8 @@ for ((r = 0; r < rounds; ++r)); do
   done
 done
 off=$(median ${ms[off]})
+stamp "$build"
+echo
 echo "| $size | ms/frame (FPS) | vs off |"
 echo "|---|---|---|"
 for c in "${order[@]}"; do

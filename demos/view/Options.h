@@ -26,6 +26,8 @@ struct Options {
     std::optional<double> time;           // --time SECONDS: the pose at that time, paused
     std::optional<std::string> animation; // --animation NAME|INDEX
     bool listAnimations = false;          // --list-animations: print them and exit
+    int benchFrames = 0;                  // --bench N: time N frames, print a BENCH line
+    bool orbit = false;                   // --orbit: the benchmark's orbit camera (main.cpp)
 };
 
 // Loads every file under one group (glTF's Y up turned into Z up unless keepYUp). Throws

@@ -14,12 +14,15 @@
 #include <sgfx/Viewer.h>
 #include <sgfx/Visitors.h>
 #include <sgfx/nodes/splat/GaussianSplatNode.h>
+#include <sgfx_glad/gl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -37,8 +40,9 @@ renders a PNG.
   --headless         render to the PNG even when a display exists
   --window           open a window or fail (exit 1) when none can be opened
   --size WxH         window size (default 1280x720), or image size per panel (512x384)
-  --fog RHO|auto     height fog: density per metre at the model's base (auto: the model's
-                     centre half hidden), falling off over the model's height
+  --fog RHO|auto|on|off
+                     height fog: density per metre at the model's base (auto or on: the
+                     model's centre half hidden), falling off over the model's height; off: none
   --fog-mode MODE    forward (default), split (seed 2's pre-pass) or post (seed 1's post-process)
   --ao               screen-space ambient occlusion (radius a tenth of the model's size)
   --aa MODE          anti-aliasing: none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low,
@@ -71,6 +75,12 @@ renders a PNG.
                      the animation to play: an integer is an index, else a name (an unknown
                      one is an error listing the files' animations)
   --list-animations  print each animation's index, name, duration and channels, then exit
+  --bench N          headless: time N frames (after 3 warm-up frames, each ended by glFinish)
+                     and print a BENCH line (median_ms=...) like polygon --bench's; with --out
+                     the last frame is also written (as osg_view --frames writes its own)
+  --orbit            with --bench: the orbit camera of bench/foreign_table.sh (eye at 1.5 times
+                     the bounding radius, 30 degrees elevation, 60 degree vertical field of
+                     view, the azimuth advancing 360/N degrees a frame from --yaw)
   --self-test N      window: N frames of scripted input (both cameras, every toggle, a resize,
                      a screenshot to --out's name), then exit
 Window keys: left click pick (the panel shows the node path, point and normal),
@@ -125,9 +135,9 @@ view::Options parse(int argc, char** argv) {
             sizeGiven = true;
         } else if (arg == "--fog") {
             const std::string v = value();
-            s.fog = true;
-            autoFog = v == "auto";
-            s.fogDensity = autoFog ? 0.0f : number("--fog", v, 0.0f, 1e6f);
+            s.fog = v != "off";
+            autoFog = v == "auto" || v == "on";
+            s.fogDensity = autoFog || !s.fog ? 0.0f : number("--fog", v, 0.0f, 1e6f);
         } else if (arg == "--fog-mode") {
             const std::string v = value();
             if (v == "forward")
@@ -216,6 +226,10 @@ view::Options parse(int argc, char** argv) {
             if (o.animation->empty()) throw UsageError("--animation needs a name or an index");
         } else if (arg == "--list-animations") {
             o.listAnimations = true;
+        } else if (arg == "--bench") {
+            o.benchFrames = int(number(arg, value(), 1, 100000));
+        } else if (arg == "--orbit") {
+            o.orbit = true;
         } else if (arg == "--self-test") {
             o.selfTestFrames = int(number(arg, value(), 4, 100000));
             o.window = true;
@@ -232,7 +246,10 @@ view::Options parse(int argc, char** argv) {
     if (o.pick && (o.pick->x > o.width || o.pick->y > o.height))
         throw UsageError("--pick: the pixel is outside the " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
-    if (o.pick) o.headless = true;
+    if (o.orbit && !o.benchFrames) throw UsageError("--orbit needs --bench N");
+    if (o.benchFrames && (o.window || o.compare || o.pick))
+        throw UsageError("--bench cannot go with --window, --self-test, --compare or --pick");
+    if (o.pick || o.benchFrames) o.headless = true;
     if (o.outGiven && !o.window) o.headless = true;
     if (o.compare) o.headless = true;
     if (!o.headless && !sizeGiven) o.width = 1280, o.height = 720; // a window's default
@@ -246,6 +263,67 @@ void homeCamera(const view::Options& o, const view::ViewScene& scene, sgfx::Came
     orbit.home(scene.boundsMin(), scene.boundsMax(), 40.0f, float(o.width) / float(o.height), o.yaw, o.pitch);
     orbit.apply(cam);
     cam.setPerspective(40.0f, orbit.distance * 0.02f, orbit.distance * 20.0f);
+}
+
+// The benchmark's orbit camera (bench/osg_view.cpp --orbit has the same formula): around the
+// centre C of the model's bounding box at 1.5 R (R: half the box's diagonal), 30 degrees above the
+// horizontal, azimuth `yawDegrees` in sgfx-view's convention (0 looks along +Y, anticlockwise seen
+// from above), 60 degree vertical field of view, near 0.01 R, far 4 R (the far side of the bounding
+// sphere is 2.5 R away).
+void orbitCamera(const view::ViewScene& scene, float yawDegrees, sgfx::Camera& cam) {
+    const glm::vec3 centre = 0.5f * (scene.boundsMin() + scene.boundsMax());
+    const float r = std::max(0.5f * glm::length(scene.boundsMax() - scene.boundsMin()), 1e-4f);
+    const float yaw = glm::radians(yawDegrees), pitch = glm::radians(30.0f);
+    const glm::vec3 look{-std::sin(yaw) * std::cos(pitch), std::cos(yaw) * std::cos(pitch), -std::sin(pitch)};
+    cam.setLookAt(centre - look * (1.5f * r), centre, {0, 0, 1});
+    cam.setPerspective(60.0f, 0.01f * r, 4.0f * r);
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// --bench N: N timed frames, each ended by glFinish, from the home camera or (--orbit) along the
+// orbit; the BENCH line's fields are polygon --bench's where they mean the same.
+int runBench(const view::Options& o, view::ViewScene& scene) {
+    using clock = std::chrono::steady_clock;
+    auto viewer = sgfx::Viewer::createHeadless(o.width, o.height);
+    auto& cam = *viewer->camera();
+    homeCamera(o, scene, cam);
+    scene.apply(o.settings, cam);
+    viewer->setSceneData(scene.root());
+    auto pose = [&](int i) {
+        if (o.orbit) orbitCamera(scene, o.yaw + 360.0f * float(i) / float(o.benchFrames), cam);
+    };
+    pose(0);
+    for (int i = 0; i < 3; ++i) { // programs compile and buffers upload on the first frames
+        viewer->frame();
+        glFinish();
+    }
+    std::vector<double> ms;
+    double triangles = 0, drawCalls = 0;
+    for (int i = 0; i < o.benchFrames; ++i) {
+        pose(i);
+        const auto t0 = clock::now();
+        viewer->frame();
+        glFinish();
+        ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+        triangles += double(viewer->stats().triangles);
+        drawCalls += double(viewer->stats().drawCalls);
+    }
+    for (const std::string& e : viewer->renderer().takeGlErrors())
+        std::fprintf(stderr, "sgfx-view: GL: %s\n", e.c_str());
+    if (o.outGiven) sgfx::writePng(o.out, viewer->capture()); // the last frame, to set beside OSG's
+    const double n = double(o.benchFrames), mean = std::accumulate(ms.begin(), ms.end(), 0.0) / n;
+    std::printf(
+        "BENCH sgfx ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f triangles=%.0f draw_calls=%.1f "
+        "size=%dx%d camera=%s fog=%d context=%s renderer=%s\n",
+        mean, 1000.0 / mean, o.benchFrames, median(ms), triangles / n, drawCalls / n, o.width, o.height,
+        o.orbit ? "orbit" : "home", int(o.settings.fog), std::string(viewer->context().kind()).c_str(),
+        viewer->context().renderer().c_str());
+    return 0;
 }
 
 // --pick: what the image's pixel shows, with the camera the still would have.
@@ -366,6 +444,7 @@ int main(int argc, char** argv) {
                 std::fprintf(stderr, "sgfx-view: no window: rendering headless to %s\n", o.out.c_str());
             }
         }
+        if (o.benchFrames) return runBench(o, scene);
         return o.pick ? runPick(o, scene) : runHeadless(o, scene, loadMs, animated);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sgfx-view: %s\n", e.what());

@@ -9,7 +9,9 @@
 
 #include <sgfx_glad/gl.h>
 
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
 
 namespace sgfx {
 
@@ -73,7 +75,22 @@ Viewer::Viewer(std::unique_ptr<GraphicsContext> context)
     camera_->setPerspective(45.0f, 0.1f, 10000.0f);
 }
 
+namespace {
+// SGFX_HEADLESS, read once: what Headless::Osmesa means in this process.
+Viewer::Headless osmesaOrEgl() {
+    static const Viewer::Headless kind = [] {
+        const char* v = std::getenv("SGFX_HEADLESS");
+        const std::string value = v ? v : "";
+        if (value.empty() || value == "osmesa") return Viewer::Headless::Osmesa;
+        if (value == "egl") return Viewer::Headless::Egl;
+        throw std::invalid_argument("SGFX_HEADLESS: '" + value + "' is not egl or osmesa");
+    }();
+    return kind;
+}
+} // namespace
+
 std::unique_ptr<Viewer> Viewer::createHeadless(int width, int height, Headless kind) {
+    if (kind == Headless::Osmesa) kind = osmesaOrEgl();
     auto v = kind == Headless::Egl ? std::make_unique<Viewer>(std::make_unique<EglContext>())
                                    : std::make_unique<Viewer>(std::make_unique<OsmesaContext>());
     v->camera()->setViewport(0, 0, width, height);

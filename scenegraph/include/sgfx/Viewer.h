@@ -23,6 +23,9 @@ class SGFX_API Viewer {
 public:
     explicit Viewer(std::unique_ptr<GraphicsContext> context);
     /// Headless viewer with the given target size: on OSMesa (software), or through EGL on a GPU.
+    /// Osmesa becomes Egl when the environment variable SGFX_HEADLESS is `egl` (read once per
+    /// process; `osmesa` or unset: no change; anything else throws std::invalid_argument naming
+    /// it): scripts/gpu-check.sh runs the test suite and the demos on a GPU so.
     enum class Headless : std::uint8_t { Osmesa, Egl };
     static std::unique_ptr<Viewer> createHeadless(int width, int height, Headless kind = Headless::Osmesa);
     ~Viewer();
