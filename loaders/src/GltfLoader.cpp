@@ -1034,6 +1034,7 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
         parent->addChild(buildNode(r, at("scenes", std::size_t(sceneIndex)) + ".nodes"));
     finishPose(c, nodes, skinUses, root, st);
     if (options.optimizeOrder) st.reordered = optimizeMeshes(*root);
+    if (options.autoLod.enabled) st.autoLods = addAutoLods(*root, options.autoLod);
     if (unweighted)
         st.warnings.push_back(std::to_string(unweighted) +
                               " skinned vertices have no weight; bound to joint 0");

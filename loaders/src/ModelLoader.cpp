@@ -17,6 +17,7 @@ std::shared_ptr<Group> loadModel(const std::filesystem::path& file, const GltfOp
     if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
         auto root = loadMeshModel(file);
         if (gltf.optimizeOrder) optimizeMeshes(*root);
+        if (gltf.autoLod.enabled) addAutoLods(*root, gltf.autoLod);
         return root;
     }
     static const char* const osgFormats[] = {".osg", ".osgt", ".osgb", ".osgx", ".ive", ".flt"};
