@@ -1,8 +1,9 @@
 // What GltfOptions::optimizeOrder (meshoptimizer's vertex-cache, overdraw and fetch order) does to
-// the frame of a loaded model: `mesh_order FILE [--size WxH] [--rounds N]`. The model is loaded
-// twice, with and without, and drawn from three fixed views in interleaved rounds (A B, B A, ...),
-// so the machine's drift falls on both; the median of the per-round ratios is printed with the
-// medians of each. Source bench/common.sh first (malloc pin).
+// the frame of a loaded model: `mesh_order FILE [--size WxH] [--rounds N] [--auto-lod]`; with
+// --auto-lod, what GltfOptions::autoLod adds to it. The model is loaded twice, with and without, and drawn
+// from three fixed views in interleaved rounds (A B, B A, ...), so the machine's drift falls on both; the
+// median of the per-round ratios is printed with the medians of each. Source bench/common.sh first (malloc
+// pin).
 #include <sgfx/Camera.h>
 #include <sgfx/MeshOptimize.h>
 #include <sgfx/ModelLoader.h>
@@ -46,20 +47,30 @@ double frameMs(sgfx::Viewer& viewer, const sgfx::NodePtr& model) {
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: mesh_order FILE [--size WxH] [--rounds N]\n");
+        std::fprintf(stderr, "usage: mesh_order FILE [--size WxH] [--rounds N] [--auto-lod]\n");
         return 2;
     }
     int width = 1280, height = 720, rounds = 7;
-    for (int i = 2; i + 1 < argc; i += 2) {
+    bool autoLod = false;
+    for (int i = 2; i < argc; ++i) {
         const std::string arg = argv[i];
-        if (arg == "--size" && std::sscanf(argv[i + 1], "%dx%d", &width, &height) == 2) continue;
-        if (arg == "--rounds" && (rounds = std::atoi(argv[i + 1])) > 0) continue;
-        std::fprintf(stderr, "mesh_order: bad option '%s'\n", arg.c_str());
-        return 2;
+        const char* value = i + 1 < argc ? argv[i + 1] : "";
+        if (arg == "--auto-lod") {
+            autoLod = true;
+        } else if (arg == "--size" && std::sscanf(value, "%dx%d", &width, &height) == 2 && width > 0 &&
+                   height > 0) {
+            ++i;
+        } else if (arg == "--rounds" && (rounds = std::atoi(value)) > 0) {
+            ++i;
+        } else {
+            std::fprintf(stderr, "mesh_order: bad option '%s'\n", arg.c_str());
+            return 2;
+        }
     }
     sgfx::GltfOptions off, on;
-    off.optimizeOrder = false;
+    off.optimizeOrder = !autoLod; // --auto-lod: both ordered, one with LODs
     on.optimizeOrder = true;
+    on.autoLod.enabled = autoLod;
     const auto start = std::chrono::steady_clock::now();
     const sgfx::NodePtr plain = sgfx::loadModel(argv[1], off);
     const auto mid = std::chrono::steady_clock::now();

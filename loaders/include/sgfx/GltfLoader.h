@@ -40,7 +40,7 @@ struct SGFX_API GltfOptions {
     /// each indexed, unskinned, uninstanced mesh of enough triangles gets an LOD whose coarser levels
     /// stay within autoLod.errorPixels on screen. Off by default. loadModel applies it to the
     /// OBJ/OFF/PLY/STL formats too.
-    AutoLodOptions autoLod;
+    AutoLodOptions autoLod = {};
 };
 
 /// What a load made, for tools and tests.

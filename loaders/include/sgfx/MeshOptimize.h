@@ -34,7 +34,8 @@ SGFX_API bool meshOptimizerAvailable();
 /// leaving it untouched, with the reason in `*reason` when given: sgfx built without
 /// meshoptimizer, a mode other than Triangles, a skinned or morphed geometry (joints, weights or
 /// morph targets), a blended or transparent-bin StateSet or one without depth
-/// test or depth writes (the order is visible there), or fewer than two triangles.
+/// test or depth writes (the order is visible there), or fewer than two triangles. Throws
+/// std::invalid_argument (Geometry::validate) for arrays that disagree or an index out of range.
 SGFX_API bool optimizeMesh(Geometry& geometry, const MeshOrderOptions& options = {},
                            std::string* reason = nullptr);
 
