@@ -5,7 +5,9 @@
 
 #include <sgfx/GltfLoader.h>
 #include <sgfx/Group.h>
+#include <sgfx/MeshLoader.h>
 #include <sgfx/MeshOptimize.h>
+#include <sgfx/ModelLoader.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/StateSet.h>
 
@@ -272,4 +274,22 @@ TEST(MeshOptimize, GltfLoadReordersOpaqueMeshesOnce) {
     ASSERT_EQ(without.size(), 1u);
     EXPECT_EQ(triangles(*with[0]), triangles(*without[0]));
     EXPECT_LE(acmr(*with[0]), acmr(*without[0]));
+}
+
+TEST(MeshOptimize, LoadModelReordersObjMeshesToo) {
+    auto sphere = shapes::sphere(1.0f, 32, 16);
+    sphere->texcoords.clear(), sphere->tangents.clear();
+    shuffle(*sphere, 5);
+    const auto file = std::filesystem::temp_directory_path() / "sgfx_mesh_optimize_test.obj";
+    writeMesh(*sphere, file);
+    GltfOptions off;
+    off.optimizeOrder = false;
+    std::vector<std::shared_ptr<Geometry>> with, without;
+    geometries(loadModel(file), with);
+    geometries(loadModel(file, off), without);
+    std::filesystem::remove(file);
+    ASSERT_EQ(with.size(), 1u);
+    ASSERT_EQ(without.size(), 1u);
+    EXPECT_EQ(triangles(*with[0]), triangles(*without[0]));
+    EXPECT_LT(acmr(*with[0]), 0.8f * acmr(*without[0]));
 }
