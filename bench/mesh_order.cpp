@@ -1,6 +1,7 @@
 // What GltfOptions::optimizeOrder (meshoptimizer's vertex-cache, overdraw and fetch order) does to
-// the frame of a loaded model: `mesh_order FILE [--size WxH] [--rounds N] [--auto-lod]`; with
-// --auto-lod, what GltfOptions::autoLod adds to it. The model is loaded twice, with and without, and drawn
+// the frame of a loaded model: `mesh_order FILE [--size WxH] [--rounds N] [--auto-lod] [--png PREFIX]`;
+// with --auto-lod, what GltfOptions::autoLod adds to it; --png writes the last view of each
+// (PREFIX_plain.png, PREFIX_ordered.png) to compare. The model is loaded twice, with and without, and drawn
 // from three fixed views in interleaved rounds (A B, B A, ...), so the machine's drift falls on both; the
 // median of the per-round ratios is printed with the medians of each. Source bench/common.sh first (malloc
 // pin).
@@ -47,11 +48,13 @@ double frameMs(sgfx::Viewer& viewer, const sgfx::NodePtr& model) {
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: mesh_order FILE [--size WxH] [--rounds N] [--auto-lod]\n");
+        std::fprintf(stderr,
+                     "usage: mesh_order FILE [--size WxH] [--rounds N] [--auto-lod] [--png PREFIX]\n");
         return 2;
     }
     int width = 1280, height = 720, rounds = 7;
     bool autoLod = false;
+    std::string png;
     for (int i = 2; i < argc; ++i) {
         const std::string arg = argv[i];
         const char* value = i + 1 < argc ? argv[i + 1] : "";
@@ -62,6 +65,8 @@ int main(int argc, char** argv) {
             ++i;
         } else if (arg == "--rounds" && (rounds = std::atoi(value)) > 0) {
             ++i;
+        } else if (arg == "--png" && *value) {
+            png = argv[++i];
         } else {
             std::fprintf(stderr, "mesh_order: bad option '%s'\n", arg.c_str());
             return 2;
@@ -80,7 +85,10 @@ int main(int argc, char** argv) {
     const sgfx::BoundingSphere b = plain->bound();
     viewer->camera()->projectionMatrix = glm::perspective(glm::radians(45.0f), float(width) / float(height),
                                                           0.01f * b.radius, 10.0f * b.radius);
-    frameMs(*viewer, plain), frameMs(*viewer, ordered); // warm: programs, buffers
+    frameMs(*viewer, plain); // warm: programs, buffers
+    if (!png.empty()) viewer->writeScreenshot(png + "_plain.png");
+    frameMs(*viewer, ordered);
+    if (!png.empty()) viewer->writeScreenshot(png + "_ordered.png");
     std::vector<double> a, o, ratio;
     for (int k = 0; k < rounds; ++k) {
         const bool plainFirst = k % 2 == 0;
