@@ -46,12 +46,20 @@ float boxDistance2(glm::vec3 p, glm::vec3 lo, glm::vec3 hi) {
     return glm::dot(d, d);
 }
 
+float triangleDistance2(const std::vector<glm::vec3>& corners, std::uint32_t t, glm::vec3 p) {
+    const glm::vec3 q = closestOnTriangle(p, corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]);
+    return glm::dot(p - q, p - q);
+}
+
 // Squared distance from p to the nearest triangle of the BVH (depth-first, nearer child first).
-float surfaceDistance2(const TriangleBvh& bvh, glm::vec3 p) {
+// `hint` is the triangle nearest to the previous, nearby sample: starting from its distance prunes
+// most of the tree at once; it becomes this sample's nearest.
+float surfaceDistance2(const TriangleBvh& bvh, glm::vec3 p, std::uint32_t& hint) {
     const auto& nodes = bvh.bvh().nodes;
     const auto& corners = bvh.corners();
     float best = std::numeric_limits<float>::max();
     if (nodes.empty()) return best;
+    if (3 * std::size_t(hint) + 2 < corners.size()) best = triangleDistance2(corners, hint, p);
     std::uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
@@ -60,9 +68,8 @@ float surfaceDistance2(const TriangleBvh& bvh, glm::vec3 p) {
         if (boxDistance2(p, n.min, n.max) >= best) continue;
         if (n.count > 0) {
             for (std::uint32_t t = n.first; t < n.first + n.count; ++t) {
-                const glm::vec3 q =
-                    closestOnTriangle(p, corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]);
-                best = std::min(best, glm::dot(p - q, p - q));
+                const float d2 = triangleDistance2(corners, t, p);
+                if (d2 < best) best = d2, hint = t;
             }
             continue;
         }
@@ -87,10 +94,11 @@ float oneSided(const Geometry& from, const TriangleBvh& to) {
                                          {1.0f / 3, 1.0f / 3, 1.0f / 3},
                                          {2.0f / 3, 1.0f / 6, 1.0f / 6}};
     float worst = 0.0f;
+    std::uint32_t hint = 0;
     for (const auto& t : triangleIndices(from)) {
         const glm::vec3 a = from.positions[t[0]], b = from.positions[t[1]], c = from.positions[t[2]];
         for (const glm::vec3& w : weights)
-            worst = std::max(worst, surfaceDistance2(to, w.x * a + w.y * b + w.z * c));
+            worst = std::max(worst, surfaceDistance2(to, w.x * a + w.y * b + w.z * c, hint));
     }
     return std::sqrt(worst);
 }
