@@ -9,6 +9,7 @@ packages=(
   libimgui-dev                                   # sgfx-view's panel (Dear ImGui)
   libtinygltf-dev nlohmann-json3-dev             # glTF 2.0 loading
   libopenmesh-dev                                # OBJ/OFF/PLY/STL meshes
+  libmeshoptimizer-dev                           # vertex-cache/overdraw order and LODs of loaded meshes
   libosmesa6-dev                                 # software OpenGL 4.5 core (llvmpipe), headless
   libegl-dev libegl1 libegl-mesa0                # headless GPU contexts (libEGL is opened at run time)
   libgtest-dev libbenchmark-dev                  # tests and benchmarks

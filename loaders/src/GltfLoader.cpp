@@ -8,6 +8,7 @@
 #include <sgfx/Geometry.h>
 #include <sgfx/Image.h>
 #include <sgfx/Material.h>
+#include <sgfx/MeshOptimize.h>
 #include <sgfx/MeshTools.h>
 #include <sgfx/StateSet.h>
 #include <sgfx/Texture.h>
@@ -1032,6 +1033,8 @@ std::shared_ptr<Group> load(std::span<const std::byte> bytes, const std::string&
     for (int r : roots)
         parent->addChild(buildNode(r, at("scenes", std::size_t(sceneIndex)) + ".nodes"));
     finishPose(c, nodes, skinUses, root, st);
+    if (options.optimizeOrder) st.reordered = optimizeMeshes(*root);
+    if (options.autoLod.enabled) st.autoLods = addAutoLods(*root, options.autoLod);
     if (unweighted)
         st.warnings.push_back(std::to_string(unweighted) +
                               " skinned vertices have no weight; bound to joint 0");

@@ -1,6 +1,7 @@
 #include "sgfx/ModelLoader.h"
 
 #include <sgfx/MeshLoader.h>
+#include <sgfx/MeshOptimize.h>
 #include <sgfx/OsgLoader.h>
 
 #include <algorithm>
@@ -13,7 +14,12 @@ std::shared_ptr<Group> loadModel(const std::filesystem::path& file, const GltfOp
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     if (ext == ".gltf" || ext == ".glb") return loadGltf(file, gltf);
-    if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") return loadMeshModel(file);
+    if (ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl") {
+        auto root = loadMeshModel(file);
+        if (gltf.optimizeOrder) optimizeMeshes(*root);
+        if (gltf.autoLod.enabled) addAutoLods(*root, gltf.autoLod);
+        return root;
+    }
     static const char* const osgFormats[] = {".osg", ".osgt", ".osgb", ".osgx", ".ive", ".flt"};
     const auto& osg = osgExtensions();
     if (std::find(osg.begin(), osg.end(), ext) != osg.end() ||

@@ -7,6 +7,7 @@
 #include "sgfx/Export.h"
 #include <sgfx/Group.h>
 #include <sgfx/LoadError.h>
+#include <sgfx/MeshOptimize.h>
 
 #include <cstddef>
 #include <filesystem>
@@ -30,6 +31,16 @@ struct SGFX_API GltfOptions {
     /// millions of elements (accessors shared by many primitives, sparse accessors without data,
     /// image headers): past this the load fails with LoadError instead of exhausting memory.
     std::size_t memoryLimit = std::size_t(2) << 30;
+    /// Reorder each loaded mesh's triangles and vertices for the vertex cache, overdraw and
+    /// vertex fetch (optimizeMeshes, sgfx/MeshOptimize.h): the same triangles, the same image for
+    /// opaque meshes; blended, skinned and morphed ones keep their order. loadModel applies it to
+    /// the OBJ/OFF/PLY/STL formats too.
+    bool optimizeOrder = true;
+    /// Levels of detail made at load (addAutoLods, sgfx/MeshOptimize.h) when autoLod.enabled:
+    /// each indexed, unskinned, uninstanced mesh of enough triangles gets an LOD whose coarser levels
+    /// stay within autoLod.errorPixels on screen. Off by default. loadModel applies it to the
+    /// OBJ/OFF/PLY/STL formats too.
+    AutoLodOptions autoLod = {};
 };
 
 /// What a load made, for tools and tests.
@@ -46,6 +57,8 @@ struct SGFX_API GltfStats {
     std::size_t lights = 0; ///< KHR_lights_punctual lights placed (each node that carries one)
     std::size_t skins = 0;      ///< skins (glTF 2.0 Skins)
     std::size_t animations = 0; ///< animations, in the root AnimatedGroup's player
+    std::size_t reordered = 0;  ///< geometries reordered by GltfOptions::optimizeOrder
+    std::size_t autoLods = 0;   ///< LODs made by GltfOptions::autoLod
     /// Optional extensions the loader ignored, and tinygltf's own warnings.
     std::vector<std::string> warnings;
 };

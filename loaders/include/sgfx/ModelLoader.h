@@ -14,7 +14,8 @@
 
 namespace sgfx {
 
-/// `gltf` applies to glTF files only.
+/// `gltf` applies to glTF files only, but for optimizeOrder and autoLod, which apply to the OBJ,
+/// OFF, PLY and STL formats too.
 SGFX_API std::shared_ptr<Group> loadModel(const std::filesystem::path& file, const GltfOptions& gltf = {});
 
 } // namespace sgfx

@@ -1,0 +1,96 @@
+#pragma once
+/// @file
+/// Triangle order of loaded meshes through meshoptimizer (Debian's libmeshoptimizer-dev, optional
+/// at build time): vertex-cache order (T. Forsyth 2006, "Linear-speed vertex cache
+/// optimisation", as meshoptimizer implements it), then overdraw order (Sander, Nehab & Barczak
+/// 2007, "Fast triangle reordering for vertex locality and reduced overdraw"), then vertex-fetch
+/// order. The triangles stay the same set, each with the same three vertex records and winding;
+/// only their order and the vertices' order change, so an opaque, depth-tested mesh draws the same
+/// image.
+#include "sgfx/Export.h"
+#include <sgfx/Geometry.h>
+#include <sgfx/LOD.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace sgfx {
+
+/// Which of the three orders optimizeMesh applies.
+struct SGFX_API MeshOrderOptions {
+    bool vertexCache = true;
+    /// Trades up to this factor of vertex-cache misses (ACMR) for less overdraw; 0 turns the
+    /// overdraw pass off.
+    float overdrawThreshold = 1.05f;
+    bool vertexFetch = true;
+};
+
+/// Whether sgfx was built with meshoptimizer (SGFX_HAVE_MESHOPTIMIZER).
+SGFX_API bool meshOptimizerAvailable();
+
+/// Reorders the triangles and vertices of `geometry` (exact duplicate vertices over all its
+/// streams are welded first; vertices no triangle uses are dropped) and dirties it. Returns false,
+/// leaving it untouched, with the reason in `*reason` when given: sgfx built without
+/// meshoptimizer, a mode other than Triangles, a skinned or morphed geometry (joints, weights or
+/// morph targets), a blended or transparent-bin StateSet or one without depth
+/// test or depth writes (the order is visible there), or fewer than two triangles. Throws
+/// std::invalid_argument (Geometry::validate) for arrays that disagree or an index out of range.
+SGFX_API bool optimizeMesh(Geometry& geometry, const MeshOrderOptions& options = {},
+                           std::string* reason = nullptr);
+
+/// optimizeMesh on every Geometry under `root`, once each however often it is shared; a geometry
+/// drawn anywhere under a blended or depth-less StateSet (resolved from `root` down) is left as it
+/// is. Returns how many were reordered. Without meshoptimizer it says so once on stderr.
+SGFX_API std::size_t optimizeMeshes(Node& root, const MeshOrderOptions& options = {});
+
+/// Levels of detail made at load (meshoptimizer's edge-collapse simplifier, quadric error,
+/// Garland & Heckbert 1997), switched so that no level is more than `errorPixels` off on screen.
+struct SGFX_API AutoLodOptions {
+    bool enabled = false; ///< for GltfOptions::autoLod; makeErrorLod ignores it
+    /// No level under this many triangles, and no LOD for a mesh under twice as many.
+    std::size_t minTriangles = 64;
+    float errorPixels = 1.0f; ///< the largest projected error of a shown level
+    /// The smallest focal length, in pixels (viewport height / (2 tan(fovy / 2))), the ranges hold
+    /// for: a level's error is measured from the nearest point of the LOD's sphere, which a wider
+    /// view (shorter focal length) sees closer at the same projected size. 500: 720 rows at 72°.
+    float focalPixels = 500.0f;
+    /// Keep the mesh's open border where it is, so meshes that meet there do not crack apart.
+    bool lockBorder = true;
+};
+
+/// One simplified level and its errors (absolute, in the geometry's frame).
+struct SGFX_API AutoLodLevel {
+    std::shared_ptr<Geometry> geometry;
+    float simplifierError = 0.0f; ///< meshoptimizer's estimate (result_error times its scale)
+    /// The symmetric Hausdorff distance to the full mesh, sampled (hausdorffDistance).
+    float measuredError = 0.0f;
+    float minPixels = 0.0f, maxPixels = 0.0f; ///< the projected diameters it is shown at
+};
+
+/// The largest distance from a sample point of either mesh to the other's surface: 8 points per
+/// triangle (corners, edge midpoints, centroid and one inner point), each to the nearest point of
+/// the other mesh's triangles through its TriangleBvh. Sampling can only under-estimate the
+/// Hausdorff distance; the error between samples is at most half a triangle's size.
+SGFX_API float hausdorffDistance(const Geometry& a, const Geometry& b);
+
+/// An LOD over `full` (shared, finest) and simplified copies with ½, ¼, ... of its triangles,
+/// down to options.minTriangles. Level i's error is max(simplifier's, measured) and never less
+/// than a finer level's; with r the full mesh's bounding radius, f = focalPixels and t =
+/// errorPixels, level i is shown while the projected diameter p <= 2f / (1 + e_i f / (r t)), the
+/// size at which an error e_i seen from the sphere's nearest point spans t pixels. The copies
+/// share full's StateSet and vertex streams' kinds (a subset of its vertices each). Returns
+/// nullptr, with the reason in `*reason`, for a mesh it does not simplify: sgfx without
+/// meshoptimizer, not indexed Triangles, skinned or morphed, instanced, too few triangles, or no
+/// level that removes at least a fifth of the triangles. `levels` gets the simplified levels.
+SGFX_API std::shared_ptr<LOD> makeErrorLod(const std::shared_ptr<Geometry>& full,
+                                           const AutoLodOptions& options,
+                                           std::vector<AutoLodLevel>* levels = nullptr,
+                                           std::string* reason = nullptr);
+
+/// Puts makeErrorLod's LOD in place of every Geometry child of a Group under `root`, one LOD per
+/// Geometry however often it is shared (parents of a shared mesh share its LOD). Existing LOD
+/// nodes and what is under them are left alone. Returns how many LODs were made.
+SGFX_API std::size_t addAutoLods(Node& root, const AutoLodOptions& options);
+
+} // namespace sgfx

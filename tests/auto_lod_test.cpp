@@ -1,0 +1,179 @@
+// Levels of detail made at load (MeshOptimize.h's makeErrorLod): at each level's switching size its
+// silhouette stays within a pixel of full detail's, its open border is full detail's, the sampled
+// Hausdorff distance is right on an analytic case, and a shared mesh gets one LOD.
+#include "TestUtil.h"
+
+#include <sgfx/Group.h>
+#include <sgfx/MeshOptimize.h>
+#include <sgfx/Shapes.h>
+#include <sgfx/StateSet.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <utility>
+
+using namespace sgfx;
+
+namespace {
+
+// A sphere with bumps (so simplification has real error), its order optimized as a load would.
+std::shared_ptr<Geometry> bumpySphere() {
+    auto g = shapes::sphere(1.0f, 64, 32);
+    for (glm::vec3& p : g->positions)
+        p *= 1.0f + 0.06f * std::sin(5.0f * p.x) * std::sin(4.0f * p.y) * std::sin(3.0f * p.z);
+    EXPECT_TRUE(optimizeMesh(*g));
+    return g;
+}
+
+// Where `geometry`, drawn white and unlit on black, covers the 128x128 view from `eye`.
+std::vector<bool> mask(const std::shared_ptr<Geometry>& geometry, glm::vec3 eye, float fovy) {
+    auto viewer = Viewer::createHeadless(128, 128);
+    auto& cam = *viewer->camera();
+    cam.setLookAt(eye, {0, 0, 0}, {0, 0, 1});
+    cam.projectionMatrix = glm::perspective(fovy, 1.0f, 0.05f, 100.0f);
+    cam.clearColor = {0, 0, 0, 1};
+    auto m = Material::create();
+    m->model = ShadingModel::Unlit;
+    m->diffuse = {1, 1, 1, 1};
+    auto state = StateSet::create();
+    state->material.set(m);
+    auto root = Group::create();
+    root->setStateSet(state);
+    root->addChild(geometry);
+    viewer->setSceneData(root);
+    viewer->frame();
+    const Image img = viewer->capture();
+    std::vector<bool> out(128 * 128);
+    for (int y = 0; y < 128; ++y)
+        for (int x = 0; x < 128; ++x)
+            out[std::size_t(y * 128 + x)] = img.pixel(x, y)[1] >= 128;
+    return out;
+}
+
+// Edges used by one triangle, as pairs of positions (so UV seams do not count).
+std::set<std::pair<std::array<float, 3>, std::array<float, 3>>> borderEdges(const Geometry& g) {
+    std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> uses;
+    auto key = [&](std::uint32_t i) {
+        return std::array<float, 3>{g.positions[i].x, g.positions[i].y, g.positions[i].z};
+    };
+    for (std::size_t k = 0; k + 2 < g.indices.size(); k += 3)
+        for (int e = 0; e < 3; ++e) {
+            auto a = key(g.indices[k + std::size_t(e)]), b = key(g.indices[k + std::size_t((e + 1) % 3)]);
+            if (b < a) std::swap(a, b);
+            ++uses[{a, b}];
+        }
+    std::set<std::pair<std::array<float, 3>, std::array<float, 3>>> out;
+    for (const auto& [edge, n] : uses)
+        if (n == 1) out.insert(edge);
+    return out;
+}
+
+} // namespace
+
+TEST(AutoLod, SilhouetteStaysWithinAPixelAtEachSwitch) {
+    ASSERT_TRUE(meshOptimizerAvailable());
+    const auto full = bumpySphere();
+    const float fovy = glm::radians(40.0f);
+    AutoLodOptions options;
+    options.focalPixels = 64.0f / std::tan(0.5f * fovy); // the test's own view: the tight case
+    std::vector<AutoLodLevel> levels;
+    std::string why;
+    const auto lod = makeErrorLod(full, options, &levels, &why);
+    ASSERT_TRUE(lod) << why;
+    ASSERT_GE(levels.size(), 3u);
+    const float r = lod->userSphere()->radius;
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+        EXPECT_EQ(lod->child(i + 1), levels[i].geometry);
+        EXPECT_EQ(lod->range(i + 1).maxPixels, levels[i].maxPixels);
+        EXPECT_GE(levels[i].measuredError, 0.0f);
+        // Just inside the level's range: p = 2 r f / d.
+        const float p = 0.999f * levels[i].maxPixels, d = 2.0f * r * options.focalPixels / p;
+        if (d > 50.0f) continue; // beyond the far plane: the sphere is a dot
+        const glm::vec3 eye = d * glm::normalize(glm::vec3(0.8f, -0.5f, 0.3f));
+        const auto a = mask(full, eye, fovy), b = mask(levels[i].geometry, eye, fovy);
+        int differing = 0, covered = 0;
+        for (int y = 0; y < 128; ++y)
+            for (int x = 0; x < 128; ++x) {
+                covered += a[std::size_t(y * 128 + x)];
+                if (a[std::size_t(y * 128 + x)] == b[std::size_t(y * 128 + x)]) continue;
+                ++differing;
+                bool nearEdge = false; // full detail's coverage changes within one pixel
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int u = std::clamp(x + dx, 0, 127), v = std::clamp(y + dy, 0, 127);
+                        nearEdge = nearEdge || a[std::size_t(v * 128 + u)] != a[std::size_t(y * 128 + x)];
+                    }
+                EXPECT_TRUE(nearEdge) << "level " << i << " pixel " << x << "," << y;
+            }
+        EXPECT_GT(covered, 20) << "level " << i;
+        std::printf(
+            "level %zu: %zu triangles, errors %.4f (meshopt) %.4f (measured), %.1f px, %d pixels differ\n",
+            i + 1, levels[i].geometry->triangleCount(), levels[i].simplifierError, levels[i].measuredError,
+            levels[i].maxPixels, differing);
+    }
+}
+
+TEST(AutoLod, OpenBorderIsKept) {
+    auto terrain = shapes::heightfield(-1, -1, 2, 2, 48, 48, [](float x, float y) {
+        return 0.15f * std::sin(3.0f * x) * std::cos(2.0f * y);
+    });
+    ASSERT_TRUE(optimizeMesh(*terrain));
+    std::vector<AutoLodLevel> levels;
+    ASSERT_TRUE(makeErrorLod(terrain, {}, &levels));
+    ASSERT_GE(levels.size(), 2u);
+    const auto original = borderEdges(*terrain);
+    EXPECT_EQ(original.size(), 4u * 48u);
+    for (const auto& level : levels) {
+        const auto border = borderEdges(*level.geometry);
+        for (const auto& e : border)
+            EXPECT_TRUE(original.count(e))
+                << "a new border edge at " << level.geometry->triangleCount() << " triangles";
+        EXPECT_EQ(border.size(), original.size()); // locked: every border edge is still there
+    }
+}
+
+TEST(AutoLod, HausdorffDistanceOfAShiftedSphere) {
+    auto a = shapes::sphere(1.0f, 48, 24), b = a->clone();
+    for (glm::vec3& p : b->positions)
+        p.x += 0.1f;
+    b->dirty();
+    // The farthest points are on the x axis, 0.1 from the other sphere's surface.
+    const float h = hausdorffDistance(*a, *b);
+    EXPECT_LE(h, 0.1f + 1e-5f);
+    EXPECT_GE(h, 0.095f);
+    EXPECT_LE(hausdorffDistance(*a, *a), 1e-5f);
+    // The measure and meshoptimizer's estimate agree within a factor of two on a smooth sphere.
+    std::vector<AutoLodLevel> levels;
+    ASSERT_TRUE(optimizeMesh(*a));
+    ASSERT_TRUE(makeErrorLod(a, {}, &levels));
+    for (const auto& level : levels)
+        EXPECT_GE(level.measuredError, 0.5f * level.simplifierError) << level.geometry->triangleCount();
+}
+
+TEST(AutoLod, SharedMeshGetsOneLod) {
+    auto mesh = bumpySphere();
+    auto root = Group::create();
+    auto left = Transform::create(glm::translate(glm::mat4(1), glm::vec3(-2, 0, 0)));
+    auto right = Transform::create(glm::translate(glm::mat4(1), glm::vec3(2, 0, 0)));
+    left->addChild(mesh);
+    right->addChild(mesh);
+    root->addChild(left);
+    root->addChild(right);
+    root->addChild(shapes::box({1, 1, 1})); // too few triangles: stays
+    AutoLodOptions options;
+    EXPECT_EQ(addAutoLods(*root, options), 1u);
+    ASSERT_TRUE(std::dynamic_pointer_cast<LOD>(left->child(0)));
+    EXPECT_EQ(left->child(0), right->child(0));
+    EXPECT_EQ(std::dynamic_pointer_cast<LOD>(left->child(0))->child(0), mesh);
+    EXPECT_TRUE(std::dynamic_pointer_cast<Geometry>(root->child(2)));
+    // Skinned or morphed meshes are refused with the reason.
+    auto morphed = bumpySphere();
+    morphed->morphTargets.push_back({std::vector<glm::vec3>(morphed->positions.size()), {}, {}});
+    std::string why;
+    EXPECT_FALSE(makeErrorLod(morphed, options, nullptr, &why));
+    EXPECT_NE(why.find("morphed"), std::string::npos) << why;
+}
