@@ -1,0 +1,147 @@
+// Per-pixel cost ladder (docs/performance.md, "Per-pixel cost on foreign content"): a model loaded
+// with loadModel and orbited as in issue 24 (eye at 1.5× the bounding radius, 30° elevation, 60°
+// vertical field of view, the orbit angle advancing every frame), one sun and an ambient light, no
+// effects. Run it at two sizes: the frame at 1280×720 minus the frame at 320×180 is the per-pixel
+// cost. The toggles are profiling-only RendererOptions that change the image:
+//
+//   pixel_cost FILE [--size 1280x720] [--frames 40] [--target srgb8|unorm8] [--submit-triangles N]
+//              [--lighting pixel|vertex] [--shading full|constant] [--count-fragments]
+//
+// Each frame's wall time is Viewer::frame plus glFinish (llvmpipe's rasterising counted in its
+// frame). Prints one line: BENCH median_ms=... p25_ms=... p75_ms=... triangles=... draws=...
+// [fragments=... per_pixel=...].
+#include <sgfx/Camera.h>
+#include <sgfx/Group.h>
+#include <sgfx/ModelLoader.h>
+#include <sgfx/Renderer.h>
+#include <sgfx/Viewer.h>
+#include <sgfx/Visitors.h>
+
+#include <CLI/CLI.hpp>
+#include <sgfx_glad/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Options {
+    std::string file;
+    std::string size = "1280x720";
+    int frames = 40;
+    std::string target = "srgb8";
+    std::uint64_t submitTriangles = sgfx::RendererOptions{}.submitTriangles;
+    std::string lighting = "pixel";
+    std::string shading = "full";
+    bool countFragments = false;
+};
+
+double percentile(std::vector<double> v, double p) {
+    std::sort(v.begin(), v.end());
+    const double at = p * double(v.size() - 1);
+    const auto lo = std::size_t(at);
+    const std::size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (v[hi] - v[lo]) * (at - double(lo));
+}
+
+void applyOptions(const Options& o, sgfx::RendererOptions& r) {
+    using T = sgfx::RendererOptions::ColorTarget;
+    if (o.target != "srgb8" && o.target != "unorm8")
+        throw CLI::ValidationError("--target", "srgb8 or unorm8");
+    r.colorTarget = o.target == "unorm8" ? T::Unorm8Debug : T::Srgb8;
+    r.submitTriangles = o.submitTriangles;
+    if (o.lighting != "pixel" && o.lighting != "vertex")
+        throw CLI::ValidationError("--lighting", "pixel or vertex");
+    r.lighting = o.lighting == "vertex" ? sgfx::RendererOptions::Lighting::PerVertex
+                                        : sgfx::RendererOptions::Lighting::PerPixel;
+    if (o.shading != "full" && o.shading != "constant")
+        throw CLI::ValidationError("--shading", "full or constant");
+    r.debugConstantShading = o.shading == "constant";
+    r.countFragments = o.countFragments;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    CLI::App app{"Per-pixel cost of a loaded model on an orbit (docs/performance.md)"};
+    app.add_option("file", o.file, "model file (loadModel)")->required();
+    app.add_option("--size", o.size, "WIDTHxHEIGHT (default 1280x720)");
+    app.add_option("--frames", o.frames, "timed frames (default 40)")->check(CLI::Range(1, 100000));
+    app.add_option("--target", o.target,
+                   "scene colour target: srgb8 (default) or unorm8 (changes the image)");
+    app.add_option("--submit-triangles", o.submitTriangles, "RendererOptions::submitTriangles (0: never)");
+    app.add_option("--lighting", o.lighting, "pixel (default) or vertex");
+    app.add_option("--shading", o.shading, "full (default) or constant (changes the image)");
+    app.add_flag("--count-fragments", o.countFragments, "count fragments passing the depth test");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        int width = 0, height = 0;
+        if (std::sscanf(o.size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 || height < 1)
+            throw CLI::ValidationError("--size", "WIDTHxHEIGHT, both positive");
+        auto model = sgfx::loadModel(o.file);
+        sgfx::ComputeBoundsVisitor bounds;
+        model->accept(bounds);
+        if (!bounds.valid()) throw std::runtime_error(o.file + ": no geometry");
+        const glm::vec3 centre = 0.5f * (bounds.min + bounds.max);
+        const float radius = std::max(0.5f * glm::length(bounds.max - bounds.min), 1e-3f);
+
+        auto viewer = sgfx::Viewer::createHeadless(width, height);
+        applyOptions(o, viewer->renderer().options());
+        auto root = sgfx::Group::create();
+        auto sun = sgfx::Light::create(sgfx::LightType::Directional);
+        sun->direction = glm::normalize(glm::vec3(-0.4f, -0.3f, -0.85f));
+        sun->color = glm::vec3(0.9f);
+        auto sky = sgfx::Light::create(sgfx::LightType::Ambient);
+        sky->intensity = 0.35f;
+        root->addChild(sun);
+        root->addChild(sky);
+        root->addChild(model);
+        viewer->setSceneData(root);
+        sgfx::Camera& cam = *viewer->camera();
+        const float distance = 1.5f * radius;
+        cam.setPerspective(60.0f, distance * 0.01f, distance * 4.0f);
+        const float elevation = glm::radians(30.0f);
+        auto place = [&](int frame) {
+            const float angle = glm::radians(360.0f) * float(frame) / 240.0f; // 1.5° a frame
+            const glm::vec3 dir(std::cos(elevation) * std::cos(angle), std::cos(elevation) * std::sin(angle),
+                                std::sin(elevation));
+            cam.setLookAt(centre + distance * dir, centre, {0, 0, 1});
+        };
+        for (int f = 0; f < 3; ++f) { // untimed: programs compiled, meshes uploaded
+            place(f);
+            viewer->frame(1.0 / 60.0);
+        }
+        glFinish();
+        std::vector<double> ms;
+        std::uint64_t fragments = 0;
+        for (int f = 0; f < o.frames; ++f) {
+            place(3 + f);
+            const auto t0 = std::chrono::steady_clock::now();
+            viewer->frame(1.0 / 60.0);
+            glFinish();
+            ms.push_back(
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+            fragments += viewer->stats().fragments;
+        }
+        const sgfx::FrameStats& s = viewer->stats();
+        std::printf("BENCH size=%dx%d median_ms=%.3f p25_ms=%.3f p75_ms=%.3f triangles=%zu draws=%zu", width,
+                    height, percentile(ms, 0.5), percentile(ms, 0.25), percentile(ms, 0.75), s.triangles,
+                    s.drawCalls);
+        if (o.countFragments)
+            std::printf(" fragments=%.0f per_pixel=%.3f", double(fragments) / o.frames,
+                        double(fragments) / o.frames / (double(width) * height));
+        std::printf("\n");
+    } catch (const CLI::Error& e) {
+        return app.exit(e);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "pixel_cost: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
