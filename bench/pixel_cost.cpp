@@ -10,7 +10,8 @@
 //
 // Each frame's wall time is Viewer::frame plus glFinish (llvmpipe's rasterising counted in its
 // frame). Prints one line: BENCH median_ms=... p25_ms=... p75_ms=... triangles=... draws=...
-// [fragments=... per_pixel=...]. --ladder runs every toggle of kLadder at 1280×720 and 320×180 in
+// [fragments=... per_pixel=...]. --cpu-time times by the CPU time of all threads instead (steadier
+// on a shared machine). --ladder runs every toggle of kLadder at 1280×720 and 320×180 in
 // the same process, one frame of each per round at the round's orbit angle (after an untimed one,
 // so a size change's reallocation is not timed), and prints per toggle LADDER lines with the
 // medians over rounds of both frames, of their difference (the per-pixel cost) and of its
@@ -29,6 +30,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <exception>
 #include <string>
 #include <vector>
@@ -45,6 +47,7 @@ struct Options {
     std::string shading = "full";
     bool countFragments = false;
     int ladder = 0;
+    bool cpuTime = false;
 };
 
 struct Toggle {
@@ -84,11 +87,20 @@ void applyOptions(const Options& o, sgfx::RendererOptions& r) {
     r.countFragments = o.countFragments;
 }
 
+// CPU time of every thread of the process (llvmpipe's rasterizer threads included): the work a
+// frame did, whatever else the machine runs (wall time on a shared machine counts the waits too).
+double processCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
 // The model under a sun and an ambient light, on the orbit of issue 24.
 struct Bench {
     std::unique_ptr<sgfx::Viewer> viewer;
     glm::vec3 centre{0.0f};
     float distance = 1.0f;
+    bool cpuTime = false;
 
     Bench(const std::string& file, int width, int height) {
         auto model = sgfx::loadModel(file);
@@ -117,14 +129,17 @@ struct Bench {
                             std::sin(elevation));
         viewer->camera()->setLookAt(centre + distance * dir, centre, {0, 0, 1});
         const auto t0 = std::chrono::steady_clock::now();
+        const double c0 = processCpuMs();
         viewer->frame(1.0 / 60.0);
         glFinish();
+        if (cpuTime) return processCpuMs() - c0;
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     }
 };
 
 void runSingle(const Options& o, int width, int height) {
     Bench b(o.file, width, height);
+    b.cpuTime = o.cpuTime;
     applyOptions(o, b.viewer->renderer().options());
     for (int f = 0; f < 3; ++f) // untimed: programs compiled, meshes uploaded
         b.frame(f);
@@ -146,6 +161,7 @@ void runSingle(const Options& o, int width, int height) {
 
 void runLadder(const Options& o) {
     Bench b(o.file, 1280, 720);
+    b.cpuTime = o.cpuTime;
     constexpr std::size_t n = std::size(kLadder);
     std::vector<double> big[n], small[n], cost[n], ratio[n];
     for (int round = -1; round < o.ladder; ++round) { // round -1 compiles every variant
@@ -193,6 +209,7 @@ int main(int argc, char** argv) {
     app.add_flag("--count-fragments", o.countFragments, "count fragments passing the depth test");
     app.add_option("--ladder", o.ladder, "rounds of every toggle at both sizes, interleaved")
         ->check(CLI::Range(1, 1000));
+    app.add_flag("--cpu-time", o.cpuTime, "time frames by the process's CPU time, not wall time");
     CLI11_PARSE(app, argc, argv);
     try {
         int width = 0, height = 0;
