@@ -5,6 +5,7 @@
 # busy machine slows every toggle of a round alike. Ratios are medians of per-round ratios.
 #   bench/pixel_table.sh [BUILD_DIR] [ROUNDS] [FILE.glb] [FILE.obj]
 # The files come from `polygon --export-gltf FILE.glb` and `--export-obj FILE.obj`.
+# PIXEL_FLAGS=--cpu-time times by CPU time (steadier on a shared machine).
 set -euo pipefail
 field2() { sed -n "s/.*[ ^]$1=\([^ ]*\).*/\1/p"; }
 here=$(cd "$(dirname "$0")" && pwd)
@@ -17,7 +18,7 @@ echo "pixel_table $(date -u +%F), $rounds rounds, $(nproc) cores"
 printf '| file | toggle | 1280×720 ms | 320×180 ms | per-pixel ms | per-pixel / default |\n'
 printf '|---|---|---|---|---|---|\n'
 for file in "$glb" "$obj"; do
-    "$build/bench/pixel_cost" "$file" --ladder "$rounds" | while read -r line; do
+    "$build/bench/pixel_cost" "$file" --ladder "$rounds" ${PIXEL_FLAGS:-} | while read -r line; do
         printf '| %s | %s | %s | %s | %s | %s |\n' "${file##*.}" "$(field2 config <<<"$line")" \
             "$(field2 big_ms <<<"$line")" "$(field2 small_ms <<<"$line")" \
             "$(field2 per_pixel_ms <<<"$line")" "$(field2 ratio <<<"$line")"
