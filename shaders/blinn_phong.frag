@@ -238,6 +238,10 @@ void sgfx_addLightList(SgfxSurface s, inout vec3 color, inout vec3 added, inout 
 #endif
 
 void main() {
+#if defined(SGFX_DEBUG_CONSTANT) && !defined(SGFX_GBUFFER)
+    sgfx_fragColor = vec4(sgfx_matDiffuse.rgb, 1.0); // profiling floor: raster, depth and store only
+    return;
+#endif
     vec4 base = sgfx_matDiffuse;
     vec3 ambientColor = sgfx_matAmbient;
 #ifdef SGFX_VERTEX_COLOR

@@ -453,6 +453,36 @@ TEST(Material, EveryMetallicRoughnessVariantCompilesUnderTheEffects) {
     }
 }
 
+TEST(Material, ProfilingOptionsStoreLinearBytesAndTheConstantFloor) {
+    // RendererOptions::ColorTarget::Unorm8Debug stores linear colour in 8 bits (the float
+    // target's image within one step), and debugConstantShading writes the diffuse colour alone.
+    auto render = [](RendererOptions::ColorTarget target, bool constant) {
+        auto v = orthoTopViewer(kSize, kHalf);
+        v->renderer().options().colorTarget = target;
+        v->renderer().options().debugConstantShading = constant;
+        Lit scene({-0.4f, -0.3f, -1.0f}, {0.9f, 0.85f, 0.8f}, 0.1f);
+        auto m = Material::create();
+        m->model = ShadingModel::MetallicRoughness;
+        m->diffuse = {0.8f, 0.5f, 0.3f, 1.0f};
+        m->roughness = 0.4f;
+        scene.root->addChild(quadWith(m));
+        v->setSceneData(scene.root);
+        v->frame();
+        return v->renderer().readPixelsLinear();
+    };
+    const FloatImage exact = render(RendererOptions::ColorTarget::Rgba32F, false);
+    const FloatImage bytes = render(RendererOptions::ColorTarget::Unorm8Debug, false);
+    const FloatImage floor = render(RendererOptions::ColorTarget::Unorm8Debug, true);
+    for (auto [px, py] : {std::pair{5, 5}, {32, 32}, {60, 10}}) {
+        const glm::dvec3 e = pixel(exact, px, py), b = pixel(bytes, px, py), f = pixel(floor, px, py);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(b[c], std::min(e[c], 1.0), 0.5 / 255.0 + 1e-6) << px << "," << py;
+            EXPECT_NEAR(f[c], glm::dvec3(0.8, 0.5, 0.3)[c], 0.5 / 255.0 + 1e-6) << px << "," << py;
+        }
+    }
+    EXPECT_GT(std::abs(pixel(exact, 32, 32).r - 0.8), 0.02); // the lit image differs from the floor
+}
+
 TEST(Material, BadValuesNameTheField) {
     auto m = Material::create();
     m->roughness = 1.5f;

@@ -290,7 +290,8 @@ std::string ShaderComposer::featureDefines(FeatureMask f) {
         {FeatureLightList, "SGFX_LIGHT_LIST"},
         {FeatureTransmission, "SGFX_TRANSMISSION"},
         {FeatureSkinned, "SGFX_SKINNED"},
-        {FeatureMorphed, "SGFX_MORPHED"}};
+        {FeatureMorphed, "SGFX_MORPHED"},
+        {FeatureDebugConstant, "SGFX_DEBUG_CONSTANT"}};
     std::string d;
     for (const auto& [bit, name] : names)
         if (f & bit) d += std::string("#define ") + name + "\n";

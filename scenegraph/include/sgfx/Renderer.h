@@ -112,8 +112,15 @@ struct SGFX_API RendererOptions {
     /// an occlusion query per view, so off unless profiling.
     bool countFragments = false;
     /// Scene colour target: 8-bit sRGB (default), or linear float for HDR work and diagnostics
-    /// (NaN/Inf checks); captures are sRGB-encoded either way.
-    enum class ColorTarget : std::uint8_t { Srgb8, Rgba16F, Rgba32F } colorTarget = ColorTarget::Srgb8;
+    /// (NaN/Inf checks); captures are sRGB-encoded either way. Unorm8Debug is for profiling only
+    /// and changes the image: linear colour stored in 8 bits without the sRGB encode (what
+    /// OpenSceneGraph's default window stores), to measure what the encode costs.
+    enum class ColorTarget : std::uint8_t {
+        Srgb8,
+        Rgba16F,
+        Rgba32F,
+        Unorm8Debug
+    } colorTarget = ColorTarget::Srgb8;
     /// GL errors and high-severity debug messages are collected for takeGlErrors() (Collect), or
     /// make render() throw at the end of the frame with every message and its call site (Throw).
     /// Unset: Throw when the environment has SGFX_GL_ERRORS=throw (the test suite sets it),
@@ -135,6 +142,10 @@ struct SGFX_API RendererOptions {
     /// after it: the proving ground's frame about 10 % faster on 2 cores. Desktop GPUs are
     /// unaffected; on tile-based mobile GPUs a flush can force tiles out, so set 0 there.
     std::uint64_t submitTriangles = 20000;
+    /// Profiling only, changes the image: every built-in material writes its diffuse colour and
+    /// nothing else (no lighting, no maps, no varyings read), the floor of rasterising, depth
+    /// testing and storing a fragment (bench/pixel_cost.cpp).
+    bool debugConstantShading = false;
 };
 
 /// Owns GL-side resources for one context: composed programs, the scene target, the state cache.

@@ -134,6 +134,9 @@ enum MaterialFeature : std::uint64_t {
     /// kMorphWeightsBinding), read by gl_VertexID; applied before skinning.
     FeatureMorphed = 1ull << 36,
     FeaturePoseMask = FeatureSkinned | FeatureMorphed,
+    /// RendererOptions::debugConstantShading (profiling only): the material writes its diffuse
+    /// colour alone. A view's bit, added at draw time: never in an item's ProgramKey.
+    FeatureDebugConstant = 1ull << 40,
     /// Bits 12..15: number of lights (0..8), compiled in so the light loop unrolls.
     FeatureLightCountShift = 12,
     FeatureLightCountMask = 0xfu << 12,

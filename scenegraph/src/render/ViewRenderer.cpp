@@ -140,7 +140,7 @@ void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue&
 
 void Renderer::View::cull() {
     const Viewport vp = camera_.viewport;
-    static const GLenum formats[] = {GL_SRGB8_ALPHA8, GL_RGBA16F, GL_RGBA32F};
+    static const GLenum formats[] = {GL_SRGB8_ALPHA8, GL_RGBA16F, GL_RGBA32F, GL_RGBA8};
     const RendererOptions& options = r_.options_;
     const auto colorTarget = std::size_t(options.colorTarget);
     if (colorTarget >= std::size(formats))
@@ -227,6 +227,7 @@ void Renderer::View::uploadFrameBlock() {
     features = r_.options_.lighting == RendererOptions::Lighting::PerVertex
                    ? FeatureMask(FeatureVertexLighting)
                    : 0u;
+    if (r_.options_.debugConstantShading) features |= FeatureDebugConstant;
     for (const LightInfo& l : queue_.lights)
         if (l.vector.w != 0.0f) features |= FeaturePointLights;
     if (int(queue_.lights.size()) > r_.options_.maxUnrolledLights) {
