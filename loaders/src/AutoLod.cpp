@@ -6,8 +6,10 @@
 #include <sgfx/TriangleBvh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -103,6 +105,199 @@ float oneSided(const Geometry& from, const TriangleBvh& to) {
     return std::sqrt(worst);
 }
 
+// A rigorous upper bound of the one-sided Hausdorff distance from `from` to `to`'s surface, by
+// branch and bound over pieces of `from`'s triangles. For a piece with corners p_j, two bounds hold
+// for every point q of it: (convexity) q's distance to one triangle t of `to` is a convex function,
+// so it is at most max_j dist(p_j, t); (Lipschitz) the distance to a surface changes at most as fast
+// as q moves, so it is at most dist(c, to) + max_j |p_j - c| for the centroid c. A piece whose
+// smaller bound is within `slack` of the largest distance found at an actual point (a lower bound
+// of the result) is done; otherwise it is split in four at its edge midpoints, at most maxDepth
+// times (past that, its bound is taken as it is: still an upper bound, only looser).
+class OneSidedBound {
+public:
+    OneSidedBound(const TriangleBvh& to, float relSlack, float absSlack)
+        : corners_(to.corners())
+        , bvh_(to)
+        , rel_(relSlack)
+        , abs_(absSlack) {}
+
+    float run(const Geometry& from) {
+        const auto tris = triangleIndices(from);
+        std::vector<Near> vertices(from.positions.size(), Near{-1.0f, 0});
+        for (const auto& t : tris) // vertex distances first: the lower bound then holds them all
+            for (std::uint32_t v : t)
+                if (vertices[v].d < 0) vertices[v] = nearest(from.positions[v]);
+        std::vector<Near> centroids;
+        centroids.reserve(tris.size());
+        for (const auto& t : tris)
+            centroids.push_back(
+                nearest(centroid(from.positions[t[0]], from.positions[t[1]], from.positions[t[2]])));
+        for (std::size_t i = 0; i < tris.size(); ++i) {
+            const auto& t = tris[i];
+            const float h = projected(from.positions[t[0]], from.positions[t[1]], from.positions[t[2]]);
+            if (h >= 0.0f) {
+                upper_ = std::max(upper_, h);
+                continue;
+            }
+            refine({from.positions[t[0]], from.positions[t[1]], from.positions[t[2]]},
+                   {vertices[t[0]], vertices[t[1]], vertices[t[2]]}, &centroids[i], 0);
+        }
+        return upper_;
+    }
+
+private:
+    struct Near {
+        float d;
+        std::uint32_t tri;
+    };
+    static constexpr int maxDepth = 3;
+
+    static glm::vec3 centroid(glm::vec3 a, glm::vec3 b, glm::vec3 c) { return (a + b + c) / 3.0f; }
+    float distance(glm::vec3 p, std::uint32_t t) const {
+        return std::sqrt(triangleDistance2(corners_, t, p));
+    }
+    Near nearest(glm::vec3 p) {
+        const float d = std::sqrt(surfaceDistance2(bvh_, p, hint_));
+        lower_ = std::max(lower_, d);
+        return {d, hint_};
+    }
+    // The bound along the normal n of triangle abc: every point q of abc is at most |g(q)| from
+    // `to`, where g(q) is the signed distance along n to a triangle of `to` whose projection onto
+    // abc's plane holds q. g is linear on each triangle's projection clipped to abc (and to |g| <=
+    // search), so its largest size is at a corner of those polygons. Valid when the clipped
+    // projections, all of one orientation, cover abc (their areas sum to abc's): `to` is a graph
+    // over abc there. Returns -1 when they do not (folds, holes, steep parts): the caller refines.
+    float projected(glm::vec3 a, glm::vec3 b, glm::vec3 c) const {
+        const glm::vec3 cr = glm::cross(b - a, c - a);
+        const float len = glm::length(cr);
+        if (!(len > 0.0f)) return -1.0f;
+        const glm::vec3 n = cr / len, u = glm::normalize(b - a), v = glm::cross(n, u);
+        const double area = 0.5 * double(len);
+        const float search = std::max(4.0f * lower_, abs_) + 1e-6f * glm::length(b - a);
+        const glm::vec3 lo = glm::min(glm::min(a, b), c) - glm::vec3(search),
+                        hi = glm::max(glm::max(a, b), c) + glm::vec3(search);
+        const glm::vec2 T[3] = {
+            {0, 0}, {glm::dot(b - a, u), glm::dot(b - a, v)}, {glm::dot(c - a, u), glm::dot(c - a, v)}};
+        double covered = 0.0;
+        float worst = 0.0f;
+        int sign = 0;
+        const auto& nodes = bvh_.bvh().nodes;
+        std::uint32_t stack[64];
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const auto& nd = nodes[stack[--top]];
+            if (glm::any(glm::lessThan(nd.max, lo)) || glm::any(glm::greaterThan(nd.min, hi))) continue;
+            if (nd.count == 0) {
+                if (top + 2 > 64) return -1.0f;
+                stack[top++] = std::uint32_t(&nd - nodes.data()) + 1, stack[top++] = nd.first;
+                continue;
+            }
+            for (std::uint32_t t = nd.first; t < nd.first + nd.count; ++t) {
+                glm::vec3 m[3];
+                float z[3];
+                glm::vec2 q[3];
+                for (int k = 0; k < 3; ++k) {
+                    m[k] = corners_[3 * t + std::uint32_t(k)];
+                    z[k] = glm::dot(m[k] - a, n), q[k] = {glm::dot(m[k] - a, u), glm::dot(m[k] - a, v)};
+                }
+                const float s2 = cross2(q[1] - q[0], q[2] - q[0]);
+                if (std::abs(s2) <= 1e-12f * len) continue; // edge-on: covers no area
+                // The polygon as (x, y, g) with g linear: clip abc by m's edges, then |g| <= search.
+                std::array<glm::vec3, 12> poly;
+                int count = 0;
+                for (const glm::vec2& p : T) {
+                    const float w1 = cross2(q[2] - q[0], p - q[0]) / -s2,
+                                w2 = cross2(q[1] - q[0], p - q[0]) / s2;
+                    poly[std::size_t(count++)] = {p, z[0] + w1 * (z[1] - z[0]) + w2 * (z[2] - z[0])};
+                }
+                const float o = s2 > 0 ? 1.0f : -1.0f;
+                for (int e = 0; e < 3 && count > 0; ++e) {
+                    const glm::vec2 p0 = q[e], p1 = q[(e + 1) % 3];
+                    count = clip(poly, count,
+                                 [&](glm::vec3 x) { return o * cross2(p1 - p0, glm::vec2(x) - p0); });
+                }
+                if (count > 0) count = clip(poly, count, [&](glm::vec3 x) { return search - x.z; });
+                if (count > 0) count = clip(poly, count, [&](glm::vec3 x) { return search + x.z; });
+                if (count < 3) continue;
+                double part = 0.0;
+                for (int k = 1; k + 1 < count; ++k)
+                    part += 0.5 * double(cross2(glm::vec2(poly[std::size_t(k)] - poly[0]),
+                                                glm::vec2(poly[std::size_t(k + 1)] - poly[0])));
+                if (std::abs(part) <= 0.0) continue;
+                const int sgn = s2 > 0 ? 1 : -1;
+                if (sign != 0 && sgn != sign) return -1.0f; // a fold
+                sign = sgn;
+                covered += std::abs(part);
+                for (int k = 0; k < count; ++k)
+                    worst = std::max(worst, std::abs(poly[std::size_t(k)].z));
+            }
+        }
+        if (std::abs(covered - area) > 1e-5 * area) return -1.0f;
+        return worst;
+    }
+    static float cross2(glm::vec2 p, glm::vec2 q) { return p.x * q.y - p.y * q.x; }
+    // Sutherland-Hodgman: keeps the part of the convex polygon where f >= 0 (f linear).
+    template <class F> static int clip(std::array<glm::vec3, 12>& poly, int count, F f) {
+        std::array<glm::vec3, 12> out;
+        int k = 0;
+        for (int i = 0; i < count; ++i) {
+            const glm::vec3 p = poly[std::size_t(i)], q = poly[std::size_t((i + 1) % count)];
+            const float fp = f(p), fq = f(q);
+            if (fp >= 0 && k < 12) out[std::size_t(k++)] = p;
+            if ((fp >= 0) != (fq >= 0) && k < 12) out[std::size_t(k++)] = p + (q - p) * (fp / (fp - fq));
+        }
+        poly = out;
+        return k;
+    }
+
+    // The convexity bound through the best of the corners' (and centroid's) nearest triangles.
+    float convexBound(const std::array<glm::vec3, 3>& p, const std::array<Near, 3>& n, const Near* c) const {
+        float best = std::numeric_limits<float>::max();
+        for (int k = 0; k < 4; ++k) {
+            if (k == 3 && !c) break;
+            const std::uint32_t t = k < 3 ? n[std::size_t(k)].tri : c->tri;
+            float worst = 0.0f;
+            for (std::size_t j = 0; j < 3 && worst < best; ++j)
+                worst = std::max(worst, n[j].tri == t ? n[j].d : distance(p[j], t));
+            best = std::min(best, worst);
+        }
+        return best;
+    }
+    void refine(const std::array<glm::vec3, 3>& p, const std::array<Near, 3>& n, const Near* known,
+                int depth) {
+        const float accept = lower_ * (1.0f + rel_) + abs_;
+        float bound = convexBound(p, n, nullptr);
+        if (bound > accept && depth > 0) {
+            const float h = projected(p[0], p[1], p[2]);
+            if (h >= 0.0f) bound = std::min(bound, h);
+        }
+        if (bound > accept) {
+            const glm::vec3 c = centroid(p[0], p[1], p[2]);
+            const Near nc = known ? *known : nearest(c);
+            const float radius = std::sqrt(std::max(
+                {glm::dot(p[0] - c, p[0] - c), glm::dot(p[1] - c, p[1] - c), glm::dot(p[2] - c, p[2] - c)}));
+            bound = std::min({bound, convexBound(p, n, &nc), nc.d + radius});
+        }
+        if (bound <= lower_ * (1.0f + rel_) + abs_ || depth == maxDepth) {
+            upper_ = std::max(upper_, bound);
+            return;
+        }
+        const glm::vec3 m01 = 0.5f * (p[0] + p[1]), m12 = 0.5f * (p[1] + p[2]), m20 = 0.5f * (p[2] + p[0]);
+        const Near n01 = nearest(m01), n12 = nearest(m12), n20 = nearest(m20);
+        refine({p[0], m01, m20}, {n[0], n01, n20}, nullptr, depth + 1);
+        refine({m01, p[1], m12}, {n01, n[1], n12}, nullptr, depth + 1);
+        refine({m20, m12, p[2]}, {n20, n12, n[2]}, nullptr, depth + 1);
+        refine({m01, m12, m20}, {n01, n12, n20}, nullptr, depth + 1);
+    }
+
+    const std::vector<glm::vec3>& corners_;
+    const TriangleBvh& bvh_;
+    float rel_, abs_;
+    float lower_ = 0.0f, upper_ = 0.0f;
+    std::uint32_t hint_ = 0;
+};
+
 std::string refusal(const Geometry& g, const AutoLodOptions& o) {
     if (!meshOptimizerAvailable()) return "sgfx was built without meshoptimizer (libmeshoptimizer-dev)";
     if (g.mode != PrimitiveMode::Triangles || g.indices.empty())
@@ -144,6 +339,8 @@ std::vector<AutoLodLevel> simplifiedLevels(const Geometry& full, const AutoLodOp
     const std::size_t n = full.indices.size(), vertices = full.positions.size();
     const float* pos = &full.positions[0].x;
     const float scale = meshopt_simplifyScale(pos, vertices, sizeof(glm::vec3));
+    // Slack that shrinks a level's largest switching size by at most a fifth (makeErrorLod's ranges).
+    const float absSlack = 0.25f * full.bound().radius * o.errorPixels / o.focalPixels;
     std::vector<AutoLodLevel> levels;
     std::size_t previous = n / 3;
     for (std::size_t target = n / 6; target >= o.minTriangles; target /= 2) {
@@ -158,7 +355,7 @@ std::vector<AutoLodLevel> simplifiedLevels(const Geometry& full, const AutoLodOp
         AutoLodLevel level;
         level.geometry = compacted(full, std::move(out));
         level.simplifierError = error * scale;
-        level.measuredError = hausdorffDistance(*level.geometry, full);
+        level.measuredError = hausdorffBound(*level.geometry, full, 0.1f, absSlack);
         levels.push_back(std::move(level));
     }
     return levels;
@@ -170,6 +367,23 @@ std::vector<AutoLodLevel> simplifiedLevels(const Geometry& full, const AutoLodOp
 float hausdorffDistance(const Geometry& a, const Geometry& b) {
     const auto bvhA = a.triangleBvh(), bvhB = b.triangleBvh();
     return std::max(oneSided(a, *bvhB), oneSided(b, *bvhA));
+}
+
+float hausdorffBound(const Geometry& a, const Geometry& b, float relativeSlack, float absoluteSlack) {
+    if (!(relativeSlack >= 0.0f) || !(absoluteSlack >= 0.0f) || !std::isfinite(relativeSlack) ||
+        !std::isfinite(absoluteSlack))
+        throw std::invalid_argument("hausdorffBound: slacks must be finite and >= 0");
+    if (triangleIndices(a).empty() || triangleIndices(b).empty())
+        throw std::invalid_argument("hausdorffBound: both geometries need triangles");
+    const auto bvhA = a.triangleBvh(), bvhB = b.triangleBvh();
+    OneSidedBound ab(*bvhB, relativeSlack, absoluteSlack), ba(*bvhA, relativeSlack, absoluteSlack);
+    const float h = std::max(ab.run(a), ba.run(b));
+    // Float rounding in the distances: a few ulps of the largest coordinate.
+    float extent = 0.0f;
+    for (const Geometry* g : {&a, &b})
+        for (const glm::vec3& p : g->positions)
+            extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return h * (1.0f + 1e-5f) + 8.0f * std::numeric_limits<float>::epsilon() * extent;
 }
 
 std::shared_ptr<LOD> makeErrorLod(const std::shared_ptr<Geometry>& full, const AutoLodOptions& o,
@@ -189,7 +403,8 @@ std::shared_ptr<LOD> makeErrorLod(const std::shared_ptr<Geometry>& full, const A
     auto largest = [&](float e) { return 2.0f * f / (1.0f + e * f / (r * o.errorPixels)); };
     float e = 0.0f;
     for (AutoLodLevel& level : levels) {
-        e = std::max({e, level.simplifierError, level.measuredError});
+        e = std::max(e, level.measuredError); // an upper bound; meshoptimizer's estimate is not
+
         level.maxPixels = largest(e);
     }
     auto lod = LOD::create();

@@ -74,6 +74,16 @@ struct SGFX_API AutoLodLevel {
 /// Hausdorff distance; the error between samples is at most half a triangle's size.
 SGFX_API float hausdorffDistance(const Geometry& a, const Geometry& b);
 
+/// An upper bound of the symmetric Hausdorff distance between the surfaces of `a` and `b` (it never
+/// under-estimates, up to float rounding, which it adds): for each side, a branch and bound over
+/// pieces of its triangles, each bounded by the distance to one triangle of the other mesh at its
+/// corners (convexity) or by its centroid's distance plus its radius (Lipschitz), split in four
+/// while that is more than relativeSlack times the largest distance found at a point, plus
+/// absoluteSlack (5 levels at most; past that the looser bound is kept). Throws
+/// std::invalid_argument for a negative or non-finite slack or a geometry without triangles.
+SGFX_API float hausdorffBound(const Geometry& a, const Geometry& b, float relativeSlack = 0.1f,
+                              float absoluteSlack = 0.0f);
+
 /// An LOD over `full` (shared, finest) and simplified copies with ½, ¼, ... of its triangles,
 /// down to options.minTriangles. Level i's error is max(simplifier's, measured) and never less
 /// than a finer level's; with r the full mesh's bounding radius, f = focalPixels and t =
