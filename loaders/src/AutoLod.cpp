@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -168,18 +169,32 @@ private:
     // projections, all of one orientation, cover abc (their areas sum to abc's): `to` is a graph
     // over abc there. Returns -1 when they do not (folds, holes, steep parts): the caller refines.
     float projected(glm::vec3 a, glm::vec3 b, glm::vec3 c) const {
-        const glm::vec3 cr = glm::cross(b - a, c - a);
-        const float len = glm::length(cr);
-        if (!(len > 0.0f)) return -1.0f;
-        const glm::vec3 n = cr / len, u = glm::normalize(b - a), v = glm::cross(n, u);
-        const double area = 0.5 * double(len);
-        const float search = std::max(4.0f * lower_, abs_) + 1e-6f * glm::length(b - a);
+        // The search height starts at 4x the largest distance found and grows where the surface
+        // is farther (the clip then cuts the cover short).
+        float search = std::max(4.0f * lower_, abs_) + 1e-6f * glm::length(b - a);
+        for (int attempt = 0; attempt < 2; ++attempt, search *= 8.0f) {
+            bool cut = false;
+            const float h = projected(a, b, c, search, cut);
+            if (h >= 0.0f || !cut) return h;
+        }
+        return -1.0f;
+    }
+    // One try at a given search height; `cut` tells whether the height clip removed area.
+    float projected(glm::vec3 a, glm::vec3 b, glm::vec3 c, float search, bool& cut) const {
+        using D2 = glm::dvec2;
+        using D3 = glm::dvec3;
+        const D3 A(a), cr = glm::cross(D3(b) - A, D3(c) - A);
+        const double len = glm::length(cr);
+        if (!(len > 0.0)) return -1.0f;
+        const D3 n = cr / len, u = glm::normalize(D3(b) - A), v = glm::cross(n, u);
+        const double area = 0.5 * len;
         const glm::vec3 lo = glm::min(glm::min(a, b), c) - glm::vec3(search),
                         hi = glm::max(glm::max(a, b), c) + glm::vec3(search);
-        const glm::vec2 T[3] = {
-            {0, 0}, {glm::dot(b - a, u), glm::dot(b - a, v)}, {glm::dot(c - a, u), glm::dot(c - a, v)}};
-        double covered = 0.0;
-        float worst = 0.0f;
+        const D2 T[3] = {{0, 0},
+                         {glm::dot(D3(b) - A, u), glm::dot(D3(b) - A, v)},
+                         {glm::dot(D3(c) - A, u), glm::dot(D3(c) - A, v)}};
+        const D2 tlo = glm::min(glm::min(T[0], T[1]), T[2]), thi = glm::max(glm::max(T[0], T[1]), T[2]);
+        double covered = 0.0, worst = 0.0;
         int sign = 0;
         const auto& nodes = bvh_.bvh().nodes;
         std::uint32_t stack[64];
@@ -194,37 +209,42 @@ private:
                 continue;
             }
             for (std::uint32_t t = nd.first; t < nd.first + nd.count; ++t) {
-                glm::vec3 m[3];
-                float z[3];
-                glm::vec2 q[3];
-                for (int k = 0; k < 3; ++k) {
-                    m[k] = corners_[3 * t + std::uint32_t(k)];
-                    z[k] = glm::dot(m[k] - a, n), q[k] = {glm::dot(m[k] - a, u), glm::dot(m[k] - a, v)};
+                double z[3];
+                D2 q[3];
+                for (std::uint32_t k = 0; k < 3; ++k) {
+                    const D3 m = D3(corners_[3 * t + k]) - A;
+                    z[k] = glm::dot(m, n), q[k] = {glm::dot(m, u), glm::dot(m, v)};
                 }
-                const float s2 = cross2(q[1] - q[0], q[2] - q[0]);
-                if (std::abs(s2) <= 1e-12f * len) continue; // edge-on: covers no area
-                // The polygon as (x, y, g) with g linear: clip abc by m's edges, then |g| <= search.
-                std::array<glm::vec3, 12> poly;
+                // Cheap rejections first: m entirely above or below the search height, or its
+                // projection beside abc's box.
+                if (std::min({z[0], z[1], z[2]}) > search || std::max({z[0], z[1], z[2]}) < -search) continue;
+                const D2 qlo = glm::min(glm::min(q[0], q[1]), q[2]),
+                         qhi = glm::max(glm::max(q[0], q[1]), q[2]);
+                if (glm::any(glm::lessThan(qhi, tlo)) || glm::any(glm::greaterThan(qlo, thi))) continue;
+                const double s2 = cross2(q[1] - q[0], q[2] - q[0]);
+                if (std::abs(s2) <= 1e-12 * len) continue; // edge-on: covers no area
+                // abc in m's projection as (x, y, g), g linear: clipped by m's edges, then |g| <= search.
+                Polygon poly;
                 int count = 0;
-                for (const glm::vec2& p : T) {
-                    const float w1 = cross2(q[2] - q[0], p - q[0]) / -s2,
-                                w2 = cross2(q[1] - q[0], p - q[0]) / s2;
+                for (const D2& p : T) {
+                    const double w1 = cross2(p - q[0], q[2] - q[0]) / s2,
+                                 w2 = cross2(q[1] - q[0], p - q[0]) / s2;
                     poly[std::size_t(count++)] = {p, z[0] + w1 * (z[1] - z[0]) + w2 * (z[2] - z[0])};
                 }
-                const float o = s2 > 0 ? 1.0f : -1.0f;
+                const double o = s2 > 0 ? 1.0 : -1.0;
                 for (int e = 0; e < 3 && count > 0; ++e) {
-                    const glm::vec2 p0 = q[e], p1 = q[(e + 1) % 3];
-                    count = clip(poly, count,
-                                 [&](glm::vec3 x) { return o * cross2(p1 - p0, glm::vec2(x) - p0); });
+                    const D2 p0 = q[e], p1 = q[(e + 1) % 3];
+                    count = clip(poly, count, [&](D3 x) { return o * cross2(p1 - p0, D2(x) - p0); });
                 }
-                if (count > 0) count = clip(poly, count, [&](glm::vec3 x) { return search - x.z; });
-                if (count > 0) count = clip(poly, count, [&](glm::vec3 x) { return search + x.z; });
-                if (count < 3) continue;
+                const int inside = count;
+                if (count > 0) count = clip(poly, count, [&](D3 x) { return double(search) - x.z; });
+                if (count > 0) count = clip(poly, count, [&](D3 x) { return double(search) + x.z; });
+                cut = cut || count != inside;
                 double part = 0.0;
                 for (int k = 1; k + 1 < count; ++k)
-                    part += 0.5 * double(cross2(glm::vec2(poly[std::size_t(k)] - poly[0]),
-                                                glm::vec2(poly[std::size_t(k + 1)] - poly[0])));
-                if (std::abs(part) <= 0.0) continue;
+                    part += 0.5 * cross2(D2(poly[std::size_t(k)] - poly[0]),
+                                         D2(poly[std::size_t(k + 1)] - poly[0]));
+                if (!(std::abs(part) > 0.0)) continue;
                 const int sgn = s2 > 0 ? 1 : -1;
                 if (sign != 0 && sgn != sign) return -1.0f; // a fold
                 sign = sgn;
@@ -233,17 +253,18 @@ private:
                     worst = std::max(worst, std::abs(poly[std::size_t(k)].z));
             }
         }
-        if (std::abs(covered - area) > 1e-5 * area) return -1.0f;
-        return worst;
+        if (std::abs(covered - area) > 1e-7 * area) return -1.0f;
+        return float(worst) * (1.0f + 1e-6f);
     }
-    static float cross2(glm::vec2 p, glm::vec2 q) { return p.x * q.y - p.y * q.x; }
+    using Polygon = std::array<glm::dvec3, 12>;
+    static double cross2(glm::dvec2 p, glm::dvec2 q) { return p.x * q.y - p.y * q.x; }
     // Sutherland-Hodgman: keeps the part of the convex polygon where f >= 0 (f linear).
-    template <class F> static int clip(std::array<glm::vec3, 12>& poly, int count, F f) {
-        std::array<glm::vec3, 12> out;
+    template <class F> static int clip(Polygon& poly, int count, F f) {
+        Polygon out;
         int k = 0;
         for (int i = 0; i < count; ++i) {
-            const glm::vec3 p = poly[std::size_t(i)], q = poly[std::size_t((i + 1) % count)];
-            const float fp = f(p), fq = f(q);
+            const glm::dvec3 p = poly[std::size_t(i)], q = poly[std::size_t((i + 1) % count)];
+            const double fp = f(p), fq = f(q);
             if (fp >= 0 && k < 12) out[std::size_t(k++)] = p;
             if ((fp >= 0) != (fq >= 0) && k < 12) out[std::size_t(k++)] = p + (q - p) * (fp / (fp - fq));
         }
@@ -377,7 +398,17 @@ float hausdorffBound(const Geometry& a, const Geometry& b, float relativeSlack, 
         throw std::invalid_argument("hausdorffBound: both geometries need triangles");
     const auto bvhA = a.triangleBvh(), bvhB = b.triangleBvh();
     OneSidedBound ab(*bvhB, relativeSlack, absoluteSlack), ba(*bvhA, relativeSlack, absoluteSlack);
-    const float h = std::max(ab.run(a), ba.run(b));
+    // The two sides are independent (they only read the geometries and both BVHs, built above): a
+    // large pair runs one on a second thread.
+    float hab = 0.0f, hba = 0.0f;
+    if (a.triangleCount() + b.triangleCount() >= 4096) {
+        std::thread other([&] { hba = ba.run(b); });
+        hab = ab.run(a);
+        other.join();
+    } else {
+        hab = ab.run(a), hba = ba.run(b);
+    }
+    const float h = std::max(hab, hba);
     // Float rounding in the distances: a few ulps of the largest coordinate.
     float extent = 0.0f;
     for (const Geometry* g : {&a, &b})
