@@ -62,30 +62,40 @@ struct SGFX_API AutoLodOptions {
 /// One simplified level and its errors (absolute, in the geometry's frame).
 struct SGFX_API AutoLodLevel {
     std::shared_ptr<Geometry> geometry;
-    float simplifierError = 0.0f; ///< meshoptimizer's estimate (result_error times its scale)
-    /// The symmetric Hausdorff distance to the full mesh, sampled (hausdorffDistance).
+    /// meshoptimizer's estimate (result_error times meshopt_simplifyScale). Reported only: in 0.18
+    /// it is the square root of a collapse's area-weighted mean squared distance to the collapsed
+    /// triangles' planes, not a bound (tests/auto_lod_test.cpp finds levels it under-estimates).
+    float simplifierError = 0.0f;
+    /// An upper bound of the symmetric Hausdorff distance to the full mesh (hausdorffBound): what
+    /// sets the ranges.
     float measuredError = 0.0f;
     float minPixels = 0.0f, maxPixels = 0.0f; ///< the projected diameters it is shown at
 };
 
 /// The largest distance from a sample point of either mesh to the other's surface: 8 points per
 /// triangle (corners, edge midpoints, centroid and one inner point), each to the nearest point of
-/// the other mesh's triangles through its TriangleBvh. Sampling can only under-estimate the
-/// Hausdorff distance; the error between samples is at most half a triangle's size.
+/// the other mesh's triangles through its TriangleBvh. A lower bound of the Hausdorff distance
+/// (sampling can only under-estimate it); hausdorffBound is the upper bound the ranges use.
 SGFX_API float hausdorffDistance(const Geometry& a, const Geometry& b);
 
 /// An upper bound of the symmetric Hausdorff distance between the surfaces of `a` and `b` (it never
-/// under-estimates, up to float rounding, which it adds): for each side, a branch and bound over
-/// pieces of its triangles, each bounded by the distance to one triangle of the other mesh at its
-/// corners (convexity) or by its centroid's distance plus its radius (Lipschitz), split in four
-/// while that is more than relativeSlack times the largest distance found at a point, plus
-/// absoluteSlack (5 levels at most; past that the looser bound is kept). Throws
+/// under-estimates; float rounding is added). For each side, each triangle is bounded first along
+/// its normal: the other surface's triangles are projected onto its plane and clipped to it; where
+/// they cover it with one orientation (the other surface is a graph over it), every point is at
+/// most the largest normal offset at a corner of those clipped polygons from the other surface.
+/// Where they do not (folds, steep parts, farther than the search height), a branch and bound over
+/// pieces: the distance to one triangle at the piece's corners (convexity), the centroid's distance
+/// plus the piece's radius (Lipschitz), or the projection again; a piece is split in four while its
+/// bound exceeds the largest distance found at a point by more than relativeSlack times it plus
+/// absoluteSlack (3 splits at most; past that the looser bound is kept). The two sides run on two
+/// threads for large meshes. Throws
 /// std::invalid_argument for a negative or non-finite slack or a geometry without triangles.
 SGFX_API float hausdorffBound(const Geometry& a, const Geometry& b, float relativeSlack = 0.1f,
                               float absoluteSlack = 0.0f);
 
 /// An LOD over `full` (shared, finest) and simplified copies with ½, ¼, ... of its triangles,
-/// down to options.minTriangles. Level i's error is max(simplifier's, measured) and never less
+/// down to options.minTriangles. Level i's error is its hausdorffBound (relative slack 0.1, absolute
+/// slack r t / (4 f)), never less
 /// than a finer level's; with r the full mesh's bounding radius, f = focalPixels and t =
 /// errorPixels, level i is shown while the projected diameter p <= 2f / (1 + e_i f / (r t)), the
 /// size at which an error e_i seen from the sphere's nearest point spans t pixels. The copies
