@@ -136,12 +136,13 @@ public:
         for (std::size_t i = 0; i < tris.size(); ++i) {
             const auto& t = tris[i];
             const float h = projected(from.positions[t[0]], from.positions[t[1]], from.positions[t[2]]);
-            if (h >= 0.0f) {
+            if (h >= 0.0f && h <= lower_ * (1.0f + rel_) + abs_) {
                 upper_ = std::max(upper_, h);
                 continue;
             }
             refine({from.positions[t[0]], from.positions[t[1]], from.positions[t[2]]},
-                   {vertices[t[0]], vertices[t[1]], vertices[t[2]]}, &centroids[i], 0);
+                   {vertices[t[0]], vertices[t[1]], vertices[t[2]]}, &centroids[i], 0,
+                   h >= 0.0f ? h : std::numeric_limits<float>::max());
         }
         return upper_;
     }
@@ -194,8 +195,7 @@ private:
                          {glm::dot(D3(b) - A, u), glm::dot(D3(b) - A, v)},
                          {glm::dot(D3(c) - A, u), glm::dot(D3(c) - A, v)}};
         const D2 tlo = glm::min(glm::min(T[0], T[1]), T[2]), thi = glm::max(glm::max(T[0], T[1]), T[2]);
-        double covered = 0.0, worst = 0.0;
-        int sign = 0;
+        double covered[2] = {0.0, 0.0}, worst[2] = {0.0, 0.0};
         const auto& nodes = bvh_.bvh().nodes;
         std::uint32_t stack[64];
         int top = 0;
@@ -222,7 +222,11 @@ private:
                          qhi = glm::max(glm::max(q[0], q[1]), q[2]);
                 if (glm::any(glm::lessThan(qhi, tlo)) || glm::any(glm::greaterThan(qlo, thi))) continue;
                 const double s2 = cross2(q[1] - q[0], q[2] - q[0]);
-                if (std::abs(s2) <= 1e-12 * len) continue; // edge-on: covers no area
+                // Steep triangles (over ~89 degrees to abc) are left out: any subset that covers abc
+                // bounds it, and theirs would only add folds and tall offsets.
+                const double full2 = glm::length(glm::cross(D3(corners_[3 * t + 1]) - D3(corners_[3 * t]),
+                                                            D3(corners_[3 * t + 2]) - D3(corners_[3 * t])));
+                if (std::abs(s2) <= 0.02 * full2 || std::abs(s2) <= 1e-12 * len) continue;
                 // abc in m's projection as (x, y, g), g linear: clipped by m's edges, then |g| <= search.
                 Polygon poly;
                 int count = 0;
@@ -245,16 +249,29 @@ private:
                     part += 0.5 * cross2(D2(poly[std::size_t(k)] - poly[0]),
                                          D2(poly[std::size_t(k + 1)] - poly[0]));
                 if (!(std::abs(part) > 0.0)) continue;
-                const int sgn = s2 > 0 ? 1 : -1;
-                if (sign != 0 && sgn != sign) return -1.0f; // a fold
-                sign = sgn;
-                covered += std::abs(part);
+                const std::size_t side = s2 > 0 ? 0 : 1; // the two orientations, kept apart
+                covered[side] += std::abs(part);
                 for (int k = 0; k < count; ++k)
-                    worst = std::max(worst, std::abs(poly[std::size_t(k)].z));
+                    worst[side] = std::max(worst[side], std::abs(poly[std::size_t(k)].z));
             }
         }
-        if (std::abs(covered - area) > 1e-7 * area) return -1.0f;
-        return float(worst) * (1.0f + 1e-6f);
+        // A little uncovered area (cracks in `to`, rounding) costs a margin: a point q of abc that
+        // is r from every covered point has a sector of the disk of radius r about q, of angle at
+        // least abc's smallest angle a, uncovered, so r <= sqrt(2 missing / a); add r (Lipschitz).
+        // One orientation alone must cover abc (its triangles then form a graph over abc).
+        const std::size_t side = covered[0] >= covered[1] ? 0 : 1;
+        const double missing = area - covered[side];
+        if (missing < -1e-9 * area || missing > 1e-3 * area) return -1.0f;
+        const double margin = std::sqrt(2.0 * std::max(missing, 0.0) / smallestAngle(T));
+        return float(worst[side] + margin) * (1.0f + 1e-6f);
+    }
+    static double smallestAngle(const glm::dvec2 (&t)[3]) {
+        double smallest = 4.0;
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec2 e1 = t[(k + 1) % 3] - t[k], e2 = t[(k + 2) % 3] - t[k];
+            smallest = std::min(smallest, std::atan2(std::abs(cross2(e1, e2)), glm::dot(e1, e2)));
+        }
+        return std::max(smallest, 1e-12);
     }
     using Polygon = std::array<glm::dvec3, 12>;
     static double cross2(glm::dvec2 p, glm::dvec2 q) { return p.x * q.y - p.y * q.x; }
@@ -285,10 +302,11 @@ private:
         }
         return best;
     }
-    void refine(const std::array<glm::vec3, 3>& p, const std::array<Near, 3>& n, const Near* known,
-                int depth) {
+    // `inherited`: a bound already known for a piece holding this one.
+    void refine(const std::array<glm::vec3, 3>& p, const std::array<Near, 3>& n, const Near* known, int depth,
+                float inherited) {
         const float accept = lower_ * (1.0f + rel_) + abs_;
-        float bound = convexBound(p, n, nullptr);
+        float bound = std::min(inherited, convexBound(p, n, nullptr));
         if (bound > accept && depth > 0) {
             const float h = projected(p[0], p[1], p[2]);
             if (h >= 0.0f) bound = std::min(bound, h);
@@ -306,10 +324,10 @@ private:
         }
         const glm::vec3 m01 = 0.5f * (p[0] + p[1]), m12 = 0.5f * (p[1] + p[2]), m20 = 0.5f * (p[2] + p[0]);
         const Near n01 = nearest(m01), n12 = nearest(m12), n20 = nearest(m20);
-        refine({p[0], m01, m20}, {n[0], n01, n20}, nullptr, depth + 1);
-        refine({m01, p[1], m12}, {n01, n[1], n12}, nullptr, depth + 1);
-        refine({m20, m12, p[2]}, {n20, n12, n[2]}, nullptr, depth + 1);
-        refine({m01, m12, m20}, {n01, n12, n20}, nullptr, depth + 1);
+        refine({p[0], m01, m20}, {n[0], n01, n20}, nullptr, depth + 1, bound);
+        refine({m01, p[1], m12}, {n01, n[1], n12}, nullptr, depth + 1, bound);
+        refine({m20, m12, p[2]}, {n20, n12, n[2]}, nullptr, depth + 1, bound);
+        refine({m01, m12, m20}, {n01, n12, n20}, nullptr, depth + 1, bound);
     }
 
     const std::vector<glm::vec3>& corners_;

@@ -80,10 +80,12 @@ SGFX_API float hausdorffDistance(const Geometry& a, const Geometry& b);
 
 /// An upper bound of the symmetric Hausdorff distance between the surfaces of `a` and `b` (it never
 /// under-estimates; float rounding is added). For each side, each triangle is bounded first along
-/// its normal: the other surface's triangles are projected onto its plane and clipped to it; where
-/// they cover it with one orientation (the other surface is a graph over it), every point is at
-/// most the largest normal offset at a corner of those clipped polygons from the other surface.
-/// Where they do not (folds, steep parts, farther than the search height), a branch and bound over
+/// its normal: the other surface's triangles (less those within ~1 degree of edge-on) are
+/// projected onto its plane and clipped to it; where those of one orientation cover it (the other
+/// surface is a graph over it), every point is at most the largest normal offset at a corner of
+/// the clipped polygons, plus sqrt(2 x uncovered area / smallest angle) for cracks up to 1e-3 of
+/// its area. Where they do not (folds, holes, farther than the search height) or the offset is
+/// large (steep parts), a branch and bound over
 /// pieces: the distance to one triangle at the piece's corners (convexity), the centroid's distance
 /// plus the piece's radius (Lipschitz), or the projection again; a piece is split in four while its
 /// bound exceeds the largest distance found at a point by more than relativeSlack times it plus
