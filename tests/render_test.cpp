@@ -240,6 +240,28 @@ TEST(Contexts, EglHeadlessWhereAvailable) {
     expectPixel(v.capture(), 8, 8, {0.25, 0.5, 0.75}, 1);
 }
 
+// SGFX_HEADLESS only decides Headless::Default: an explicit kind is kept (the cluster's --egl,
+// a test pinned to OSMesa). Whether Default already read the variable in this process does not
+// matter here, so the test holds when the whole binary runs in one process.
+TEST(Contexts, AnExplicitHeadlessKindIgnoresTheEnvironment) {
+    const char* saved = std::getenv("SGFX_HEADLESS");
+    const std::string keep = saved ? saved : "";
+    setenv("SGFX_HEADLESS", "egl", 1);
+    {
+        auto v = Viewer::createHeadless(16, 16, Viewer::Headless::Osmesa);
+        EXPECT_NE(dynamic_cast<OsmesaContext*>(&v->context()), nullptr);
+    }
+    setenv("SGFX_HEADLESS", "osmesa", 1);
+    {
+        auto v = Viewer::createHeadless(16, 16, Viewer::Headless::Egl);
+        EXPECT_NE(dynamic_cast<EglContext*>(&v->context()), nullptr);
+    }
+    if (saved)
+        setenv("SGFX_HEADLESS", keep.c_str(), 1);
+    else
+        unsetenv("SGFX_HEADLESS");
+}
+
 TEST(Contexts, WindowWithoutDisplaySaysSo) {
     const char* saved = std::getenv("DISPLAY");
     const std::string keep = saved ? saved : "";

@@ -732,7 +732,7 @@ sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& sc
 
 std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
     auto viewer = sgfx::Viewer::createHeadless(
-        o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
+        o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Default);
     viewer->renderer().options().lighting = o.lighting;
     viewer->renderer().options().autoInstancing = o.autoInstancing;
     viewer->renderer().options().submitTriangles = o.submitTriangles;
