@@ -33,7 +33,7 @@
 //
 // Headless OSMesa setup and link order: as bench/osg_polygon.cpp (read its header comment): OSMesa
 // is linked before the OSG libraries so that libosg's gl* calls reach OSMesa, checked at start-up.
-#include <GL/osmesa.h>
+#include "osg_osmesa.h"
 
 #include <osg/ComputeBoundsVisitor>
 #include <osg/Fog>
@@ -134,19 +134,6 @@ public:
     std::size_t drawables = 0, triangles = 0;
 };
 
-// GL entry points OSG uses on this path, checked before anything is drawn.
-const char* const kProbes[] = {"glGetString",  "glClear",         "glDrawElements", "glEnable",
-                               "glLightfv",    "glGenBuffers",    "glBindBuffer",   "glBufferData",
-                               "glUseProgram", "glVertexPointer", "glNormalPointer"};
-
-std::string libraryOf(void* p) {
-    Dl_info info;
-    return p && dladdr(p, &info) && info.dli_fname ? info.dli_fname : "(null)";
-}
-bool isMesa(const std::string& lib) {
-    return lib.find("libOSMesa") != std::string::npos || lib.find("libglapi") != std::string::npos;
-}
-
 // sgfx-view's ground: a quad 60 radii wide, 1e-3 radii under the model's base, grey material.
 osg::ref_ptr<osg::Geode> makeGround(const osg::BoundingBox& box, float radius) {
     const float half = 30.0f * radius, z = box.zMin() - 1e-3f * radius;
@@ -217,38 +204,10 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    // ---- OSMesa context (compatibility profile: OSG 3.6 as packaged draws fixed function)
-    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
-    if (!ctx) {
-        std::fprintf(stderr, "osg_view: OSMesaCreateContextExt failed\n");
-        return 1;
-    }
-    struct ContextGuard {
-        OSMesaContext c;
-        ~ContextGuard() { OSMesaDestroyContext(c); }
-    } contextGuard{ctx};
-    std::vector<unsigned char> buffer(std::size_t(opt.width) * std::size_t(opt.height) * 4);
-    if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, opt.width, opt.height)) {
-        std::fprintf(stderr, "osg_view: OSMesaMakeCurrent failed\n");
-        return 1;
-    }
-    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    if (!renderer) {
-        std::fprintf(stderr, "osg_view: glGetString returned NULL: GL calls are not reaching OSMesa "
-                             "(libGL's dispatch won; try LD_PRELOAD=libOSMesa.so.8)\n");
-        return 1;
-    }
-    for (const char* name : kProbes) {
-        const std::string direct = libraryOf(dlsym(RTLD_DEFAULT, name));
-        const std::string viaOsg = libraryOf(osg::getGLExtensionFuncPtr(name));
-        if (!isMesa(direct) || !isMesa(viaOsg)) {
-            std::fprintf(stderr,
-                         "osg_view: %s resolves to '%s' (direct) / '%s' (osg::getGLExtensionFuncPtr), not "
-                         "OSMesa; try LD_PRELOAD=libOSMesa.so.8\n",
-                         name, direct.c_str(), viaOsg.c_str());
-            return 1;
-        }
-    }
+    // ---- OSMesa context, checked to reach OSMesa (osg_osmesa.h)
+    const auto gl = OsgOsmesaContext::open("osg_view", opt.width, opt.height);
+    if (!gl) return 1;
+    const char* renderer = gl->renderer();
 
     // ---- load (images resolve through OSG_FILE_PATH and the file's folder, osgDB's own rules)
     osg::ref_ptr<osgDB::Options> readOptions = new osgDB::Options(opt.readerOptions);
