@@ -65,6 +65,15 @@ inline std::shared_ptr<Material> metallicRoughness(glm::vec3 base, float metalli
     return m;
 }
 
+// A material that shows exactly colour c (emissive only: no ambient, no diffuse) with alpha.
+inline std::shared_ptr<Material> flatMaterial(glm::vec3 c, float alpha = 1.0f) {
+    auto m = Material::create();
+    m->ambient = glm::vec3(0);
+    m->diffuse = glm::vec4(0, 0, 0, alpha);
+    m->emissive = c;
+    return m;
+}
+
 inline glm::ivec4 pixelAt(const Image& img, int x, int y) {
     const std::uint8_t* p = img.pixel(x, y);
     return {p[0], p[1], p[2], img.channels > 3 ? p[3] : 255};
