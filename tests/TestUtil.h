@@ -90,6 +90,14 @@ inline std::unique_ptr<Viewer> orthoTopViewer(int size, float halfExtent) {
     return v;
 }
 
+// One frame of `scene` through orthoTopViewer(size, halfExtent).
+inline Image renderTop(int size, float halfExtent, std::shared_ptr<Node> scene) {
+    auto v = orthoTopViewer(size, halfExtent);
+    v->setSceneData(std::move(scene));
+    v->frame();
+    return v->capture();
+}
+
 // An application's own program that knows nothing of sgfx's effects: transforms positions and
 // writes the uniform `appColor`. The composer wraps its fragment stage for effects.
 inline const char* const kForeignVert = R"(#version 450 core
