@@ -24,10 +24,23 @@ vec4 sgfx_aoBlend(vec2 now, ivec2 q) {
     if (clip.w <= 0.0) return fresh;
     vec2 at = (clip.xy / clip.w * 0.5 + 0.5) * size; // in last frame's draw pixels
     if (any(lessThan(at, vec2(0.0))) || any(greaterThanEqual(at, size))) return fresh;
-    ivec2 hq = clamp(ivec2(floor((at - 0.5) / float(scale) + 0.5)), ivec2(0), textureSize(sgfx_aoHistory, 0) - 1);
-    vec4 h = texelFetch(sgfx_aoHistory, hq, 0);
-    float expected = -before.z;
-    if (!(h.y > 0.0) || abs(h.y - expected) > 0.02 * expected || isnan(h.x)) return fresh;
+    // Of the four history texels around that point, bilinear weights over those at its depth:
+    // one nearest texel on a slanted floor can be a pixel off, and 2 % away, where these are not.
+    vec2 t = (at - 0.5) / float(scale); // texel q holds draw pixel q·scale
+    ivec2 b = ivec2(floor(t)), last = textureSize(sgfx_aoHistory, 0) - 1;
+    vec2 f = t - vec2(b);
+    float expected = -before.z, sum = 0.0, weight = 0.0, age = 64.0;
+    for (int i = 0; i < 4; ++i) {
+        ivec2 o = ivec2(i & 1, i >> 1);
+        vec4 h = texelFetch(sgfx_aoHistory, clamp(b + o, ivec2(0), last), 0);
+        float w = (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y) + 1e-4;
+        if (!(h.y > 0.0) || abs(h.y - expected) > 0.02 * expected || isnan(h.x)) continue;
+        sum += h.x * w;
+        weight += w;
+        age = min(age, h.z);
+    }
+    if (weight <= 0.0) return fresh;
+    vec4 h = vec4(sum / weight, 0.0, age, 0.0);
     float alpha = max(1.0 / 8.0, 1.0 / (h.z + 1.0));
     return vec4(mix(h.x, now.x, alpha), now.y, min(h.z + 1.0, 64.0), 0.0);
 }
