@@ -8,11 +8,12 @@
 # today's path), m = 32 full resolution with normals from depth ("32, depth"), and temporal
 # (half resolution, 8 taps a frame, accumulated) with normals from depth or from the G-buffer.
 # Usage: bench/ao_table.sh [BUILD_DIR] [ROUNDS] [SIZE:FRAMES ...]   (default 1280x720:24 1920x1080:16)
+# AO_CONFIGS="off 32 td" picks configurations (off first; default all).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 build=${1:-build}; rounds=${2:-3}; shift $(( $# < 2 ? $# : 2 ))
 sizes=("$@"); [ ${#sizes[@]} -gt 0 ] || sizes=(1280x720:24 1920x1080:16)
-configs=(off "16" "32" "64" "16h" "32h" "64h" "32d" "td" "tg")
+read -r -a configs <<<"${AO_CONFIGS:-off 16 32 64 16h 32h 64h 32d td tg}"
 stamp "$build"
 echo
 echo "| size | AO | ms/frame (FPS) | AO/plain | depth pre-pass ms | normals ms | occlusion ms | blur or accumulate ms |"

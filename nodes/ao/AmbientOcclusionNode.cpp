@@ -153,7 +153,8 @@ struct AmbientOcclusionNode::Shared {
                           h.bias == p.bias && h.kernel == p.kernel && h.compare == p.compare &&
                           h.rangeCheck == p.rangeCheck && h.normals == p.normals && h.gbuffer == p.gbuffer;
         // A camera cut, or a jump no history can follow (TAA's rule): eye > 2 m, turn > 15°.
-        const glm::vec3 eye = glm::vec3(glm::inverse(view)[3]), lastEye = glm::vec3(glm::inverse(previousView)[3]);
+        const glm::vec3 eye = glm::vec3(glm::inverse(view)[3]),
+                        lastEye = glm::vec3(glm::inverse(previousView)[3]);
         const glm::vec3 forward = glm::vec3(glm::transpose(view)[2]),
                         lastForward = glm::vec3(glm::transpose(previousView)[2]);
         const bool cut = glm::length(eye - lastEye) > 2.0f ||
@@ -269,7 +270,8 @@ void AmbientOcclusionNode::addOcclusionPass(FrameSetup& f) const {
             c.bind(program, "sgfx_aoGDepth", d.depth);
             if (d.positions.valid()) c.bind(program, "sgfx_aoGPosition", d.positions);
             c.bindTexture(program, "sgfx_aoNoise", shared->noiseTexture(p.seed));
-            const std::vector<glm::vec3>& k = p.temporal ? shared->kernelForFrame(p, frame) : shared->kernelFor(p);
+            const std::vector<glm::vec3>& k =
+                p.temporal ? shared->kernelForFrame(p, frame) : shared->kernelFor(p);
             for (std::size_t i = 0; i < k.size(); ++i)
                 program.set("sgfx_aoKernel[" + std::to_string(i) + "]", k[i]);
             program.set("sgfx_aoSamples", int(k.size()));
