@@ -7,6 +7,7 @@
 #include <sgfx/Group.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
+#include <sgfx/gl/Objects.h>
 #include <sgfx/nodes/ao/AmbientOcclusionNode.h>
 #include <sgfx/nodes/fog/FogNode.h>
 
@@ -524,12 +525,15 @@ struct AoSequence {
 };
 
 // The reference: full resolution, no blur, 4 × 64 = 256 taps (four seeds averaged).
-std::vector<double> referenceK(glm::vec3 eye) {
+std::vector<double> referenceK(glm::vec3 eye, glm::vec3 target = {0, 0, 0.3f}) {
+    AmbientOcclusionParameters p;
+    p.samples = 64, p.blurSize = 1;
+    AoSequence one(p);
     std::vector<double> sum;
     for (std::uint32_t seed = 11; seed < 15; ++seed) {
-        AmbientOcclusionParameters p;
-        p.samples = 64, p.blurSize = 1, p.seed = seed;
-        const std::vector<double> k = AoSequence(p).frame(eye);
+        p.seed = seed;
+        one.node->setParameters(p);
+        const std::vector<double> k = one.frame(eye, target);
         if (sum.empty()) sum.assign(k.size(), 0.0);
         for (std::size_t i = 0; i < k.size(); ++i)
             sum[i] += k[i] / 4.0;
@@ -581,42 +585,39 @@ TEST(AmbientOcclusionTemporal, SlowPanStaysWithinTheAllowance) {
         const glm::vec3 shift = float(i) * step;
         const std::vector<double> k = t.frame(kEye + shift, glm::vec3(0, 0, 0.3f) + shift);
         if (i < 8 || i % 2) continue; // frames 8, 10, 12 against their own reference
-        AmbientOcclusionParameters r;
-        r.samples = 64, r.blurSize = 1;
-        std::vector<double> ref(k.size(), 0.0);
-        for (std::uint32_t seed = 11; seed < 15; ++seed) {
-            r.seed = seed;
-            const std::vector<double> one = AoSequence(r).frame(kEye + shift, glm::vec3(0, 0, 0.3f) + shift);
-            for (std::size_t j = 0; j < ref.size(); ++j)
-                ref[j] += one[j] / 4.0;
-        }
+        const std::vector<double> ref = referenceK(kEye + shift, glm::vec3(0, 0, 0.3f) + shift);
         const double e = meanError(k, ref);
         std::printf("temporal AO, pan frame %d: %.4f (1.25·E_32 = %.4f)\n", i, e, 1.25 * e32);
         EXPECT_LE(e, 1.25 * e32) << "frame " << i;
     }
 }
 
-TEST(AmbientOcclusionTemporal, HistoryStartsAgainAfterACameraCut) {
+TEST(AmbientOcclusionTemporal, HistoryStartsAgainAfterACameraCutAndLeaksNothing) {
     // Eight frames at one place, then a jump of 3 m: the frame after it must be what a fresh
     // node makes there on a frame of the same kernel set (frame 8 ≡ 0 mod 8). Kept history would
     // blend the old view's k wherever the floor's depth matches.
-    const glm::vec3 jump{3.0f, 0, 0};
-    AoSequence cut(temporalParameters());
-    for (int i = 0; i < 8; ++i)
-        cut.frame(kEye);
-    const std::vector<double> after = cut.frame(kEye + jump, glm::vec3(0, 0, 0.3f) + jump);
-    AoSequence fresh(temporalParameters());
-    const std::vector<double> first = fresh.frame(kEye + jump, glm::vec3(0, 0, 0.3f) + jump);
-    double worst = 0;
-    for (std::size_t i = 0; i < after.size(); ++i)
-        worst = std::max(worst, std::abs(after[i] - first[i]));
-    EXPECT_LE(worst, 1e-6);
+    // The history textures go with the node: nothing is left behind.
+    const long before = gl::liveObjects().total();
+    {
+        const glm::vec3 jump{3.0f, 0, 0};
+        AoSequence cut(temporalParameters());
+        for (int i = 0; i < 8; ++i)
+            cut.frame(kEye);
+        const std::vector<double> after = cut.frame(kEye + jump, glm::vec3(0, 0, 0.3f) + jump);
+        AoSequence fresh(temporalParameters());
+        const std::vector<double> first = fresh.frame(kEye + jump, glm::vec3(0, 0, 0.3f) + jump);
+        double worst = 0;
+        for (std::size_t i = 0; i < after.size(); ++i)
+            worst = std::max(worst, std::abs(after[i] - first[i]));
+        EXPECT_LE(worst, 1e-6);
+    }
+    EXPECT_EQ(gl::liveObjects().total(), before);
 }
 
 TEST(AmbientOcclusionTemporal, NormalsFromDepthKeepATiltedPlaneOpen) {
     // The tangent-plane test leaves a plane open only with its exact normal: a normal off by a
     // few degrees puts half the kernel under the surface. Planes tilted towards and away.
-    for (float tilt : {-50.0f, -20.0f, 0.0f, 35.0f, 70.0f}) {
+    for (float tilt : {-50.0f, 0.0f, 60.0f}) {
         auto plane = placed(glm::rotate(glm::mat4(1.0f), glm::radians(tilt), glm::vec3(1, 0, 0)),
                             shapes::quad(30, 30));
         AmbientOcclusionParameters p;

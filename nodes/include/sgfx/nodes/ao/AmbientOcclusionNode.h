@@ -79,11 +79,13 @@ struct SGFX_API AmbientOcclusionParameters {
     AoDebugView debugView = AoDebugView::Off;
     std::uint32_t seed = 1; ///< kernel and rotation noise (fixed: the same frame gives the same map)
     AoNormals normals = AoNormals::GBuffer;
-    /// Half resolution, `samples` taps per frame drawn in turn from 8 interleaved sets of an
-    /// 8·`samples` kernel (frame number mod 8), accumulated over frames: history reprojected
-    /// through last frame's view, dropped where its linear depth differs by more than 2 %,
-    /// blended by max(1/8, 1/(age + 1)); reset on resize, camera jumps and seed changes. Replaces
-    /// the blur (blurSize is ignored); halfResolution is implied. samples ≤ 8 here.
+    /// Half resolution, 8 taps a frame, accumulated over frames: frame n takes set n mod 8 of a
+    /// 64-tap kernel (8 still frames use all of it; `samples` is not used). The history is
+    /// reprojected through last frame's view, dropped where its linear depth differs by more
+    /// than 2 %, blended by max(1/8, 1/(age + 1)), and reset on resize, camera jumps (> 2 m or
+    /// > 15°) and parameter changes. Replaces the blur (blurSize is not used); the materials
+    /// upsample by depth. One history per node: views of different sizes under one node reset
+    /// it every frame.
     bool temporal = false;
 
     /// The seed's method as published: half-cube kernel, stored-depth test, no range check,
