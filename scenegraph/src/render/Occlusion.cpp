@@ -89,19 +89,22 @@ bool occluded(const DepthPyramid& pyramid, const ScreenRect& rect, std::span<con
 }
 
 std::uint64_t occlusionKey(const RenderItem& item) {
-    // FNV-1a over the node's address, the matrix and the faces: a collision only changes which
-    // items are drawn first, never what is culled.
-    std::uint64_t h = 1469598103934665603ull;
-    const auto mix = [&h](const void* p, std::size_t n) {
-        const auto* b = static_cast<const unsigned char*>(p);
-        for (std::size_t i = 0; i < n; ++i)
-            h = (h ^ b[i]) * 1099511628211ull;
+    // The node's address, the matrix and the faces mixed 64 bits at a time (splitmix64's
+    // finaliser, Steele et al. 2014): a collision only changes which items are drawn first,
+    // never what is culled.
+    const auto mix = [](std::uint64_t h, std::uint64_t v) {
+        h ^= v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+        h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ull;
+        return (h ^ (h >> 27)) * 0x94d049bb133111ebull;
     };
     const void* node = item.drawable ? static_cast<const void*>(item.drawable) : item.geometry;
-    mix(&node, sizeof node);
-    mix(&item.model, sizeof item.model);
-    mix(&item.faces, sizeof item.faces);
-    return h;
+    std::uint64_t h = mix(0, std::uint64_t(reinterpret_cast<std::uintptr_t>(node)));
+    std::uint64_t words[8];
+    static_assert(sizeof words == sizeof item.model);
+    std::memcpy(words, &item.model, sizeof words);
+    for (const std::uint64_t w : words)
+        h = mix(h, w);
+    return mix(h, std::uint64_t(item.faces));
 }
 
 } // namespace sgfx::render

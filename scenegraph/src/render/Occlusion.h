@@ -71,6 +71,7 @@ struct OcclusionState {
     std::weak_ptr<const Node> owner;
     std::unordered_set<std::uint64_t> visible, next;
     std::vector<RenderItem> first, rest;
+    std::vector<std::uint64_t> firstKeys, restKeys;
     std::vector<float> depth;
     DepthPyramid pyramid;
 };

@@ -17,13 +17,18 @@ OcclusionResult drawOpaqueTwoPhase(Renderer& r, const gl::RenderTarget& draw,
     // are only decides the order; the test below never trusts last frame.
     state.first.clear();
     state.rest.clear();
-    for (const RenderItem& it : opaque)
-        (state.visible.count(occlusionKey(it)) ? state.first : state.rest).push_back(it);
+    state.firstKeys.clear();
+    state.restKeys.clear();
+    for (const RenderItem& it : opaque) {
+        const std::uint64_t key = occlusionKey(it);
+        const bool seen = state.visible.count(key) != 0;
+        (seen ? state.first : state.rest).push_back(it);
+        (seen ? state.firstKeys : state.restKeys).push_back(key);
+    }
     state.next.clear();
     if (state.first.empty()) { // nothing to test against (the first frame): every item drawn
         r.drawItems(opaque);
-        for (const RenderItem& it : opaque)
-            state.next.insert(occlusionKey(it));
+        state.next.insert(state.restKeys.begin(), state.restKeys.end());
         std::swap(state.visible, state.next);
         return result;
     }
@@ -42,18 +47,20 @@ OcclusionResult drawOpaqueTwoPhase(Renderer& r, const gl::RenderTarget& draw,
                         state.depth, unsafeMinDepth);
     };
     // The occluders that are now hidden behind the others are not drawn first next frame.
-    for (const RenderItem& it : state.first)
-        if (!hidden(it)) state.next.insert(occlusionKey(it));
+    for (std::size_t i = 0; i < state.first.size(); ++i)
+        if (!hidden(state.first[i])) state.next.insert(state.firstKeys[i]);
     std::size_t kept = 0;
-    for (const RenderItem& it : state.rest) {
+    for (std::size_t i = 0; i < state.rest.size(); ++i) {
+        const RenderItem& it = state.rest[i];
         result.tested += occlusionCandidate(it) ? 1 : 0;
         if (hidden(it)) {
             ++result.culled;
             if (culledOut) culledOut->push_back(it);
             continue;
         }
-        state.next.insert(occlusionKey(it));
-        state.rest[kept++] = it;
+        state.next.insert(state.restKeys[i]);
+        if (kept != i) state.rest[kept] = it;
+        ++kept;
     }
     state.rest.resize(kept);
     // Phase 3: the survivors.
