@@ -251,6 +251,7 @@ view::Options parse(int argc, char** argv) {
         throw UsageError("--pick: the pixel is outside the " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
     if (o.orbit && !o.benchFrames) throw UsageError("--orbit needs --bench N");
+    if (o.occlusion && !o.benchFrames) throw UsageError("--occlusion needs --bench N");
     if (o.benchFrames && (o.window || o.compare || o.pick))
         throw UsageError("--bench cannot go with --window, --self-test, --compare or --pick");
     if (o.pick || o.benchFrames) o.headless = true;
