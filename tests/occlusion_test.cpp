@@ -174,13 +174,21 @@ std::vector<Box> sceneBoxes() {
     return boxes;
 }
 
+// Blocks with a material each; the small boxes share one mesh and material, so the renderer
+// draws them as instance batches, whose makeup the culling changes.
 NodePtr buildScene(const std::vector<Box>& boxes) {
     auto root = Group::create();
+    std::shared_ptr<Geometry> small;
     for (std::size_t i = 0; i < boxes.size(); ++i) {
-        auto g = shapes::box(boxes[i].max - boxes[i].min);
-        auto m = Material::create();
-        m->diffuse = glm::vec4(0.3f + 0.1f * float(i % 7), 0.2f + 0.1f * float(i % 5), 0.6f, 1.0f);
-        g->getOrCreateStateSet().material.set(m);
+        const glm::vec3 size = boxes[i].max - boxes[i].min;
+        std::shared_ptr<Geometry> g = i % 2 ? small : nullptr;
+        if (!g) {
+            g = shapes::box(size);
+            auto m = Material::create();
+            m->diffuse = glm::vec4(0.3f + 0.1f * float(i % 7), 0.2f + 0.1f * float(i % 5), 0.6f, 1.0f);
+            g->getOrCreateStateSet().material.set(m);
+            if (i % 2) small = g;
+        }
         auto t = Transform::create(glm::translate(glm::mat4(1.0f), (boxes[i].min + boxes[i].max) * 0.5f));
         t->addChild(g);
         root->addChild(t);
@@ -285,13 +293,14 @@ TEST(Occlusion, WalkImagesEqualNoVisibleItemCulledAndMostCulled) {
     const std::vector<Box> boxes = sceneBoxes();
     auto off = walkViewer(boxes, RendererOptions::OcclusionCulling::Off);
     auto on = walkViewer(boxes, RendererOptions::OcclusionCulling::On);
-    std::size_t items = 0, culled = 0, tested = 0;
+    std::size_t items = 0, culled = 0, tested = 0, batches = 0;
     for (int f = 0; f < kFrames; ++f) {
         pose(*off->camera(), f);
         pose(*on->camera(), f);
         off->frame();
         on->frame();
         EXPECT_EQ(off->renderer().stats().occlusionTested, 0u);
+        batches += on->renderer().stats().instanceBatches;
         const FrameStats& s = on->renderer().stats();
         items += s.items;
         culled += s.occlusionCulled;
@@ -303,6 +312,7 @@ TEST(Occlusion, WalkImagesEqualNoVisibleItemCulledAndMostCulled) {
         EXPECT_EQ(visibleCulledPixels(*on, boxes), 0) << "frame " << f << ": a culled box is visible";
     }
     expectNoGlErrors(*on);
+    EXPECT_GT(batches, 0u) << "the small boxes are drawn in instance batches";
     std::printf("occlusion walk: %zu of %zu items culled, %zu tested\n", culled, items, tested);
     EXPECT_GT(double(culled), 0.3 * double(items))
         << culled << " of " << items << " culled, " << tested << " tested";
