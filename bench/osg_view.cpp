@@ -4,7 +4,7 @@
 // (docs/coming-from-osg.md, scripts/osg-figures.sh).
 //
 //   osg_view FILE [--size WxH] [--out PNG] [--yaw DEG] [--pitch DEG] [--fog DENSITY|auto|on|off]
-//            [--no-ground] [--frames N [--orbit]] [--osg-options STRING]
+//            [--no-ground] [--frames N [--orbit] [--cpu-time]] [--osg-options STRING]
 //
 // --frames N times N frames (after 3 warm-up frames, each ended by glFinish, as `polygon --bench`
 // and `sgfx-view --bench`) and prints a BENCH line with their median; the PNG is then written only
@@ -12,6 +12,8 @@
 // of sgfx-view --orbit (demos/view/main.cpp orbitCamera): around the centre C of the bounding box
 // at 1.5 R (R half its diagonal), 30 degrees above the horizontal, the azimuth advancing 360/N
 // degrees a frame from --yaw, a 60 degree vertical field of view, near 0.01 R and far 4 R.
+// --cpu-time times each frame by the CPU time of all the process's threads (llvmpipe's included)
+// instead of wall time, as `pixel_cost --cpu-time` (bench/pixel_vs_osg.sh).
 // --fog auto (or on) picks the EXP2 density that hides half of the model's centre seen from the
 // orbit (exp(-(1.5 R rho)^2) = 1/2), as sgfx-view's --fog auto hides half of it.
 //
