@@ -74,6 +74,13 @@ for p in sgfx osg; do for f in off on; do
 done; done
 fmt() { awk -v x="$1" -v f="$2" 'BEGIN { printf f, x }'; }
 pct() { awk -v x="$1" 'BEGIN { printf "%+.0f %%", (x - 1) * 100 }'; }
+# One table row: the leading cells, then sgfx's and OSG's medians and the median per-round ratio
+# of the two named series.
+pair_row() {
+  local cells=$1
+  eval "local a=(\"\${$2[@]}\") o=(\"\${$3[@]}\")"
+  echo "| $cells | $(fmt "$(median "${a[@]}")" %.1f) | $(fmt "$(median "${o[@]}")" %.1f) | $(fmt "$(median_ratio a o)" %.2f) |"
+}
 
 stamp "$build"
 echo
@@ -83,20 +90,14 @@ echo "| size | fog | sgfx ms | OSG ms | sgfx × OSG |"
 echo "|---|---|---:|---:|---:|"
 for s in L S; do
   size=$large; [ $s = S ] && size=$small
-  for f in off on; do
-    eval "a=(\"\${sgfx_${s}_${f}[@]}\"); o=(\"\${osg_${s}_${f}[@]}\")"
-    echo "| $size | $f | $(fmt "$(median "${a[@]}")" %.1f) | $(fmt "$(median "${o[@]}")" %.1f) | $(fmt "$(median_ratio a o)" %.2f) |"
-  done
+  for f in off on; do pair_row "$size | $f" "sgfx_${s}_${f}" "osg_${s}_${f}"; done
 done
 echo
 echo "Per-pixel cost: (ms at $large − ms at $small) / $dpx added pixels, per round; medians."
 echo
 echo "| fog | sgfx ns/pixel | OSG ns/pixel | sgfx × OSG |"
 echo "|---|---:|---:|---:|"
-for f in off on; do
-  eval "a=(\"\${sgfx_px_${f}[@]}\"); o=(\"\${osg_px_${f}[@]}\")"
-  echo "| $f | $(fmt "$(median "${a[@]}")" %.1f) | $(fmt "$(median "${o[@]}")" %.1f) | $(fmt "$(median_ratio a o)" %.2f) |"
-done
+for f in off on; do pair_row "$f" "sgfx_px_${f}" "osg_px_${f}"; done
 echo
 echo "Fog overhead: median over rounds of (fog on / fog off − 1)."
 echo

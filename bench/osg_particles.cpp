@@ -17,7 +17,7 @@
 // Prints: OSG_PARTICLES count=... live=... frame_ms=... update_ms=... draw_ms=...
 // (update: the update traversal, where osgParticle emits, moves and kills particles; draw: the
 // cull and draw traversals plus glFinish). The OSMesa/libGL linking notes of osg_polygon.cpp apply.
-#include <GL/osmesa.h>
+#include "osg_osmesa.h"
 
 #include <osg/BlendFunc>
 #include <osg/Geode>
@@ -76,18 +76,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "osg_particles: N, frames and size must be positive\n");
         return 2;
     }
-    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
-    std::vector<unsigned char> buffer(std::size_t(width) * std::size_t(height) * 4);
-    if (!ctx || !OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, width, height)) {
-        std::fprintf(stderr, "osg_particles: no OSMesa context\n");
-        return 1;
-    }
-    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    if (!renderer) {
-        std::fprintf(stderr, "osg_particles: GL calls do not reach OSMesa (try LD_PRELOAD=libOSMesa.so.8)\n");
-        return 1;
-    }
-    std::printf("GL_RENDERER: %s\n", renderer);
+    const auto gl = OsgOsmesaContext::open("osg_particles", width, height);
+    if (!gl) return 1;
+    std::printf("GL_RENDERER: %s\n", gl->renderer());
 
     constexpr double kLife = 1.0, kDt = 1.0 / 30.0;
     osg::ref_ptr<osgParticle::ParticleSystem> ps = new osgParticle::ParticleSystem;
@@ -179,6 +170,5 @@ int main(int argc, char** argv) {
                 "draw_ms=%.2f\n",
                 n, ps->numParticles() - ps->numDeadParticles(), width, height, int(draw),
                 points ? "point" : "quad", med(total), med(update), med(drawMs));
-    OSMesaDestroyContext(ctx);
     return 0;
 }

@@ -36,7 +36,7 @@
 //    the depth comparison (black shadows); its own GLSL (PROVIDE_FRAGMENT_SHADER) does not compile on
 //    Mesa (gl_TexCoord indexed by a uniform). MesaViewDependentShadowMap supplies the same shader with
 //    constant indices: shadows keep the ambient light, lit pixels match the unshadowed image.
-#include <GL/osmesa.h>
+#include "osg_osmesa.h"
 
 #include <osg/AlphaFunc>
 #include <osg/CullFace>
@@ -271,20 +271,6 @@ private:
     std::map<osg::StateSet*, bool> transparent_, masked_;
 };
 
-// GL entry points OSG uses on this path (fixed function + VBOs), checked before anything is drawn.
-const char* const kProbes[] = {"glGetString",  "glClear",         "glDrawElements", "glEnable",
-                               "glLightfv",    "glGenBuffers",    "glBindBuffer",   "glBufferData",
-                               "glUseProgram", "glVertexPointer", "glNormalPointer"};
-
-std::string libraryOf(void* p) {
-    Dl_info info;
-    return p && dladdr(p, &info) && info.dli_fname ? info.dli_fname : "(null)";
-}
-// OSMesa's own entry points, or libglapi's dispatch stubs that OSMesa drives.
-bool isMesa(const std::string& lib) {
-    return lib.find("libOSMesa") != std::string::npos || lib.find("libglapi") != std::string::npos;
-}
-
 // osgShadow::ViewDependentShadowMap with a receiver shader that Mesa compiles. OSG 3.6.5's VDSM
 // defaults to ShadowSettings::NO_SHADERS: its shadow maps then act through fixed-function texture
 // units (depth compare, GL_MODULATE), which multiply the whole lit colour, ambient included, by 0
@@ -341,44 +327,13 @@ int main(int argc, char** argv) {
     const Options opt = parse(argc, argv);
     using clock = std::chrono::steady_clock;
 
-    // ---- OSMesa context (compatibility profile, OSG 3.6 as packaged uses the fixed-function path)
-    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
-    if (!ctx) {
-        std::fprintf(stderr, "osg_polygon: OSMesaCreateContextExt failed\n");
-        return 1;
-    }
-    struct ContextGuard {
-        OSMesaContext c;
-        ~ContextGuard() { OSMesaDestroyContext(c); }
-    } contextGuard{ctx};
-    std::vector<unsigned char> buffer(std::size_t(opt.width) * std::size_t(opt.height) * 4);
-    if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, opt.width, opt.height)) {
-        std::fprintf(stderr, "osg_polygon: OSMesaMakeCurrent failed\n");
-        return 1;
-    }
-
-    // ---- make sure we really talk to OSMesa (see the header comment)
-    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-    if (!renderer || !version) {
-        std::fprintf(stderr, "osg_polygon: glGetString returned NULL: GL calls are not reaching OSMesa "
-                             "(libGL's dispatch won; try LD_PRELOAD=libOSMesa.so.8)\n");
-        return 1;
-    }
-    std::printf("GL_RENDERER: %s\nGL_VERSION: %s\n", renderer, version);
+    // ---- OSMesa context, checked to reach OSMesa (see the header comment and osg_osmesa.h)
+    const auto gl = OsgOsmesaContext::open("osg_polygon", opt.width, opt.height);
+    if (!gl) return 1;
+    const char* renderer = gl->renderer();
+    std::printf("GL_RENDERER: %s\nGL_VERSION: %s\n", renderer, gl->version());
     if (!std::strstr(renderer, "llvmpipe"))
         std::fprintf(stderr, "osg_polygon: warning: renderer is not llvmpipe, timings are not comparable\n");
-    for (const char* name : kProbes) {
-        const std::string direct = libraryOf(dlsym(RTLD_DEFAULT, name));
-        const std::string viaOsg = libraryOf(osg::getGLExtensionFuncPtr(name));
-        if (!isMesa(direct) || !isMesa(viaOsg)) {
-            std::fprintf(stderr,
-                         "osg_polygon: %s resolves to '%s' (direct) / '%s' (osg::getGLExtensionFuncPtr), "
-                         "not OSMesa; try LD_PRELOAD=libOSMesa.so.8\n",
-                         name, direct.c_str(), viaOsg.c_str());
-            return 1;
-        }
-    }
     if (const char* t = std::getenv("LP_NUM_THREADS")) std::printf("LP_NUM_THREADS=%s\n", t);
 
     // ---- load: the obj plugin makes one Geode+Geometry per (object, material) state, so objects stay

@@ -4,7 +4,7 @@
 // (docs/coming-from-osg.md, scripts/osg-figures.sh).
 //
 //   osg_view FILE [--size WxH] [--out PNG] [--yaw DEG] [--pitch DEG] [--fog DENSITY|auto|on|off]
-//            [--no-ground] [--frames N [--orbit]] [--osg-options STRING]
+//            [--no-ground] [--frames N [--orbit] [--cpu-time]] [--osg-options STRING]
 //
 // --frames N times N frames (after 3 warm-up frames, each ended by glFinish, as `polygon --bench`
 // and `sgfx-view --bench`) and prints a BENCH line with their median; the PNG is then written only
@@ -12,6 +12,8 @@
 // of sgfx-view --orbit (demos/view/main.cpp orbitCamera): around the centre C of the bounding box
 // at 1.5 R (R half its diagonal), 30 degrees above the horizontal, the azimuth advancing 360/N
 // degrees a frame from --yaw, a 60 degree vertical field of view, near 0.01 R and far 4 R.
+// --cpu-time times each frame by the CPU time of all the process's threads (llvmpipe's included)
+// instead of wall time, as `pixel_cost --cpu-time` (bench/pixel_vs_osg.sh).
 // --fog auto (or on) picks the EXP2 density that hides half of the model's centre seen from the
 // orbit (exp(-(1.5 R rho)^2) = 1/2), as sgfx-view's --fog auto hides half of it.
 //
@@ -33,7 +35,7 @@
 //
 // Headless OSMesa setup and link order: as bench/osg_polygon.cpp (read its header comment): OSMesa
 // is linked before the OSG libraries so that libosg's gl* calls reach OSMesa, checked at start-up.
-#include <GL/osmesa.h>
+#include "osg_osmesa.h"
 
 #include <osg/ComputeBoundsVisitor>
 #include <osg/Fog>
@@ -60,6 +62,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -76,6 +79,7 @@ struct Options {
     bool ground = true;
     int frames = 0;            // --frames N: time N frames and print a BENCH line
     bool orbit = false;        // --orbit: the orbit camera of the header
+    bool cpuTime = false;      // --cpu-time: frames timed by the process's CPU time (pixel_cost's)
     std::string readerOptions; // --osg-options: osgDB::Options' string (the plugins' switches)
 };
 
@@ -84,6 +88,13 @@ double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     const std::size_t n = v.size();
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// CPU time of every thread of the process (llvmpipe's rasterizer threads included).
+double processCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
 }
 
 // --fog: a density (> 0), auto/on (from the radius) or off.
@@ -133,19 +144,6 @@ public:
     }
     std::size_t drawables = 0, triangles = 0;
 };
-
-// GL entry points OSG uses on this path, checked before anything is drawn.
-const char* const kProbes[] = {"glGetString",  "glClear",         "glDrawElements", "glEnable",
-                               "glLightfv",    "glGenBuffers",    "glBindBuffer",   "glBufferData",
-                               "glUseProgram", "glVertexPointer", "glNormalPointer"};
-
-std::string libraryOf(void* p) {
-    Dl_info info;
-    return p && dladdr(p, &info) && info.dli_fname ? info.dli_fname : "(null)";
-}
-bool isMesa(const std::string& lib) {
-    return lib.find("libOSMesa") != std::string::npos || lib.find("libglapi") != std::string::npos;
-}
 
 // sgfx-view's ground: a quad 60 radii wide, 1e-3 radii under the model's base, grey material.
 osg::ref_ptr<osg::Geode> makeGround(const osg::BoundingBox& box, float radius) {
@@ -200,6 +198,7 @@ int main(int argc, char** argv) {
         "--osg-options", opt.readerOptions,
         "osgDB reader options, e.g. noRotation for an OBJ that is Z up already (polygon's exports)");
     app.add_flag("--orbit", opt.orbit, "with --frames: the orbit camera of bench/foreign_table.sh");
+    app.add_flag("--cpu-time", opt.cpuTime, "time frames by the CPU time of all threads, not wall time");
     CLI11_PARSE(app, argc, argv);
     opt.ground = !noGround;
     const bool writePng = opt.frames == 0 || app.count("--out") > 0;
@@ -217,38 +216,10 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    // ---- OSMesa context (compatibility profile: OSG 3.6 as packaged draws fixed function)
-    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
-    if (!ctx) {
-        std::fprintf(stderr, "osg_view: OSMesaCreateContextExt failed\n");
-        return 1;
-    }
-    struct ContextGuard {
-        OSMesaContext c;
-        ~ContextGuard() { OSMesaDestroyContext(c); }
-    } contextGuard{ctx};
-    std::vector<unsigned char> buffer(std::size_t(opt.width) * std::size_t(opt.height) * 4);
-    if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, opt.width, opt.height)) {
-        std::fprintf(stderr, "osg_view: OSMesaMakeCurrent failed\n");
-        return 1;
-    }
-    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    if (!renderer) {
-        std::fprintf(stderr, "osg_view: glGetString returned NULL: GL calls are not reaching OSMesa "
-                             "(libGL's dispatch won; try LD_PRELOAD=libOSMesa.so.8)\n");
-        return 1;
-    }
-    for (const char* name : kProbes) {
-        const std::string direct = libraryOf(dlsym(RTLD_DEFAULT, name));
-        const std::string viaOsg = libraryOf(osg::getGLExtensionFuncPtr(name));
-        if (!isMesa(direct) || !isMesa(viaOsg)) {
-            std::fprintf(stderr,
-                         "osg_view: %s resolves to '%s' (direct) / '%s' (osg::getGLExtensionFuncPtr), not "
-                         "OSMesa; try LD_PRELOAD=libOSMesa.so.8\n",
-                         name, direct.c_str(), viaOsg.c_str());
-            return 1;
-        }
-    }
+    // ---- OSMesa context, checked to reach OSMesa (osg_osmesa.h)
+    const auto gl = OsgOsmesaContext::open("osg_view", opt.width, opt.height);
+    if (!gl) return 1;
+    const char* renderer = gl->renderer();
 
     // ---- load (images resolve through OSG_FILE_PATH and the file's folder, osgDB's own rules)
     osg::ref_ptr<osgDB::Options> readOptions = new osgDB::Options(opt.readerOptions);
@@ -335,9 +306,11 @@ int main(int argc, char** argv) {
         for (int i = 0; i < opt.frames; ++i) {
             pose(i);
             const auto t0 = clock::now();
+            const double c0 = processCpuMs();
             viewer.frame();
             glFinish();
-            ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+            ms.push_back(opt.cpuTime ? processCpuMs() - c0
+                                     : std::chrono::duration<double, std::milli>(clock::now() - t0).count());
         }
         const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / double(ms.size());
         std::printf(

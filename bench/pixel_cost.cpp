@@ -5,7 +5,7 @@
 // cost. The toggles are profiling-only RendererOptions that change the image:
 //
 //   pixel_cost FILE [--size 1280x720] [--frames 40] [--target srgb8|unorm8] [--submit-triangles N]
-//              [--lighting pixel|vertex] [--shading full|constant] [--count-fragments]
+//              [--lighting pixel|vertex] [--shading full|constant] [--count-fragments] [--turn]
 //   pixel_cost FILE --ladder ROUNDS
 //
 // Each frame's wall time is Viewer::frame plus glFinish (llvmpipe's rasterising counted in its
@@ -16,6 +16,9 @@
 // so a size change's reallocation is not timed), and prints per toggle LADDER lines with the
 // medians over rounds of both frames, of their difference (the per-pixel cost) and of its
 // per-round ratio to the first toggle's: a busy machine slows every toggle of a round alike.
+// --turn (not with --ladder) takes the views of `osg_view --orbit` and `sgfx-view --orbit` instead
+// (a full turn over the timed frames from yaw 30°, near 0.01 and far 4 bounding radii), so that
+// bench/pixel_vs_osg.sh compares sgfx and OSG on the same views.
 #include <sgfx/Camera.h>
 #include <sgfx/Group.h>
 #include <sgfx/ModelLoader.h>
@@ -48,6 +51,7 @@ struct Options {
     bool countFragments = false;
     int ladder = 0;
     bool cpuTime = false;
+    bool turn = false;
 };
 
 struct Toggle {
@@ -101,6 +105,7 @@ struct Bench {
     glm::vec3 centre{0.0f};
     float distance = 1.0f;
     bool cpuTime = false;
+    int turnFrames = 0; // > 0: osg_view --orbit's views, a full turn over this many frames
 
     Bench(const std::string& file, int width, int height) {
         auto model = sgfx::loadModel(file);
@@ -124,7 +129,10 @@ struct Bench {
     }
     // Wall time of the frame at orbit step `step` (1.5° a step, 30° elevation), glFinish included.
     double frame(int step) {
-        const float angle = glm::radians(1.5f * float(step)), elevation = glm::radians(30.0f);
+        // osg_view's yaw (30° + 360° i / N, looking along +Y at yaw 0) is this azimuth less 90°.
+        const float angle = turnFrames > 0 ? glm::radians(360.0f * float(step) / float(turnFrames) - 60.0f)
+                                           : glm::radians(1.5f * float(step));
+        const float elevation = glm::radians(30.0f);
         const glm::vec3 dir(std::cos(elevation) * std::cos(angle), std::cos(elevation) * std::sin(angle),
                             std::sin(elevation));
         viewer->camera()->setLookAt(centre + distance * dir, centre, {0, 0, 1});
@@ -141,12 +149,18 @@ void runSingle(const Options& o, int width, int height) {
     Bench b(o.file, width, height);
     b.cpuTime = o.cpuTime;
     applyOptions(o, b.viewer->renderer().options());
+    if (o.turn) {
+        b.turnFrames = o.frames;
+        const float radius = b.distance / 1.5f;
+        b.viewer->camera()->setPerspective(60.0f, 0.01f * radius, 4.0f * radius);
+    }
+    const int first = o.turn ? 0 : 3; // osg_view warms up at its first view
     for (int f = 0; f < 3; ++f) // untimed: programs compiled, meshes uploaded
-        b.frame(f);
+        b.frame(o.turn ? 0 : f);
     std::vector<double> ms;
     std::uint64_t fragments = 0;
     for (int f = 0; f < o.frames; ++f) {
-        ms.push_back(b.frame(3 + f));
+        ms.push_back(b.frame(first + f));
         fragments += b.viewer->stats().fragments;
     }
     const sgfx::FrameStats& s = b.viewer->stats();
@@ -210,11 +224,14 @@ int main(int argc, char** argv) {
     app.add_option("--ladder", o.ladder, "rounds of every toggle at both sizes, interleaved")
         ->check(CLI::Range(1, 1000));
     app.add_flag("--cpu-time", o.cpuTime, "time frames by the process's CPU time, not wall time");
+    app.add_flag("--turn", o.turn,
+                 "osg_view --orbit's views: a full turn over the frames (not with --ladder)");
     CLI11_PARSE(app, argc, argv);
     try {
         int width = 0, height = 0;
         if (std::sscanf(o.size.c_str(), "%dx%d", &width, &height) != 2 || width < 1 || height < 1)
             throw CLI::ValidationError("--size", "WIDTHxHEIGHT, both positive");
+        if (o.ladder && o.turn) throw CLI::ValidationError("--turn", "does not go with --ladder");
         if (o.ladder)
             runLadder(o);
         else

@@ -65,6 +65,15 @@ inline std::shared_ptr<Material> metallicRoughness(glm::vec3 base, float metalli
     return m;
 }
 
+// A material that shows exactly colour c (emissive only: no ambient, no diffuse) with alpha.
+inline std::shared_ptr<Material> flatMaterial(glm::vec3 c, float alpha = 1.0f) {
+    auto m = Material::create();
+    m->ambient = glm::vec3(0);
+    m->diffuse = glm::vec4(0, 0, 0, alpha);
+    m->emissive = c;
+    return m;
+}
+
 inline glm::ivec4 pixelAt(const Image& img, int x, int y) {
     const std::uint8_t* p = img.pixel(x, y);
     return {p[0], p[1], p[2], img.channels > 3 ? p[3] : 255};
@@ -79,6 +88,14 @@ inline std::unique_ptr<Viewer> orthoTopViewer(int size, float halfExtent) {
     cam.projectionMatrix = glm::ortho(-halfExtent, halfExtent, -halfExtent, halfExtent, 0.1f, 100.0f);
     cam.clearColor = {0, 0, 0, 1};
     return v;
+}
+
+// One frame of `scene` through orthoTopViewer(size, halfExtent).
+inline Image renderTop(int size, float halfExtent, std::shared_ptr<Node> scene) {
+    auto v = orthoTopViewer(size, halfExtent);
+    v->setSceneData(std::move(scene));
+    v->frame();
+    return v->capture();
 }
 
 // An application's own program that knows nothing of sgfx's effects: transforms positions and

@@ -377,16 +377,30 @@ TEST(AntiAliasing, TaaConvergesOnAStaticScene) {
     EXPECT_GT(cut.worst, 0.3);
 }
 
-TEST(AntiAliasing, TaaDropsItsHistoryWhenTheCameraJumps) {
-    // 16 frames from one place, then a jump of 5 m along the edge (over the 2 m a frame TAA
-    // follows; the edge stays where it was on screen): the next image is a single jittered
-    // sample per pixel, the same as a reset history gives.
+namespace {
+
+// The camera moved 5 m along the edge (over the 2 m a frame TAA follows; the edge stays where it
+// was on screen).
+void jumpAlongTheEdge(Viewer& v) {
     const glm::vec3 along(-std::sin(kAngle) * 5.0f, std::cos(kAngle) * 5.0f, 0.0f);
-    auto moved = [&](Viewer& v) { v.camera()->setLookAt(along + glm::vec3(0, 0, 10), along, {0, 1, 0}); };
+    v.camera()->setLookAt(along + glm::vec3(0, 0, 10), along, {0, 1, 0});
+}
+
+// A TAA view's 17th frame: 16 frames from one place, then the jump.
+Image jumpedSeventeenthFrame() {
     auto v = edgeViewer(AntiAliasing::taa());
     renderFrames(*v, 16);
-    moved(*v);
-    const Image jumped = renderFrames(*v, 1);
+    jumpAlongTheEdge(*v);
+    return renderFrames(*v, 1);
+}
+
+} // namespace
+
+TEST(AntiAliasing, TaaDropsItsHistoryWhenTheCameraJumps) {
+    // After the jump the image is a single jittered sample per pixel, the same as a reset
+    // history gives.
+    const auto moved = jumpAlongTheEdge;
+    const Image jumped = jumpedSeventeenthFrame();
     auto fresh = edgeViewer(AntiAliasing::taa());
     moved(*fresh);
     renderFrames(*fresh, 16); // the jitter sequence continues: frame 17 uses the same offset below
@@ -400,15 +414,10 @@ TEST(AntiAliasing, TaaDropsItsHistoryWhenTheCameraJumps) {
 TEST(AntiAliasing, TaaJitterFollowsTheFrameNumber) {
     // Display channels and cluster ranks must jitter alike: a view that has drawn 16 frames and
     // then cuts equals a brand-new view drawn once as frame 17, and not one drawn as frame 18.
-    const glm::vec3 along(-std::sin(kAngle) * 5.0f, std::cos(kAngle) * 5.0f, 0.0f);
-    auto moved = [&](Viewer& v) { v.camera()->setLookAt(along + glm::vec3(0, 0, 10), along, {0, 1, 0}); };
-    auto v = edgeViewer(AntiAliasing::taa());
-    renderFrames(*v, 16);
-    moved(*v);
-    const Image jumped = renderFrames(*v, 1);
+    const Image jumped = jumpedSeventeenthFrame();
     auto firstDrawnAs = [&](std::uint64_t frameNumber) {
         auto fresh = edgeViewer(AntiAliasing::taa());
-        moved(*fresh);
+        jumpAlongTheEdge(*fresh);
         fresh->renderer().render(*fresh->camera(), 0.0, frameNumber);
         return fresh->capture();
     };

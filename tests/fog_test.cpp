@@ -21,14 +21,6 @@ namespace {
 
 constexpr int kSize = 96;
 
-std::shared_ptr<Material> flat(glm::vec3 c, float alpha = 1.0f) {
-    auto m = Material::create();
-    m->ambient = glm::vec3(0);
-    m->diffuse = glm::vec4(0, 0, 0, alpha);
-    m->emissive = c;
-    return m;
-}
-
 // A quad placed by `m` with an emissive colour (exact: no lights in these scenes).
 std::shared_ptr<Node> panel(float w, float h, const glm::mat4& m, std::shared_ptr<Material> mat) {
     auto t = Transform::create(m);
@@ -146,7 +138,7 @@ TEST_P(FogPlane, EveryPixelMatchesTheClosedForm) {
     const glm::vec3 surface(0.2f, 0.5f, 0.1f);
     const double half = 200.0, cy = 190.0;
     fogNode->addChild(panel(float(2 * half), float(2 * half),
-                            glm::translate(glm::mat4(1.0f), {0, float(cy), 0}), flat(surface)));
+                            glm::translate(glm::mat4(1.0f), {0, float(cy), 0}), flatMaterial(surface)));
     auto root = Group::create();
     root->addChild(fogNode);
     v->setSceneData(root);
@@ -218,9 +210,9 @@ GlassResult renderGlass(Path path, float alpha, float glassDist, float wallDist)
     for (bool withGlass : {true, false}) {
         auto v = perspectiveViewer({0, 0, 3}, {0, 10, 3});
         auto fogNode = fogOn(params, path);
-        fogNode->addChild(panel(400, 400, facingCamera(wallDist, 3), flat(wall)));
+        fogNode->addChild(panel(400, 400, facingCamera(wallDist, 3), flatMaterial(wall)));
         if (withGlass) {
-            auto g = panel(20, 20, facingCamera(glassDist, 3), flat(pane, alpha));
+            auto g = panel(20, 20, facingCamera(glassDist, 3), flatMaterial(pane, alpha));
             auto& ss = g->getOrCreateStateSet();
             ss.blend.set(BlendMode::Alpha);
             ss.cullFace.set(CullFace::None);
@@ -285,7 +277,7 @@ TEST(FogGlass, TransmissivePaneMatchesPhysicalCompositing) {
             auto v = perspectiveViewer({0, 0, 3}, {0, 10, 3});
             v->renderer().options().colorTarget = RendererOptions::ColorTarget::Rgba32F;
             auto fogNode = fogOn(params, path);
-            fogNode->addChild(panel(400, 400, facingCamera(wd, 3), flat(glm::vec3(cb))));
+            fogNode->addChild(panel(400, 400, facingCamera(wd, 3), flatMaterial(glm::vec3(cb))));
             auto m = metallicRoughness(glm::vec3(1.0f), 0.0f, 0.0f);
             m->transmission = 1.0f;
             fogNode->addChild(panel(20, 20, facingCamera(gd, 3), m));
@@ -353,10 +345,10 @@ TEST(FogSplit, EpsilonScalesWithDistance) {
         auto ground = shapes::heightfield(-4000, 0, 8000, 6000, 64, 64, [](float x, float y) {
             return 20.0f * std::sin(x * 0.01f) + y * 0.01f;
         });
-        ground->getOrCreateStateSet().material.set(flat({0.3f, 0.35f, 0.2f}));
+        ground->getOrCreateStateSet().material.set(flatMaterial({0.3f, 0.35f, 0.2f}));
         ground->getOrCreateStateSet().cullFace.set(CullFace::None);
         fogNode->addChild(ground);
-        fogNode->addChild(panel(6000, 600, facingCamera(3000, 300), flat({0.5f, 0.5f, 0.5f})));
+        fogNode->addChild(panel(6000, 600, facingCamera(3000, 300), flatMaterial({0.5f, 0.5f, 0.5f})));
         v->setSceneData(fogNode);
         v->frame();
         expectNoGlErrors(*v);
@@ -378,7 +370,7 @@ TEST(FogForeign, ApplicationShaderGetsTheSameFogAsTheBuiltInMaterial) {
                 ss.program.set(ShaderProgram::create("app", kForeignVert, kForeignFrag));
                 ss.setUniform("appColor", surface);
             } else {
-                ss.material.set(flat(surface));
+                ss.material.set(flatMaterial(surface));
             }
             auto t = Transform::create(glm::translate(glm::mat4(1.0f), {0, 190, 0}));
             t->addChild(q);
@@ -408,12 +400,12 @@ TEST(FogScope, OnlyTheSubtreeIsFoggedAndTheInnerNodeWins) {
     inner->setDeferOpaque(true);
     const glm::vec3 c(0.1f, 0.4f, 0.2f);
     auto at = [](float x, float y) { return glm::translate(glm::mat4(1.0f), {x, y, 0}); };
-    outer->addChild(panel(1, 1, at(-1, 1), flat(c)));
-    inner->addChild(panel(1, 1, at(1, 1), flat(c)));
+    outer->addChild(panel(1, 1, at(-1, 1), flatMaterial(c)));
+    inner->addChild(panel(1, 1, at(1, 1), flatMaterial(c)));
     outer->addChild(inner);
     auto root = Group::create();
     root->addChild(outer);
-    root->addChild(panel(1, 1, at(0, -1), flat(c)));
+    root->addChild(panel(1, 1, at(0, -1), flatMaterial(c)));
     v->setSceneData(root);
     v->frame();
     expectNoGlErrors(*v);
@@ -451,7 +443,8 @@ TEST(FogSky, OffLeavesTheClearColourAndFarPlaneFogsToTheFarPlane) {
             FogParameters p = testFog(FogResponse::Exponential);
             p.sky = sky;
             auto fogNode = fogOn(p, path);
-            fogNode->addChild(panel(1, 1, glm::translate(glm::mat4(1.0f), {0, 5, 0}), flat({1, 1, 1})));
+            fogNode->addChild(
+                panel(1, 1, glm::translate(glm::mat4(1.0f), {0, 5, 0}), flatMaterial({1, 1, 1})));
             v->setSceneData(fogNode);
             v->frame();
             expectNoGlErrors(*v);
@@ -504,11 +497,11 @@ TEST(FogDeferred, EqualsTheFogInTheMaterialsOnAnOrbit) {
         auto app = shapes::quad(4, 4);
         app->getOrCreateStateSet().program.set(ShaderProgram::create("app", kForeignVert, kForeignFrag));
         app->getOrCreateStateSet().setUniform("appColor", glm::vec3(0.2f, 0.5f, 0.1f));
-        root->addChild(panel(4, 4, facingCamera(-4, 2), flat({0.3f, 0.3f, 0.3f})));
+        root->addChild(panel(4, 4, facingCamera(-4, 2), flatMaterial({0.3f, 0.3f, 0.3f})));
         auto appAt = Transform::create(facingCamera(4, 2));
         appAt->addChild(app);
         root->addChild(appAt);
-        auto glass = panel(6, 4, facingCamera(0, 2), flat({0.1f, 0.6f, 0.3f}, 0.4f));
+        auto glass = panel(6, 4, facingCamera(0, 2), flatMaterial({0.1f, 0.6f, 0.3f}, 0.4f));
         glass->getOrCreateStateSet().blend.set(BlendMode::Alpha);
         glass->getOrCreateStateSet().cullFace.set(CullFace::None);
         root->addChild(glass);
@@ -547,7 +540,7 @@ TEST(FogDeferred, EqualsTheFogInTheMaterialsOnAnOrbit) {
 TEST(FogNodeApi, DeferringIsOffByDefault) {
     auto v = perspectiveViewer({30, 0, 6}, {0, 0, 1});
     auto fogNode = FogNode::create(FogParameters::ground());
-    fogNode->addChild(panel(4, 4, glm::mat4(1.0f), flat({0.5f, 0.5f, 0.5f})));
+    fogNode->addChild(panel(4, 4, glm::mat4(1.0f), flatMaterial({0.5f, 0.5f, 0.5f})));
     v->setSceneData(fogNode);
     v->frame();
     EXPECT_FALSE(fogNode->deferOpaque());
@@ -602,7 +595,7 @@ TEST(FogNodeApi, ModesSwitchAtRunTimeWithoutErrors) {
     auto v = perspectiveViewer({0, 0, 8}, {0, 60, 0});
     auto fogNode = FogNode::create(testFog(FogResponse::Exponential));
     fogNode->addChild(
-        panel(400, 400, glm::translate(glm::mat4(1.0f), {0, 190, 0}), flat({0.2f, 0.5f, 0.1f})));
+        panel(400, 400, glm::translate(glm::mat4(1.0f), {0, 190, 0}), flatMaterial({0.2f, 0.5f, 0.1f})));
     v->setSceneData(fogNode);
     Image first;
     for (int i = 0; i < 7; ++i) {
@@ -627,7 +620,7 @@ TEST(FogSplit, AlphaMaskCutOutsStayOutOfThePrePass) {
         auto v = perspectiveViewer({0, 0, 3}, {0, 10, 3});
         auto fogNode =
             FogNode::create(testFog(FogResponse::Exponential), i ? FogMode::ForwardSplit : FogMode::Forward);
-        fogNode->addChild(panel(400, 400, facingCamera(60, 3), flat({0.9f, 0.3f, 0.1f})));
+        fogNode->addChild(panel(400, 400, facingCamera(60, 3), flatMaterial({0.9f, 0.3f, 0.1f})));
         auto mask = std::make_shared<Image>();
         mask->width = 4;
         mask->height = 1;
@@ -635,7 +628,7 @@ TEST(FogSplit, AlphaMaskCutOutsStayOutOfThePrePass) {
         mask->pixels = {0, 255, 0, 255}; // vertical stripes: two holes
         auto tex = Texture::create(mask, false);
         tex->minFilter = tex->magFilter = Filter::Nearest;
-        auto card = flat({0.1f, 0.6f, 0.3f});
+        auto card = flatMaterial({0.1f, 0.6f, 0.3f});
         card->alphaTexture = tex;
         card->alphaCutoff = 0.5f;
         fogNode->addChild(panel(6, 6, facingCamera(10, 3), card));
@@ -661,7 +654,7 @@ TEST(FogSplit, RenderToTextureViewsUseTheirOwnPrePass) {
         rtt->renderTarget = Texture::create(nullptr);
         auto fogNode =
             FogNode::create(testFog(FogResponse::Exponential), i ? FogMode::ForwardSplit : FogMode::Forward);
-        fogNode->addChild(panel(400, 400, facingCamera(40, 3), flat({0.9f, 0.3f, 0.1f})));
+        fogNode->addChild(panel(400, 400, facingCamera(40, 3), flatMaterial({0.9f, 0.3f, 0.1f})));
         rtt->addChild(fogNode);
         // The display: ambient light 1 times the texture.
         auto screen = Material::create();

@@ -191,17 +191,10 @@ TEST(LodRender, TwoColouredLevelsSwitchAsTheCameraMoves) {
     auto& cam = *v->camera();
     cam.setPerspective(60.0f, 0.1f, 100.0f);
     cam.clearColor = {0, 0, 0, 1};
-    auto flat = [](glm::vec3 c) {
-        auto m = Material::create();
-        m->ambient = glm::vec3(0);
-        m->diffuse = glm::vec4(0, 0, 0, 1);
-        m->emissive = c;
-        return m;
-    };
     auto red = namedBox("red");
-    red->getOrCreateStateSet().material.set(flat({1, 0, 0}));
+    red->getOrCreateStateSet().material.set(flatMaterial({1, 0, 0}));
     auto green = namedBox("green");
-    green->getOrCreateStateSet().material.set(flat({0, 1, 0}));
+    green->getOrCreateStateSet().material.set(flatMaterial({0, 1, 0}));
     auto lod = LOD::create();
     lod->addChild(red, 20.0f, std::numeric_limits<float>::infinity());
     lod->addChild(green, 0.0f, 20.0f);

@@ -27,14 +27,6 @@ namespace {
 
 constexpr int kW = 48, kH = 32; // one channel
 
-std::shared_ptr<Material> flat(glm::vec3 c, float alpha = 1.0f) {
-    auto m = Material::create();
-    m->ambient = glm::vec3(0);
-    m->diffuse = glm::vec4(0, 0, 0, alpha);
-    m->emissive = c;
-    return m;
-}
-
 std::shared_ptr<Node> panel(float w, float h, const glm::mat4& m, std::shared_ptr<Material> mat,
                             BlendMode blend = BlendMode::Off) {
     auto t = Transform::create(m);
@@ -137,11 +129,11 @@ std::shared_ptr<Node> provingScene() {
     fp.falloff = 0.15f;
     fp.color = {0.6f, 0.65f, 0.7f};
     auto fog = FogNode::create(fp);
-    fog->addChild(panel(200, 200, glm::mat4(1.0f), flat({0.2f, 0.45f, 0.1f})));
-    fog->addChild(panel(3, 2, upright(-2.5f, 4, 1.2f, 20), flat({0.8f, 0.2f, 0.1f})));
-    fog->addChild(panel(2, 3, upright(2.0f, 8, 1.5f, -35), flat({0.1f, 0.3f, 0.9f})));
+    fog->addChild(panel(200, 200, glm::mat4(1.0f), flatMaterial({0.2f, 0.45f, 0.1f})));
+    fog->addChild(panel(3, 2, upright(-2.5f, 4, 1.2f, 20), flatMaterial({0.8f, 0.2f, 0.1f})));
+    fog->addChild(panel(2, 3, upright(2.0f, 8, 1.5f, -35), flatMaterial({0.1f, 0.3f, 0.9f})));
     fog->addChild(
-        panel(4, 2.5f, upright(0.3f, 1, 1.4f, 10), flat({0.7f, 0.9f, 1.0f}, 0.4f), BlendMode::Alpha));
+        panel(4, 2.5f, upright(0.3f, 1, 1.4f, 10), flatMaterial({0.7f, 0.9f, 1.0f}, 0.4f), BlendMode::Alpha));
     auto place = Transform::create(glm::translate(glm::mat4(1.0f), {0.0f, 3.0f, 1.6f}));
     place->addChild(particleCloud(60));
     fog->addChild(place);
@@ -223,8 +215,8 @@ TEST(Multiview, TaaHistoryIsKeptPerChannel) {
     auto withSide = [] {
         auto side = Group::create();
         side->addChild(provingScene());
-        side->addChild(panel(3, 3, upright(-8, -8, 1.5f, 60), flat({1.0f, 0.8f, 0.1f})));
-        side->addChild(panel(1, 4, upright(-9, -6, 2.0f, 20), flat({0.1f, 0.1f, 0.1f})));
+        side->addChild(panel(3, 3, upright(-8, -8, 1.5f, 60), flatMaterial({1.0f, 0.8f, 0.1f})));
+        side->addChild(panel(1, 4, upright(-9, -6, 2.0f, 20), flatMaterial({0.1f, 0.1f, 0.1f})));
         return side;
     };
     auto multi = viewerAt(1, 1, kEye, kAt);
@@ -289,7 +281,7 @@ TEST(Multiview, FogEyeHeightIsEachChannelsOwn) {
     fp.color = {0.8f, 0.8f, 0.9f};
     auto fog = FogNode::create(fp);
     const glm::vec3 surface(0.2f, 0.4f, 0.1f);
-    fog->addChild(panel(80, 80, upright(0, wallY, 2), flat(surface)));
+    fog->addChild(panel(80, 80, upright(0, wallY, 2), flatMaterial(surface)));
     auto v = viewerAt(1, 1, {0, 0, 2}, {0, 10, 2});
     const OffAxisFrustum f = OffAxisFrustum::fromAngles(-10, 10, -7, 7, 0.5f, 200.0f);
     // View space: +Y is the eye's up (world +Z here).
@@ -331,7 +323,7 @@ namespace {
 // One still soft particle of colour 0.8 at `at`, `gap` in front of a black wall (seen along ±Y).
 std::shared_ptr<Node> softPuff(glm::vec3 at, float gap, float softness, float towardsY) {
     auto g = Group::create();
-    auto black = flat(glm::vec3(0.0f));
+    auto black = flatMaterial(glm::vec3(0.0f));
     g->addChild(panel(20, 20, upright(at.x, at.y + towardsY * gap, at.z), black));
     ParticleSettings s;
     s.capacity = 1;
@@ -360,7 +352,7 @@ std::shared_ptr<Node> crossedGlass() {
     auto g = shapes::quad(2, 2);
     shapes::append(*g, *shapes::quad(2, 2), glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), {0, 1, 0}));
     StateSet& ss = g->getOrCreateStateSet();
-    ss.material.set(flat({0.3f, 0.8f, 0.4f}, 0.5f));
+    ss.material.set(flatMaterial({0.3f, 0.8f, 0.4f}, 0.5f));
     ss.blend.set(BlendMode::Alpha);
     ss.cullFace.set(CullFace::None);
     TransparencyDetails d;

@@ -248,10 +248,7 @@ TEST(OsgLoader, SphereMapSamplesTheTexelOfTheEyeSpaceReflection) {
     auto root = roundTrip(*geode, "spheremap");
 
     constexpr int size = 64;
-    auto viewer = test::orthoTopViewer(size, 8.0f);
-    viewer->setSceneData(root);
-    viewer->frame();
-    const Image img = viewer->capture();
+    const Image img = test::renderTop(size, 8.0f, root);
     int checked = 0;
     for (int py : {8, 32, 55})
         for (int px : {4, 20, 32, 44, 60}) {
@@ -296,10 +293,7 @@ TEST(OsgLoader, CubeReflectionMapPicksTheFaceOfTheEyeSpaceReflection) {
     auto root = roundTrip(*geode, "cubemap");
 
     constexpr int size = 64;
-    auto viewer = test::orthoTopViewer(size, 1.0f);
-    viewer->setSceneData(root);
-    viewer->frame();
-    const Image img = viewer->capture();
+    const Image img = test::renderTop(size, 1.0f, root);
     int checked = 0, faces = 0;
     std::set<int> seen;
     for (int py = 2; py < size; py += 3)
@@ -423,10 +417,7 @@ TEST(OsgLoader, LightSourcesMaterialsAndTexEnvReplace) {
         fogWarned |= w.find("osg::Fog state attribute") != std::string::npos;
     EXPECT_TRUE(fogWarned);
 
-    auto viewer = test::orthoTopViewer(64, 1.0f);
-    viewer->setSceneData(loaded);
-    viewer->frame();
-    const Image img = viewer->capture();
+    const Image img = test::renderTop(64, 1.0f, loaded);
     // Lambert under a white light of 1 from straight above: the diffuse itself (display values).
     const glm::ivec4 lit = pixelAt(img, 16, 32), tex = pixelAt(img, 48, 32);
     EXPECT_NEAR(lit.r, 128, 2);
@@ -538,10 +529,7 @@ TEST(OsgLoader, EveryPrimitiveModeAndBinding) {
     osg::ref_ptr<osg::Geode> g2 = new osg::Geode;
     g2->addDrawable(two);
     g2->getOrCreateStateSet()->setMode(GL_LIGHTING, osg::StateAttribute::OFF);
-    auto viewer = test::orthoTopViewer(64, 1.0f);
-    viewer->setSceneData(roundTrip(*g2, "perset"));
-    viewer->frame();
-    const Image img = viewer->capture();
+    const Image img = test::renderTop(64, 1.0f, roundTrip(*g2, "perset"));
     EXPECT_EQ(pixelAt(img, 16, 40), glm::ivec4(255, 0, 0, 255));
     EXPECT_EQ(pixelAt(img, 48, 40), glm::ivec4(0, 0, 255, 255));
 }

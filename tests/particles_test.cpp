@@ -106,6 +106,25 @@ void expectClose(const ParticleRecord& g, const ParticleRecord& c, std::uint32_t
     }
 }
 
+// The CPU reference's step input for settings s and emitter placement `place` (dt and step unset).
+particles::StepInput stepInputFor(const ParticleSettings& s, const glm::mat4& place) {
+    particles::StepInput in;
+    in.emitterToWorld = place;
+    in.emitter = s.emitter;
+    in.seed = s.seed;
+    in.respawn = s.respawn;
+    in.bounce = s.bounce;
+    return in;
+}
+
+// The CPU reference's records at step 0, from the start mode.
+std::vector<ParticleRecord> initialRecords(const ParticleSettings& s, const particles::StepInput& in) {
+    std::vector<ParticleRecord> cpu(s.capacity);
+    for (std::uint32_t i = 0; i < s.capacity; ++i)
+        cpu[i] = particles::initial(in, i, s.start, 0, s.capacity);
+    return cpu;
+}
+
 struct RefCase {
     ParticleLayout layout;
     particles::Respawn respawn;
@@ -203,15 +222,8 @@ TEST_P(GpuMatchesCpu, After200VariedStepsEveryRecordMatches) {
     sim.v->frame(0.0); // step 0: the start mode's records
     ASSERT_EQ(sim.node->steps(), 0u);
 
-    particles::StepInput in;
-    in.emitterToWorld = place;
-    in.emitter = s.emitter;
-    in.seed = s.seed;
-    in.respawn = s.respawn;
-    in.bounce = s.bounce;
-    std::vector<ParticleRecord> cpu(s.capacity);
-    for (std::uint32_t i = 0; i < s.capacity; ++i)
-        cpu[i] = particles::initial(in, i, s.start, 0, s.capacity);
+    particles::StepInput in = stepInputFor(s, place);
+    std::vector<ParticleRecord> cpu = initialRecords(s, in);
     {
         const auto gpu = sim.node->readRecords();
         ASSERT_EQ(gpu.size(), cpu.size());
@@ -286,15 +298,8 @@ ParticleSettings movingSystem(std::uint32_t n) {
 // The CPU reference after `steps` steps of `dt` from the start mode's records.
 std::vector<ParticleRecord> cpuReference(const ParticleSettings& s, const glm::mat4& place, int steps,
                                          float dt) {
-    particles::StepInput in;
-    in.emitterToWorld = place;
-    in.emitter = s.emitter;
-    in.seed = s.seed;
-    in.respawn = s.respawn;
-    in.bounce = s.bounce;
-    std::vector<ParticleRecord> cpu(s.capacity);
-    for (std::uint32_t i = 0; i < s.capacity; ++i)
-        cpu[i] = particles::initial(in, i, s.start, 0, s.capacity);
+    particles::StepInput in = stepInputFor(s, place);
+    std::vector<ParticleRecord> cpu = initialRecords(s, in);
     in.dt = dt;
     for (int step = 1; step <= steps; ++step) {
         in.step = std::uint32_t(step);

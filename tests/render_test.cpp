@@ -27,14 +27,6 @@ glm::vec3 worldOfPixel(int px, int py) {
             0.0f};
 }
 
-std::shared_ptr<Material> flat(glm::vec3 c) {
-    auto m = Material::create();
-    m->ambient = glm::vec3(0);
-    m->diffuse = glm::vec4(0, 0, 0, 1);
-    m->emissive = c;
-    return m;
-}
-
 std::shared_ptr<Node> quadAt(float w, float h, glm::vec3 pos, std::shared_ptr<Material> m) {
     auto t = Transform::create(glm::translate(glm::mat4(1.0f), pos));
     auto q = shapes::quad(w, h);
@@ -106,8 +98,8 @@ TEST(Render, DepthTestKeepsNearestWhateverTheOrder) {
     for (bool nearFirst : {true, false}) {
         auto v = orthoTopViewer(kSize, kHalf);
         auto root = Group::create();
-        auto nearQuad = quadAt(2.0f, 2.0f, {0, 0, 1}, flat({1, 0, 0}));
-        auto farQuad = quadAt(4.0f, 4.0f, {0, 0, 0}, flat({0, 0, 1}));
+        auto nearQuad = quadAt(2.0f, 2.0f, {0, 0, 1}, flatMaterial({1, 0, 0}));
+        auto farQuad = quadAt(4.0f, 4.0f, {0, 0, 0}, flatMaterial({0, 0, 1}));
         root->addChild(nearFirst ? nearQuad : farQuad);
         root->addChild(nearFirst ? farQuad : nearQuad);
         v->setSceneData(root);
@@ -126,11 +118,11 @@ TEST(Render, AlphaMaskCutsBelowTheCutoff) {
     mask->pixels = {51, 230};
     auto tex = Texture::create(mask, false);
     tex->minFilter = tex->magFilter = Filter::Nearest;
-    auto m = flat({1, 0, 0});
+    auto m = flatMaterial({1, 0, 0});
     m->alphaTexture = tex;
     m->alphaCutoff = 0.5f;
     root->addChild(quadAt(4.0f, 4.0f, {0, 0, 1}, m));
-    root->addChild(quadAt(4.0f, 4.0f, {0, 0, 0}, flat({0, 1, 0})));
+    root->addChild(quadAt(4.0f, 4.0f, {0, 0, 0}, flatMaterial({0, 1, 0})));
     v->setSceneData(root);
     v->frame();
     const Image img = v->capture();
@@ -146,7 +138,7 @@ TEST(Render, AlphaMaskCutsBelowTheCutoff) {
 TEST(Render, PngRoundTripKeepsPixelsAndOrientation) {
     auto v = orthoTopViewer(kSize, kHalf);
     auto root = Group::create();
-    root->addChild(quadAt(4.0f, 2.0f, {0, 1, 0}, flat({1, 1, 0}))); // top half of the view (+Y is up)
+    root->addChild(quadAt(4.0f, 2.0f, {0, 1, 0}, flatMaterial({1, 1, 0}))); // top half of the view (+Y is up)
     v->setSceneData(root);
     v->frame();
     const Image img = v->capture();
@@ -167,10 +159,10 @@ TEST(Render, PngRoundTripKeepsPixelsAndOrientation) {
 TEST(Render, DebugTintAppliesThroughTheBuiltInMaterial) {
     auto v = orthoTopViewer(kSize, kHalf);
     auto tint = DebugTintNode::create({0, 0, 1, 0.25f});
-    tint->addChild(quadAt(2.0f, 4.0f, {-1, 0, 0}, flat({1, 0.5f, 0})));
+    tint->addChild(quadAt(2.0f, 4.0f, {-1, 0, 0}, flatMaterial({1, 0.5f, 0})));
     auto root = Group::create();
     root->addChild(tint);
-    root->addChild(quadAt(2.0f, 4.0f, {1, 0, 0}, flat({1, 0.5f, 0})));
+    root->addChild(quadAt(2.0f, 4.0f, {1, 0, 0}, flatMaterial({1, 0.5f, 0})));
     v->setSceneData(root);
     v->frame();
     const Image img = v->capture();
@@ -187,11 +179,11 @@ TEST(Render, LiveGlObjectCountReturnsToZeroAfterTeardown) {
     {
         auto v = orthoTopViewer(kSize, kHalf);
         auto root = Group::create();
-        auto m = flat({1, 0, 0});
+        auto m = flatMaterial({1, 0, 0});
         m->baseColorTexture = Texture::create(Image::create(4, 4, 4));
         root->addChild(quadAt(2, 2, {0, 0, 0}, m));
         auto tint = DebugTintNode::create();
-        tint->addChild(quadAt(1, 1, {1, 1, 0.5f}, flat({0, 1, 0})));
+        tint->addChild(quadAt(1, 1, {1, 1, 0.5f}, flatMaterial({0, 1, 0})));
         root->addChild(tint);
         v->setSceneData(root);
         v->frame();
@@ -211,7 +203,7 @@ TEST(Render, LiveGlObjectCountReturnsToZeroAfterTeardown) {
 TEST(Render, GeometryEditsReachTheGpu) {
     auto v = orthoTopViewer(kSize, kHalf);
     auto q = shapes::quad(1.0f, 1.0f);
-    q->getOrCreateStateSet().material.set(flat({1, 1, 1}));
+    q->getOrCreateStateSet().material.set(flatMaterial({1, 1, 1}));
     v->setSceneData(q);
     v->frame();
     expectPixel(v->capture(), 32, 32, {1, 1, 1}, 0);
@@ -240,6 +232,28 @@ TEST(Contexts, EglHeadlessWhereAvailable) {
     expectPixel(v.capture(), 8, 8, {0.25, 0.5, 0.75}, 1);
 }
 
+// SGFX_HEADLESS only decides Headless::Default: an explicit kind is kept (the cluster's --egl,
+// a test pinned to OSMesa). Whether Default already read the variable in this process does not
+// matter here, so the test holds when the whole binary runs in one process.
+TEST(Contexts, AnExplicitHeadlessKindIgnoresTheEnvironment) {
+    const char* saved = std::getenv("SGFX_HEADLESS");
+    const std::string keep = saved ? saved : "";
+    setenv("SGFX_HEADLESS", "egl", 1);
+    {
+        auto v = Viewer::createHeadless(16, 16, Viewer::Headless::Osmesa);
+        EXPECT_NE(dynamic_cast<OsmesaContext*>(&v->context()), nullptr);
+    }
+    setenv("SGFX_HEADLESS", "osmesa", 1);
+    {
+        auto v = Viewer::createHeadless(16, 16, Viewer::Headless::Egl);
+        EXPECT_NE(dynamic_cast<EglContext*>(&v->context()), nullptr);
+    }
+    if (saved)
+        setenv("SGFX_HEADLESS", keep.c_str(), 1);
+    else
+        unsetenv("SGFX_HEADLESS");
+}
+
 TEST(Contexts, WindowWithoutDisplaySaysSo) {
     const char* saved = std::getenv("DISPLAY");
     const std::string keep = saved ? saved : "";
@@ -265,7 +279,7 @@ TEST(Render, NestedCameraRendersToATextureUsedInTheSameFrame) {
     rtt->setLookAt({0, 0, 10}, {0, 0, 0}, {0, 1, 0});
     rtt->projectionMatrix = glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, 0.1f, 100.0f);
     rtt->clearColor = {0, 0, 1, 1};
-    rtt->addChild(quadAt(2.0f, 2.0f, {0, 0, 0}, flat({0.5f, 0.5f, 0.5f})));
+    rtt->addChild(quadAt(2.0f, 2.0f, {0, 0, 0}, flatMaterial({0.5f, 0.5f, 0.5f})));
     rtt->renderTarget = Texture::create(nullptr);
     auto screen = Material::create();
     screen->ambient = glm::vec3(1.0f);

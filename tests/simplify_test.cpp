@@ -2,6 +2,7 @@
 // carried attributes, the LOD that makeLod builds, and refused input.
 #include <sgfx/Camera.h>
 #include <sgfx/CullVisitor.h>
+#include <sgfx/Math.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Simplify.h>
 #include <sgfx/StateSet.h>
@@ -9,34 +10,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 using namespace sgfx;
 
 namespace {
-
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
-glm::vec3 closestOnTriangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-    const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
-    const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return a;
-    const glm::vec3 bp = p - b;
-    const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return b;
-    const float vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
-    const glm::vec3 cp = p - c;
-    const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return c;
-    const float vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
-    const float va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-    const float denom = 1.0f / (va + vb + vc);
-    return a + ab * (vb * denom) + ac * (vc * denom);
-}
 
 // Largest distance from a vertex of `from` to the surface of `to` (one side of Hausdorff).
 float oneSidedHausdorff(const Geometry& from, const Geometry& to) {
@@ -44,9 +25,10 @@ float oneSidedHausdorff(const Geometry& from, const Geometry& to) {
     for (const glm::vec3& p : from.positions) {
         float best = std::numeric_limits<float>::max();
         for (std::size_t k = 0; k + 2 < to.indices.size(); k += 3) {
-            const glm::vec3 q =
-                closestOnTriangle(p, to.positions[to.indices[k]], to.positions[to.indices[k + 1]],
-                                  to.positions[to.indices[k + 2]]);
+            const glm::vec3 a = to.positions[to.indices[k]], b = to.positions[to.indices[k + 1]],
+                            c = to.positions[to.indices[k + 2]];
+            const glm::vec3 w = closestOnTriangle(p, a, b, c);
+            const glm::vec3 q = w.x * a + w.y * b + w.z * c;
             best = std::min(best, glm::length(p - q));
         }
         worst = std::max(worst, best);
@@ -55,6 +37,43 @@ float oneSidedHausdorff(const Geometry& from, const Geometry& to) {
 }
 
 } // namespace
+
+// The closed form in Math.h against a dense barycentric grid (no shared shortcut): the closed
+// form's point lies on the triangle and is never farther than the grid's best, and the grid's
+// best is within its spacing of it. Points fall in every Voronoi region (vertices, edges, face).
+template <class V> void expectClosestMatchesGrid(std::uint32_t seed) {
+    std::uint32_t state = seed;
+    auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return double(state >> 8) / double(1u << 24) * 4.0 - 2.0;
+    };
+    constexpr int n = 120;
+    for (int trial = 0; trial < 60; ++trial) {
+        const V a(next(), next(), next()), b(next(), next(), next()), c(next(), next(), next());
+        const V p(next() * 2, next() * 2, next() * 2);
+        const V w = closestOnTriangle(p, a, b, c);
+        ASSERT_NEAR(double(w.x + w.y + w.z), 1.0, 1e-5) << "trial " << trial;
+        ASSERT_GE(double(std::min({w.x, w.y, w.z})), -1e-5) << "trial " << trial;
+        const double closed = double(glm::length(p - (w.x * a + w.y * b + w.z * c)));
+        double grid = std::numeric_limits<double>::max();
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; i + j <= n; ++j) {
+                const double u = double(i) / n, v = double(j) / n;
+                const glm::dvec3 q = (1 - u - v) * glm::dvec3(a) + u * glm::dvec3(b) + v * glm::dvec3(c);
+                grid = std::min(grid, glm::length(glm::dvec3(p) - q));
+            }
+        const double spacing = std::max({glm::length(glm::dvec3(b - a)), glm::length(glm::dvec3(c - a)),
+                                         glm::length(glm::dvec3(c - b))}) /
+                               n;
+        EXPECT_LE(closed, grid + 1e-5) << "trial " << trial;
+        EXPECT_GE(closed, grid - spacing) << "trial " << trial;
+    }
+}
+
+TEST(Simplify, ClosestPointOnTriangleMatchesADenseGrid) {
+    expectClosestMatchesGrid<glm::vec3>(7);
+    expectClosestMatchesGrid<glm::dvec3>(11);
+}
 
 TEST(Simplify, TriangleCountsFollowTheRatios) {
     for (bool uv : {true, false}) {

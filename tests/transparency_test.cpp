@@ -29,14 +29,6 @@ constexpr int kSize = 64;
 constexpr float kHalf = 2.0f;
 const glm::dvec3 kBackground(0.2, 0.2, 0.2);
 
-std::shared_ptr<Material> flat(glm::vec3 c, float alpha) {
-    auto m = Material::create();
-    m->ambient = glm::vec3(0);
-    m->diffuse = glm::vec4(0, 0, 0, alpha);
-    m->emissive = c;
-    return m;
-}
-
 // A w×w pane at `pos`, facing +Z, emissive colour, blended (double-sided unless told otherwise).
 std::shared_ptr<Transform> pane(glm::vec3 pos, glm::vec3 color, float alpha, float w = 2.0f,
                                 BlendMode blend = BlendMode::Alpha, CullFace cull = CullFace::None) {
@@ -44,7 +36,7 @@ std::shared_ptr<Transform> pane(glm::vec3 pos, glm::vec3 color, float alpha, flo
     auto q = shapes::quad(w, w);
     q->name = "pane";
     auto& ss = q->getOrCreateStateSet();
-    ss.material.set(flat(color, alpha));
+    ss.material.set(flatMaterial(color, alpha));
     ss.blend.set(blend);
     ss.cullFace.set(cull);
     t->addChild(q);
@@ -455,7 +447,7 @@ TEST(TransparentRender, AlphaModesBuiltInCode) {
     alphaImage->pixels = {64, 192}; // 0.25 | 0.75
     auto alphaTex = Texture::create(alphaImage, false);
     alphaTex->minFilter = alphaTex->magFilter = Filter::Nearest;
-    auto maskMat = flat({0.1f, 0.8f, 0.2f}, 1.0f);
+    auto maskMat = flatMaterial({0.1f, 0.8f, 0.2f}, 1.0f);
     maskMat->alphaTexture = alphaTex;
     maskMat->alphaCutoff = 0.5f;
     auto mask = Transform::create(glm::translate(glm::mat4(1.0f), {1.0f, 1.0f, 0}));
@@ -465,7 +457,7 @@ TEST(TransparentRender, AlphaModesBuiltInCode) {
 
     auto opaque = Transform::create(glm::translate(glm::mat4(1.0f), {0, -1.0f, 0}));
     auto opaqueQuad = shapes::quad(1.4f, 1.4f);
-    opaqueQuad->getOrCreateStateSet().material.set(flat({0.1f, 0.2f, 0.9f}, 0.3f));
+    opaqueQuad->getOrCreateStateSet().material.set(flatMaterial({0.1f, 0.2f, 0.9f}, 0.3f));
     opaque->addChild(opaqueQuad);
     for (auto n : {std::static_pointer_cast<Node>(blend), std::static_pointer_cast<Node>(mask),
                    std::static_pointer_cast<Node>(opaque)})
@@ -622,7 +614,7 @@ TEST(WeightedBlendedRender, InterpenetratingQuadsShowNoSeam) {
             auto t = Transform::create(glm::rotate(glm::mat4(1.0f), float(s) * tilt, glm::vec3(0, 1, 0)));
             auto q = shapes::quad(3, 3);
             auto& ss = q->getOrCreateStateSet();
-            ss.material.set(flat(s > 0 ? red : green, a));
+            ss.material.set(flatMaterial(s > 0 ? red : green, a));
             ss.blend.set(BlendMode::Alpha);
             ss.cullFace.set(CullFace::None);
             t->addChild(q);
@@ -722,7 +714,7 @@ TEST(WeightedBlendedRender, OpaqueGeometryInFrontHidesTheLayers) {
     root->addChild(bin);
     auto wall = Transform::create(glm::translate(glm::mat4(1.0f), {1.0f, 0, 5}));
     auto wq = shapes::quad(2, 4);
-    wq->getOrCreateStateSet().material.set(flat({0.5f, 0.5f, 0.1f}, 1.0f));
+    wq->getOrCreateStateSet().material.set(flatMaterial({0.5f, 0.5f, 0.1f}, 1.0f));
     wall->addChild(wq);
     root->addChild(wall);
     auto v = topViewer();

@@ -443,7 +443,7 @@ struct Machine {
 Result runOne(const Options& o, const BenchScene& s, const Size& size, const Config& c, Machine& machine) {
     using clock = std::chrono::steady_clock;
     auto viewer = sgfx::Viewer::createHeadless(
-        size.width, size.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
+        size.width, size.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Default);
     viewer->renderer().options().timePasses = true; // GPU time per pass from timer queries
     auto& cam = *viewer->camera();
     if (s.provingGround) {

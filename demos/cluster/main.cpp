@@ -106,7 +106,7 @@ sgfx::OffAxisFrustum depthRange(sgfx::OffAxisFrustum f, const Options& o) {
 std::unique_ptr<sgfx::Viewer> makeViewer(const sgfxcluster::Application& app, const sgfx::Viewport& size,
                                          const sgfx::OffAxisFrustum& frustum, bool egl) {
     auto viewer = sgfx::Viewer::createHeadless(
-        size.width, size.height, egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
+        size.width, size.height, egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Default);
     viewer->setSceneData(app.scene());
     auto& cam = *viewer->camera();
     cam.clearColor = sgfxcluster::Application::skyColor();

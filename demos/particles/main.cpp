@@ -153,7 +153,7 @@ std::shared_ptr<sgfx::ParticleSystemNode> preset(const std::string& name, std::u
 int main(int argc, char** argv) try {
     const Options o = parse(argc, argv);
     auto viewer = sgfx::Viewer::createHeadless(
-        o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
+        o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Default);
     auto& cam = *viewer->camera();
     cam.clearColor = {0.42f, 0.60f, 0.85f, 1.0f};
     cam.setPerspective(50.0f, 0.5f, 500.0f);

@@ -131,6 +131,10 @@ effects:
   --ao-samples M      samples per pixel, 8..64 (default 32)
   --ao-radius R       kernel radius in metres (default 0.5)
   --ao-half           compute the occlusion at half resolution
+  --ao-temporal       half resolution, 8 taps a frame accumulated over frames
+  --ao-normals gbuffer|depth
+                      normals from a G-buffer pre-pass (default) or rebuilt from the depth
+                      pre-pass
   --ao-debug raw|blurred
                       show the occlusion map instead of the scene
   --channels CxR      split the view's frustum into C×R display channels of (W/C)×(H/R)
@@ -479,6 +483,13 @@ Options parseArgs(int argc, char** argv) {
             o.aoParameters.radius = parseNumber<float>(arg, value());
         } else if (arg == "--ao-half") {
             o.aoParameters.halfResolution = true;
+        } else if (arg == "--ao-temporal") {
+            o.aoParameters.temporal = true;
+        } else if (arg == "--ao-normals") {
+            const std::string_view v = value();
+            if (v != "gbuffer" && v != "depth")
+                throw UsageError("--ao-normals: '" + std::string(v) + "' is not gbuffer or depth");
+            o.aoParameters.normals = v == "depth" ? sgfx::AoNormals::FromDepth : sgfx::AoNormals::GBuffer;
         } else if (arg == "--ao-debug") {
             const std::string_view v = value();
             if (v == "raw")
@@ -732,7 +743,7 @@ sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& sc
 
 std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
     auto viewer = sgfx::Viewer::createHeadless(
-        o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Osmesa);
+        o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Default);
     viewer->renderer().options().lighting = o.lighting;
     viewer->renderer().options().autoInstancing = o.autoInstancing;
     viewer->renderer().options().submitTriangles = o.submitTriangles;

@@ -28,6 +28,7 @@ struct Options {
     bool listAnimations = false;          // --list-animations: print them and exit
     int benchFrames = 0;                  // --bench N: time N frames, print a BENCH line
     bool orbit = false;                   // --orbit: the benchmark's orbit camera (main.cpp)
+    bool occlusion = false;               // --occlusion: RendererOptions::occlusionCulling On
 };
 
 // Loads every file under one group (glTF's Y up turned into Z up unless keepYUp). Throws

@@ -81,6 +81,8 @@ renders a PNG.
   --orbit            with --bench: the orbit camera of bench/foreign_table.sh (eye at 1.5 times
                      the bounding radius, 30 degrees elevation, 60 degree vertical field of
                      view, the azimuth advancing 360/N degrees a frame from --yaw)
+  --occlusion        with --bench: conservative occlusion culling of opaque items
+                     (RendererOptions::occlusionCulling); the BENCH line adds the culled share
   --self-test N      window: N frames of scripted input (both cameras, every toggle, a resize,
                      a screenshot to --out's name), then exit
 Window keys: left click pick (the panel shows the node path, point and normal),
@@ -230,6 +232,8 @@ view::Options parse(int argc, char** argv) {
             o.benchFrames = int(number(arg, value(), 1, 100000));
         } else if (arg == "--orbit") {
             o.orbit = true;
+        } else if (arg == "--occlusion") {
+            o.occlusion = true;
         } else if (arg == "--self-test") {
             o.selfTestFrames = int(number(arg, value(), 4, 100000));
             o.window = true;
@@ -247,6 +251,7 @@ view::Options parse(int argc, char** argv) {
         throw UsageError("--pick: the pixel is outside the " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
     if (o.orbit && !o.benchFrames) throw UsageError("--orbit needs --bench N");
+    if (o.occlusion && !o.benchFrames) throw UsageError("--occlusion needs --bench N");
     if (o.benchFrames && (o.window || o.compare || o.pick))
         throw UsageError("--bench cannot go with --window, --self-test, --compare or --pick");
     if (o.pick || o.benchFrames) o.headless = true;
@@ -294,6 +299,8 @@ int runBench(const view::Options& o, view::ViewScene& scene) {
     homeCamera(o, scene, cam);
     scene.apply(o.settings, cam);
     viewer->setSceneData(scene.root());
+    if (o.occlusion)
+        viewer->renderer().options().occlusionCulling = sgfx::RendererOptions::OcclusionCulling::On;
     auto pose = [&](int i) {
         if (o.orbit) orbitCamera(scene, o.yaw + 360.0f * float(i) / float(o.benchFrames), cam);
     };
@@ -303,7 +310,7 @@ int runBench(const view::Options& o, view::ViewScene& scene) {
         glFinish();
     }
     std::vector<double> ms;
-    double triangles = 0, drawCalls = 0;
+    double triangles = 0, drawCalls = 0, culled = 0, items = 0;
     for (int i = 0; i < o.benchFrames; ++i) {
         pose(i);
         const auto t0 = clock::now();
@@ -312,6 +319,8 @@ int runBench(const view::Options& o, view::ViewScene& scene) {
         ms.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
         triangles += double(viewer->stats().triangles);
         drawCalls += double(viewer->stats().drawCalls);
+        culled += double(viewer->stats().occlusionCulled);
+        items += double(viewer->stats().items);
     }
     for (const std::string& e : viewer->renderer().takeGlErrors())
         std::fprintf(stderr, "sgfx-view: GL: %s\n", e.c_str());
@@ -319,10 +328,10 @@ int runBench(const view::Options& o, view::ViewScene& scene) {
     const double n = double(o.benchFrames), mean = std::accumulate(ms.begin(), ms.end(), 0.0) / n;
     std::printf(
         "BENCH sgfx ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f triangles=%.0f draw_calls=%.1f "
-        "size=%dx%d camera=%s fog=%d context=%s renderer=%s\n",
+        "size=%dx%d camera=%s fog=%d occlusion_culled=%.3f context=%s renderer=%s\n",
         mean, 1000.0 / mean, o.benchFrames, median(ms), triangles / n, drawCalls / n, o.width, o.height,
-        o.orbit ? "orbit" : "home", int(o.settings.fog), std::string(viewer->context().kind()).c_str(),
-        viewer->context().renderer().c_str());
+        o.orbit ? "orbit" : "home", int(o.settings.fog), items > 0 ? culled / items : 0.0,
+        std::string(viewer->context().kind()).c_str(), viewer->context().renderer().c_str());
     return 0;
 }
 

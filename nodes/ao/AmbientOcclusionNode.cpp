@@ -80,6 +80,8 @@ void AmbientOcclusionParameters::validate() const {
         refuse("blur has an invalid value " + std::to_string(int(blur)));
     if (std::uint8_t(gbuffer) > std::uint8_t(AoGBuffer::PaperPositions))
         refuse("gbuffer has an invalid value " + std::to_string(int(gbuffer)));
+    if (std::uint8_t(normals) > std::uint8_t(AoNormals::FromDepth))
+        refuse("normals has an invalid value " + std::to_string(int(normals)));
     if (std::uint8_t(debugView) > std::uint8_t(AoDebugView::Blurred))
         refuse("debugView has an invalid value " + std::to_string(int(debugView)));
 }
@@ -116,6 +118,8 @@ std::vector<glm::vec2> ao::rotationNoise(std::uint32_t seed) {
 
 // ------------------------------------------------------------------------------ passes
 
+constexpr int kTemporalSamples = 8; // taps per frame of the temporal occlusion
+
 // What the three passes share: per-view-size targets, the kernel and the noise texture.
 // GPU objects and CPU caches the passes keep between frames; touched only while they execute.
 struct AmbientOcclusionNode::Shared {
@@ -126,7 +130,52 @@ struct AmbientOcclusionNode::Shared {
     int kernelSamples = 0;
     std::uint32_t kernelSeed = 0;
 
-    void release() { noise.reset(); }
+    // Temporal history (AmbientOcclusionParameters::temporal): two (k, depth, age) textures in
+    // turn, read one and write the other; and what they were made under.
+    std::array<gl::TextureObject, 2> history;
+    int current = 0;
+    bool historyValid = false;
+    glm::ivec2 historySize{0};
+    glm::mat4 previousView{1.0f}, previousProjection{1.0f};
+    AmbientOcclusionParameters historyParameters;
+    std::vector<glm::vec3> frameKernel;
+
+    void release() {
+        noise.reset();
+        history = {};
+        historyValid = false;
+    }
+
+    // Whether last frame's history may be blended into this one; (re)makes the textures.
+    bool keepHistory(const AmbientOcclusionParameters& p, glm::ivec2 size, const glm::mat4& view) {
+        const auto& h = historyParameters;
+        const bool same = historyValid && size == historySize && h.seed == p.seed && h.radius == p.radius &&
+                          h.bias == p.bias && h.kernel == p.kernel && h.compare == p.compare &&
+                          h.rangeCheck == p.rangeCheck && h.normals == p.normals && h.gbuffer == p.gbuffer;
+        // A camera cut, or a jump no history can follow (TAA's rule): eye > 2 m, turn > 15°.
+        const glm::vec3 eye = glm::vec3(glm::inverse(view)[3]),
+                        lastEye = glm::vec3(glm::inverse(previousView)[3]);
+        const glm::vec3 forward = glm::vec3(glm::transpose(view)[2]),
+                        lastForward = glm::vec3(glm::transpose(previousView)[2]);
+        const bool cut = glm::length(eye - lastEye) > 2.0f ||
+                         glm::dot(forward, lastForward) < std::cos(glm::radians(15.0f));
+        if (!history[0] || size != historySize)
+            for (gl::TextureObject& t : history)
+                t = gl::createTexture2D(GL_RGBA32F, size.x, size.y);
+        historySize = size, historyParameters = p, historyValid = true;
+        return same && !cut;
+    }
+
+    // Frame f's taps: set f mod 8 of the interleaved 8·m kernel, so 8 frames use all of it.
+    const std::vector<glm::vec3>& kernelForFrame(const AmbientOcclusionParameters& p, std::uint64_t frame) {
+        AmbientOcclusionParameters all = p;
+        all.samples = 8 * kTemporalSamples;
+        const std::vector<glm::vec3>& k = kernelFor(all);
+        frameKernel.clear();
+        for (std::size_t i = frame % 8; i < k.size(); i += 8)
+            frameKernel.push_back(k[i]);
+        return frameKernel;
+    }
 
     // The seed's §2 rotation vectors V_r, a 4×4 texture the occlusion pass tiles over the view.
     GLuint noiseTexture(std::uint32_t seed) {
@@ -154,31 +203,64 @@ namespace {
 constexpr std::string_view kRaw = "ao.raw"; // the occlusion before the blur
 constexpr std::string_view kMap = "ao.map"; // what the materials read: (k, linear depth)
 
-TextureDesc mapDesc(const AmbientOcclusionParameters& p) {
-    return {.format = format::Rg32F,
-            .size = p.halfResolution ? SizeRule::half(SizeRule::Round::Up) : SizeRule::draw()};
+constexpr std::string_view kNormal = "ao.normal"; // FromDepth: normals rebuilt at map size
+constexpr std::string_view kDepth = "ao.depth";   // FromDepth: linear depth at map size
+
+bool half(const AmbientOcclusionParameters& p) {
+    return p.halfResolution || p.temporal;
+}
+
+TextureDesc mapDesc(const AmbientOcclusionParameters& p, unsigned fmt = format::Rg32F) {
+    return {.format = fmt, .size = half(p) ? SizeRule::half(SizeRule::Round::Up) : SizeRule::draw()};
 }
 
 } // namespace
 
+// AoNormals::FromDepth: normals and linear depth at map size rebuilt from the scene depth pre-pass.
+void AmbientOcclusionNode::addNormalsPass(FrameSetup& f) const {
+    struct Data {
+        ResourceId depth, normal, linear;
+    };
+    f.addPass<Data>(
+        "ao normals", PassPhase::BeforeMain,
+        [p = parameters_](PassBuilder& b, Data& d) {
+            d.depth = b.sample(b.get(resources::SceneDepth), "sgfx_aoSceneDepth");
+            d.normal = b.colour(b.create(std::string(kNormal), mapDesc(p, format::Rgba16F)), 0, false);
+            d.linear = b.colour(b.create(std::string(kDepth), mapDesc(p, format::R32F)), 1, false);
+            b.publish(std::string(kNormal), d.normal);
+            b.publish(std::string(kDepth), d.linear);
+        },
+        [p = parameters_](PassCommands& c, const Data& d) {
+            static const BaseShader base = fullscreen("ao_normals", "ao_normals.frag");
+            gl::Program& program = c.program(base);
+            c.target({d.normal, d.linear});
+            c.bind(program, "sgfx_aoSceneDepth", d.depth);
+            program.set("sgfx_aoScale", half(p) ? 2 : 1);
+            c.fullscreen(program);
+        });
+}
+
 // Seed §2: the occlusion map, from the scene's G-buffer (§1: view-space normals and depth, or
-// positions).
+// positions), or from normals and depth rebuilt from the depth pre-pass.
 void AmbientOcclusionNode::addOcclusionPass(FrameSetup& f) const {
     struct Data {
         ResourceId normals, depth, positions, raw;
     };
+    const bool fromDepth = parameters_.normals == AoNormals::FromDepth;
+    const glm::ivec2 drawSize = f.view().drawSize;
+    const std::uint64_t frame = f.view().frameNumber;
     f.addPass<Data>(
         "ao occlusion", PassPhase::BeforeMain,
-        [p = parameters_](PassBuilder& b, Data& d) {
-            d.normals = b.sample(b.get(resources::SceneNormals), "sgfx_aoGNormal");
-            d.depth = b.sample(b.get(resources::SceneLinearDepth), "sgfx_aoGDepth");
-            if (p.gbuffer == AoGBuffer::PaperPositions)
+        [p = parameters_, fromDepth](PassBuilder& b, Data& d) {
+            d.normals = b.sample(b.get(fromDepth ? kNormal : resources::SceneNormals), "sgfx_aoGNormal");
+            d.depth = b.sample(b.get(fromDepth ? kDepth : resources::SceneLinearDepth), "sgfx_aoGDepth");
+            if (p.gbuffer == AoGBuffer::PaperPositions && !fromDepth)
                 d.positions = b.sample(b.get(resources::ScenePositions), "sgfx_aoGPosition");
             d.raw = b.colour(b.create(std::string(kRaw), mapDesc(p)), 0, false);
             b.publish(std::string(kRaw), d.raw);
-            if (p.blurSize <= 1) b.publish(std::string(kMap), d.raw);
+            if (p.blurSize <= 1 && !p.temporal) b.publish(std::string(kMap), d.raw);
         },
-        [p = parameters_, shared = shared_](PassCommands& c, const Data& d) {
+        [p = parameters_, shared = shared_, fromDepth, drawSize, frame](PassCommands& c, const Data& d) {
             static const BaseShader base = fullscreen("ao_occlusion", "ao_occlusion.frag");
             static const ShaderSnippet depth = definesOnly("ao_depth", "");
             static const ShaderSnippet positions = definesOnly("ao_positions", "#define SGFX_AO_POSITIONS");
@@ -188,16 +270,56 @@ void AmbientOcclusionNode::addOcclusionPass(FrameSetup& f) const {
             c.bind(program, "sgfx_aoGDepth", d.depth);
             if (d.positions.valid()) c.bind(program, "sgfx_aoGPosition", d.positions);
             c.bindTexture(program, "sgfx_aoNoise", shared->noiseTexture(p.seed));
-            const std::vector<glm::vec3>& k = shared->kernelFor(p);
+            const std::vector<glm::vec3>& k =
+                p.temporal ? shared->kernelForFrame(p, frame) : shared->kernelFor(p);
             for (std::size_t i = 0; i < k.size(); ++i)
                 program.set("sgfx_aoKernel[" + std::to_string(i) + "]", k[i]);
-            program.set("sgfx_aoSamples", p.samples);
+            program.set("sgfx_aoSamples", int(k.size()));
             program.set("sgfx_aoShape", glm::vec4(p.radius, p.bias, p.rangeCheck ? 1.0f : 0.0f,
                                                   p.compare == AoCompare::TangentPlane ? 1.0f : 0.0f));
             const bool paperLike = p.compare == AoCompare::StoredDepth && !p.rangeCheck;
-            program.set("sgfx_aoShape2",
-                        glm::vec4(p.halfResolution ? 2.0f : 1.0f, paperLike ? 0.0f : 1.0f, 0, 0));
+            const float scale = half(p) ? 2.0f : 1.0f;
+            program.set("sgfx_aoShape2", glm::vec4(scale, paperLike ? 0.0f : 1.0f, 0, 0));
+            program.set("sgfx_aoGrid", glm::vec4(glm::vec2(drawSize), fromDepth ? scale : 1.0f, 0.0f));
             c.fullscreen(program);
+        });
+}
+
+// Temporal: this frame's taps blended into the reprojected history, into the map the materials
+// read (at half size: they upsample it by depth).
+void AmbientOcclusionNode::addAccumulatePass(FrameSetup& f) const {
+    struct Data {
+        ResourceId raw, map;
+    };
+    const ViewInfo& v = f.view();
+    f.addPass<Data>(
+        "ao accumulate", PassPhase::BeforeMain,
+        [p = parameters_](PassBuilder& b, Data& d) {
+            d.raw = b.sample(b.get(kRaw), "sgfx_aoRaw");
+            d.map = b.colour(b.create(std::string(kMap), mapDesc(p)), 0, false);
+            b.publish(std::string(kMap), d.map);
+        },
+        [p = parameters_, shared = shared_, drawSize = v.drawSize, view = v.view,
+         projection = v.projection](PassCommands& c, const Data& d) {
+            static const BaseShader base = fullscreen("ao_accumulate", "ao_accumulate.frag");
+            Shared& s = *shared;
+            const bool keep = s.keepHistory(p, c.size(d.map), view);
+            gl::Program& program = c.program(base);
+            c.target({d.map});
+            c.bind(program, "sgfx_aoRaw", d.raw);
+            c.bindTexture(program, "sgfx_aoHistory", s.history[std::size_t(s.current)].get());
+            // GL: a node-owned history written as an image (the frame graph's targets last one
+            // frame); the barrier makes last frame's image writes visible to this frame's fetches.
+            glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+            glBindImageTexture(0, s.history[std::size_t(1 - s.current)].get(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                               GL_RGBA32F);
+            program.set("sgfx_aoHistoryOut", 0);
+            program.set("sgfx_aoReproject", s.previousView * glm::inverse(view));
+            program.set("sgfx_aoPreviousProjection", s.previousProjection);
+            program.set("sgfx_aoTemporal", glm::vec4(glm::vec2(drawSize), 2.0f, keep ? 0.0f : 1.0f));
+            c.fullscreen(program);
+            s.current = 1 - s.current;
+            s.previousView = view, s.previousProjection = projection;
         });
 }
 
@@ -233,7 +355,8 @@ void AmbientOcclusionNode::addDebugPass(FrameSetup& f) const {
     struct Data {
         ResourceId map, colour;
     };
-    const bool raw = parameters_.debugView == AoDebugView::Raw || parameters_.blurSize == 1;
+    const bool raw =
+        parameters_.debugView == AoDebugView::Raw || (parameters_.blurSize == 1 && !parameters_.temporal);
     f.addPass<Data>(
         "ao debug view", PassPhase::AfterResolve,
         [raw](PassBuilder& b, Data& d) {
@@ -288,12 +411,17 @@ const ShaderSnippet& AmbientOcclusionNode::snippet() const {
 void AmbientOcclusionNode::setupFrame(FrameSetup& f) const {
     // The outermost node in view computes the map for the whole view.
     if (!f.once("ambient occlusion")) return;
-    f.requestSceneDepth({.normals = true,
-                         .linearDepth = true,
-                         .positions = parameters_.gbuffer == AoGBuffer::PaperPositions,
+    const bool gbuffer = parameters_.normals == AoNormals::GBuffer;
+    f.requestSceneDepth({.normals = gbuffer,
+                         .linearDepth = gbuffer,
+                         .positions = gbuffer && parameters_.gbuffer == AoGBuffer::PaperPositions,
                          .when = PassPhase::BeforeMain});
+    if (!gbuffer) addNormalsPass(f);
     addOcclusionPass(f);
-    if (parameters_.blurSize > 1) addBlurPasses(f);
+    if (parameters_.temporal)
+        addAccumulatePass(f);
+    else if (parameters_.blurSize > 1)
+        addBlurPasses(f);
     if (parameters_.debugView != AoDebugView::Off) addDebugPass(f);
 }
 

@@ -631,11 +631,9 @@ bool VolumeNode::Gpu::drawSplatsOffscreen(Renderer& r, gl::Program& program, con
                                           const VolumeParameters& p, const std::string& colour) {
     // Premultiplied over, back to front, from transparent black: the target ends with the
     // splats' radiance and 1 − their transmittance, which one composite lays over the scene.
-    // beginOffscreen turns blending off behind the cache's back; the cache is told it is off
-    // before it is set again (endOffscreen restores the item's blending either way).
+    // beginOffscreen leaves blending off; endOffscreen restores the item's blending.
     if (!r.beginOffscreen({colour})) return false;
     r.clearColour(0, glm::vec4(0.0f));
-    r.setBlend(BlendMode::Off);
     r.setBlend(BlendMode::Premultiplied);
     drawSplats(r, program, model, p);
     r.endOffscreen();

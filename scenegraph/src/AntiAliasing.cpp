@@ -217,6 +217,20 @@ void resolve(Renderer& r, ViewState& s, gl::RenderTarget& from, gl::RenderTarget
 
 namespace {
 
+// FXAA's and SMAA's edge passes write 1 into the stencil wherever they leave a fragment (they
+// discard the rest); the passes after them shade the marked pixels only, until the stencil test is
+// disabled (a software rasterizer skips stencil-failed fragments before shading).
+void markStencilWhereDrawn() {
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_ALWAYS, 1, 0xff);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    glStencilMask(0xff);
+}
+void drawOnlyWhereMarked() {
+    glStencilFunc(GL_EQUAL, 1, 0xff);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+}
+
 void fxaa(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     const AntiAliasing& a = s.settings;
     // Luma first (one channel for the edge search), then the filter from the image's copy.
@@ -263,15 +277,11 @@ void fxaa(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     gl::Program& edges = fullscreenProgram(r, base(Stage::FxaaEdges));
     glUseProgram(edges.get());
     edges.set("sgfx_fxaa", presets[q]);
-    glEnable(GL_STENCIL_TEST);
-    glStencilFunc(GL_ALWAYS, 1, 0xff);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    glStencilMask(0xff);
+    markStencilWhereDrawn();
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     r.drawFullscreen(edges);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glStencilFunc(GL_EQUAL, 1, 0xff);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    drawOnlyWhereMarked();
     glUseProgram(program.get());
     program.set("sgfx_fxaa", presets[q]);
     r.drawFullscreen(program);
@@ -364,14 +374,10 @@ void smaa1x(Renderer& r, ViewState& s, gl::RenderTarget& target) {
     gl::Program& edges = fullscreenProgram(r, base(Stage(int(Stage::SmaaEdgesLuma) + int(a.smaaEdge))));
     glUseProgram(edges.get());
     edges.set("sgfx_smaaThreshold", thresholds[preset]);
-    glEnable(GL_STENCIL_TEST);
-    glStencilFunc(GL_ALWAYS, 1, 0xff);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    glStencilMask(0xff);
+    markStencilWhereDrawn();
     r.drawFullscreen(edges);
     glBindFramebuffer(GL_FRAMEBUFFER, s.smaaWeightsFbo.get());
-    glStencilFunc(GL_EQUAL, 1, 0xff);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    drawOnlyWhereMarked();
     r.bindTexture(0, s.smaaEdges.get());
     r.bindTexture(1, s.smaaArea.get());
     r.bindTexture(2, s.smaaSearch.get());

@@ -76,7 +76,7 @@ Viewer::Viewer(std::unique_ptr<GraphicsContext> context)
 }
 
 namespace {
-// SGFX_HEADLESS, read once: what Headless::Osmesa means in this process.
+// SGFX_HEADLESS, read once: what Headless::Default means in this process.
 Viewer::Headless osmesaOrEgl() {
     static const Viewer::Headless kind = [] {
         const char* v = std::getenv("SGFX_HEADLESS");
@@ -90,7 +90,7 @@ Viewer::Headless osmesaOrEgl() {
 } // namespace
 
 std::unique_ptr<Viewer> Viewer::createHeadless(int width, int height, Headless kind) {
-    if (kind == Headless::Osmesa) kind = osmesaOrEgl();
+    if (kind == Headless::Default) kind = osmesaOrEgl();
     auto v = kind == Headless::Egl ? std::make_unique<Viewer>(std::make_unique<EglContext>())
                                    : std::make_unique<Viewer>(std::make_unique<OsmesaContext>());
     v->camera()->setViewport(0, 0, width, height);

@@ -54,4 +54,39 @@ struct SGFX_API Frustum {
     Containment classify(const BoundingSphere& s) const;
 };
 
+/// Barycentric weights of the point of triangle abc closest to p (Ericson, Real-Time Collision
+/// Detection, 5.1.5), in float or double: the point is w.x·a + w.y·b + w.z·c.
+template <class T, glm::qualifier Q>
+glm::vec<3, T, Q> closestOnTriangle(const glm::vec<3, T, Q>& p, const glm::vec<3, T, Q>& a,
+                                    const glm::vec<3, T, Q>& b, const glm::vec<3, T, Q>& c) {
+    using V = glm::vec<3, T, Q>;
+    const V ab = b - a, ac = c - a, ap = p - a;
+    const T d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+    if (d1 <= T(0) && d2 <= T(0)) return {1, 0, 0};
+    const V bp = p - b;
+    const T d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+    if (d3 >= T(0) && d4 <= d3) return {0, 1, 0};
+    const T vc = d1 * d4 - d3 * d2;
+    if (vc <= T(0) && d1 >= T(0) && d3 <= T(0)) {
+        const T v = d1 / (d1 - d3);
+        return {1 - v, v, 0};
+    }
+    const V cp = p - c;
+    const T d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+    if (d6 >= T(0) && d5 <= d6) return {0, 0, 1};
+    const T vb = d5 * d2 - d1 * d6;
+    if (vb <= T(0) && d2 >= T(0) && d6 <= T(0)) {
+        const T w = d2 / (d2 - d6);
+        return {1 - w, 0, w};
+    }
+    const T va = d3 * d6 - d5 * d4;
+    if (va <= T(0) && (d4 - d3) >= T(0) && (d5 - d6) >= T(0)) {
+        const T w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {0, 1 - w, w};
+    }
+    const T denom = T(1) / (va + vb + vc);
+    const T v = vb * denom, w = vc * denom;
+    return {1 - v - w, v, w};
+}
+
 } // namespace sgfx

@@ -96,6 +96,9 @@ struct SGFX_API FrameStats {
     /// Passes that drew the opaque items (the scene's geometry), over every view: the main pass,
     /// plus the scene-depth pre-pass when an effect needs the depth before the main pass.
     std::size_t geometryPasses = 0;
+    /// RendererOptions::occlusionCulling: opaque items tested against the depth of the items drawn
+    /// first, and those found hidden and not drawn (every view).
+    std::size_t occlusionTested = 0, occlusionCulled = 0;
     double cullMs = 0.0, drawMs = 0.0;
 };
 
@@ -146,6 +149,19 @@ struct SGFX_API RendererOptions {
     /// nothing else (no lighting, no maps, no varyings read), the floor of rasterising, depth
     /// testing and storing a fragment (bench/pixel_cost.cpp).
     bool debugConstantShading = false;
+    /// Conservative occlusion culling of opaque items, in two phases per view: the items seen in
+    /// the view's last frame are drawn first, the depth is read back into a max pyramid, and the
+    /// other opaque items whose bound lies wholly behind it are not drawn (the image is unchanged:
+    /// that depth is of items this frame draws anyway). Pays off where much is hidden (inside a
+    /// dense city); the read-back waits for the rasteriser. Off for multisampled draw targets
+    /// (MSAA, SSAA's are single-sample) and in views with items whose depth writes can raise the
+    /// depth (depth test off or Greater...). DebugUnsafeMinDepth is for tests only: it compares
+    /// with the smallest depth under the bound, which drops partly visible items.
+    enum class OcclusionCulling : std::uint8_t {
+        Off,
+        On,
+        DebugUnsafeMinDepth
+    } occlusionCulling = OcclusionCulling::Off;
 };
 
 /// Owns GL-side resources for one context: composed programs, the scene target, the state cache.
@@ -266,6 +282,9 @@ public:
     /// Settings the renderer had to change (an MSAA sample count above the driver's limit), each
     /// once, since the last call.
     std::vector<std::string> takeWarnings();
+    /// The opaque items occlusion culling did not draw in the last frame (every view), for checks;
+    /// their state pointers live as long as the view's queue.
+    const std::vector<RenderItem>& occlusionCulledItems() const;
     /// Adds a warning for takeWarnings() (an effect that refused a setting and kept its last one).
     void warn(std::string message);
 

@@ -23,11 +23,12 @@ class SGFX_API Viewer {
 public:
     explicit Viewer(std::unique_ptr<GraphicsContext> context);
     /// Headless viewer with the given target size: on OSMesa (software), or through EGL on a GPU.
-    /// Osmesa becomes Egl when the environment variable SGFX_HEADLESS is `egl` (read once per
-    /// process; `osmesa` or unset: no change; anything else throws std::invalid_argument naming
-    /// it): scripts/gpu-check.sh runs the test suite and the demos on a GPU so.
-    enum class Headless : std::uint8_t { Osmesa, Egl };
-    static std::unique_ptr<Viewer> createHeadless(int width, int height, Headless kind = Headless::Osmesa);
+    /// Default is Osmesa, or Egl when the environment variable SGFX_HEADLESS is `egl` (read once
+    /// per process; `osmesa` or unset: Osmesa; anything else throws std::invalid_argument naming
+    /// it): scripts/gpu-check.sh runs the test suite and the demos on a GPU so. An explicit
+    /// Osmesa or Egl is kept whatever the environment says.
+    enum class Headless : std::uint8_t { Default, Osmesa, Egl };
+    static std::unique_ptr<Viewer> createHeadless(int width, int height, Headless kind = Headless::Default);
     ~Viewer();
 
     void setSceneData(NodePtr scene);

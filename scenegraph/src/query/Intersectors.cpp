@@ -3,6 +3,7 @@
 #include "sgfx/Camera.h"
 #include "sgfx/Geometry.h"
 #include "sgfx/Intersection.h"
+#include "sgfx/Math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -322,43 +323,6 @@ SphereIntersector::SphereIntersector(const glm::dvec3& center, double radius)
         throw std::invalid_argument("sgfx: SphereIntersector: centre " + vecText(center) + " or radius " +
                                     std::to_string(radius) + " is not finite, or the radius is not > 0");
 }
-
-namespace {
-
-// The point of triangle abc closest to p, as barycentric weights (Ericson, Real-Time Collision
-// Detection, 5.1.5).
-glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
-                             const glm::dvec3& c) {
-    const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-    const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-    if (d1 <= 0.0 && d2 <= 0.0) return {1, 0, 0};
-    const glm::dvec3 bp = p - b;
-    const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-    if (d3 >= 0.0 && d4 <= d3) return {0, 1, 0};
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-        const double v = d1 / (d1 - d3);
-        return {1 - v, v, 0};
-    }
-    const glm::dvec3 cp = p - c;
-    const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-    if (d6 >= 0.0 && d5 <= d6) return {0, 0, 1};
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-        const double w = d2 / (d2 - d6);
-        return {1 - w, 0, w};
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return {0, 1 - w, w};
-    }
-    const double denom = 1.0 / (va + vb + vc);
-    const double v = vb * denom, w = vc * denom;
-    return {1 - v - w, v, w};
-}
-
-} // namespace
 
 QueryBox SphereIntersector::localBox(const glm::dvec3& center, double radius, const QueryFrame& frame) {
     // The local image of the sphere is an ellipsoid; its box has half extent r·|row i| of the

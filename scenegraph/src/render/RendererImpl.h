@@ -11,6 +11,7 @@
 #include "AntiAliasing.h"
 #include "render/Diagnostics.h"
 #include "render/LightList.h"
+#include "render/Occlusion.h"
 #include "render/ResourcePool.h"
 #include "render/StateCache.h"
 #include "sgfx/Renderer.h"
@@ -67,6 +68,10 @@ struct Renderer::Impl {
     const Camera* camera = nullptr;                           // the view being drawn
     std::unordered_map<const Camera*, aa::ViewState> aaViews; // per camera, dropped with it
     std::vector<std::string> warnings;
+    // RendererOptions::occlusionCulling: per camera what it saw last frame, dropped with it; the
+    // items culled this frame (Renderer::occlusionCulledItems).
+    std::unordered_map<const Camera*, render::OcclusionState> occlusionViews;
+    std::vector<RenderItem> occlusionCulled;
     // SGFX_GL_ERRORS at construction: the policy while RendererOptions::glErrors is unset.
     RendererOptions::GlErrorPolicy glErrorsDefault = RendererOptions::GlErrorPolicy::Collect;
     std::uint64_t frames = 0;

@@ -172,12 +172,26 @@ void StateCache::beginOffscreen(unsigned fbo, glm::ivec2 size) {
         glViewport(0, 0, size.x, size.y);
         viewport_ = size;
     }
-    if (o.blend) glDisable(GL_BLEND); // blend_ stays: endOffscreen turns the same state back on
+    // Offscreen targets are written, not blended, unless the caller sets a blend inside; the
+    // cache records Off, so such a setBlend takes effect, and endOffscreen restores the state.
+    o.blendState = blend_;
+    if (o.blend) glDisable(GL_BLEND);
+    blend_ = int(BlendMode::Off);
 }
 
 void StateCache::endOffscreen() {
     const Offscreen& o = offscreen_;
-    if (o.blend) glEnable(GL_BLEND);
+    if (o.blendState >= 0) {
+        setBlend(BlendMode(o.blendState));
+    } else {
+        // Unknown or per-attachment: the enable flag as it was; the factors are known only if
+        // nothing was blended inside.
+        if (o.blend)
+            glEnable(GL_BLEND);
+        else
+            glDisable(GL_BLEND);
+        blend_ = blend_ == int(BlendMode::Off) ? o.blendState : -1;
+    }
     if (o.known) {
         if (o.framebuffer != framebuffer_) {
             glBindFramebuffer(GL_FRAMEBUFFER, o.framebuffer);

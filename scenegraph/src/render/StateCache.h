@@ -86,6 +86,7 @@ private:
         glm::ivec4 viewport{0}; // x, y, w, h
         bool known = false;     // framebuffer and viewport were the cache's (else queried)
         bool blend = false;     // blending was on
+        int blendState = -1;    // the cache's blend_ when the target began
     } offscreen_;
     std::size_t* stateChanges_;
 };

@@ -2,6 +2,7 @@
 // cameras it sees) in steps: cull, sub-cameras, projection and anti-aliasing, the frame block, the
 // passes and the main pass, the resolve and post passes. The frame plan's passes run here.
 #include "render/GpuUpload.h"
+#include "render/OcclusionDraw.h"
 #include "render/RendererImpl.h"
 #include "sgfx/Camera.h"
 #include "sgfx/CullVisitor.h"
@@ -55,6 +56,7 @@ private:
     void declarePostAa();
     void legacyState(bool invalidate, const gl::RenderTarget& target);
     void drawOpaque();
+    void drawOpaqueTwoPhase();
     void drawTransmissive();
     void drawTransparent();
     void bindDrawTarget();
@@ -90,6 +92,8 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     // Forget the targets of render-to-texture cameras that no longer exist.
     std::erase_if(impl_->cameraTargets, [](const auto& e) { return e.second.owner.expired(); });
     std::erase_if(impl_->aaViews, [](const auto& e) { return e.second.owner.expired(); });
+    std::erase_if(impl_->occlusionViews, [](const auto& e) { return e.second.owner.expired(); });
+    impl_->occlusionCulled.clear();
     ++impl_->frames;
     std::erase_if(impl_->sortedMeshes, [&](const auto& e) {
         return e.second.owner.expired() || (e.second.viewTracked && e.second.view.expired()) ||
@@ -126,6 +130,10 @@ std::string Renderer::lastFrameGraphDot() const {
     return dot + "}\n";
 }
 
+const std::vector<RenderItem>& Renderer::occlusionCulledItems() const {
+    return impl_->occlusionCulled;
+}
+
 void Renderer::renderView(Camera& camera, gl::RenderTarget& target, RenderQueue& queue, FramePlan& plan,
                           int depth) {
     View view(*this, camera, target, queue, plan);
@@ -149,6 +157,10 @@ void Renderer::View::cull() {
     if (std::uint8_t(options.lighting) > std::uint8_t(RendererOptions::Lighting::PerVertex))
         throw std::invalid_argument("sgfx: RendererOptions::lighting has an invalid value " +
                                     std::to_string(int(options.lighting)));
+    if (std::uint8_t(options.occlusionCulling) >
+        std::uint8_t(RendererOptions::OcclusionCulling::DebugUnsafeMinDepth))
+        throw std::invalid_argument("sgfx: RendererOptions::occlusionCulling has an invalid value " +
+                                    std::to_string(int(options.occlusionCulling)));
     if (!(options.maxUnrolledLights >= 0 && options.maxUnrolledLights <= render::kMaxLights))
         throw std::invalid_argument("sgfx: RendererOptions::maxUnrolledLights = " +
                                     std::to_string(options.maxUnrolledLights) + " is outside 0..8");
@@ -609,7 +621,24 @@ void Renderer::View::drawOpaque() {
         glBeginQuery(GL_SAMPLES_PASSED, fragments_.get());
     }
     if (!queue_.opaque.empty()) ++r_.stats_.geometryPasses;
-    r_.drawItems(queue_.opaque);
+    if (r_.options_.occlusionCulling != RendererOptions::OcclusionCulling::Off && draw_->samples <= 1 &&
+        render::depthIsMonotone(queue_.opaque))
+        drawOpaqueTwoPhase();
+    else
+        r_.drawItems(queue_.opaque);
+}
+
+// RendererOptions::occlusionCulling: per camera, so views (display channels, render-to-texture
+// cameras) each remember their own visible set.
+void Renderer::View::drawOpaqueTwoPhase() {
+    render::OcclusionState& state = s_.occlusionViews[&camera_];
+    if (state.owner.expired()) state = {}, state.owner = camera_.weak_from_this();
+    const bool unsafe =
+        r_.options_.occlusionCulling == RendererOptions::OcclusionCulling::DebugUnsafeMinDepth;
+    const render::OcclusionResult res = render::drawOpaqueTwoPhase(
+        r_, *draw_, queue_.opaque, r_.frame_.viewProjection, state, unsafe, &s_.occlusionCulled);
+    r_.stats_.occlusionTested += res.tested;
+    r_.stats_.occlusionCulled += res.culled;
 }
 
 void Renderer::View::drawTransmissive() {

@@ -45,6 +45,17 @@ enum class AoGBuffer : std::uint8_t {
     PaperPositions,
 };
 
+/// Where the occlusion pass takes the surface normals from.
+enum class AoNormals : std::uint8_t {
+    /// The G-buffer pre-pass (the whole scene drawn again writing normal and linear depth): the
+    /// materials' normals, normal maps included. Default.
+    GBuffer,
+    /// Rebuilt from the shared scene depth pre-pass (depth only, no G-buffer): of the two
+    /// neighbours along x (and along y) the one nearer in depth gives the tangent, so planes get
+    /// their exact normal and no normal crosses a depth edge. Geometric normals only.
+    FromDepth,
+};
+
 /// Draws the occlusion map over the view (white = open, black = occluded), as the seed's
 /// figures 5 and 7.
 enum class AoDebugView : std::uint8_t { Off, Raw, Blurred };
@@ -67,6 +78,15 @@ struct SGFX_API AmbientOcclusionParameters {
     AoGBuffer gbuffer = AoGBuffer::LinearDepth;
     AoDebugView debugView = AoDebugView::Off;
     std::uint32_t seed = 1; ///< kernel and rotation noise (fixed: the same frame gives the same map)
+    AoNormals normals = AoNormals::GBuffer;
+    /// Half resolution, 8 taps a frame, accumulated over frames: frame n takes set n mod 8 of a
+    /// 64-tap kernel (8 still frames use all of it; `samples` is not used). The history is
+    /// reprojected through last frame's view, dropped where its linear depth differs by more
+    /// than 2 %, blended by max(1/8, 1/(age + 1)), and reset on resize, camera jumps (> 2 m or
+    /// > 15°) and parameter changes. Replaces the blur (blurSize is not used); the materials
+    /// upsample by depth. One history per node: views of different sizes under one node reset
+    /// it every frame.
+    bool temporal = false;
 
     /// The seed's method as published: half-cube kernel, stored-depth test, no range check,
     /// box blur, position G-buffer.
@@ -114,6 +134,8 @@ private:
     void addOcclusionPass(FrameSetup& frame) const;
     void addBlurPasses(FrameSetup& frame) const;
     void addDebugPass(FrameSetup& frame) const;
+    void addNormalsPass(FrameSetup& frame) const;
+    void addAccumulatePass(FrameSetup& frame) const;
     AmbientOcclusionParameters parameters_;
     std::shared_ptr<Shared> shared_; ///< noise texture and kernel, kept by the passes' execute
 };
