@@ -73,6 +73,7 @@ public:
     int order() const override { return 500; } // after lighting effects, before diagnostics
     const ShaderSnippet& snippet() const override;
     void setupFrame(FrameSetup& frame) const override;
+    void compile(Renderer& renderer) const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
 
     /// Both throw std::invalid_argument with the reason and keep the previous value.
@@ -101,11 +102,12 @@ private:
     void addSkyPass(FrameSetup& frame) const;
     void addNearestDepth(FrameSetup& frame) const;
     void addOpaquePass(FrameSetup& frame, bool sky) const;
-    bool canDefer(const FrameSetup& frame) const;
+    bool canDefer(const RenderQueue& queue, int samples) const;
     FogParameters parameters_;
     FogMode mode_ = FogMode::Forward;
-    /// Set by setupFrame for the view about to be drawn (views are set up and drawn one after
-    /// the other), read by snippet() when that view's materials are composed.
+    /// The view about to be drawn defers its opaque fog: set by compile() (the step that updates
+    /// a node for that view; setupFrame, which declared the passes of the same choice, changes
+    /// nothing), read by snippet() and applyUniforms() while the view's materials are drawn.
     mutable bool deferred_ = false;
     bool deferOpaque_ = false;
 };
