@@ -82,14 +82,16 @@ public:
     const FogParameters& parameters() const { return parameters_; }
     FogMode mode() const { return mode_; }
 
-    /// Forward mode: whether the view set up last fogged its opaque and masked items in one
+    /// Forward mode: whether the view drawn last fogged its opaque and masked items in one
     /// full-screen pass ("fog opaque") instead of in their materials. It does when every opaque
-    /// item of the view is below this node, no effect with colour code comes after it, and the
-    /// view draws single-sample; otherwise the materials fog every fragment as before.
+    /// item of the view is below this node, no effect with colour code comes after it in those
+    /// items' effect sets (an OIT bin on the glass does not count), and the view draws
+    /// single-sample; otherwise the materials fog every fragment as before.
     bool lastFrameDeferred() const { return deferred_; }
     /// Forward mode: true lets the node defer its opaque items' fog to one full-screen pass where
-    /// that is exact. Default false: on llvmpipe the pass costs what it saves (docs/effects/fog.md,
-    /// "Cost"), and on an sRGB8 target an overbright surface is clipped before the pass fogs it.
+    /// that is exact. Default false: on llvmpipe the pass costs more than it saves
+    /// (docs/effects/fog.md, "Cost"), and on an sRGB8 target an overbright surface is clipped
+    /// before the pass fogs it.
     void setDeferOpaque(bool allow) { deferOpaque_ = allow; }
     bool deferOpaque() const { return deferOpaque_; }
 
