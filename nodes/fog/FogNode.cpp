@@ -164,9 +164,9 @@ bool FogNode::canDefer(const RenderQueue& q, int samples) const {
         if (!used[i]) continue;
         const std::vector<const EffectNode*>& set = q.effectSets[i].effects;
         const auto self = std::find(set.begin(), set.end(), this);
-        if (self == set.end() ||
-            std::any_of(std::next(self), set.end(),
-                        [](const EffectNode* e) { return !e->snippet().colorCode.empty(); }))
+        if (self == set.end() || std::any_of(std::next(self), set.end(), [](const EffectNode* e) {
+                return !e->snippet().colorCode.empty();
+            }))
             return false;
     }
     return true;
