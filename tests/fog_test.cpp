@@ -8,6 +8,7 @@
 #include <sgfx/Shapes.h>
 #include <sgfx/nodes/fog/FogMath.h>
 #include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/transparency/TransparencyBin.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -535,6 +536,40 @@ TEST(FogDeferred, EqualsTheFogInTheMaterialsOnAnOrbit) {
     v->frame();
     expectNoGlErrors(*v);
     EXPECT_FALSE(fogNode->lastFrameDeferred());
+}
+
+// Only the opaque items decide: glass in an order-independent bin (colour code after the fog in
+// the glass's effect set) keeps its forward fog, and the opaque items behind it still take the
+// pass; the image equals the fog in the materials within 1 LSB, as on the orbit above.
+TEST(FogDeferred, GlassInAnOitBinDoesNotStopThePass) {
+    FogParameters p = FogParameters::ground();
+    p.density = 0.03f;
+    p.falloff = 0.1f;
+    Image images[2];
+    for (Path path : {kDeferred, kInMaterials}) {
+        auto v = perspectiveViewer({30, 0, 6}, {0, 0, 1}, 0.5f, 1000.0f);
+        auto root = Group::create();
+        auto ground = shapes::quad(300, 300);
+        ground->getOrCreateStateSet().material.set(Material::create());
+        root->addChild(ground);
+        root->addChild(panel(4, 4, facingCamera(-4, 2), flat({0.3f, 0.3f, 0.3f})));
+        auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
+        ASSERT_FALSE(bin->snippet().colorCode.empty()) << "the bin must add colour code after the fog";
+        auto glass = panel(6, 4, facingCamera(0, 2), flat({0.1f, 0.6f, 0.3f}, 0.4f));
+        glass->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+        glass->getOrCreateStateSet().cullFace.set(CullFace::None);
+        bin->addChild(glass);
+        root->addChild(bin);
+        auto fogNode = fogOn(p, path);
+        fogNode->addChild(root);
+        v->setSceneData(fogNode);
+        v->frame();
+        expectNoGlErrors(*v);
+        expectDeferredAsAsked(*fogNode, path);
+        images[path.defer ? 0 : 1] = v->capture();
+    }
+    EXPECT_EQ(channelsDiffering(images[0], images[1], 1), 0);
+    EXPECT_GT(channelsDiffering(images[0], images[1], 0), 0) << "the paths are really different";
 }
 
 TEST(FogNodeApi, DeferringIsOffByDefault) {

@@ -736,6 +736,7 @@ sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& sc
     }
     if (!o.fog) return world;
     auto fog = sgfx::FogNode::create(o.fogParameters, *o.fog);
+    fog->setDeferOpaque(o.fogDeferOpaque); // --fog deferred
     fog->addChild(world);
     if (sky) sky->attachFog(fog); // aerial perspective: distant geometry fades into the sky
     return fog;

@@ -5,6 +5,7 @@
 
 #include <sgfx/FrameSetup.h>
 #include <sgfx/PassCommands.h>
+#include <sgfx/Renderer.h>
 #include <sgfx/gl/Objects.h>
 
 #include <algorithm>
@@ -149,15 +150,23 @@ void FogNode::addOpaquePass(FrameSetup& f, bool sky) const {
 
 // Deferring is exact when the pass reaches every opaque fragment the materials would have fogged
 // and nothing would have changed the colour after the fog: every opaque item is below this node,
-// no effect after it in their sets has colour code, and the depth holds one sample a pixel.
-bool FogNode::canDefer(const FrameSetup& f) const {
-    const RenderQueue& q = f.queue();
-    if (f.view().samples > 1 || f.itemsWithEffect(*this, q.opaque) != q.opaque.size()) return false;
-    for (const EffectSet& set : q.effectSets) {
-        const auto self = std::find(set.effects.begin(), set.effects.end(), this);
-        if (self != set.effects.end() &&
-            std::any_of(std::next(self), set.effects.end(),
-                        [](const EffectNode* e) { return !e->snippet().colorCode.empty(); }))
+// no effect after it in their sets has colour code, and the depth holds one sample a pixel. Only
+// the opaque items' sets count: blended and transmissive items keep the forward fog (an OIT bin
+// after the fog on the glass does not stop the opaque pass).
+bool FogNode::canDefer(const RenderQueue& q, int samples) const {
+    if (mode_ != FogMode::Forward || !deferOpaque_ || samples > 1) return false;
+    std::vector<bool> used(q.effectSets.size(), false);
+    for (const RenderItem& item : q.opaque) {
+        if (item.effectSet >= used.size()) return false; // no effect set: not below this node
+        used[item.effectSet] = true;
+    }
+    for (std::size_t i = 0; i < used.size(); ++i) {
+        if (!used[i]) continue;
+        const std::vector<const EffectNode*>& set = q.effectSets[i].effects;
+        const auto self = std::find(set.begin(), set.end(), this);
+        if (self == set.end() || std::any_of(std::next(self), set.end(), [](const EffectNode* e) {
+                return !e->snippet().colorCode.empty();
+            }))
             return false;
     }
     return true;
@@ -280,13 +289,18 @@ void FogNode::setupFrame(FrameSetup& f) const {
         if (f.once("fog post-process")) addPostPass(f);
         return;
     }
-    deferred_ = mode_ == FogMode::Forward && deferOpaque_ && canDefer(f);
+    const bool deferred = canDefer(f.queue(), f.view().samples); // compile() records the same choice
     if (mode_ == FogMode::ForwardSplit && f.once("fog: nearest depth")) addNearestDepth(f);
     const bool sky = parameters_.sky != FogSky::Off && f.once("fog sky");
-    if (deferred_)
+    if (deferred)
         addOpaquePass(f, sky);
     else if (sky)
         addSkyPass(f);
+}
+
+// The view's queue and draw target are the ones setupFrame saw: the choice is the same.
+void FogNode::compile(Renderer& renderer) const {
+    deferred_ = canDefer(renderer.queue(), renderer.currentTarget().samples);
 }
 
 void FogNode::applyUniforms(gl::Program& program, const DrawContext& context) const {

@@ -21,7 +21,11 @@ void main() {
     vec4 w = sgfx_invViewProjection * ndc;
     vec3 p = w.xyz / w.w;
     if (d >= 1.0) {
+#ifdef SGFX_FOG_POST
+        // The sky pass runs only with a sky rule: without a discard llvmpipe tests depth before
+        // shading and skips covered blocks.
         if (sgfx_fogShape.z == 0.0) discard;
+#endif
         if (sgfx_fogShape.z > 0.0) p = sgfx_eye.xyz + normalize(p - sgfx_eye.xyz) * sgfx_fogShape.z;
     }
     sgfx_fragColor = vec4(sgfx_fogColor, sgfx_fogAmount(sgfx_fogOpticalDepthFromEye(p)));

@@ -73,6 +73,7 @@ public:
     int order() const override { return 500; } // after lighting effects, before diagnostics
     const ShaderSnippet& snippet() const override;
     void setupFrame(FrameSetup& frame) const override;
+    void compile(Renderer& renderer) const override;
     void applyUniforms(gl::Program& program, const DrawContext&) const override;
 
     /// Both throw std::invalid_argument with the reason and keep the previous value.
@@ -81,14 +82,16 @@ public:
     const FogParameters& parameters() const { return parameters_; }
     FogMode mode() const { return mode_; }
 
-    /// Forward mode: whether the view set up last fogged its opaque and masked items in one
+    /// Forward mode: whether the view drawn last fogged its opaque and masked items in one
     /// full-screen pass ("fog opaque") instead of in their materials. It does when every opaque
-    /// item of the view is below this node, no effect with colour code comes after it, and the
-    /// view draws single-sample; otherwise the materials fog every fragment as before.
+    /// item of the view is below this node, no effect with colour code comes after it in those
+    /// items' effect sets (an OIT bin on the glass does not count), and the view draws
+    /// single-sample; otherwise the materials fog every fragment as before.
     bool lastFrameDeferred() const { return deferred_; }
     /// Forward mode: true lets the node defer its opaque items' fog to one full-screen pass where
-    /// that is exact. Default false: on llvmpipe the pass costs what it saves (docs/effects/fog.md,
-    /// "Cost"), and on an sRGB8 target an overbright surface is clipped before the pass fogs it.
+    /// that is exact. Default false: on llvmpipe the pass costs more than it saves
+    /// (docs/effects/fog.md, "Cost"), and on an sRGB8 target an overbright surface is clipped
+    /// before the pass fogs it.
     void setDeferOpaque(bool allow) { deferOpaque_ = allow; }
     bool deferOpaque() const { return deferOpaque_; }
 
@@ -101,11 +104,12 @@ private:
     void addSkyPass(FrameSetup& frame) const;
     void addNearestDepth(FrameSetup& frame) const;
     void addOpaquePass(FrameSetup& frame, bool sky) const;
-    bool canDefer(const FrameSetup& frame) const;
+    bool canDefer(const RenderQueue& queue, int samples) const;
     FogParameters parameters_;
     FogMode mode_ = FogMode::Forward;
-    /// Set by setupFrame for the view about to be drawn (views are set up and drawn one after
-    /// the other), read by snippet() when that view's materials are composed.
+    /// The view about to be drawn defers its opaque fog: set by compile() (the step that updates
+    /// a node for that view; setupFrame, which declared the passes of the same choice, changes
+    /// nothing), read by snippet() and applyUniforms() while the view's materials are drawn.
     mutable bool deferred_ = false;
     bool deferOpaque_ = false;
 };
