@@ -552,10 +552,10 @@ TEST(FogDeferred, GlassInAnOitBinDoesNotStopThePass) {
         auto ground = shapes::quad(300, 300);
         ground->getOrCreateStateSet().material.set(Material::create());
         root->addChild(ground);
-        root->addChild(panel(4, 4, facingCamera(-4, 2), flat({0.3f, 0.3f, 0.3f})));
+        root->addChild(panel(4, 4, facingCamera(-4, 2), flatMaterial({0.3f, 0.3f, 0.3f})));
         auto bin = TransparencyBin::create(TransparencyMode::WeightedBlended);
         ASSERT_FALSE(bin->snippet().colorCode.empty()) << "the bin must add colour code after the fog";
-        auto glass = panel(6, 4, facingCamera(0, 2), flat({0.1f, 0.6f, 0.3f}, 0.4f));
+        auto glass = panel(6, 4, facingCamera(0, 2), flatMaterial({0.1f, 0.6f, 0.3f}, 0.4f));
         glass->getOrCreateStateSet().blend.set(BlendMode::Alpha);
         glass->getOrCreateStateSet().cullFace.set(CullFace::None);
         bin->addChild(glass);
