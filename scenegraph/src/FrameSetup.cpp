@@ -47,17 +47,6 @@ BoundingSphere FrameSetup::worldBound(const EffectNode& effect) const {
     return b;
 }
 
-std::size_t FrameSetup::itemsWithEffect(const EffectNode& effect, std::span<const RenderItem> items) const {
-    std::vector<bool> has(queue_.effectSets.size(), false);
-    for (std::size_t i = 0; i < has.size(); ++i) {
-        const std::vector<const EffectNode*>& e = queue_.effectSets[i].effects;
-        has[i] = std::find(e.begin(), e.end(), &effect) != e.end();
-    }
-    return std::size_t(std::count_if(items.begin(), items.end(), [&](const RenderItem& item) {
-        return item.effectSet < has.size() && has[item.effectSet];
-    }));
-}
-
 const RenderQueue& PassBuilder::queue() const {
     if (!queue_) throw std::logic_error("sgfx: this PassBuilder has no render queue");
     return *queue_;

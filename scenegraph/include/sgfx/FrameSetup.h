@@ -150,9 +150,6 @@ public:
     /// The effect node's bound in world space over every place the cull reached it (invalid when
     /// it was not reached).
     BoundingSphere worldBound(const EffectNode& effect) const;
-    /// How many of `items` (a list of this view's queue) have `effect` in their effect set: the
-    /// fog asks it of the opaque items to know whether one full-screen pass can stand in for them.
-    std::size_t itemsWithEffect(const EffectNode& effect, std::span<const RenderItem> items) const;
     /// True the first time `key` is asked this frame: nested nodes of one kind call it so that
     /// the outermost node's view-wide pass wins (cull visits outer nodes first).
     bool once(std::string_view key) { return once_.emplace(key).second; }
