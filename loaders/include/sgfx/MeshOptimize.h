@@ -11,6 +11,7 @@
 #include <sgfx/Geometry.h>
 #include <sgfx/LOD.h>
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -59,6 +60,28 @@ struct SGFX_API AutoLodOptions {
     bool lockBorder = true;
 };
 
+/// How hausdorffBound settled its pieces (diagnostics for benches and tests; summed over both sides).
+struct SGFX_API HausdorffBoundStats {
+    /// The bound that gave a settled piece its number: the projection along the piece's normal, the
+    /// convexity bound through one triangle, the centroid's distance plus the radius (Lipschitz), a
+    /// bound inherited from the parent piece, or exact (all corners share a nearest triangle).
+    enum Path { Projection, Convex, Lipschitz, Inherited, Exact, Paths };
+    std::array<std::size_t, Paths> settled{}; ///< settled pieces, by path
+    std::size_t atMaxDepth = 0;               ///< settled at the split limit, above the accept threshold
+    std::size_t queries = 0;                  ///< nearest-point queries through the other side's BVH
+    /// Projection bounds tried, and why they failed: a degenerate piece, one orientation not
+    /// covering it, the covered area exceeding it (overlap), or the height clip still cutting area.
+    std::size_t projections = 0, degenerate = 0, uncovered = 0, overlap = 0, cut = 0;
+    std::size_t crackMargins = 0; ///< projection bounds that charged a crack margin above the absolute slack / 4
+    float lower = 0.0f;           ///< the largest distance found at a point: a lower bound of the result
+    float upper = 0.0f;           ///< the bound before float rounding is added
+    Path worst = Exact;           ///< the path of the piece that set `upper`
+    std::array<float, 2> sides{}; ///< hausdorffBound's two one-sided bounds: a to b's surface, b to a's
+    std::array<glm::vec3, 3> worstPiece{}; ///< the piece that set `upper`
+    int worstDepth = 0;                    ///< its number of splits
+    void add(const HausdorffBoundStats& o);
+};
+
 /// One simplified level and its errors (absolute, in the geometry's frame).
 struct SGFX_API AutoLodLevel {
     std::shared_ptr<Geometry> geometry;
@@ -70,6 +93,7 @@ struct SGFX_API AutoLodLevel {
     /// sets the ranges.
     float measuredError = 0.0f;
     float minPixels = 0.0f, maxPixels = 0.0f; ///< the projected diameters it is shown at
+    HausdorffBoundStats boundStats;           ///< how measuredError was found
 };
 
 /// The largest distance from a sample point of either mesh to the other's surface: 8 points per
@@ -93,7 +117,7 @@ SGFX_API float hausdorffDistance(const Geometry& a, const Geometry& b);
 /// threads for large meshes. Throws
 /// std::invalid_argument for a negative or non-finite slack or a geometry without triangles.
 SGFX_API float hausdorffBound(const Geometry& a, const Geometry& b, float relativeSlack = 0.1f,
-                              float absoluteSlack = 0.0f);
+                              float absoluteSlack = 0.0f, HausdorffBoundStats* stats = nullptr);
 
 /// An LOD over `full` (shared, finest) and simplified copies with ½, ¼, ... of its triangles,
 /// down to options.minTriangles. Level i's error is its hausdorffBound (relative slack 0.1, absolute
