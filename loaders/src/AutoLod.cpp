@@ -401,8 +401,11 @@ private:
             if (b < bound) bound = b, path = w;
         };
         if (const float thin = thinBound(p, n); thin >= 0.0f) {
-            settle(std::min(bound, thin), thin < bound ? Stats::Convex : path, p, depth);
-            return 1;
+            take(thin, Stats::Convex);
+            if (bound <= accept()) {
+                settle(bound, path, p, depth);
+                return 1;
+            }
         }
         if (depth > 0) { // the top level tried these before calling
             Stats::Path convex = Stats::Convex;
@@ -437,7 +440,7 @@ private:
         const std::size_t i = e, j = (e + 1) % 3, k = (e + 2) % 3;
         const float length = glm::distance(p[i], p[j]);
         const float h = glm::length(glm::cross(p[j] - p[i], p[k] - p[i])) / std::max(length, 1e-30f);
-        if (!(h <= 1e-4f * length)) return -1.0f;
+        if (!(h <= std::max(1e-4f * length, 0.5f * accept()))) return -1.0f;
         // The angles at the longest edge's ends are acute, so p[k]'s foot on it is inside it.
         segments_ = 0;
         return segmentBound(p[i], n[i], p[j], n[j], 0) + h * (1.0f + 1e-5f);
