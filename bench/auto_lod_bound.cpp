@@ -31,7 +31,6 @@ void collect(const sgfx::NodePtr& n, std::vector<std::shared_ptr<sgfx::Geometry>
             collect(group->child(i), out, seen);
 }
 
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -79,17 +78,18 @@ int main(int argc, char** argv) {
             floor = std::max(floor, level.measuredError);
             if (!only.empty()) {
                 const auto& w = s.worstPiece;
-                std::printf("%zu triangles: sides %.4f %.4f lower %.4f; worst piece (%s, depth %d) edges %.3f "
-                            "%.3f %.3f corners (%.3f %.3f %.3f) (%.3f %.3f %.3f) (%.3f %.3f %.3f)\n",
-                            level.geometry->triangleCount(), s.sides[0], s.sides[1], s.lower,
-                            pathName(int(s.worst)), s.worstDepth, glm::length(w[1] - w[0]),
-                            glm::length(w[2] - w[1]), glm::length(w[0] - w[2]), w[0].x, w[0].y, w[0].z, w[1].x,
-                            w[1].y, w[1].z, w[2].x, w[2].y, w[2].z);
+                std::printf(
+                    "%zu triangles: sides %.4f %.4f lower %.4f; worst piece (%s, depth %d) edges %.3f "
+                    "%.3f %.3f corners (%.3f %.3f %.3f) (%.3f %.3f %.3f) (%.3f %.3f %.3f)\n",
+                    level.geometry->triangleCount(), s.sides[0], s.sides[1], s.lower, pathName(int(s.worst)),
+                    s.worstDepth, glm::length(w[1] - w[0]), glm::length(w[2] - w[1]),
+                    glm::length(w[0] - w[2]), w[0].x, w[0].y, w[0].z, w[1].x, w[1].y, w[1].z, w[2].x, w[2].y,
+                    w[2].z);
             }
         }
     }
-    std::printf("meshes %zu, LODs %zu, levels %zu, makeErrorLod CPU %.2f s\n", meshes.size(), lods, rows.size(),
-                cpu);
+    std::printf("meshes %zu, LODs %zu, levels %zu, makeErrorLod CPU %.2f s\n", meshes.size(), lods,
+                rows.size(), cpu);
     std::printf("settled pieces:");
     for (int p = 0; p < sgfx::HausdorffBoundStats::Paths; ++p)
         std::printf(" %s %zu", pathName(p), total.settled[std::size_t(p)]);
@@ -110,12 +110,15 @@ int main(int argc, char** argv) {
         std::sort(v.begin(), v.end());
         if (v.empty()) return;
         auto q = [&](double f) { return v[std::min(v.size() - 1, std::size_t(f * double(v.size())))]; };
-        std::printf("\n%s: median %.3f, p90 %.3f, p99 %.3f, max %.3f", what, q(0.5), q(0.9), q(0.99), v.back());
+        std::printf("\n%s: min %.3f, median %.3f, p90 %.3f, p99 %.3f, max %.3f", what, v.front(), q(0.5),
+                    q(0.9), q(0.99), v.back());
     };
     quantiles("looseness (bound - lower) / (0.1 lower + abs)", [](const Row& r) { return r.looseness; });
     quantiles("bound / lower", [](const Row& r) { return r.ratio; });
-    quantiles("bound / max(1.1 lower + abs, finer level's bound)", [](const Row& r) { return r.bound / r.slack; });
-    if (sample) quantiles("bound / sampled", [](const Row& r) { return r.bound / std::max(r.sampled, 1e-9f); });
+    quantiles("bound / max(1.1 lower + abs, finer level's bound)",
+              [](const Row& r) { return r.bound / r.slack; });
+    if (sample)
+        quantiles("bound / sampled", [](const Row& r) { return r.bound / std::max(r.sampled, 1e-9f); });
     std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.looseness > b.looseness; });
     std::printf("\nloosest levels:\n");
     for (std::size_t i = 0; i < std::min<std::size_t>(rows.size(), 8); ++i)

@@ -229,7 +229,8 @@ TEST(AutoLod, BoundIsTightOnCurbs) {
     ASSERT_TRUE(meshOptimizerAvailable());
     const float cell = 10.0f / 24.0f;
     auto tile = shapes::heightfield(-5, -5, 10, 10, 24, 24, [&](float x, float y) {
-        return 0.3f * std::sin(0.6f * x) * std::cos(0.5f * y) + 0.15f * std::clamp((x - 1.0f) / cell, 0.0f, 1.0f);
+        return 0.3f * std::sin(0.6f * x) * std::cos(0.5f * y) +
+               0.15f * std::clamp((x - 1.0f) / cell, 0.0f, 1.0f);
     });
     ASSERT_TRUE(optimizeMesh(*tile));
     AutoLodOptions options;
@@ -248,8 +249,8 @@ TEST(AutoLod, BoundIsTightOnCurbs) {
         // level's error (which makeErrorLod rounds this one up to anyway); 1.25 leaves room for the
         // brute force's grid missing the worst point by a little.
         EXPECT_LE(bound, std::max(1.25 * lower + absSlack, finer) * (1.0 + 1e-4)) << "level " << i;
-        std::printf("curb tile %zu triangles: bound %.4f, brute-force lower %.4f, slack %.4f\n", s.triangleCount(),
-                    bound, lower, absSlack);
+        std::printf("curb tile %zu triangles: bound %.4f, brute-force lower %.4f, slack %.4f\n",
+                    s.triangleCount(), bound, lower, absSlack);
         finer = std::max(finer, bound);
     }
 }

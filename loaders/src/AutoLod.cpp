@@ -87,7 +87,6 @@ float oneSided(const Geometry& from, const TriangleBvh& to) {
     return std::sqrt(worst);
 }
 
-
 // For each vertex of `from`, the triangles of `to`'s BVH that use a vertex at the identical position
 // (meshoptimizer's levels keep the full mesh's vertices bit for bit): the vertex is at distance 0
 // from each of them. The triangles of from's vertex v are list[first[v], first[v + 1]).
@@ -115,7 +114,8 @@ SharedVertices sharedVertices(const TriangleBvh& to, std::size_t toVertices,
     out.first.assign(toVertex.size() + 1, 0);
     for (std::size_t v = 0; v < toVertex.size(); ++v) {
         const std::uint32_t w = toVertex[v];
-        if (w != ~0u && w < toVertices) out.list.insert(out.list.end(), fan.begin() + start[w], fan.begin() + start[w + 1]);
+        if (w != ~0u && w < toVertices)
+            out.list.insert(out.list.end(), fan.begin() + start[w], fan.begin() + start[w + 1]);
         out.first[v + 1] = std::uint32_t(out.list.size());
     }
     return out;
@@ -204,7 +204,8 @@ private:
                                   [&](const std::array<std::uint32_t, 3>& t) {
                                       const glm::dvec3 a(from.positions[t[0]]), b(from.positions[t[1]]),
                                           c(from.positions[t[2]]);
-                                      return glm::length(glm::cross(b - a, c - a)) == 0.0; // TriangleBvh's test
+                                      return glm::length(glm::cross(b - a, c - a)) ==
+                                             0.0; // TriangleBvh's test
                                   }),
                    tris.end());
         return tris;
@@ -212,7 +213,8 @@ private:
     float accept() const { return std::max(floor_, lower_ * (1.0f + rel_) + abs_); }
     void settle(float bound, Stats::Path path, const Piece& p, int depth) {
         ++stats_.settled[path];
-        if (bound > upper_) upper_ = bound, stats_.worst = path, stats_.worstPiece = p, stats_.worstDepth = depth;
+        if (bound > upper_)
+            upper_ = bound, stats_.worst = path, stats_.worstPiece = p, stats_.worstDepth = depth;
     }
     static glm::vec3 centroid(glm::vec3 a, glm::vec3 b, glm::vec3 c) { return (a + b + c) / 3.0f; }
     float distance(glm::vec3 p, std::uint32_t t) const {
@@ -559,12 +561,13 @@ std::string refusal(const Geometry& g, const AutoLodOptions& o) {
 }
 
 struct BoundExtras {
-    float floor = 0.0f;                                 ///< refine no piece below this
+    float floor = 0.0f;                                               ///< refine no piece below this
     const std::vector<std::uint32_t>*aToB = nullptr, *bToA = nullptr; ///< vertices at identical positions
     HausdorffBoundStats* stats = nullptr;
 };
 
-float bound(const Geometry& a, const Geometry& b, float relativeSlack, float absoluteSlack, const BoundExtras& x) {
+float bound(const Geometry& a, const Geometry& b, float relativeSlack, float absoluteSlack,
+            const BoundExtras& x) {
     const auto bvhA = a.triangleBvh(), bvhB = b.triangleBvh();
     SharedVertices sharedAB, sharedBA;
     if (x.aToB) sharedAB = sharedVertices(*bvhB, b.positions.size(), *x.aToB);
@@ -651,8 +654,8 @@ std::vector<AutoLodLevel> simplifiedLevels(const Geometry& full, const AutoLodOp
         // A coarser level's error is rounded up to the finer one's (makeErrorLod): below that, any
         // bound is as good as the exact value.
         const float floor = levels.empty() ? 0.0f : levels.back().measuredError;
-        level.measuredError = bound(*level.geometry, full, 0.1f, absSlack,
-                                    {floor, &toFull, &toLevel, &level.boundStats});
+        level.measuredError =
+            bound(*level.geometry, full, 0.1f, absSlack, {floor, &toFull, &toLevel, &level.boundStats});
         levels.push_back(std::move(level));
     }
     return levels;
@@ -745,4 +748,3 @@ std::size_t addAutoLods(Node& root, const AutoLodOptions& o) {
 }
 
 } // namespace sgfx
-
