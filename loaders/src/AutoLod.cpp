@@ -441,7 +441,9 @@ private:
             if (glm::distance(p[k], p[(k + 1) % 3]) > glm::distance(p[e], p[(e + 1) % 3])) e = k;
         const std::size_t i = e, j = (e + 1) % 3, k = (e + 2) % 3;
         const float length = glm::distance(p[i], p[j]);
-        const float h = glm::length(glm::cross(p[j] - p[i], p[k] - p[i])) / std::max(length, 1e-30f);
+        const glm::dvec3 a(p[i]);
+        const float h = float(glm::length(glm::cross(glm::dvec3(p[j]) - a, glm::dvec3(p[k]) - a)) /
+                              std::max(double(length), 1e-30));
         if (!(h <= std::max(1e-4f * length, 0.5f * accept()))) return -1.0f;
         // The angles at the longest edge's ends are acute, so p[k]'s foot on it is inside it.
         segments_ = 0;
@@ -464,8 +466,8 @@ private:
     // the children a cover of the piece; the balance only makes them tight. An edge with one
     // triangle at both ends is cut only when no edge has two (then the longest, at its midpoint).
     int split(const Piece& p, const Corners& n, int depth, float bound, int budget) {
-        std::array<glm::vec3, 3> x;
-        std::array<Near, 3> nx;
+        std::array<glm::vec3, 3> x{};
+        std::array<Near, 3> nx{};
         std::array<bool, 3> cut{};
         for (std::size_t e = 0; e < 3; ++e) {
             const std::size_t i = e, j = (e + 1) % 3;
