@@ -129,8 +129,10 @@ SharedVertices sharedVertices(const TriangleBvh& to, std::size_t toVertices,
 // bound through a triangle nearest to all corners is exact. A piece whose smallest bound is within
 // the slack of the largest distance found at an actual point (a lower bound of the result), or
 // under `floor` (a value the caller rounds the result up to anyway), is done; otherwise it is split
-// in four at its edge midpoints, at most maxDepth times (past that, its bound is taken as it is:
-// still an upper bound, only looser).
+// where its corners' nearest triangles change (split), at most maxDepth times and into at most
+// pieceBudget pieces per triangle (past that, its bound is taken as it is: still an upper bound,
+// only looser). Every number settled is an upper bound for its piece, and the pieces cover the
+// triangle, so the largest is one for the whole side.
 class OneSidedBound {
 public:
     using Stats = HausdorffBoundStats;
