@@ -1,9 +1,10 @@
 // How hausdorffBound sets the auto-LOD levels' errors on a loaded model:
-// `auto_lod_bound FILE [--sample]`. Loads FILE as GltfOptions::autoLod would see it (ordered, no
+// `auto_lod_bound FILE [--sample | --mesh NAME]`. Loads FILE as GltfOptions::autoLod would see it (ordered, no
 // LODs), runs makeErrorLod on every distinct mesh, and prints per level the bound, its own lower
 // bound (the largest distance found at a point), the looseness (bound - lower) / (0.1 lower + abs
 // slack) that the slack allows up to 1, and which path settled the pieces; with --sample also the
-// 8-point sampled distance (hausdorffDistance). CPU seconds of the makeErrorLod calls at the end.
+// 8-point sampled distance (hausdorffDistance); with --mesh only the mesh NAME, each level's two
+// one-sided bounds and the piece that set the larger (its path, depth and corners). CPU seconds of the makeErrorLod calls at the end.
 #include <sgfx/Group.h>
 #include <sgfx/MeshOptimize.h>
 #include <sgfx/ModelLoader.h>
@@ -35,7 +36,7 @@ void collect(const sgfx::NodePtr& n, std::vector<std::shared_ptr<sgfx::Geometry>
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: auto_lod_bound FILE [--sample]\n");
+        std::fprintf(stderr, "usage: auto_lod_bound FILE [--sample | --mesh NAME]\n");
         return 2;
     }
     const bool sample = argc > 2 && std::string(argv[2]) == "--sample";
