@@ -1,10 +1,10 @@
 // How hausdorffBound sets the auto-LOD levels' errors on a loaded model:
-// `auto_lod_bound FILE [--sample | --mesh NAME]`. Loads FILE as GltfOptions::autoLod would see it (ordered, no
-// LODs), runs makeErrorLod on every distinct mesh, and prints per level the bound, its own lower
-// bound (the largest distance found at a point), the looseness (bound - lower) / (0.1 lower + abs
-// slack) that the slack allows up to 1, and which path settled the pieces; with --sample also the
-// 8-point sampled distance (hausdorffDistance); with --mesh only the mesh NAME, each level's two
-// one-sided bounds and the piece that set the larger (its path, depth and corners). CPU seconds of the makeErrorLod calls at the end.
+// `auto_lod_bound FILE [--sample | --mesh NAME]`. Loads FILE as GltfOptions::autoLod would see it (ordered,
+// no LODs), runs makeErrorLod on every distinct mesh, and prints per level the bound, its own lower bound
+// (the largest distance found at a point), the looseness (bound - lower) / (0.1 lower + abs slack) that the
+// slack allows up to 1, and which path settled the pieces; with --sample also the 8-point sampled distance
+// (hausdorffDistance); with --mesh only the mesh NAME, each level's two one-sided bounds and the piece that
+// set the larger (its path, depth and corners). CPU seconds of the makeErrorLod calls at the end.
 #include <sgfx/Group.h>
 #include <sgfx/MeshOptimize.h>
 #include <sgfx/ModelLoader.h>
