@@ -87,87 +87,177 @@ float oneSided(const Geometry& from, const TriangleBvh& to) {
     return std::sqrt(worst);
 }
 
+// For each vertex of `from`, the triangles of `to`'s BVH that use a vertex at the identical position
+// (meshoptimizer's levels keep the full mesh's vertices bit for bit): the vertex is at distance 0
+// from each of them. The triangles of from's vertex v are list[first[v], first[v + 1]).
+struct SharedVertices {
+    std::vector<std::uint32_t> first, list;
+    std::size_t size(std::uint32_t v) const { return first[v + 1] - first[v]; }
+    const std::uint32_t* begin(std::uint32_t v) const { return list.data() + first[v]; }
+};
+
+// `toVertex[v]`: the vertex of `to` at the position of from's vertex v, or ~0u.
+SharedVertices sharedVertices(const TriangleBvh& to, std::size_t toVertices,
+                              const std::vector<std::uint32_t>& toVertex) {
+    const auto& tris = to.triangles();
+    std::vector<std::uint32_t> start(toVertices + 1, 0);
+    for (const auto& t : tris)
+        for (const std::uint32_t v : t.v)
+            ++start[v + 1];
+    for (std::size_t i = 1; i < start.size(); ++i)
+        start[i] += start[i - 1];
+    std::vector<std::uint32_t> fan(start.back()), fill(start.begin(), start.end() - 1);
+    for (std::uint32_t k = 0; k < tris.size(); ++k)
+        for (const std::uint32_t v : tris[k].v)
+            fan[fill[v]++] = k;
+    SharedVertices out;
+    out.first.assign(toVertex.size() + 1, 0);
+    for (std::size_t v = 0; v < toVertex.size(); ++v) {
+        const std::uint32_t w = toVertex[v];
+        if (w != ~0u && w < toVertices)
+            out.list.insert(out.list.end(), fan.begin() + start[w], fan.begin() + start[w + 1]);
+        out.first[v + 1] = std::uint32_t(out.list.size());
+    }
+    return out;
+}
+
 // A rigorous upper bound of the one-sided Hausdorff distance from `from` to `to`'s surface, by
 // branch and bound over pieces of `from`'s triangles. For a piece with corners p_j, two bounds hold
 // for every point q of it: (convexity) q's distance to one triangle t of `to` is a convex function,
 // so it is at most max_j dist(p_j, t); (Lipschitz) the distance to a surface changes at most as fast
-// as q moves, so it is at most dist(c, to) + max_j |p_j - c| for the centroid c. A piece whose
-// smaller bound is within `slack` of the largest distance found at an actual point (a lower bound
-// of the result) is done; otherwise it is split in four at its edge midpoints, at most maxDepth
-// times (past that, its bound is taken as it is: still an upper bound, only looser).
+// as q moves, so it is at most dist(c, to) + max_j |p_j - c| for the centroid c. The convexity
+// bound through a triangle nearest to all corners is exact. A piece whose smallest bound is within
+// the slack of the largest distance found at an actual point (a lower bound of the result), or
+// under `floor` (a value the caller rounds the result up to anyway), is done; otherwise it is split
+// where its corners' nearest triangles change (split), at most maxDepth times and into at most
+// pieceBudget pieces per triangle (past that, its bound is taken as it is: still an upper bound,
+// only looser). Every number settled is an upper bound for its piece, and the pieces cover the
+// triangle, so the largest is one for the whole side.
 class OneSidedBound {
 public:
-    OneSidedBound(const TriangleBvh& to, float relSlack, float absSlack)
+    using Stats = HausdorffBoundStats;
+    OneSidedBound(const TriangleBvh& to, float relSlack, float absSlack, float floor,
+                  const SharedVertices* shared)
         : corners_(to.corners())
         , bvh_(to)
+        , shared_(shared)
         , rel_(relSlack)
-        , abs_(absSlack) {}
+        , abs_(absSlack)
+        , floor_(floor) {}
+
+    // The vertices' distances first: returns their largest, a lower bound the other side may share.
+    float prepare(const Geometry& from) {
+        tris_ = drawnTriangles(from);
+        vertices_.assign(from.positions.size(), Near{-1.0f, 0});
+        for (const auto& t : tris_)
+            for (const std::uint32_t v : t)
+                if (vertices_[v].d < 0) {
+                    if (shared_ && shared_->size(v) > 0)
+                        vertices_[v] = {0.0f, *shared_->begin(v)}; // the same point: no query
+                    else
+                        vertices_[v] = nearest(from.positions[v]);
+                }
+        return lower_;
+    }
+    void share(float lower) { lower_ = std::max(lower_, lower); }
 
     float run(const Geometry& from) {
-        const auto tris = triangleIndices(from);
-        std::vector<Near> vertices(from.positions.size(), Near{-1.0f, 0});
-        for (const auto& t : tris) // vertex distances first: the lower bound then holds them all
-            for (std::uint32_t v : t)
-                if (vertices[v].d < 0) vertices[v] = nearest(from.positions[v]);
-        std::vector<Near> centroids;
-        centroids.reserve(tris.size());
-        for (const auto& t : tris)
-            centroids.push_back(
-                nearest(centroid(from.positions[t[0]], from.positions[t[1]], from.positions[t[2]])));
-        for (std::size_t i = 0; i < tris.size(); ++i) {
-            const auto& t = tris[i];
-            const float h = projected(from.positions[t[0]], from.positions[t[1]], from.positions[t[2]]);
-            if (h >= 0.0f && h <= lower_ * (1.0f + rel_) + abs_) {
-                upper_ = std::max(upper_, h);
+        for (const auto& t : tris_) {
+            const Piece p{from.positions[t[0]], from.positions[t[1]], from.positions[t[2]]};
+            const Corners n{vertices_[t[0]], vertices_[t[1]], vertices_[t[2]]};
+            // The corners' own nearest triangles (and those the shared corners lie on) first: exact
+            // when one of them is nearest to all three corners, the common case on a fine mesh.
+            Stats::Path path = Stats::Convex;
+            const float cb = convexBound(p, n, nullptr, &t, &path);
+            if (cb <= accept()) {
+                settle(cb, path, p, 0);
                 continue;
             }
-            refine({from.positions[t[0]], from.positions[t[1]], from.positions[t[2]]},
-                   {vertices[t[0]], vertices[t[1]], vertices[t[2]]}, &centroids[i], 0,
-                   h >= 0.0f ? h : std::numeric_limits<float>::max());
+            const float h = projected(p[0], p[1], p[2]);
+            if (h >= 0.0f && h <= accept()) {
+                settle(h, Stats::Projection, p, 0);
+                continue;
+            }
+            const bool projectedBetter = h >= 0.0f && h < cb;
+            refine(p, n, 0, projectedBetter ? h : cb, projectedBetter ? Stats::Projection : path,
+                   pieceBudget);
         }
+        stats_.lower = lower_, stats_.upper = upper_;
         return upper_;
     }
+    const Stats& stats() const { return stats_; }
 
 private:
     struct Near {
         float d;
         std::uint32_t tri;
     };
-    static constexpr int maxDepth = 3;
+    using Piece = std::array<glm::vec3, 3>;
+    using Corners = std::array<Near, 3>;
+    static constexpr int maxDepth = 8;
+    static constexpr int pieceBudget = 256; // pieces per triangle of `from`
 
+    // from's triangles with area. A triangle of zero area is a segment that draws nothing (it covers
+    // no pixel from any view), as TriangleBvh leaves it out of `to`'s surface; the simplifier leaves
+    // such slivers on flat parts and straight borders, where bounding them as segments is loose.
+    static std::vector<std::array<std::uint32_t, 3>> drawnTriangles(const Geometry& from) {
+        auto tris = triangleIndices(from);
+        tris.erase(std::remove_if(tris.begin(), tris.end(),
+                                  [&](const std::array<std::uint32_t, 3>& t) {
+                                      const glm::dvec3 a(from.positions[t[0]]), b(from.positions[t[1]]),
+                                          c(from.positions[t[2]]);
+                                      return glm::length(glm::cross(b - a, c - a)) ==
+                                             0.0; // TriangleBvh's test
+                                  }),
+                   tris.end());
+        return tris;
+    }
+    float accept() const { return std::max(floor_, lower_ * (1.0f + rel_) + abs_); }
+    void settle(float bound, Stats::Path path, const Piece& p, int depth) {
+        ++stats_.settled[path];
+        if (bound > upper_)
+            upper_ = bound, stats_.worst = path, stats_.worstPiece = p, stats_.worstDepth = depth;
+    }
     static glm::vec3 centroid(glm::vec3 a, glm::vec3 b, glm::vec3 c) { return (a + b + c) / 3.0f; }
     float distance(glm::vec3 p, std::uint32_t t) const {
         return std::sqrt(triangleDistance2(corners_, t, p));
     }
     Near nearest(glm::vec3 p) {
+        ++stats_.queries;
         const float d = std::sqrt(surfaceDistance2(bvh_, p, hint_));
         lower_ = std::max(lower_, d);
         return {d, hint_};
     }
-    // The bound along the normal n of triangle abc: every point q of abc is at most |g(q)| from
-    // `to`, where g(q) is the signed distance along n to a triangle of `to` whose projection onto
-    // abc's plane holds q. g is linear on each triangle's projection clipped to abc (and to |g| <=
-    // search), so its largest size is at a corner of those polygons. Valid when the clipped
-    // projections, all of one orientation, cover abc (their areas sum to abc's): `to` is a graph
-    // over abc there. Returns -1 when they do not (folds, holes, steep parts): the caller refines.
-    float projected(glm::vec3 a, glm::vec3 b, glm::vec3 c) const {
-        // The search height starts at 4x the largest distance found and grows where the surface
-        // is farther (the clip then cuts the cover short).
+
+    // The bound along the normal n of triangle abc: every point q of abc is at most d(q, m) from
+    // `to`, where m is a triangle of `to` whose projection onto abc's plane holds q, within the
+    // height |g(q)| <= search along n. d(., m) is convex, so on m's projection clipped to abc (a
+    // convex polygon) its largest value is at a corner of the polygon, and it is at most |g| there
+    // (the corner plus g n lies on m). Valid when the clipped projections, all of one orientation,
+    // cover abc (their areas sum to abc's): `to` is a graph over abc there. Returns -1 when they do
+    // not (folds, holes, steep parts): the caller refines.
+    float projected(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+        ++stats_.projections;
+        // The search height starts at 4x the largest distance found and grows while the height
+        // clip cuts area (the cover would then be short, or charged a crack margin).
         float search = std::max(4.0f * lower_, abs_) + 1e-6f * glm::length(b - a);
-        for (int attempt = 0; attempt < 2; ++attempt, search *= 8.0f) {
+        for (int attempt = 0;; ++attempt, search *= 8.0f) {
             bool cut = false;
-            const float h = projected(a, b, c, search, cut);
-            if (h >= 0.0f || !cut) return h;
+            std::size_t* why = nullptr;
+            const float h = projected(a, b, c, search, cut, why);
+            if (cut && attempt < 2) continue;
+            if (h < 0.0f && why) ++*(cut ? &stats_.cut : why);
+            return h;
         }
-        return -1.0f;
     }
-    // One try at a given search height; `cut` tells whether the height clip removed area.
-    float projected(glm::vec3 a, glm::vec3 b, glm::vec3 c, float search, bool& cut) const {
+    // One try at a given search height; `cut` tells whether the height clip removed area, `why`
+    // points at the counter of the reason for a failure.
+    float projected(glm::vec3 a, glm::vec3 b, glm::vec3 c, float search, bool& cut, std::size_t*& why) {
         using D2 = glm::dvec2;
         using D3 = glm::dvec3;
         const D3 A(a), cr = glm::cross(D3(b) - A, D3(c) - A);
         const double len = glm::length(cr);
-        if (!(len > 0.0)) return -1.0f;
+        if (!(len > 0.0)) return why = &stats_.degenerate, -1.0f;
         const D3 n = cr / len, u = glm::normalize(D3(b) - A), v = glm::cross(n, u);
         const double area = 0.5 * len;
         const glm::vec3 lo = glm::min(glm::min(a, b), c) - glm::vec3(search),
@@ -185,7 +275,7 @@ private:
             const auto& nd = nodes[stack[--top]];
             if (glm::any(glm::lessThan(nd.max, lo)) || glm::any(glm::greaterThan(nd.min, hi))) continue;
             if (nd.count == 0) {
-                if (top + 2 > 64) return -1.0f;
+                if (top + 2 > 64) return why = &stats_.degenerate, -1.0f;
                 stack[top++] = std::uint32_t(&nd - nodes.data()) + 1, stack[top++] = nd.first;
                 continue;
             }
@@ -232,8 +322,15 @@ private:
                 if (!(std::abs(part) > 0.0)) continue;
                 const std::size_t side = s2 > 0 ? 0 : 1; // the two orientations, kept apart
                 covered[side] += std::abs(part);
-                for (int k = 0; k < count; ++k)
-                    worst[side] = std::max(worst[side], std::abs(poly[std::size_t(k)].z));
+                const D3 m0(corners_[3 * t]), m1(corners_[3 * t + 1]), m2(corners_[3 * t + 2]);
+                for (int k = 0; k < count; ++k) {
+                    const D3 x = poly[std::size_t(k)];
+                    const double g = std::abs(x.z);
+                    if (g <= worst[side]) continue; // the corner distance is at most |g|
+                    const D3 corner = A + x.x * u + x.y * v, w = closestOnTriangle(corner, m0, m1, m2);
+                    const double d = glm::length(corner - (w.x * m0 + w.y * m1 + w.z * m2));
+                    worst[side] = std::max(worst[side], std::min(g, d));
+                }
             }
         }
         // A little uncovered area (cracks in `to`, rounding) costs a margin: a point q of abc that
@@ -242,8 +339,10 @@ private:
         // One orientation alone must cover abc (its triangles then form a graph over abc).
         const std::size_t side = covered[0] >= covered[1] ? 0 : 1;
         const double missing = area - covered[side];
-        if (missing < -1e-9 * area || missing > 1e-3 * area) return -1.0f;
+        if (missing < -1e-9 * area) return why = &stats_.overlap, -1.0f;
+        if (missing > 1e-3 * area) return why = &stats_.uncovered, -1.0f;
         const double margin = std::sqrt(2.0 * std::max(missing, 0.0) / smallestAngle(T));
+        stats_.crackMargins += margin > 0.25 * double(abs_);
         return float(worst[side] + margin) * (1.0f + 1e-6f);
     }
     static double smallestAngle(const glm::dvec2 (&t)[3]) {
@@ -270,52 +369,186 @@ private:
         return k;
     }
 
-    // The convexity bound through the best of the corners' (and centroid's) nearest triangles.
-    float convexBound(const std::array<glm::vec3, 3>& p, const std::array<Near, 3>& n, const Near* c) const {
+    // The convexity bound through the best of the corners' (and the centroid's) nearest triangles;
+    // when that is above the accept threshold, also through the triangles of `to` that the corners
+    // shared with it lie on (`v`: the piece's vertex indices, for a whole triangle of `from`).
+    // `path` gets Exact when the bound is the largest corner distance (then it is the true value).
+    float convexBound(const Piece& p, const Corners& n, const Near* c, const std::array<std::uint32_t, 3>* v,
+                      Stats::Path* path) const {
         float best = std::numeric_limits<float>::max();
-        for (int k = 0; k < 4; ++k) {
-            if (k == 3 && !c) break;
-            const std::uint32_t t = k < 3 ? n[std::size_t(k)].tri : c->tri;
+        auto through = [&](std::uint32_t t) {
             float worst = 0.0f;
             for (std::size_t j = 0; j < 3 && worst < best; ++j)
                 worst = std::max(worst, n[j].tri == t ? n[j].d : distance(p[j], t));
             best = std::min(best, worst);
-        }
+        };
+        for (const Near& k : n)
+            through(k.tri);
+        if (c) through(c->tri);
+        const float exact = std::max({n[0].d, n[1].d, n[2].d});
+        if (v && shared_ && best > exact && best > accept())
+            for (std::size_t j = 0; j < 3 && best > exact; ++j) {
+                const std::uint32_t* fan = shared_->begin((*v)[j]);
+                for (std::size_t k = 0; k < std::min<std::size_t>(shared_->size((*v)[j]), 16); ++k)
+                    through(fan[k]);
+            }
+        if (path) *path = best <= exact ? Stats::Exact : Stats::Convex;
         return best;
     }
-    // `inherited`: a bound already known for a piece holding this one.
-    void refine(const std::array<glm::vec3, 3>& p, const std::array<Near, 3>& n, const Near* known, int depth,
-                float inherited) {
-        const float accept = lower_ * (1.0f + rel_) + abs_;
-        float bound = std::min(inherited, convexBound(p, n, nullptr));
-        if (bound > accept && depth > 0) {
-            const float h = projected(p[0], p[1], p[2]);
-            if (h >= 0.0f) bound = std::min(bound, h);
+    // `inherited`: a bound already known for this piece or one holding it, found by `inheritedPath`.
+    // `budget`: the pieces this one may be split into; returns how many it used.
+    int refine(const Piece& p, const Corners& n, int depth, float inherited, Stats::Path inheritedPath,
+               int budget) {
+        float bound = inherited;
+        Stats::Path path = depth > 0 ? Stats::Inherited : inheritedPath;
+        auto take = [&](float b, Stats::Path w) {
+            if (b < bound) bound = b, path = w;
+        };
+        if (const float thin = thinBound(p, n); thin >= 0.0f) {
+            take(thin, Stats::Convex);
+            if (bound <= accept()) {
+                settle(bound, path, p, depth);
+                return 1;
+            }
         }
-        if (bound > accept) {
+        if (depth > 0) { // the top level tried these before calling
+            Stats::Path convex = Stats::Convex;
+            take(convexBound(p, n, nullptr, nullptr, &convex), convex);
+            if (bound > accept()) {
+                const float h = projected(p[0], p[1], p[2]);
+                if (h >= 0.0f) take(h, Stats::Projection);
+            }
+        }
+        if (bound > accept()) {
             const glm::vec3 c = centroid(p[0], p[1], p[2]);
-            const Near nc = known ? *known : nearest(c);
+            const Near nc = nearest(c);
             const float radius = std::sqrt(std::max(
                 {glm::dot(p[0] - c, p[0] - c), glm::dot(p[1] - c, p[1] - c), glm::dot(p[2] - c, p[2] - c)}));
-            bound = std::min({bound, convexBound(p, n, &nc), nc.d + radius});
+            take(convexBound(p, n, &nc, nullptr, nullptr), Stats::Convex);
+            take(nc.d + radius, Stats::Lipschitz);
         }
-        if (bound <= lower_ * (1.0f + rel_) + abs_ || depth == maxDepth) {
-            upper_ = std::max(upper_, bound);
-            return;
+        if (bound <= accept() || depth == maxDepth || budget < 4) {
+            stats_.atMaxDepth += bound > accept();
+            settle(bound, path, p, depth);
+            return 1;
         }
-        const glm::vec3 m01 = 0.5f * (p[0] + p[1]), m12 = 0.5f * (p[1] + p[2]), m20 = 0.5f * (p[2] + p[0]);
-        const Near n01 = nearest(m01), n12 = nearest(m12), n20 = nearest(m20);
-        refine({p[0], m01, m20}, {n[0], n01, n20}, nullptr, depth + 1, bound);
-        refine({m01, p[1], m12}, {n01, n[1], n12}, nullptr, depth + 1, bound);
-        refine({m20, m12, p[2]}, {n20, n12, n[2]}, nullptr, depth + 1, bound);
-        refine({m01, m12, m20}, {n01, n12, n20}, nullptr, depth + 1, bound);
+        return split(p, n, depth, bound, budget);
+    }
+    // A sliver (the simplifier leaves them along straight borders and on flat parts; splits that
+    // cut near a corner make them too): every point is within its height h over the longest edge
+    // of that edge, so h plus the edge's bound bounds it. -1 for a piece that is not thin.
+    float thinBound(const Piece& p, const Corners& n) {
+        std::size_t e = 0;
+        for (std::size_t k = 1; k < 3; ++k)
+            if (glm::distance(p[k], p[(k + 1) % 3]) > glm::distance(p[e], p[(e + 1) % 3])) e = k;
+        const std::size_t i = e, j = (e + 1) % 3, k = (e + 2) % 3;
+        const float length = glm::distance(p[i], p[j]);
+        const glm::dvec3 a(p[i]);
+        const float h = float(glm::length(glm::cross(glm::dvec3(p[j]) - a, glm::dvec3(p[k]) - a)) /
+                              std::max(double(length), 1e-30));
+        if (!(h <= std::max(1e-4f * length, 0.5f * accept()))) return -1.0f;
+        // The angles at the longest edge's ends are acute, so p[k]'s foot on it is inside it.
+        segments_ = 0;
+        return segmentBound(p[i], n[i], p[j], n[j], 0) + h * (1.0f + 1e-5f);
+    }
+    // The convexity bound of segment ab, split where its ends' nearest triangles balance.
+    float segmentBound(glm::vec3 a, Near na, glm::vec3 b, Near nb, int depth) {
+        const float viaA = std::max(na.d, na.tri == nb.tri ? nb.d : distance(b, na.tri)),
+                    viaB = std::max(nb.d, distance(a, nb.tri));
+        const float bound = std::min(viaA, viaB);
+        if (bound <= accept() || depth == 24 || ++segments_ > pieceBudget) return bound;
+        const glm::vec3 x = balance(a, b, na.tri, nb.tri);
+        const Near nx = nearest(x);
+        return std::max(segmentBound(a, na, x, nx, depth + 1), segmentBound(x, nx, b, nb, depth + 1));
+    }
+    // Splits a piece where its corners' nearest triangles change: on each edge whose ends have
+    // different ones (t_i, t_j), at a point where the distances to t_i and t_j balance, so that a
+    // child's corners past a crease of `to` are at the true distance from the child's triangle
+    // (a simplified reading of Tang, Lee & Kim 2009's Voronoi subdivision). Any cut point keeps
+    // the children a cover of the piece; the balance only makes them tight. An edge with one
+    // triangle at both ends is cut only when no edge has two (then the longest, at its midpoint).
+    int split(const Piece& p, const Corners& n, int depth, float bound, int budget) {
+        std::array<glm::vec3, 3> x{};
+        std::array<Near, 3> nx{};
+        std::array<bool, 3> cut{};
+        for (std::size_t e = 0; e < 3; ++e) {
+            const std::size_t i = e, j = (e + 1) % 3;
+            // One end's triangle also nearest to the other end (a shared vertex lies on several):
+            // then it serves both, and the edge needs no cut.
+            if (n[i].tri == n[j].tri || distance(p[i], n[j].tri) <= n[i].d ||
+                distance(p[j], n[i].tri) <= n[j].d)
+                continue;
+            x[e] = balance(p[i], p[j], n[i].tri, n[j].tri), nx[e] = nearest(x[e]), cut[e] = true;
+        }
+        if (!cut[0] && !cut[1] && !cut[2]) {
+            std::size_t e = 0;
+            for (std::size_t k = 1; k < 3; ++k)
+                if (glm::distance(p[k], p[(k + 1) % 3]) > glm::distance(p[e], p[(e + 1) % 3])) e = k;
+            x[e] = 0.5f * (p[e] + p[(e + 1) % 3]), nx[e] = nearest(x[e]), cut[e] = true;
+        }
+        const int cuts = int(cut[0]) + int(cut[1]) + int(cut[2]);
+        int left = cuts + 1, used = 0; // children still to bound; a child's share of the budget
+        auto child = [&](std::size_t a, std::size_t b, std::size_t c) { // 0-2 corners, 3-5 cut points
+            auto pt = [&](std::size_t k) { return k < 3 ? p[k] : x[k - 3]; };
+            auto nr = [&](std::size_t k) { return k < 3 ? n[k] : nx[k - 3]; };
+            used += refine({pt(a), pt(b), pt(c)}, {nr(a), nr(b), nr(c)}, depth + 1, bound, Stats::Inherited,
+                           (budget - used) / left--);
+        };
+        if (cuts == 3) { // the four-triangle pattern (x_e on edge e = (e, e + 1))
+            child(0, 3, 5), child(3, 1, 4), child(5, 4, 2), child(3, 4, 5);
+            return used;
+        }
+        for (std::size_t e = 0; e < 3; ++e) {
+            const std::size_t i = e, j = (e + 1) % 3, k = (e + 2) % 3;
+            if (cuts == 1 && cut[e]) { // two triangles through the opposite corner
+                child(i, 3 + e, k), child(3 + e, j, k);
+                return used;
+            }
+            if (cuts == 2 && !cut[e]) { // edge (i, j) uncut: corner k's triangle and the quad's two
+                const std::size_t xjk = 3 + j, xki = 3 + k;
+                child(k, xki, xjk), child(xki, i, j), child(xki, j, xjk);
+                return used;
+            }
+        }
+        return used;
+    }
+    // A point on segment ab where the distances to triangles ta (nearest to a) and tb (nearest to
+    // b) are about equal: d(., ta) - d(., tb) is <= 0 at a and >= 0 at b; regula falsi, Illinois.
+    glm::vec3 balance(glm::vec3 a, glm::vec3 b, std::uint32_t ta, std::uint32_t tb) const {
+        auto f = [&](float s) {
+            const glm::vec3 q = a + s * (b - a);
+            return distance(q, ta) - distance(q, tb);
+        };
+        float s0 = 0.0f, s1 = 1.0f, f0 = f(0.0f), f1 = f(1.0f);
+        if (!(f0 < 0.0f && f1 > 0.0f)) return 0.5f * (a + b);
+        int side = 0;
+        for (int step = 0; step < 4; ++step) {
+            const float s = std::clamp((s0 * f1 - s1 * f0) / (f1 - f0), 0.0f, 1.0f), fs = f(s);
+            if (fs == 0.0f) return a + s * (b - a);
+            if (fs < 0.0f) {
+                s0 = s, f0 = fs;
+                if (side == -1) f1 *= 0.5f;
+                side = -1;
+            } else {
+                s1 = s, f1 = fs;
+                if (side == 1) f0 *= 0.5f;
+                side = 1;
+            }
+        }
+        const float s = std::clamp((s0 * f1 - s1 * f0) / (f1 - f0), 0.05f, 0.95f);
+        return a + s * (b - a);
     }
 
     const std::vector<glm::vec3>& corners_;
     const TriangleBvh& bvh_;
-    float rel_, abs_;
+    const SharedVertices* shared_;
+    float rel_, abs_, floor_;
     float lower_ = 0.0f, upper_ = 0.0f;
     std::uint32_t hint_ = 0;
+    int segments_ = 0;
+    std::vector<std::array<std::uint32_t, 3>> tris_;
+    std::vector<Near> vertices_;
+    Stats stats_;
 };
 
 std::string refusal(const Geometry& g, const AutoLodOptions& o) {
@@ -331,15 +564,58 @@ std::string refusal(const Geometry& g, const AutoLodOptions& o) {
     return "";
 }
 
+struct BoundExtras {
+    float floor = 0.0f;                                               ///< refine no piece below this
+    const std::vector<std::uint32_t>*aToB = nullptr, *bToA = nullptr; ///< vertices at identical positions
+    HausdorffBoundStats* stats = nullptr;
+};
+
+float bound(const Geometry& a, const Geometry& b, float relativeSlack, float absoluteSlack,
+            const BoundExtras& x) {
+    const auto bvhA = a.triangleBvh(), bvhB = b.triangleBvh();
+    SharedVertices sharedAB, sharedBA;
+    if (x.aToB) sharedAB = sharedVertices(*bvhB, b.positions.size(), *x.aToB);
+    if (x.bToA) sharedBA = sharedVertices(*bvhA, a.positions.size(), *x.bToA);
+    OneSidedBound ab(*bvhB, relativeSlack, absoluteSlack, x.floor, x.aToB ? &sharedAB : nullptr),
+        ba(*bvhA, relativeSlack, absoluteSlack, x.floor, x.bToA ? &sharedBA : nullptr);
+    // The vertex passes first, so each side's threshold starts from both sides' lower bound; then
+    // the two sides are independent (they only read the geometries and both BVHs): a large pair
+    // runs one on a second thread.
+    const float lower = std::max(ab.prepare(a), ba.prepare(b));
+    ab.share(lower), ba.share(lower);
+    float hab = 0.0f, hba = 0.0f;
+    if (a.triangleCount() + b.triangleCount() >= 4096) {
+        std::thread other([&] { hba = ba.run(b); });
+        hab = ab.run(a);
+        other.join();
+    } else {
+        hab = ab.run(a), hba = ba.run(b);
+    }
+    if (x.stats) {
+        *x.stats = ab.stats();
+        x.stats->add(ba.stats());
+        x.stats->sides = {hab, hba};
+    }
+    const float h = std::max(hab, hba);
+    // Float rounding in the distances: a few ulps of the largest coordinate.
+    float extent = 0.0f;
+    for (const Geometry* g : {&a, &b})
+        for (const glm::vec3& p : g->positions)
+            extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return h * (1.0f + 1e-5f) + 8.0f * std::numeric_limits<float>::epsilon() * extent;
+}
+
 #if SGFX_HAVE_MESHOPTIMIZER
-// A copy of `full` drawing `indices`, with only the vertices they use, in fetch order.
-std::shared_ptr<Geometry> compacted(const Geometry& full, std::vector<unsigned> indices) {
+// A copy of `full` drawing `indices`, with only the vertices they use, in fetch order; `remap`
+// gets the copy's vertex of each of full's vertices (~0u where unused).
+std::shared_ptr<Geometry> compacted(const Geometry& full, std::vector<unsigned> indices,
+                                    std::vector<unsigned>& remap) {
     auto g = Geometry::create();
     g->name = full.name;
     g->setStateSet(full.stateSet());
     const std::size_t n = full.positions.size();
     meshopt_optimizeVertexCache(indices.data(), indices.data(), indices.size(), n);
-    std::vector<unsigned> remap(n);
+    remap.assign(n, ~0u);
     const std::size_t used =
         meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), indices.size(), n);
     auto copy = [&](auto& dst, const auto& src) {
@@ -373,9 +649,17 @@ std::vector<AutoLodLevel> simplifiedLevels(const Geometry& full, const AutoLodOp
         if (triangles < o.minTriangles || 5 * triangles > 4 * previous) break; // stuck or too coarse
         previous = triangles;
         AutoLodLevel level;
-        level.geometry = compacted(full, std::move(out));
+        std::vector<unsigned> toLevel, toFull;
+        level.geometry = compacted(full, std::move(out), toLevel);
+        toFull.assign(level.geometry->positions.size(), ~0u);
+        for (std::size_t v = 0; v < toLevel.size(); ++v)
+            if (toLevel[v] != ~0u) toFull[toLevel[v]] = unsigned(v);
         level.simplifierError = error * scale;
-        level.measuredError = hausdorffBound(*level.geometry, full, 0.1f, absSlack);
+        // A coarser level's error is rounded up to the finer one's (makeErrorLod): below that, any
+        // bound is as good as the exact value.
+        const float floor = levels.empty() ? 0.0f : levels.back().measuredError;
+        level.measuredError =
+            bound(*level.geometry, full, 0.1f, absSlack, {floor, &toFull, &toLevel, &level.boundStats});
         levels.push_back(std::move(level));
     }
     return levels;
@@ -389,31 +673,24 @@ float hausdorffDistance(const Geometry& a, const Geometry& b) {
     return std::max(oneSided(a, *bvhB), oneSided(b, *bvhA));
 }
 
-float hausdorffBound(const Geometry& a, const Geometry& b, float relativeSlack, float absoluteSlack) {
+void HausdorffBoundStats::add(const HausdorffBoundStats& o) {
+    for (std::size_t k = 0; k < settled.size(); ++k)
+        settled[k] += o.settled[k];
+    atMaxDepth += o.atMaxDepth, queries += o.queries, projections += o.projections;
+    degenerate += o.degenerate, uncovered += o.uncovered, overlap += o.overlap, cut += o.cut;
+    crackMargins += o.crackMargins;
+    if (o.upper > upper) worst = o.worst, worstPiece = o.worstPiece, worstDepth = o.worstDepth;
+    lower = std::max(lower, o.lower), upper = std::max(upper, o.upper);
+}
+
+float hausdorffBound(const Geometry& a, const Geometry& b, float relativeSlack, float absoluteSlack,
+                     HausdorffBoundStats* stats) {
     if (!(relativeSlack >= 0.0f) || !(absoluteSlack >= 0.0f) || !std::isfinite(relativeSlack) ||
         !std::isfinite(absoluteSlack))
         throw std::invalid_argument("hausdorffBound: slacks must be finite and >= 0");
     if (triangleIndices(a).empty() || triangleIndices(b).empty())
         throw std::invalid_argument("hausdorffBound: both geometries need triangles");
-    const auto bvhA = a.triangleBvh(), bvhB = b.triangleBvh();
-    OneSidedBound ab(*bvhB, relativeSlack, absoluteSlack), ba(*bvhA, relativeSlack, absoluteSlack);
-    // The two sides are independent (they only read the geometries and both BVHs, built above): a
-    // large pair runs one on a second thread.
-    float hab = 0.0f, hba = 0.0f;
-    if (a.triangleCount() + b.triangleCount() >= 4096) {
-        std::thread other([&] { hba = ba.run(b); });
-        hab = ab.run(a);
-        other.join();
-    } else {
-        hab = ab.run(a), hba = ba.run(b);
-    }
-    const float h = std::max(hab, hba);
-    // Float rounding in the distances: a few ulps of the largest coordinate.
-    float extent = 0.0f;
-    for (const Geometry* g : {&a, &b})
-        for (const glm::vec3& p : g->positions)
-            extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    return h * (1.0f + 1e-5f) + 8.0f * std::numeric_limits<float>::epsilon() * extent;
+    return bound(a, b, relativeSlack, absoluteSlack, {0.0f, nullptr, nullptr, stats});
 }
 
 std::shared_ptr<LOD> makeErrorLod(const std::shared_ptr<Geometry>& full, const AutoLodOptions& o,

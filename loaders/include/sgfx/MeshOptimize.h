@@ -11,6 +11,7 @@
 #include <sgfx/Geometry.h>
 #include <sgfx/LOD.h>
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -59,6 +60,29 @@ struct SGFX_API AutoLodOptions {
     bool lockBorder = true;
 };
 
+/// How hausdorffBound settled its pieces (diagnostics for benches and tests; summed over both sides).
+struct SGFX_API HausdorffBoundStats {
+    /// The bound that gave a settled piece its number: the projection along the piece's normal, the
+    /// convexity bound through one triangle, the centroid's distance plus the radius (Lipschitz), a
+    /// bound inherited from the parent piece, or exact (all corners share a nearest triangle).
+    enum Path { Projection, Convex, Lipschitz, Inherited, Exact, Paths };
+    std::array<std::size_t, Paths> settled{}; ///< settled pieces, by path
+    std::size_t atMaxDepth = 0;               ///< settled at the split limit, above the accept threshold
+    std::size_t queries = 0;                  ///< nearest-point queries through the other side's BVH
+    /// Projection bounds tried, and why they failed: a degenerate piece, one orientation not
+    /// covering it, the covered area exceeding it (overlap), or the height clip still cutting area.
+    std::size_t projections = 0, degenerate = 0, uncovered = 0, overlap = 0, cut = 0;
+    std::size_t crackMargins =
+        0;              ///< projection bounds that charged a crack margin above the absolute slack / 4
+    float lower = 0.0f; ///< the largest distance found at a point: a lower bound of the result
+    float upper = 0.0f; ///< the bound before float rounding is added
+    Path worst = Exact; ///< the path of the piece that set `upper`
+    std::array<float, 2> sides{}; ///< hausdorffBound's two one-sided bounds: a to b's surface, b to a's
+    std::array<glm::vec3, 3> worstPiece{}; ///< the piece that set `upper`
+    int worstDepth = 0;                    ///< its number of splits
+    void add(const HausdorffBoundStats& o);
+};
+
 /// One simplified level and its errors (absolute, in the geometry's frame).
 struct SGFX_API AutoLodLevel {
     std::shared_ptr<Geometry> geometry;
@@ -70,6 +94,7 @@ struct SGFX_API AutoLodLevel {
     /// sets the ranges.
     float measuredError = 0.0f;
     float minPixels = 0.0f, maxPixels = 0.0f; ///< the projected diameters it is shown at
+    HausdorffBoundStats boundStats;           ///< how measuredError was found
 };
 
 /// The largest distance from a sample point of either mesh to the other's surface: 8 points per
@@ -78,26 +103,30 @@ struct SGFX_API AutoLodLevel {
 /// (sampling can only under-estimate it); hausdorffBound is the upper bound the ranges use.
 SGFX_API float hausdorffDistance(const Geometry& a, const Geometry& b);
 
-/// An upper bound of the symmetric Hausdorff distance between the surfaces of `a` and `b` (it never
-/// under-estimates; float rounding is added). For each side, each triangle is bounded first along
-/// its normal: the other surface's triangles (less those within ~1 degree of edge-on) are
-/// projected onto its plane and clipped to it; where those of one orientation cover it (the other
-/// surface is a graph over it), every point is at most the largest normal offset at a corner of
-/// the clipped polygons, plus sqrt(2 x uncovered area / smallest angle) for cracks up to 1e-3 of
-/// its area. Where they do not (folds, holes, farther than the search height) or the offset is
-/// large (steep parts), a branch and bound over
-/// pieces: the distance to one triangle at the piece's corners (convexity), the centroid's distance
-/// plus the piece's radius (Lipschitz), or the projection again; a piece is split in four while its
-/// bound exceeds the largest distance found at a point by more than relativeSlack times it plus
-/// absoluteSlack (3 splits at most; past that the looser bound is kept). The two sides run on two
-/// threads for large meshes. Throws
-/// std::invalid_argument for a negative or non-finite slack or a geometry without triangles.
+/// An upper bound of the symmetric Hausdorff distance between the drawn surfaces of `a` and `b`
+/// (triangles of zero area draw nothing and are left out; it never under-estimates; float rounding
+/// is added). For each side, each triangle is bounded first by convexity: its distance to one
+/// triangle of the other surface is at most the largest of its corners' (exact when one triangle is
+/// nearest to all three corners). Then along its normal: the other surface's triangles (less those
+/// within ~1 degree of edge-on) are projected onto its plane and clipped to it; where those of one
+/// orientation cover it (the other surface is a graph over it), every point is at most the largest
+/// distance from a corner of a clipped polygon to its triangle, plus sqrt(2 x uncovered area /
+/// smallest angle) for cracks up to 1e-3 of its area. Where neither is within the slack of the
+/// largest distance found at a point (relativeSlack times it plus absoluteSlack), a branch and
+/// bound: pieces are split where their corners' nearest triangles change (at the point of each
+/// edge where the two triangles' distances balance), slivers are bounded by their longest edge plus
+/// their height, and the centroid's distance plus the radius (Lipschitz) is the last resort; at
+/// most 8 splits and 256 pieces per triangle (past that the looser bound is kept). The two sides
+/// run on two threads for large meshes. `stats`, when given, gets the counts of how pieces were
+/// settled. Throws std::invalid_argument for a negative or non-finite slack or a geometry without
+/// triangles.
 SGFX_API float hausdorffBound(const Geometry& a, const Geometry& b, float relativeSlack = 0.1f,
-                              float absoluteSlack = 0.0f);
+                              float absoluteSlack = 0.0f, HausdorffBoundStats* stats = nullptr);
 
 /// An LOD over `full` (shared, finest) and simplified copies with ½, ¼, ... of its triangles,
 /// down to options.minTriangles. Level i's error is its hausdorffBound (relative slack 0.1, absolute
-/// slack r t / (4 f)), never less
+/// slack r t / (4 f); the level's vertices are full's, so they need no distance query, and no piece
+/// is refined below the finer level's error), never less
 /// than a finer level's; with r the full mesh's bounding radius, f = focalPixels and t =
 /// errorPixels, level i is shown while the projected diameter p <= 2f / (1 + e_i f / (r t)), the
 /// size at which an error e_i seen from the sphere's nearest point spans t pixels. The copies
