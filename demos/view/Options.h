@@ -29,6 +29,7 @@ struct Options {
     int benchFrames = 0;                  // --bench N: time N frames, print a BENCH line
     bool orbit = false;                   // --orbit: the benchmark's orbit camera (main.cpp)
     bool occlusion = false;               // --occlusion: RendererOptions::occlusionCulling On
+    float autoLodPixels = 0.0f;           // --auto-lod [PX]: GltfOptions::autoLod, 0 = off
 };
 
 // Loads every file under one group (glTF's Y up turned into Z up unless keepYUp). Throws

@@ -81,6 +81,8 @@ renders a PNG.
   --orbit            with --bench: the orbit camera of bench/foreign_table.sh (eye at 1.5 times
                      the bounding radius, 30 degrees elevation, 60 degree vertical field of
                      view, the azimuth advancing 360/N degrees a frame from --yaw)
+  --auto-lod [PX]    levels of detail made at load for every mesh (GltfOptions::autoLod), each
+                     level within PX pixels (default 1) of full detail where it is drawn
   --occlusion        with --bench: conservative occlusion culling of opaque items
                      (RendererOptions::occlusionCulling); the BENCH line adds the culled share
   --self-test N      window: N frames of scripted input (both cameras, every toggle, a resize,
@@ -234,6 +236,11 @@ view::Options parse(int argc, char** argv) {
             o.orbit = true;
         } else if (arg == "--occlusion") {
             o.occlusion = true;
+        } else if (arg == "--auto-lod") {
+            o.autoLodPixels = 1.0f;
+            if (i + 1 < argc && !std::string_view(argv[i + 1]).starts_with("--") &&
+                std::isdigit(static_cast<unsigned char>(argv[i + 1][0])))
+                o.autoLodPixels = number(arg, value(), 0.01f, 100.0f);
         } else if (arg == "--self-test") {
             o.selfTestFrames = int(number(arg, value(), 4, 100000));
             o.window = true;
@@ -292,7 +299,7 @@ double median(std::vector<double> v) {
 
 // --bench N: N timed frames, each ended by glFinish, from the home camera or (--orbit) along the
 // orbit; the BENCH line's fields are polygon --bench's where they mean the same.
-int runBench(const view::Options& o, view::ViewScene& scene) {
+int runBench(const view::Options& o, view::ViewScene& scene, double loadMs) {
     using clock = std::chrono::steady_clock;
     auto viewer = sgfx::Viewer::createHeadless(o.width, o.height);
     auto& cam = *viewer->camera();
@@ -328,9 +335,9 @@ int runBench(const view::Options& o, view::ViewScene& scene) {
     const double n = double(o.benchFrames), mean = std::accumulate(ms.begin(), ms.end(), 0.0) / n;
     std::printf(
         "BENCH sgfx ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f triangles=%.0f draw_calls=%.1f "
-        "size=%dx%d camera=%s fog=%d occlusion_culled=%.3f context=%s renderer=%s\n",
+        "size=%dx%d camera=%s fog=%d occlusion_culled=%.3f load_ms=%.0f context=%s renderer=%s\n",
         mean, 1000.0 / mean, o.benchFrames, median(ms), triangles / n, drawCalls / n, o.width, o.height,
-        o.orbit ? "orbit" : "home", int(o.settings.fog), items > 0 ? culled / items : 0.0,
+        o.orbit ? "orbit" : "home", int(o.settings.fog), items > 0 ? culled / items : 0.0, loadMs,
         std::string(viewer->context().kind()).c_str(), viewer->context().renderer().c_str());
     return 0;
 }
@@ -407,6 +414,10 @@ sgfx::NodePtr view::loadFiles(const std::vector<std::string>& files, const Optio
     sgfx::GltfOptions gltf;
     gltf.zUp = !o.keepYUp;
     gltf.creaseAngle = glm::radians(o.crease);
+    if (o.autoLodPixels > 0.0f) {
+        gltf.autoLod.enabled = true;
+        gltf.autoLod.errorPixels = o.autoLodPixels;
+    }
     for (const std::string& file : files) {
         // A .ply whose vertices carry f_dc_0, opacity, scale_0 and rot_0 is 3D Gaussian splats.
         if (sgfx::splat::isSplatPly(file))
@@ -453,7 +464,7 @@ int main(int argc, char** argv) {
                 std::fprintf(stderr, "sgfx-view: no window: rendering headless to %s\n", o.out.c_str());
             }
         }
-        if (o.benchFrames) return runBench(o, scene);
+        if (o.benchFrames) return runBench(o, scene, loadMs);
         return o.pick ? runPick(o, scene) : runHeadless(o, scene, loadMs, animated);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sgfx-view: %s\n", e.what());
