@@ -7,7 +7,8 @@
 # the azimuth advancing a full turn over the N frames; demos/view/main.cpp orbitCamera), without
 # sgfx-view's ground plane, at two sizes, fog off and on (sgfx: its height fog hiding half of the
 # model's centre; OSG: EXP2 fog of the density that does the same from the orbit's distance).
-# Every round runs all eight programs once (interleaved, so machine drift hits all of them), malloc
+# A third sgfx series loads the glTF with levels of detail made at load (`--auto-lod`: every mesh
+# simplified, each level within a pixel of full detail). Every round runs all twelve programs once (interleaved, so machine drift hits all of them), malloc
 # pinned (common.sh). Ratios are medians of the per-round ratios, not ratios of medians.
 #
 # Columns: ms/frame (median over rounds of each run's median), x OSG; per-pixel cost: the frame
@@ -47,10 +48,12 @@ run() {
   grep -q 'GL:' "$tmp/stderr" && { echo "foreign_table: GL errors from: $*" >&2; cat "$tmp/stderr" >&2; exit 1; }
   local ms; ms=$(echo "$out" | field median_ms)
   eval "$name+=(\"$ms\")"
+  case $name in sgfx_* | lod_*) eval "${name%%_*}_load+=(\"$(echo "$out" | field load_ms)\")" ;; esac
   echo "  $name: $ms ms" >&2
 }
 names=()
-for s in L S; do for f in off on; do for p in sgfx osg; do names+=("${p}_${s}_${f}"); eval "${p}_${s}_${f}=()"; done; done; done
+sgfx_load=(); lod_load=()
+for s in L S; do for f in off on; do for p in sgfx lod osg; do names+=("${p}_${s}_${f}"); eval "${p}_${s}_${f}=()"; done; done; done
 for ((r = 0; r < rounds; ++r)); do
   echo "round $((r + 1)) of $rounds" >&2
   for s in L S; do
@@ -58,6 +61,8 @@ for ((r = 0; r < rounds; ++r)); do
     for f in off on; do
       run "sgfx_${s}_${f}" "$build/demos/sgfx-view" "$tmp/city.glb" --bench "$frames" --orbit --size "$size" \
         --no-ground --fog "$f" "${sgfx_flags[@]}"
+      run "lod_${s}_${f}" "$build/demos/sgfx-view" "$tmp/city.glb" --bench "$frames" --orbit --size "$size" \
+        --no-ground --fog "$f" --auto-lod "${sgfx_flags[@]}"
       run "osg_${s}_${f}" "$build/bench/osg_view" "$tmp/city.obj" --osg-options noRotation --frames "$frames" \
         --orbit --size "$size" --no-ground --fog "$f" "${osg_flags[@]}"
     done
@@ -91,6 +96,15 @@ echo "|---|---|---:|---:|---:|"
 for s in L S; do
   size=$large; [ $s = S ] && size=$small
   for f in off on; do pair_row "$size | $f" "sgfx_${s}_${f}" "osg_${s}_${f}"; done
+done
+echo
+echo "The same with levels of detail made at load (sgfx-view --auto-lod: GltfOptions::autoLod, 1 pixel); load time (median): $(median "${lod_load[@]}") ms with them, $(median "${sgfx_load[@]}") ms without."
+echo
+echo "| size | fog | sgfx+LOD ms | OSG ms | sgfx+LOD × OSG |"
+echo "|---|---|---:|---:|---:|"
+for s in L S; do
+  size=$large; [ $s = S ] && size=$small
+  for f in off on; do pair_row "$size | $f" "lod_${s}_${f}" "osg_${s}_${f}"; done
 done
 echo
 echo "Per-pixel cost: (ms at $large − ms at $small) / $dpx added pixels, per round; medians."

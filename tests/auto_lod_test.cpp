@@ -3,6 +3,8 @@
 // Hausdorff distance is right on an analytic case, and a shared mesh gets one LOD.
 #include "TestUtil.h"
 
+#include "../loaders/src/ParallelFor.h"
+
 #include <sgfx/GltfLoader.h>
 #include <sgfx/Group.h>
 #include <sgfx/MeshOptimize.h>
@@ -14,7 +16,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <atomic>
 #include <map>
+#include <stdexcept>
 #include <set>
 #include <utility>
 
@@ -336,4 +340,70 @@ TEST(AutoLod, SharedMeshGetsOneLod) {
     std::string why;
     EXPECT_FALSE(makeErrorLod(morphed, options, nullptr, &why));
     EXPECT_NE(why.find("morphed"), std::string::npos) << why;
+}
+
+// Several meshes, one shared by two transforms, made into LODs on one thread and on four: the same
+// levels (indices, positions, ranges) wherever each mesh is drawn. Also run under ThreadSanitizer.
+TEST(AutoLod, ThreadsMakeTheSameLods) {
+    auto scene = [] {
+        auto root = Group::create();
+        std::shared_ptr<Geometry> shared;
+        for (int k = 0; k < 6; ++k) {
+            auto g = shapes::sphere(1.0f, 16 + 4 * k, 8 + 2 * k);
+            for (glm::vec3& p : g->positions)
+                p *= 1.0f + 0.05f * std::sin((3.0f + float(k)) * p.x) * std::sin(4.0f * p.y);
+            g->dirty();
+            EXPECT_TRUE(optimizeMesh(*g));
+            auto t = Transform::create(glm::translate(glm::mat4(1), glm::vec3(3.0f * float(k), 0, 0)));
+            t->addChild(g);
+            root->addChild(t);
+            if (k == 2) shared = g;
+        }
+        auto again = Transform::create(glm::translate(glm::mat4(1), glm::vec3(0, 3, 0)));
+        again->addChild(shared);
+        root->addChild(again);
+        return root;
+    };
+    AutoLodOptions one, four;
+    one.minTriangles = four.minTriangles = 32;
+    one.threads = 1, four.threads = 4;
+    const auto a = scene(), b = scene();
+    EXPECT_EQ(addAutoLods(*a, one), 6u);
+    EXPECT_EQ(addAutoLods(*b, four), 6u);
+    ASSERT_EQ(a->numChildren(), b->numChildren());
+    auto lodOf = [](const std::shared_ptr<Group>& root, std::size_t i) {
+        return std::dynamic_pointer_cast<LOD>(std::dynamic_pointer_cast<Group>(root->child(i))->child(0));
+    };
+    EXPECT_EQ(lodOf(b, 2), lodOf(b, 6)) << "the shared mesh has one LOD";
+    for (std::size_t i = 0; i < a->numChildren(); ++i) {
+        const auto la = lodOf(a, i), lb = lodOf(b, i);
+        ASSERT_TRUE(la && lb) << "mesh " << i;
+        ASSERT_EQ(la->numChildren(), lb->numChildren()) << "mesh " << i;
+        for (std::size_t c = 0; c < la->numChildren(); ++c) {
+            const auto ga = std::dynamic_pointer_cast<Geometry>(la->child(c)),
+                       gb = std::dynamic_pointer_cast<Geometry>(lb->child(c));
+            ASSERT_TRUE(ga && gb);
+            EXPECT_EQ(ga->indices, gb->indices) << "mesh " << i << " level " << c;
+            EXPECT_EQ(ga->positions, gb->positions) << "mesh " << i << " level " << c;
+            EXPECT_EQ(la->range(c).minPixels, lb->range(c).minPixels) << "mesh " << i << " level " << c;
+            EXPECT_EQ(la->range(c).maxPixels, lb->range(c).maxPixels) << "mesh " << i << " level " << c;
+        }
+    }
+}
+
+// The loader's thread spreader: every job once, and a job's exception comes back to the caller.
+TEST(AutoLod, ParallelForRunsEveryJobOnceAndRethrows) {
+    std::vector<std::atomic<int>> runs(1000);
+    detail::parallelFor(runs.size(), 3, [&](std::size_t i) { ++runs[i]; });
+    for (std::size_t i = 0; i < runs.size(); ++i)
+        EXPECT_EQ(runs[i].load(), 1) << "job " << i;
+    for (const unsigned threads : {1u, 3u})
+        try {
+            detail::parallelFor(100, threads, [](std::size_t i) {
+                if (i == 17) throw std::runtime_error("job 17 failed");
+            });
+            ADD_FAILURE() << "no exception with " << threads << " threads";
+        } catch (const std::runtime_error& e) {
+            EXPECT_STREQ(e.what(), "job 17 failed");
+        }
 }

@@ -2,11 +2,14 @@
 // their error that sets their ranges (MeshOptimize.h).
 #include "sgfx/MeshOptimize.h"
 
+#include "ParallelFor.h"
+
 #include <sgfx/Group.h>
 #include <sgfx/Math.h>
 #include <sgfx/TriangleBvh.h>
 
 #include <algorithm>
+#include <numeric>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -727,28 +730,42 @@ std::shared_ptr<LOD> makeErrorLod(const std::shared_ptr<Geometry>& full, const A
 }
 
 std::size_t addAutoLods(Node& root, const AutoLodOptions& o) {
-    std::unordered_map<const Geometry*, std::shared_ptr<LOD>> made;
+    // Where each distinct mesh is drawn, found first; the LODs are then made in parallel (each
+    // mesh's work only reads that mesh) and put in place here, on the caller's thread.
+    struct Place {
+        Group* group;
+        std::size_t child, mesh;
+    };
+    std::vector<std::shared_ptr<Geometry>> meshes;
+    std::vector<Place> places;
+    std::unordered_map<const Geometry*, std::size_t> index;
     std::unordered_set<const Node*> seen;
-    std::size_t count = 0;
     auto visit = [&](auto& self, Node& node) -> void {
         auto* group = dynamic_cast<Group*>(&node);
         if (!group || dynamic_cast<LOD*>(&node) || !seen.insert(&node).second) return;
         for (std::size_t i = 0; i < group->numChildren(); ++i) {
             const NodePtr child = group->child(i);
             if (auto g = std::dynamic_pointer_cast<Geometry>(child)) {
-                auto [it, added] = made.emplace(g.get(), nullptr);
-                if (added) {
-                    it->second = makeErrorLod(g, o);
-                    count += it->second != nullptr;
-                }
-                if (it->second) group->replaceChild(i, it->second);
+                auto [it, added] = index.emplace(g.get(), meshes.size());
+                if (added) meshes.push_back(g);
+                places.push_back({group, i, it->second});
             } else if (child) {
                 self(self, *child);
             }
         }
     };
     visit(visit, root);
-    return count;
+    std::vector<std::size_t> order(meshes.size()); // largest first: the long jobs start early
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return meshes[a]->elementCount() > meshes[b]->elementCount();
+    });
+    std::vector<std::shared_ptr<LOD>> lods(meshes.size());
+    detail::parallelFor(order.size(), o.threads,
+                        [&](std::size_t k) { lods[order[k]] = makeErrorLod(meshes[order[k]], o); });
+    for (const Place& p : places)
+        if (lods[p.mesh]) p.group->replaceChild(p.child, lods[p.mesh]);
+    return std::size_t(std::count_if(lods.begin(), lods.end(), [](const auto& l) { return l != nullptr; }));
 }
 
 } // namespace sgfx

@@ -58,6 +58,9 @@ struct SGFX_API AutoLodOptions {
     float focalPixels = 500.0f;
     /// Keep the mesh's open border where it is, so meshes that meet there do not crack apart.
     bool lockBorder = true;
+    /// Threads addAutoLods spreads the meshes over (0: std::thread::hardware_concurrency()). The
+    /// LODs are the same for any count.
+    unsigned threads = 0;
 };
 
 /// How hausdorffBound settled its pieces (diagnostics for benches and tests; summed over both sides).
@@ -141,7 +144,8 @@ SGFX_API std::shared_ptr<LOD> makeErrorLod(const std::shared_ptr<Geometry>& full
 
 /// Puts makeErrorLod's LOD in place of every Geometry child of a Group under `root`, one LOD per
 /// Geometry however often it is shared (parents of a shared mesh share its LOD). Existing LOD
-/// nodes and what is under them are left alone. Returns how many LODs were made.
+/// nodes and what is under them are left alone. Returns how many LODs were made. The meshes are
+/// simplified on options.threads threads; the graph itself is changed on the caller's thread only.
 SGFX_API std::size_t addAutoLods(Node& root, const AutoLodOptions& options);
 
 } // namespace sgfx
