@@ -13,9 +13,8 @@
 // own buffer). Times are the CPU time of all threads (llvmpipe's rasterizer threads included).
 //
 //   target_cost [--rounds 15] [--grid 200] [--layers 4] [--draws 3000]
+#include <sgfx/GraphicsContext.h>
 #include <sgfx_glad/gl.h>
-// After glad, so osmesa.h's GL/gl.h include is a no-op.
-#include <GL/osmesa.h>
 
 #include <CLI/CLI.hpp>
 
@@ -161,16 +160,12 @@ Scene makeScene(int grid, int layers) {
 }
 
 struct Bench {
-    OSMesaContext ctx = nullptr;
-    std::vector<unsigned char> buffer = std::vector<unsigned char>(std::size_t(kBigW) * kBigH * 4);
+    sgfx::OsmesaContext ctx{kBigW, kBigH}; // the OSMesa 4.5 core context sgfx's headless viewer uses
     Scene scene;
     Target big[std::size(kConfigs)], small[std::size(kConfigs)];
     int draws = 3000;
 
-    void bindSize(int w, int h) {
-        if (!OSMesaMakeCurrent(ctx, buffer.data(), GL_UNSIGNED_BYTE, w, h))
-            throw std::runtime_error("target_cost: OSMesaMakeCurrent failed");
-    }
+    void bindSize(int w, int h) { ctx.resizeDrawable(w, h); }
     // CPU time of one frame: clear, the scene, glFinish.
     double frame(const Config& c, const Target& t, int w, int h) {
         bindSize(w, h);
@@ -215,27 +210,11 @@ int main(int argc, char** argv) {
     app.add_option("--draws", draws, "draw calls of the *-draws configurations (default 3000)")
         ->check(CLI::Range(1, 1000000));
     CLI11_PARSE(app, argc, argv);
-    Bench b;
-    b.draws = draws;
-    const int attribs[] = {OSMESA_FORMAT,
-                           OSMESA_RGBA,
-                           OSMESA_DEPTH_BITS,
-                           24,
-                           OSMESA_PROFILE,
-                           OSMESA_CORE_PROFILE,
-                           OSMESA_CONTEXT_MAJOR_VERSION,
-                           4,
-                           OSMESA_CONTEXT_MINOR_VERSION,
-                           5,
-                           0};
-    b.ctx = OSMesaCreateContextAttribs(attribs, nullptr);
-    if (!b.ctx) {
-        std::fprintf(stderr, "target_cost: no OSMesa 4.5 core context\n");
-        return 1;
-    }
     try {
-        b.bindSize(kBigW, kBigH);
-        if (!sgfx_gladLoadGL(reinterpret_cast<SGFX_GLADloadfunc>(&OSMesaGetProcAddress)))
+        Bench b;
+        b.draws = draws;
+        // This program's own GL calls go through its glad table, loaded from the same context.
+        if (!sgfx_gladLoadGL(reinterpret_cast<SGFX_GLADloadfunc>(b.ctx.procAddress())))
             throw std::runtime_error("target_cost: glad could not load GL");
         b.scene = makeScene(grid, layers);
         constexpr std::size_t n = std::size(kConfigs);
@@ -267,9 +246,7 @@ int main(int argc, char** argv) {
                         median(ratio[c]), rounds, b.scene.indices / 3);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s\n", e.what());
-        OSMesaDestroyContext(b.ctx);
         return 1;
     }
-    OSMesaDestroyContext(b.ctx);
     return 0;
 }

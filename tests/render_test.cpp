@@ -232,6 +232,28 @@ TEST(Contexts, EglHeadlessWhereAvailable) {
     expectPixel(v.capture(), 8, 8, {0.25, 0.5, 0.75}, 1);
 }
 
+// OSMesa's own drawable (the default framebuffer) takes the size asked for: a clear reaches its
+// last pixel at each size, and a size out of range is refused with the old one kept.
+TEST(Contexts, OsmesaDrawableTakesTheSizeAskedFor) {
+    OsmesaContext ctx(40, 12);
+    auto lastPixel = [](int w, int h, float red) {
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glViewport(0, 0, w, h);
+        glClearColor(red, 0.5f, 0.25f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        unsigned char px[4] = {};
+        glReadPixels(w - 1, h - 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, px);
+        return int(px[0]);
+    };
+    EXPECT_EQ(lastPixel(40, 12, 1.0f), 255);
+    ctx.resizeDrawable(96, 64);
+    EXPECT_EQ(lastPixel(96, 64, 0.0f), 0);
+    EXPECT_THROW(ctx.resizeDrawable(0, 64), std::invalid_argument);
+    EXPECT_THROW(ctx.resizeDrawable(96, 20000), std::invalid_argument);
+    EXPECT_EQ(lastPixel(96, 64, 1.0f), 255);
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
 // SGFX_HEADLESS only decides Headless::Default: an explicit kind is kept (the cluster's --egl,
 // a test pinned to OSMesa). Whether Default already read the variable in this process does not
 // matter here, so the test holds when the whole binary runs in one process.

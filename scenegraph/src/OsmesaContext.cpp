@@ -4,14 +4,12 @@
 // After glad, so osmesa.h's GL/gl.h include is a no-op.
 #include <GL/osmesa.h>
 
+#include <stdexcept>
+#include <string>
+
 namespace sgfx {
 
-namespace {
-// All rendering goes to sgfx's own framebuffers; OSMesa needs a drawable, so give it a tiny one.
-constexpr int kBufferSize = 16;
-} // namespace
-
-OsmesaContext::OsmesaContext() {
+OsmesaContext::OsmesaContext(int drawableWidth, int drawableHeight) {
     const int attribs[] = {OSMESA_FORMAT,
                            OSMESA_RGBA,
                            OSMESA_DEPTH_BITS,
@@ -25,8 +23,12 @@ OsmesaContext::OsmesaContext() {
                            0};
     ctx_ = OSMesaCreateContextAttribs(attribs, nullptr);
     if (!ctx_) throw ContextError("sgfx: OSMesa could not create an OpenGL 4.5 core context (Mesa too old?)");
-    buffer_ = std::make_unique<unsigned char[]>(kBufferSize * kBufferSize * 4);
-    makeCurrent();
+    try {
+        resizeDrawable(drawableWidth, drawableHeight);
+    } catch (...) {
+        OSMesaDestroyContext(static_cast<OSMesaContext>(ctx_));
+        throw;
+    }
 }
 
 OsmesaContext::~OsmesaContext() {
@@ -35,10 +37,27 @@ OsmesaContext::~OsmesaContext() {
 
 void OsmesaContext::makeCurrent() {
     assertOwnerThread();
-    if (!OSMesaMakeCurrent(static_cast<OSMesaContext>(ctx_), buffer_.get(), GL_UNSIGNED_BYTE, kBufferSize,
-                           kBufferSize))
+    if (!OSMesaMakeCurrent(static_cast<OSMesaContext>(ctx_), buffer_.data(), GL_UNSIGNED_BYTE, width_,
+                           height_))
         throw ContextError("sgfx: OSMesaMakeCurrent failed");
     loadGl();
+}
+
+void OsmesaContext::resizeDrawable(int width, int height) {
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        throw std::invalid_argument("OsmesaContext::resizeDrawable: " + std::to_string(width) + "x" +
+                                    std::to_string(height) + " is outside 1..16384");
+    const std::size_t bytes = std::size_t(width) * std::size_t(height) * 4;
+    if (buffer_.size() < bytes) buffer_.resize(bytes);
+    const int oldWidth = width_, oldHeight = height_;
+    width_ = width, height_ = height;
+    try {
+        makeCurrent();
+    } catch (const ContextError&) {
+        width_ = oldWidth, height_ = oldHeight;
+        if (width_ > 0) makeCurrent(); // back on the old size (the memory may have moved)
+        throw;
+    }
 }
 
 GetProcAddressFn OsmesaContext::procAddress() const {

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 struct GLFWwindow;
 
@@ -65,15 +66,23 @@ private:
 /// Software OpenGL 4.5 core through Mesa's OSMesa (llvmpipe). Needs no display or GPU.
 class SGFX_API OsmesaContext : public GraphicsContext {
 public:
-    OsmesaContext();
+    /// sgfx draws into its own framebuffers, so OSMesa's own drawable (the default framebuffer)
+    /// only needs to exist: 16x16 unless a program draws into it itself (a benchmark of OSMesa's
+    /// buffer against framebuffer objects).
+    explicit OsmesaContext(int drawableWidth = 16, int drawableHeight = 16);
     ~OsmesaContext() override;
     void makeCurrent() override;
+    /// Makes the context current on a drawable of this size, keeping its pixels' memory when it is
+    /// large enough. Throws std::invalid_argument for a size outside 1..16384, ContextError when
+    /// OSMesa refuses it.
+    void resizeDrawable(int width, int height);
     GetProcAddressFn procAddress() const override;
     std::string_view kind() const override { return "osmesa"; }
 
 private:
     void* ctx_ = nullptr;
-    std::unique_ptr<unsigned char[]> buffer_;
+    std::vector<unsigned char> buffer_;
+    int width_ = 0, height_ = 0;
 };
 
 /// Headless OpenGL 4.5 core through EGL: the NVIDIA device platform or Mesa surfaceless.
