@@ -1,0 +1,68 @@
+#pragma once
+// The demos' command lines, parsed by CLI11: a number check whose message names the option and
+// the value, and one way to run a parse: --help prints the usage and exits 0, a usage error prints
+// "PROGRAM: message" and exits 2 (CLI11's own exit codes are not the demos').
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+namespace demo {
+
+// `text` as a finite number in [lo, hi] (CLI::Range lets NaN through); else a usage error.
+inline double number(const std::string& option, const std::string& text, double lo, double hi) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end || !std::isfinite(v) || v < lo || v > hi) {
+        std::ostringstream range;
+        range << "[" << lo << ", " << hi << "]";
+        throw CLI::ValidationError(option, "'" + text + "' is not a number in " + range.str());
+    }
+    return v;
+}
+
+// A usage error that is not one option's value (two options that do not go together, ...).
+[[noreturn]] inline void usageError(const std::string& message) {
+    throw CLI::ValidationError(message);
+}
+
+// Wraps the options' descriptions to `width` columns beside CLI11's column of names.
+inline void wrapHelp(CLI::App& app, std::size_t width = 100) {
+    const std::size_t column = 30;
+    app.get_formatter()->column_width(column);
+    for (CLI::Option* option : app.get_options()) {
+        std::istringstream words(option->get_description());
+        std::string text, line, word;
+        while (words >> word) {
+            if (!line.empty() && line.size() + 1 + word.size() > width - column)
+                text += line + "\n", line.clear();
+            line += (line.empty() ? "" : " ") + word;
+        }
+        option->description(text + line);
+    }
+}
+
+// Parses argv, then runs `checks` (cross-option checks that throw CLI::ParseError). Returns -1
+// when the program goes on, else its exit status: 0 after --help, 2 after a usage error.
+inline int parse(CLI::App& app, int argc, char** argv, const std::function<void()>& checks = {}) {
+    try {
+        app.parse(argc, argv);
+        if (checks) checks();
+        return -1;
+    } catch (const CLI::CallForHelp&) {
+        wrapHelp(app);
+        std::cout << app.help();
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "%s: %s\n%s --help lists the options\n", app.get_name().c_str(), e.what(),
+                     app.get_name().c_str());
+        return 2;
+    }
+}
+
+} // namespace demo
