@@ -4,6 +4,7 @@
 // "PROGRAM: message" and exits 2 (CLI11's own exit codes are not the demos').
 #include <CLI/CLI.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +12,8 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace demo {
 
@@ -24,6 +27,37 @@ inline double number(const std::string& option, const std::string& text, double 
         throw CLI::ValidationError(option, "'" + text + "' is not a number in " + range.str());
     }
     return v;
+}
+
+// `text` as an integer in [lo, hi]; else a usage error.
+template <class T> T integer(const std::string& option, const std::string& text, T lo, T hi) {
+    T v{};
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+    if (text.empty() || ec != std::errc() || ptr != end || v < lo || v > hi)
+        throw CLI::ValidationError(option, "'" + text + "' is not an integer in [" + std::to_string(lo) +
+                                               ", " + std::to_string(hi) + "]");
+    return v;
+}
+
+// One of `values`' names, as what it stands for; else a usage error naming the option and value.
+template <class T>
+T choice(const std::string& option, const std::string& v,
+         const std::vector<std::pair<std::string, T>>& values, const char* expected) {
+    for (const auto& [name, value] : values)
+        if (v == name) return value;
+    throw CLI::ValidationError(option, "'" + v + "' is not " + expected);
+}
+
+// on|off as a bool.
+inline bool onOff(const std::string& option, const std::string& v) {
+    return choice<bool>(option, v, {{"on", true}, {"off", false}}, "on or off");
+}
+
+// A repeated option takes its last value, as the demos' hand-written parsers did (scripts pass
+// defaults first and the caller's options after them).
+inline void lastValueWins(CLI::App& app) {
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }
 
 // A usage error that is not one option's value (two options that do not go together, ...).

@@ -55,14 +55,7 @@ struct Given {
     std::vector<std::string> files; // taken as an optional value (--auto-lod FILE, --shadows FILE)
 };
 
-// One of `names` (what each means in `values`), else a usage error naming the option and value.
-template <typename T>
-T choice(const std::string& option, const std::string& v,
-         const std::vector<std::pair<std::string, T>>& values, const char* expected) {
-    for (const auto& [name, value] : values)
-        if (v == name) return value;
-    throw CLI::ValidationError(option, "'" + v + "' is not " + expected);
-}
+using demo::choice;
 
 void addOutputOptions(CLI::App& cli, view::Options& o, Given& given) {
     cli.add_option("files", o.files, "the model files")->type_name("FILE");
@@ -301,6 +294,7 @@ void checkOptions(view::Options& o, Given& given) {
 int parse(int argc, char** argv, view::Options& o) {
     CLI::App cli{kDescription, "sgfx-view"};
     cli.footer(kFooter);
+    demo::lastValueWins(cli);
     Given given;
     addOutputOptions(cli, o, given);
     addFogAndLightOptions(cli, o.settings);
