@@ -54,6 +54,22 @@ inline bool onOff(const std::string& option, const std::string& v) {
     return choice<bool>(option, v, {{"on", true}, {"off", false}}, "on or off");
 }
 
+// --size WxH, each in [lo, hi].
+inline CLI::Option* addSize(CLI::App& app, int& width, int& height, int lo, int hi, const std::string& what) {
+    return app
+        .add_option_function<std::string>(
+            "--size",
+            [&width, &height, lo, hi](const std::string& v) {
+                const auto x = v.find('x');
+                if (x == std::string::npos)
+                    throw CLI::ValidationError("--size", "expected WxH, got '" + v + "'");
+                width = integer("--size", v.substr(0, x), lo, hi);
+                height = integer("--size", v.substr(x + 1), lo, hi);
+            },
+            what)
+        ->type_name("WxH");
+}
+
 // A repeated option takes its last value, as the demos' hand-written parsers did (scripts pass
 // defaults first and the caller's options after them).
 inline void lastValueWins(CLI::App& app) {
