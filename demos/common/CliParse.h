@@ -1,7 +1,8 @@
 #pragma once
-// The demos' command lines, parsed by CLI11: a number check whose message names the option and
-// the value, and one way to run a parse: --help prints the usage and exits 0, a usage error prints
-// "PROGRAM: message" and exits 2 (CLI11's own exit codes are not the demos').
+// The demos' command lines, parsed by CLI11: value checks whose messages name the option and the
+// value (numbers, integers, choices, WxH), and one way to run a parse: --help prints the usage and
+// exits 0, a usage error prints "PROGRAM: message" and exits 2 (CLI11's own exit codes are not the
+// demos'). Option callbacks run in the order the options were set up, not the command line's.
 #include <CLI/CLI.hpp>
 
 #include <charconv>

@@ -32,6 +32,7 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -48,11 +49,6 @@ struct Options {
     int bench = 0;
     bool egl = false;
 };
-
-[[noreturn]] void usage(const std::string& why) {
-    std::cerr << "particles: " << why << "\n(see the header of demos/particles/main.cpp for the options)\n";
-    std::exit(2);
-}
 
 using demo::choice;
 
@@ -155,7 +151,7 @@ std::shared_ptr<sgfx::ParticleSystemNode> preset(const std::string& name, std::u
     if (name == "jet") return n ? P::waterJet({0.0f, 0.4f, 1.0f}, 12.0f, n) : P::waterJet();
     if (name == "sparks") return n ? P::sparks(n) : P::sparks();
     if (name == "cloud") return cloud(n ? n : 100000);
-    usage("--preset: '" + name + "' is not all, rain, snow, leaves, smoke, jet, sparks or cloud");
+    throw std::invalid_argument("--preset: '" + name + "' is not a preset"); // --preset's check keeps it out
 }
 
 } // namespace
