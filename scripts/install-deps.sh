@@ -15,7 +15,7 @@ packages=(
   libgtest-dev libbenchmark-dev                  # tests and benchmarks
   clang libclang-rt-14-dev                       # the glTF loader's libFuzzer target (scripts/fuzz.sh)
   libopenscenegraph-dev                          # the OpenSceneGraph peer benchmark
-  libcli11-dev                                   # osg_view's options (the OSG reference renderer)
+  libcli11-dev                                   # every demo's options, osg_view's and the bench tools' (CLI11)
   libopenmpi-dev openmpi-bin                     # sgfx-cluster: display channels on MPI ranks
   xvfb xauth libgl1-mesa-dri libglx-mesa0        # the windowed path tested on a virtual display
   python3-matplotlib                             # sgfx-bench --plot (scripts/plot_bench.py)

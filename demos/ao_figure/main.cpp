@@ -2,6 +2,8 @@
 // without ambient occlusion (figure 1), with it (figure 8), and the raw and blurred occlusion
 // maps (figures 5 and 7). Headless; writes four PNGs.
 //   ao_figure [--out-dir DIR] [--size WxH]
+#include "CliParse.h"
+
 #include <PolygonScene.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/Viewer.h>
@@ -16,17 +18,13 @@
 int main(int argc, char** argv) {
     std::filesystem::path dir = ".";
     int width = 480, height = 320;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--out-dir") && i + 1 < argc) {
-            dir = argv[++i];
-        } else if (!std::strcmp(argv[i], "--size") && i + 1 < argc &&
-                   std::sscanf(argv[++i], "%dx%d", &width, &height) == 2 && width > 0 && height > 0 &&
-                   width <= 4096 && height <= 4096) {
-        } else {
-            std::fprintf(stderr, "usage: ao_figure [--out-dir DIR] [--size WxH (1..4096)]\n");
-            return 2;
-        }
-    }
+    CLI::App cli{"ao_figure: the SSAO seed's figures (the robot under ambient light without and with "
+                 "occlusion, the raw and blurred occlusion maps), four PNGs",
+                 "ao_figure"};
+    demo::lastValueWins(cli);
+    cli.add_option("--out-dir", dir, "folder of the PNGs (default .)")->type_name("DIR");
+    demo::addSize(cli, width, height, 1, 4096, "image size, 1..4096 each (default 480x320)");
+    if (const int status = demo::parse(cli, argc, argv); status >= 0) return status;
     try {
         auto plane = sgfx::shapes::quad(60, 60);
         auto ground = sgfx::Material::create();

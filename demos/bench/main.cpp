@@ -2,6 +2,7 @@
 // camera path, at several sizes, without effects, with each effect alone and with all of them.
 // Markdown on stdout, JSON with --json, a PNG bar chart with --plot, progress on stderr.
 #include "CameraPath.h"
+#include "CliParse.h"
 #include "PolygonScene.h"
 
 #include <sgfx/GraphicsContext.h>
@@ -47,43 +48,10 @@ constexpr float kSkyHours = 18.5f;                    // the README's sky (`poly
 constexpr std::uint32_t kRainCount = 200000;          // polygon's --rain-count default
 constexpr float kSmokePoseTime = 0.1f;                // polygon places the smoke ahead of this pose
 
-const char* const kUsage = R"(usage: sgfx-bench [options]
-
-Renders a scene headless along a deterministic camera path (t = i/N) at each size with each
-effect configuration, glFinish after every frame, and prints ms/frame (median, p10, p90), FPS
-(1000/median) and the GPU time of every pass as Markdown tables, one per size.
-
-options:
-  --model FILE        benchmark this model (glTF/OBJ/OFF/PLY/STL; the camera orbits its bounds
-                      at 20° elevation; two glass panes through it, for oit) instead of the
-                      proving ground
-  --scale S           proving-ground triangle scale, 0 < S <= 16 (default 1)
-  --sizes WxH[,WxH...]
-                      sizes (default 1280x720,1920x1080,3840x2160)
-  --frames N          measured frames per configuration (default 100)
-  --warmup N          warm-up frames before them, not measured (default 5)
-  --effects LIST      comma-separated configurations (default
-                      none,fog,ao,aa,oit,rain,sky,smoke,all); join effects with '+' for
-                      combinations (fog+ao). fog: forward height fog; ao: SSAO (32 samples);
-                      aa: MSAA 4x (the docs' first example, and polygon's `--aa msaa`);
-                      oit: weighted blended transparency; rain: 200,000 GPU particles;
-                      sky: the physical sky at 18:30; smoke: a raymarched cloud; all: every one
-                      of those; env (not in all): the sky's image-based light in place of the
-                      flat ambient light; windscreen (not in all): a transmissive glass pane
-                      (KHR_materials_transmission) 1.5 m in front of the eye, filling the view
-  --json FILE         also write the results as JSON (machine and driver strings included)
-  --plot FILE.png     also write a bar chart (FPS per configuration, grouped by size) through
-                      scripts/plot_bench.py (python3 and python3-matplotlib); without --json
-                      the JSON goes to FILE.png.json
-  --egl               render through EGL (GPU) instead of OSMesa
-  -h, --help          show this help
-
-exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
-)";
-
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+const char* const kDescription =
+    R"(sgfx-bench renders a scene headless along a deterministic camera path (t = i/N) at each size with
+each effect configuration, glFinish after every frame, and prints ms/frame (median, p10, p90), FPS
+(1000/median) and the GPU time of every pass as Markdown tables, one per size.)";
 
 struct Size {
     int width = 0, height = 0;
@@ -111,15 +79,6 @@ struct Options {
     std::string json, plot;
     bool egl = false;
 };
-
-template <class T> T parseNumber(std::string_view option, std::string_view text) {
-    T value{};
-    const char* end = text.data() + text.size();
-    auto [ptr, ec] = std::from_chars(text.data(), end, value);
-    if (text.empty() || ec != std::errc() || ptr != end)
-        throw UsageError(std::string(option) + ": '" + std::string(text) + "' is not a valid number");
-    return value;
-}
 
 std::vector<std::string_view> split(std::string_view s, char sep) {
     std::vector<std::string_view> parts;
@@ -158,70 +117,108 @@ Config parseConfig(std::string_view item) {
         } else if (e == "all") {
             f = {true, true, true, true, true, true, true, f.env, f.windscreen};
         } else {
-            throw UsageError("--effects: '" + std::string(e) +
-                             "' is not none, fog, ao, aa, oit, rain, sky, smoke, env, windscreen or all");
+            throw CLI::ValidationError("--effects",
+                                       "'" + std::string(e) +
+                                           "' is not none, fog, ao, aa, oit, rain, sky, smoke, env, "
+                                           "windscreen or all");
         }
     }
     return c;
 }
 
-Options parseArgs(int argc, char** argv) {
-    Options o;
-    bool effectsGiven = false;
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view arg = argv[i];
-        auto value = [&]() -> std::string_view {
-            if (i + 1 >= argc) throw UsageError(std::string(arg) + " needs a value");
-            return argv[++i];
-        };
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kUsage;
-            std::exit(0);
-        } else if (arg == "--model") {
-            o.model = value();
-            if (o.model.empty()) throw UsageError("--model: empty file name");
-        } else if (arg == "--scale") {
-            o.scale = parseNumber<float>(arg, value());
-            if (!(o.scale > 0.0f && o.scale <= 16.0f)) throw UsageError("--scale: S must be in (0, 16]");
-        } else if (arg == "--sizes") {
-            o.sizes.clear();
-            for (std::string_view s : split(value(), ',')) {
-                const auto x = s.find('x');
-                if (x == std::string_view::npos)
-                    throw UsageError("--sizes: expected WxH, got '" + std::string(s) + "'");
-                Size size{parseNumber<int>(arg, s.substr(0, x)), parseNumber<int>(arg, s.substr(x + 1))};
-                if (size.width < 1 || size.height < 1 || size.width > 16384 || size.height > 16384)
-                    throw UsageError("--sizes: width and height must be in 1..16384, got '" + std::string(s) +
-                                     "'");
-                o.sizes.push_back(size);
-            }
-        } else if (arg == "--frames") {
-            o.frames = parseNumber<int>(arg, value());
-            if (o.frames < 1 || o.frames > 1000000) throw UsageError("--frames: N must be in 1..1000000");
-        } else if (arg == "--warmup") {
-            o.warmup = parseNumber<int>(arg, value());
-            if (o.warmup < 0 || o.warmup > 1000000) throw UsageError("--warmup: N must be in 0..1000000");
-        } else if (arg == "--effects") {
-            effectsGiven = true;
-            o.configs.clear();
-            for (std::string_view item : split(value(), ','))
-                o.configs.push_back(parseConfig(item));
-        } else if (arg == "--json") {
-            o.json = value();
-            if (o.json.empty()) throw UsageError("--json: empty file name");
-        } else if (arg == "--plot") {
-            o.plot = value();
-            if (o.plot.empty()) throw UsageError("--plot: empty file name");
-        } else if (arg == "--egl") {
-            o.egl = true;
-        } else {
-            throw UsageError("unknown option '" + std::string(arg) + "'");
-        }
-    }
-    if (!effectsGiven)
+void addSceneOptions(CLI::App& cli, Options& o) {
+    cli.add_option_function<std::string>(
+           "--model",
+           [&o](const std::string& v) {
+               if (v.empty()) throw CLI::ValidationError("--model", "empty file name");
+               o.model = v;
+           },
+           "benchmark this model (glTF/OBJ/OFF/PLY/STL; the camera orbits its bounds at 20° elevation; two "
+           "glass panes through it, for oit) instead of the proving ground")
+        ->type_name("FILE");
+    cli.add_option_function<std::string>(
+           "--scale",
+           [&o](const std::string& v) {
+               o.scale = float(demo::number("--scale", v, 0, 16));
+               if (o.scale <= 0.0f)
+                   throw CLI::ValidationError("--scale", "'" + v + "': S must be in (0, 16]");
+           },
+           "proving-ground triangle scale, 0 < S <= 16 (default 1)")
+        ->type_name("S");
+    cli.add_option_function<std::string>(
+           "--sizes",
+           [&o](const std::string& v) {
+               o.sizes.clear();
+               for (std::string_view sv : split(v, ',')) {
+                   const std::string s(sv);
+                   const auto x = s.find('x');
+                   if (x == std::string::npos)
+                       throw CLI::ValidationError("--sizes", "expected WxH, got '" + s + "'");
+                   o.sizes.push_back(Size{demo::integer("--sizes", s.substr(0, x), 1, 16384),
+                                          demo::integer("--sizes", s.substr(x + 1), 1, 16384)});
+               }
+           },
+           "sizes (default 1280x720,1920x1080,3840x2160)")
+        ->type_name("WxH[,WxH...]");
+    cli.add_option("--frames", o.frames, "measured frames per configuration (default 100)")
+        ->check(CLI::Range(1, 1000000))
+        ->type_name("N");
+    cli.add_option("--warmup", o.warmup, "warm-up frames before them, not measured (default 5)")
+        ->check(CLI::Range(0, 1000000))
+        ->type_name("N");
+    cli.add_option_function<std::string>(
+           "--effects",
+           [&o](const std::string& v) {
+               o.configs.clear();
+               for (std::string_view item : split(v, ','))
+                   o.configs.push_back(parseConfig(item));
+           },
+           "comma-separated configurations (default none,fog,ao,aa,oit,rain,sky,smoke,all); join effects "
+           "with "
+           "'+' for combinations (fog+ao). fog: forward height fog; ao: SSAO (32 samples); aa: MSAA 4x (the "
+           "docs' first example, and polygon's `--aa msaa`); oit: weighted blended transparency; rain: "
+           "200,000 "
+           "GPU particles; sky: the physical sky at 18:30; smoke: a raymarched cloud; all: every one of "
+           "those; "
+           "env (not in all): the sky's image-based light in place of the flat ambient light; windscreen "
+           "(not "
+           "in all): a transmissive glass pane (KHR_materials_transmission) 1.5 m in front of the eye, "
+           "filling "
+           "the view")
+        ->type_name("LIST");
+}
+
+void addOutputOptions(CLI::App& cli, Options& o) {
+    auto file = [&cli](const char* name, std::string& out, const char* what) {
+        return cli.add_option_function<std::string>(
+            name,
+            [&out, name](const std::string& v) {
+                if (v.empty()) throw CLI::ValidationError(name, "empty file name");
+                out = v;
+            },
+            what);
+    };
+    file("--json", o.json, "also write the results as JSON (machine and driver strings included)")
+        ->type_name("FILE");
+    file("--plot", o.plot,
+         "also write a bar chart (FPS per configuration, grouped by size) through scripts/plot_bench.py "
+         "(python3 and python3-matplotlib); without --json the JSON goes to FILE.png.json")
+        ->type_name("FILE.png");
+    cli.add_flag("--egl", o.egl, "render through EGL (GPU) instead of OSMesa");
+}
+
+// Returns -1 when the run goes on, else the exit status (0 after --help, 2 for bad options).
+int parseArgs(int argc, char** argv, Options& o) {
+    CLI::App cli{kDescription, "sgfx-bench"};
+    cli.footer("exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value");
+    demo::lastValueWins(cli);
+    addSceneOptions(cli, o);
+    addOutputOptions(cli, o);
+    const int status = demo::parse(cli, argc, argv);
+    if (status < 0 && o.configs.empty())
         for (std::string_view item : {"none", "fog", "ao", "aa", "oit", "rain", "sky", "smoke", "all"})
             o.configs.push_back(parseConfig(item));
-    return o;
+    return status;
 }
 
 // The scene without effects, and what the effects need to know about it.
@@ -687,12 +684,7 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
     Options options;
-    try {
-        options = parseArgs(argc, argv);
-    } catch (const UsageError& e) {
-        std::cerr << "sgfx-bench: " << e.what() << "\nTry 'sgfx-bench --help'.\n";
-        return 2;
-    }
+    if (const int status = parseArgs(argc, argv, options); status >= 0) return status;
     try {
         return run(options);
     } catch (const std::exception& e) {

@@ -4,6 +4,7 @@
 // the same frame; the channels are gathered to rank 0 as one composite PNG. --reference renders
 // the display's overall frustum in one process and one view (no MPI). See docs/cluster.md.
 #include "Application.h"
+#include "CliParse.h"
 #include "ClusterSync.h"
 
 #include <sgfx/DisplayConfig.h>
@@ -251,10 +252,11 @@ int runCluster(const Options& o, sgfx::DisplayConfig config, sgfxcluster::Cluste
 } // namespace
 
 int main(int argc, char** argv) {
-    CLI::App cli{"sgfx-cluster: the proving ground on a multi-channel display, one MPI rank per channel"};
+    CLI::App cli{"sgfx-cluster: the proving ground on a multi-channel display, one MPI rank per channel",
+                 "sgfx-cluster"};
     Options o;
     parse(cli, o);
-    CLI11_PARSE(cli, argc, argv);
+    if (const int status = demo::parse(cli, argc, argv); status >= 0) return status; // 2: bad options
     try {
         const sgfx::DisplayConfig config = sgfx::DisplayConfig::load(o.config);
         if (o.reference) return runReference(o, config);

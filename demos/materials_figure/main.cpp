@@ -7,6 +7,8 @@
 //                         with its transmission dropped (the loader used to warn and draw it
 //                         opaque) and as loaded.
 //   materials_figure [--out-dir DIR] [--size WxH] [--transmission-model FILE]
+#include "CliParse.h"
+
 #include <PolygonScene.h>
 #include <sgfx/ModelLoader.h>
 #include <sgfx/NodeVisitor.h>
@@ -110,20 +112,16 @@ int main(int argc, char** argv) {
     std::filesystem::path dir = ".";
     std::filesystem::path transmissionModel;
     int width = 480, height = 320;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--out-dir") && i + 1 < argc) {
-            dir = argv[++i];
-        } else if (!std::strcmp(argv[i], "--transmission-model") && i + 1 < argc) {
-            transmissionModel = argv[++i];
-        } else if (!std::strcmp(argv[i], "--size") && i + 1 < argc &&
-                   std::sscanf(argv[++i], "%dx%d", &width, &height) == 2 && width > 0 && height > 0 &&
-                   width <= 4096 && height <= 4096) {
-        } else {
-            std::fprintf(stderr, "usage: materials_figure [--out-dir DIR] [--size WxH (1..4096)] "
-                                 "[--transmission-model FILE]\n");
-            return 2;
-        }
-    }
+    CLI::App cli{"materials_figure: docs/materials.md's before/after figures (a mirrored vehicle, a "
+                 "transmissive glTF model)",
+                 "materials_figure"};
+    demo::lastValueWins(cli);
+    cli.add_option("--out-dir", dir, "folder of the PNGs (default .)")->type_name("DIR");
+    demo::addSize(cli, width, height, 1, 4096, "image size, 1..4096 each (default 480x320)");
+    cli.add_option("--transmission-model", transmissionModel,
+                   "a glTF model with KHR_materials_transmission for the transmission pair (none by default)")
+        ->type_name("FILE");
+    if (const int status = demo::parse(cli, argc, argv); status >= 0) return status;
     try {
         for (const bool before : {true, false}) {
             const auto pair = vehiclePair(before);

@@ -13,6 +13,8 @@
 // (update: the simulation path the steps ran on, --update's or Auto's pick, whose timings follow)
 // (sim_ms: the simulation step alone, CPU-timed with glFinish; update_ms and draw_ms: GPU timer
 // queries, which llvmpipe fills unreliably)
+#include "CliParse.h"
+
 #include <sgfx/GraphicsContext.h>
 #include <sgfx/Group.h>
 #include <sgfx/PassCommands.h>
@@ -29,6 +31,8 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -46,71 +50,73 @@ struct Options {
     bool egl = false;
 };
 
-[[noreturn]] void usage(const std::string& why) {
-    std::cerr << "particles: " << why << "\n(see the header of demos/particles/main.cpp for the options)\n";
-    std::exit(2);
+using demo::choice;
+
+void addSceneOptions(CLI::App& cli, Options& o) {
+    cli.add_option("--preset", o.preset, "the preset(s) drawn (default all)")
+        ->check(CLI::IsMember({"all", "rain", "snow", "leaves", "smoke", "jet", "sparks", "cloud"}))
+        ->type_name("all|rain|snow|leaves|smoke|jet|sparks|cloud");
+    cli.add_option_function<std::string>(
+           "--count",
+           [&o](const std::string& v) {
+               o.count =
+                   demo::integer<std::uint32_t>("--count", v, 0, std::numeric_limits<std::uint32_t>::max());
+           },
+           "particles (default 0: the preset's own)")
+        ->type_name("N");
+    cli.add_option_function<std::string>(
+           "--size",
+           [&o](const std::string& v) {
+               const auto x = v.find('x');
+               if (x == std::string::npos)
+                   throw CLI::ValidationError("--size", "expected WxH, got '" + v + "'");
+               o.width = demo::integer("--size", v.substr(0, x), 1, 8192);
+               o.height = demo::integer("--size", v.substr(x + 1), 1, 8192);
+           },
+           "image size (default 640x360)")
+        ->type_name("WxH");
+    cli.add_option("--out", o.out, "PNG to write (default particles.png)")->type_name("FILE");
+    cli.add_option("--bench", o.bench,
+                   "step and draw the cloud scene N frames after warm-up; print a PARTICLES line")
+        ->check(CLI::Range(1, std::numeric_limits<int>::max()))
+        ->type_name("N");
+    cli.add_flag("--egl", o.egl, "render headless through EGL (GPU) instead of OSMesa");
 }
 
-template <class T> T number(const std::string& opt, std::string_view s) {
-    T v{};
-    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || ec != std::errc() || p != s.data() + s.size())
-        usage(opt + ": '" + std::string(s) + "' is not a number");
-    return v;
-}
-
-Options parse(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto value = [&]() -> std::string {
-            if (i + 1 >= argc) usage(a + " needs a value");
-            return argv[++i];
-        };
-        if (a == "--preset") {
-            o.preset = value();
-        } else if (a == "--count") {
-            o.count = number<std::uint32_t>(a, value());
-        } else if (a == "--path") {
-            const std::string v = value();
-            if (v != "gs" && v != "instanced" && v != "pulled" && v != "points")
-                usage("--path: '" + v + "' is not gs, instanced, pulled or points");
-            o.path = v == "gs"          ? sgfx::ParticlePath::GeometryShader
-                     : v == "instanced" ? sgfx::ParticlePath::Instanced
-                     : v == "pulled"    ? sgfx::ParticlePath::Pulled
-                                        : sgfx::ParticlePath::PointSprite;
-        } else if (a == "--layout") {
-            const std::string v = value();
-            if (v != "interleaved" && v != "split")
-                usage("--layout: '" + v + "' is not interleaved or split");
-            o.layout = v == "split" ? sgfx::ParticleLayout::Split : sgfx::ParticleLayout::Interleaved;
-        } else if (a == "--update") {
-            const std::string v = value();
-            if (v != "auto" && v != "tf" && v != "compute")
-                usage("--update: '" + v + "' is not auto, tf or compute");
-            o.update = v == "tf"        ? sgfx::ParticleUpdate::TransformFeedback
-                       : v == "compute" ? sgfx::ParticleUpdate::Compute
-                                        : sgfx::ParticleUpdate::Auto;
-        } else if (a == "--size") {
-            const std::string v = value();
-            const auto x = v.find('x');
-            if (x == std::string::npos) usage("--size: expected WxH");
-            o.width = number<int>(a, std::string_view(v).substr(0, x));
-            o.height = number<int>(a, std::string_view(v).substr(x + 1));
-            if (o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192)
-                usage("--size: out of range");
-        } else if (a == "--out") {
-            o.out = value();
-        } else if (a == "--bench") {
-            o.bench = number<int>(a, value());
-            if (o.bench < 1) usage("--bench: N must be at least 1");
-        } else if (a == "--egl") {
-            o.egl = true;
-        } else {
-            usage("unknown option '" + a + "'");
-        }
-    }
-    return o;
+void addPathOptions(CLI::App& cli, Options& o) {
+    cli.add_option_function<std::string>(
+           "--path",
+           [&o](const std::string& v) {
+               o.path = choice<sgfx::ParticlePath>("--path", v,
+                                                   {{"gs", sgfx::ParticlePath::GeometryShader},
+                                                    {"instanced", sgfx::ParticlePath::Instanced},
+                                                    {"pulled", sgfx::ParticlePath::Pulled},
+                                                    {"points", sgfx::ParticlePath::PointSprite}},
+                                                   "gs, instanced, pulled or points");
+           },
+           "how the particles are drawn (default: the node's pick)")
+        ->type_name("gs|instanced|pulled|points");
+    cli.add_option_function<std::string>(
+           "--layout",
+           [&o](const std::string& v) {
+               o.layout = choice<sgfx::ParticleLayout>("--layout", v,
+                                                       {{"interleaved", sgfx::ParticleLayout::Interleaved},
+                                                        {"split", sgfx::ParticleLayout::Split}},
+                                                       "interleaved or split");
+           },
+           "the particle buffer's layout (default interleaved)")
+        ->type_name("interleaved|split");
+    cli.add_option_function<std::string>(
+           "--update",
+           [&o](const std::string& v) {
+               o.update = choice<sgfx::ParticleUpdate>("--update", v,
+                                                       {{"auto", sgfx::ParticleUpdate::Auto},
+                                                        {"tf", sgfx::ParticleUpdate::TransformFeedback},
+                                                        {"compute", sgfx::ParticleUpdate::Compute}},
+                                                       "auto, tf or compute");
+           },
+           "the simulation's path: transform feedback, compute, or Auto's pick (default)")
+        ->type_name("auto|tf|compute");
 }
 
 // The benchmark's cloud: 40 × 40 m of sprites shot upwards, one second of life (OSG peer: same).
@@ -145,13 +151,20 @@ std::shared_ptr<sgfx::ParticleSystemNode> preset(const std::string& name, std::u
     if (name == "jet") return n ? P::waterJet({0.0f, 0.4f, 1.0f}, 12.0f, n) : P::waterJet();
     if (name == "sparks") return n ? P::sparks(n) : P::sparks();
     if (name == "cloud") return cloud(n ? n : 100000);
-    usage("--preset: '" + name + "' is not all, rain, snow, leaves, smoke, jet, sparks or cloud");
+    throw std::invalid_argument("--preset: '" + name + "' is not a preset"); // --preset's check keeps it out
 }
 
 } // namespace
 
 int main(int argc, char** argv) try {
-    const Options o = parse(argc, argv);
+    Options o;
+    CLI::App cli{"particles: the particle presets over a ground plane in fog (a PNG), or with --bench the "
+                 "particle benchmark's sgfx side (see the header of demos/particles/main.cpp)",
+                 "particles"};
+    demo::lastValueWins(cli);
+    addSceneOptions(cli, o);
+    addPathOptions(cli, o);
+    if (const int status = demo::parse(cli, argc, argv); status >= 0) return status;
     auto viewer = sgfx::Viewer::createHeadless(
         o.width, o.height, o.egl ? sgfx::Viewer::Headless::Egl : sgfx::Viewer::Headless::Default);
     auto& cam = *viewer->camera();

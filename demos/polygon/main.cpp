@@ -1,6 +1,7 @@
 // polygon: the sgfx proving ground. Renders the procedural test site headless to a PNG, flies
 // through it in a window, benchmarks the shared camera path, or exports it as OBJ.
 #include "CameraPath.h"
+#include "CliParse.h"
 #include "PolygonScene.h"
 #include "StreetLamps.h"
 #include "VehicleDrive.h"
@@ -42,6 +43,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -57,147 +59,11 @@ constexpr float kStillTime = 0.1f;
 const glm::vec4 kSkyColor{0.42f, 0.60f, 0.85f, 1.0f};  // linear
 const glm::vec4 kDuskColor{0.05f, 0.05f, 0.09f, 1.0f}; // linear, with --lamps
 
-const char* const kUsage = R"(usage: polygon [options]
-
-Renders the sgfx proving ground: hilly terrain in tiles, roads, a few hundred buildings,
+const char* const kDescription =
+    R"(polygon renders the sgfx proving ground: hilly terrain in tiles, roads, a few hundred buildings,
 alpha-masked trees, a tracked robot vehicle, two glass panes and a glass cabin, lit by a sun and
 the sky. The vehicle drives a loop over the hills, following the ground.
-Without a mode option it renders one frame headless (OSMesa) and writes a PNG.
-
-modes (at most one):
-  --window            fly through the scene in a window (WASD move, Q/E down/up, Shift fast,
-                      left mouse drag to look, F cycles the fog mode, T switches the glass
-                      between sorted and OIT, M cycles anti-aliasing, Esc quits); without
-                      a display it says
-                      "no display: rendering headless" and writes the PNG instead
-  --bench N           render N frames along the camera path (t = i/N) after 3 warm-up
-                      frames, glFinish after each, and print timings and render statistics
-  --export-obj FILE   write the scene as Wavefront OBJ (+ .mtl) and exit
-  --export-gltf FILE  write the scene as glTF 2.0 (.glb binary, or .gltf with the data embedded)
-
-options:
-  --out FILE          PNG to write (default polygon.png)
-  --graph FILE        also write the frame's graph (passes, resources, GPU ms) as Graphviz DOT
-  --size WxH          image / bench / window size in pixels (default 1280x720)
-  --time T            camera path time of the still image, 0 <= T < 1 (default 0.1)
-  --look EX,EY,EZ,TX,TY,TZ
-                      still image (or every --bench frame) from eye E looking at target T
-                      instead of the camera path (metres, Z up)
-  --scale S           scale the triangle count, 0 < S <= 16 (default 1, about 600k
-                      triangles): terrain resolution and numbers of buildings and trees
-  --seed N            scene seed, an unsigned integer (default 1)
-  --drive on|off      the vehicle drives its loop from the flat centre over the hills, set on
-                      the ground by four height queries a frame (default on; parked in exports,
-                      and in --bench unless on, so its frames match the OpenSceneGraph peer's)
-  --no-lod            every object at full detail (by default distant terrain tiles drop to
-                      half and quarter resolution and distant buildings to flat window panes;
-                      exports always hold the full detail)
-  --many-drawables    the many-drawables benchmark scene: every window of every building its
-                      own drawable (about 26,000 more drawables)
-  --no-instancing     draw repeated meshes one by one (RendererOptions::autoInstancing off)
-  --submit-triangles N
-                      submit queued draws every N triangles so llvmpipe rasterises while
-                      the frame is still being drawn (RendererOptions::submitTriangles,
-                      default 20000; 0 submits once per frame)
-  --egl               render headless through EGL (GPU) instead of OSMesa
-  --lighting pixel|vertex
-                      per-pixel Blinn-Phong (default) or per-vertex (Gouraud) lighting
-  --lamps N           dusk (a low, dim sun and a faint sky) with N street lamps along the
-                      roads, 0..100000: spot lights with a range (the light list's benchmark)
-  --frames N          with --window: close after N frames (scripted runs)
-  --osg-view FILE     the still image through an OpenSceneGraph .view display: a panoramic or 3D
-                      spherical-mirror projector (six cube faces warped, intensity map) of
-                      --size; setUpViewOnSingleScreen gives the plain image
-  --count-fragments   with --bench: also count fragments that pass the depth test (an
-                      occlusion query per frame, which itself costs a little time)
-
-effects:
-  --fog off|forward|deferred|split|post
-                      height fog over the whole scene (default forward): in every material
-                      (forward), forward with the opaque items' fog in one pass after them where
-                      exact (deferred), the paper's depth pre-pass split (split) or its
-                      full-screen post-process (post)
-  --fog-preset solid|ground
-                      the paper's figure 1 parameters: solid (rho0 = 1e-4, b = 1e-4) or
-                      ground fog (rho0 = 1e-3, b = 4.5e-3, default)
-  --fog-density R     density rho0 per metre at height 0 (overrides the preset)
-  --fog-falloff B     falloff b per metre (overrides the preset)
-  --fog-response linear|exp
-                      k = clamp(F, 0, 1) as in the paper, or 1 - e^-F (default)
-  --fog-sky off|far|distance
-                      fog on pixels without geometry: none, to the far plane, or along the
-                      ray to 100 km (default)
-  --ao off|on         screen-space ambient occlusion on the ambient light (default off)
-  --ao-samples M      samples per pixel, 8..64 (default 32)
-  --ao-radius R       kernel radius in metres (default 0.5)
-  --ao-half           compute the occlusion at half resolution
-  --ao-temporal       half resolution, 8 taps a frame accumulated over frames
-  --ao-normals gbuffer|depth
-                      normals from a G-buffer pre-pass (default) or rebuilt from the depth
-                      pre-pass
-  --ao-debug raw|blurred
-                      show the occlusion map instead of the scene
-  --channels CxR      split the view's frustum into C×R display channels of (W/C)×(H/R)
-                      pixels (Viewer::setChannels, docs/multi-view.md), 1..8 each
-  --aa none|msaa|msaa2|msaa4|msaa8|ssaa2|ssaa3|ssaa4|fxaa|fxaa-low|fxaa-high|taa|
-       smaa|smaa-low|smaa-medium|smaa-ultra|smaa-colour|smaa-depth|smaa-t2x
-                      anti-aliasing of the camera (default none; msaa = msaa4; smaa =
-                      high preset on luma, smaa[-t2x][-PRESET][-luma|-colour|-depth]);
-                      TAA converges over 16 frames, SMAA T2x over 2: --bench and
-                      --frames show it, a still renders 16 frames first
-  --crop X,Y,W,H,Z    write only the W×H region at (X, Y) of the image, each pixel
-                      shown as Z×Z (comparison crops)
-  --color-target srgb8|rgba16f|rgba32f
-                      the view's colour target (default srgb8); a float target keeps the
-                      small opacities of many blended slices unrounded (splats accumulate
-                      in a float target of their own)
-  --transparency sorted|oit
-                      how the glass (two panes and a closed cabin) is blended: sorted back
-                      to front (default) or weighted blended order-independent transparency
-  --rain              rain: GPU particles (streaked tetrahedra) falling from 20 m above the
-                      camera over an 80 x 80 m area that follows it, lit and fogged with the
-                      scene
-  --rain-count N      raindrops, 1..16777216 (default 200000)
-  --sky HOURS         a physically based sky (Rayleigh and Mie scattering) at local solar
-                      time HOURS (0..24, latitude 45°, midsummer); the scene's sun follows it
-                      and the fog takes the sky's horizon colour
-  --sky-direct        integrate the sky per pixel instead of through its view table
-  --env sky|none|FILE image-based light instead of the flat sky ambient: the sky's (--sky's,
-                      or one for the scene's sun when the sky is not drawn) or a panorama
-                      file (.hdr, .png, .jpg, twice as wide as high, Z up); default none
-  --env-intensity X   scales the environment's light (default 1)
-  --smoke             a raymarched smoke cloud (noise density, single scattering of the sun)
-                      over the road ahead of the camera
-  --volume-steps N    raymarch steps per ray, 1..4096 (default 64)
-  --volume-half       march the smoke at half resolution (depth-aware upsample)
-  --volume-skip on|off
-                      empty-space skipping (default off)
-  --volume-jitter     random start per pixel (noise instead of banding)
-  --volume-slices N   draw the smoke by slicing with N view-aligned slices instead
-  --volume-splats M   draw the smoke by splatting: Gaussian kernels M metres apart, sorted
-                      back to front each frame, instead
-  --splats FILE       a 3D Gaussian splatting .ply (bench/splat_bench --write makes one) over
-                      the road ahead of the camera, scaled to 6 m across
-  --splat-sort gpu|cpu
-                      the splats' depth sort every frame (default gpu: compute radix sort)
-  --shadows on|off    cascaded sun shadow maps: the scene's sun (--sky's) shadows the scene
-                      (rain and smoke cast none); the terrain only receives while the sun is
-                      above 30 degrees, where its low hills throw no shadow worth drawing
-                      (default off)
-  --shadow-cascades N maps along the view, 1..4 (default 3)
-  --shadow-filter hard|pcf|pcss
-                      one hardware comparison, bilinear over 2x2 texels (hard), a rotated
-                      16-tap Poisson disc (pcf, default), or soft penumbrae that widen with
-                      the blocker's distance (pcss: the sun's angular size)
-  --shadow-map N      texels per side of each cascade's map, 256..4096, a multiple of 64
-                      (default 2048)
-  --shadow-distance M metres of view depth shadowed, 0 < M <= 1e6 (default 200)
-  --shadow-debug cascades
-                      tint each pixel by the cascade that shades it (red, green, blue, yellow)
-  -h, --help          show this help
-
-exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value
-)";
+Without a mode option it renders one frame headless (OSMesa) and writes a PNG.)";
 
 struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
@@ -260,350 +126,613 @@ struct Options {
     sgfx::ShadowOptions shadow; // --shadow-*: 3 cascades of 2048², 200 m, PCF
 };
 
-template <class T> T parseNumber(std::string_view option, std::string_view text) {
-    T value{};
-    const char* end = text.data() + text.size();
-    auto [ptr, ec] = std::from_chars(text.data(), end, value);
-    if (text.empty() || ec != std::errc() || ptr != end)
-        throw UsageError(std::string(option) + ": '" + std::string(text) + "' is not a valid number");
-    return value;
+using demo::choice;
+using demo::integer;
+using demo::onOff;
+
+// A finite number; the effects' validate() checks its range after the parse.
+float real(const std::string& option, const std::string& v) {
+    return float(
+        demo::number(option, v, -std::numeric_limits<float>::max(), std::numeric_limits<float>::max()));
 }
 
-// The --shadow* options; false when `arg` is none of them. `value` takes the option's value.
-template <class Value> bool parseShadowOption(Options& o, std::string_view arg, Value&& value) {
-    if (arg == "--shadows") {
-        const std::string_view v = value();
-        if (v != "on" && v != "off") throw UsageError("--shadows: '" + std::string(v) + "' is not on or off");
-        o.shadows = v == "on";
-    } else if (arg == "--shadow-cascades") {
-        const std::string_view v = value();
-        o.shadow.cascades = parseNumber<int>(arg, v);
-        if (o.shadow.cascades < 1 || o.shadow.cascades > 4)
-            throw UsageError("--shadow-cascades: N must be in 1..4, got '" + std::string(v) + "'");
-    } else if (arg == "--shadow-filter") {
-        const std::string_view v = value();
-        if (v == "hard")
-            o.shadow.filter = sgfx::ShadowFilter::Hard2x2;
-        else if (v == "pcf")
-            o.shadow.filter = sgfx::ShadowFilter::Pcf;
-        else if (v == "pcss")
-            o.shadow.filter = sgfx::ShadowFilter::Pcss;
-        else
-            throw UsageError("--shadow-filter: '" + std::string(v) + "' is not hard, pcf or pcss");
-    } else if (arg == "--shadow-map") {
-        const std::string_view v = value();
-        o.shadow.mapSize = parseNumber<int>(arg, v);
-        if (o.shadow.mapSize < 256 || o.shadow.mapSize > 4096 || o.shadow.mapSize % 64 != 0)
-            throw UsageError("--shadow-map: N must be a multiple of 64 in 256..4096, got '" + std::string(v) +
-                             "'");
-    } else if (arg == "--shadow-distance") {
-        o.shadow.maxDistance = parseNumber<float>(arg, value());
-        if (!(o.shadow.maxDistance > 0.0f && o.shadow.maxDistance <= 1e6f))
-            throw UsageError("--shadow-distance: M must be in (0, 1e6]");
-    } else if (arg == "--shadow-debug") {
-        const std::string_view v = value();
-        if (v != "cascades") throw UsageError("--shadow-debug: '" + std::string(v) + "' is not cascades");
-        o.shadow.debugView = sgfx::ShadowDebugView::Cascades;
-    } else {
-        return false;
+// Comma-separated values, exactly `n` of them; else a usage error naming the option and `what`.
+std::vector<std::string> fields(const std::string& option, const std::string& v, std::size_t n,
+                                const char* what) {
+    std::vector<std::string> out;
+    std::size_t pos = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t comma = k + 1 < n ? v.find(',', pos) : v.size();
+        if (comma == std::string::npos) throw CLI::ValidationError(option, "'" + v + "' is not " + what);
+        out.push_back(v.substr(pos, comma - pos));
+        pos = comma + 1;
     }
-    return true;
+    return out;
 }
 
-Options parseArgs(int argc, char** argv) {
-    Options o;
-    int modes = 0;
-    auto setMode = [&](Mode m) {
-        o.mode = m;
-        if (++modes > 1)
-            throw UsageError("--window, --bench, --export-obj and --export-gltf are mutually exclusive");
+// --window, --bench, --export-obj and --export-gltf: at most one.
+void addModeOptions(CLI::App& cli, Options& o, int& modes) {
+    const char* group = "modes (at most one)";
+    auto setMode = [&o, &modes](Mode m) { o.mode = m, ++modes; };
+    cli.add_flag_callback(
+           "--window", [=] { setMode(Mode::Window); },
+           "fly through the scene in a window (WASD move, Q/E down/up, Shift fast, left mouse drag to look, "
+           "F "
+           "cycles the fog mode, T switches the glass between sorted and OIT, M cycles anti-aliasing, Esc "
+           "quits); without a display it says \"no display: rendering headless\" and writes the PNG instead")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--bench",
+           [&o, setMode](const std::string& v) {
+               setMode(Mode::Bench);
+               o.benchFrames = integer("--bench", v, 1, std::numeric_limits<int>::max());
+           },
+           "render N frames along the camera path (t = i/N) after 3 warm-up frames, glFinish after each, and "
+           "print timings and render statistics")
+        ->type_name("N")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--export-obj",
+           [&o, setMode](const std::string& v) {
+               setMode(Mode::ExportObj);
+               if (v.empty()) throw CLI::ValidationError("--export-obj", "empty file name");
+               o.objPath = v;
+           },
+           "write the scene as Wavefront OBJ (+ .mtl) and exit")
+        ->type_name("FILE")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--export-gltf",
+           [&o, setMode](const std::string& v) {
+               setMode(Mode::ExportGltf);
+               const std::filesystem::path ext = std::filesystem::path(v).extension();
+               if (ext != ".glb" && ext != ".gltf")
+                   throw CLI::ValidationError("--export-gltf", "'" + v + "' must end in .glb or .gltf");
+               o.gltfPath = v;
+           },
+           "write the scene as glTF 2.0 (.glb binary, or .gltf with the data embedded)")
+        ->type_name("FILE")
+        ->group(group);
+}
+
+// The image: file names, size, camera, crop and channels.
+void addImageOptions(CLI::App& cli, Options& o) {
+    auto file = [&cli](const char* name, std::string& out, const char* what) {
+        cli.add_option_function<std::string>(
+               name,
+               [&out, name](const std::string& v) {
+                   if (v.empty()) throw CLI::ValidationError(name, "empty file name");
+                   out = v;
+               },
+               what)
+            ->type_name("FILE");
     };
-    for (int i = 1; i < argc; ++i) {
-        const std::string_view arg = argv[i];
-        auto value = [&]() -> std::string_view {
-            if (i + 1 >= argc) throw UsageError(std::string(arg) + " needs a value");
-            return argv[++i];
-        };
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kUsage;
-            std::exit(0);
-        } else if (arg == "--window") {
-            setMode(Mode::Window);
-        } else if (arg == "--bench") {
-            setMode(Mode::Bench);
-            o.benchFrames = parseNumber<int>(arg, value());
-            if (o.benchFrames < 1) throw UsageError("--bench: the frame count must be at least 1");
-        } else if (arg == "--export-obj") {
-            setMode(Mode::ExportObj);
-            o.objPath = value();
-            if (o.objPath.empty()) throw UsageError("--export-obj: empty file name");
-        } else if (arg == "--export-gltf") {
-            setMode(Mode::ExportGltf);
-            o.gltfPath = value();
-            const std::filesystem::path ext = std::filesystem::path(o.gltfPath).extension();
-            if (ext != ".glb" && ext != ".gltf")
-                throw UsageError("--export-gltf: '" + o.gltfPath + "' must end in .glb or .gltf");
-        } else if (arg == "--out") {
-            o.out = value();
-            if (o.out.empty()) throw UsageError("--out: empty file name");
-        } else if (arg == "--graph") {
-            o.graph = value();
-            if (o.graph.empty()) throw UsageError("--graph: empty file name");
-        } else if (arg == "--size") {
-            const std::string_view v = value();
-            const auto x = v.find('x');
-            if (x == std::string_view::npos)
-                throw UsageError("--size: expected WxH, got '" + std::string(v) + "'");
-            o.width = parseNumber<int>(arg, v.substr(0, x));
-            o.height = parseNumber<int>(arg, v.substr(x + 1));
-            if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
-                throw UsageError("--size: width and height must be in 1..16384, got '" + std::string(v) +
-                                 "'");
-        } else if (arg == "--time") {
-            o.time = parseNumber<float>(arg, value());
-            if (!(o.time >= 0.0f && o.time < 1.0f)) throw UsageError("--time: T must be in [0, 1)");
-        } else if (arg == "--look") {
-            const std::string_view v = value();
-            float f[6];
-            std::size_t pos = 0;
-            for (int k = 0; k < 6; ++k) {
-                const std::size_t comma = k < 5 ? v.find(',', pos) : v.size();
-                if (comma == std::string_view::npos)
-                    throw UsageError("--look: expected six comma-separated numbers");
-                f[k] = parseNumber<float>(arg, v.substr(pos, comma - pos));
-                if (!std::isfinite(f[k])) throw UsageError("--look: coordinates must be finite");
-                pos = comma + 1;
-            }
-            polygon::CameraPose p;
-            p.eye = {f[0], f[1], f[2]};
-            p.target = {f[3], f[4], f[5]};
-            const glm::vec3 d = p.target - p.eye;
-            if (glm::length(glm::cross(d, p.up)) < 1e-6f * std::max(1.0f, glm::length(d)))
-                throw UsageError(
-                    "--look: the eye must differ from the target and not look straight up or down");
-            o.look = p;
-        } else if (arg == "--scale") {
-            o.scale = parseNumber<float>(arg, value());
-            if (!(o.scale > 0.0f && o.scale <= 16.0f)) throw UsageError("--scale: S must be in (0, 16]");
-        } else if (arg == "--drive") {
-            const std::string_view v = value();
-            if (v != "on" && v != "off")
-                throw UsageError("--drive: '" + std::string(v) + "' is not on or off");
-            o.drive = v == "on";
-        } else if (arg == "--no-lod") {
-            o.lod = false;
-        } else if (arg == "--no-instancing") {
-            o.autoInstancing = false;
-        } else if (arg == "--submit-triangles") {
-            o.submitTriangles = parseNumber<std::uint64_t>(arg, value());
-        } else if (arg == "--many-drawables") {
-            o.manyDrawables = true;
-        } else if (arg == "--seed") {
-            o.seed = parseNumber<std::uint64_t>(arg, value());
-        } else if (arg == "--egl") {
-            o.egl = true;
-        } else if (arg == "--frames") {
-            o.windowFrames = parseNumber<long>(arg, value());
-            if (o.windowFrames < 1) throw UsageError("--frames: N must be at least 1");
-        } else if (arg == "--count-fragments") {
-            o.countFragments = true;
-        } else if (arg == "--fog") {
-            const std::string_view v = value();
-            if (v == "off")
-                o.fog.reset();
-            else if (v == "forward")
-                o.fog = sgfx::FogMode::Forward;
-            else if (v == "deferred") {
-                o.fog = sgfx::FogMode::Forward;
-                o.fogDeferOpaque = true;
-            } else if (v == "split")
-                o.fog = sgfx::FogMode::ForwardSplit;
-            else if (v == "post")
-                o.fog = sgfx::FogMode::PostProcess;
-            else
-                throw UsageError("--fog: '" + std::string(v) +
-                                 "' is not off, forward, deferred, split or post");
-        } else if (arg == "--fog-preset") {
-            const std::string_view v = value();
-            const sgfx::FogParameters keep = o.fogParameters; // response and sky stay as chosen
-            if (v == "solid")
-                o.fogParameters = sgfx::FogParameters::solid();
-            else if (v == "ground")
-                o.fogParameters = sgfx::FogParameters::ground();
-            else
-                throw UsageError("--fog-preset: '" + std::string(v) + "' is not solid or ground");
-            o.fogParameters.response = keep.response;
-            o.fogParameters.sky = keep.sky;
-        } else if (arg == "--fog-density") {
-            o.fogParameters.density = parseNumber<float>(arg, value());
-        } else if (arg == "--fog-falloff") {
-            o.fogParameters.falloff = parseNumber<float>(arg, value());
-        } else if (arg == "--fog-sky") {
-            const std::string_view v = value();
-            if (v == "off")
-                o.fogParameters.sky = sgfx::FogSky::Off;
-            else if (v == "far")
-                o.fogParameters.sky = sgfx::FogSky::FarPlane;
-            else if (v == "distance")
-                o.fogParameters.sky = sgfx::FogSky::Distance;
-            else
-                throw UsageError("--fog-sky: '" + std::string(v) + "' is not off, far or distance");
-        } else if (arg == "--channels") {
-            const std::string v(value());
-            char x = 0, rest = 0;
-            if (std::sscanf(v.c_str(), "%d%c%d%c", &o.channelsX, &x, &o.channelsY, &rest) != 3 || x != 'x' ||
-                o.channelsX < 1 || o.channelsX > 8 || o.channelsY < 1 || o.channelsY > 8)
-                throw UsageError("--channels: '" + v + "' is not CxR with C and R in 1..8");
-        } else if (arg == "--aa") {
-            try {
-                o.aa = sgfx::AntiAliasing::parse(value());
-            } catch (const std::invalid_argument& e) {
-                throw UsageError(std::string("--aa: ") + e.what());
-            }
-        } else if (arg == "--crop") {
-            const std::string_view v = value();
-            std::array<int, 5> c{};
-            std::size_t pos = 0;
-            for (int k = 0; k < 5; ++k) {
-                const std::size_t comma = k < 4 ? v.find(',', pos) : v.size();
-                if (comma == std::string_view::npos) throw UsageError("--crop: expected X,Y,W,H,Z");
-                c[std::size_t(k)] = parseNumber<int>(arg, v.substr(pos, comma - pos));
-                pos = comma + 1;
-            }
-            if (c[0] < 0 || c[1] < 0 || c[2] < 1 || c[3] < 1 || c[4] < 1 || c[4] > 16)
-                throw UsageError("--crop: X, Y must be >= 0, W, H >= 1 and Z in 1..16");
-            o.crop = c;
-        } else if (arg == "--ao") {
-            const std::string_view v = value();
-            if (v != "on" && v != "off") throw UsageError("--ao: '" + std::string(v) + "' is not on or off");
-            o.ao = v == "on";
-        } else if (arg == "--ao-samples") {
-            o.aoParameters.samples = parseNumber<int>(arg, value());
-        } else if (arg == "--ao-radius") {
-            o.aoParameters.radius = parseNumber<float>(arg, value());
-        } else if (arg == "--ao-half") {
-            o.aoParameters.halfResolution = true;
-        } else if (arg == "--ao-temporal") {
-            o.aoParameters.temporal = true;
-        } else if (arg == "--ao-normals") {
-            const std::string_view v = value();
-            if (v != "gbuffer" && v != "depth")
-                throw UsageError("--ao-normals: '" + std::string(v) + "' is not gbuffer or depth");
-            o.aoParameters.normals = v == "depth" ? sgfx::AoNormals::FromDepth : sgfx::AoNormals::GBuffer;
-        } else if (arg == "--ao-debug") {
-            const std::string_view v = value();
-            if (v == "raw")
-                o.aoParameters.debugView = sgfx::AoDebugView::Raw;
-            else if (v == "blurred")
-                o.aoParameters.debugView = sgfx::AoDebugView::Blurred;
-            else
-                throw UsageError("--ao-debug: '" + std::string(v) + "' is not raw or blurred");
-        } else if (arg == "--rain") {
-            o.rain = true;
-        } else if (arg == "--rain-count") {
-            o.rainCount = parseNumber<std::uint32_t>(arg, value());
-            if (o.rainCount < 1 || o.rainCount > sgfx::ParticleSystemNode::kMaxCapacity)
-                throw UsageError("--rain-count: N must be in 1..16777216");
-        } else if (arg == "--sky") {
-            const float h = parseNumber<float>(arg, value());
-            if (!(h >= 0.0f && h <= 24.0f)) throw UsageError("--sky: HOURS must be in 0..24");
-            o.skyHours = h;
-        } else if (arg == "--sky-direct") {
-            o.skyDirect = true;
-        } else if (arg == "--env") {
-            const std::string v(value());
-            o.env = v == "none" ? std::nullopt : std::optional<std::string>(v);
-        } else if (arg == "--env-intensity") {
-            o.envIntensity = parseNumber<float>(arg, value());
-            if (!(o.envIntensity >= 0.0f && o.envIntensity <= 1e6f))
-                throw UsageError("--env-intensity: X must be in 0..1e6");
-        } else if (arg == "--smoke") {
-            o.smoke = true;
-        } else if (arg == "--splats") {
-            o.splats = std::string(value());
-        } else if (arg == "--splat-sort") {
-            const std::string_view v = value();
-            if (v != "gpu" && v != "cpu")
-                throw UsageError("--splat-sort: '" + std::string(v) + "' is not gpu or cpu");
-            o.splatSort = v == "gpu" ? sgfx::SplatSort::Gpu : sgfx::SplatSort::Cpu;
-        } else if (arg == "--volume-steps") {
-            o.volume.steps = parseNumber<int>(arg, value());
-        } else if (arg == "--volume-half") {
-            o.volume.halfResolution = true;
-        } else if (arg == "--volume-skip") {
-            const std::string_view v = value();
-            if (v != "on" && v != "off")
-                throw UsageError("--volume-skip: '" + std::string(v) + "' is not on or off");
-            o.volume.emptySpaceSkipping = v == "on";
-        } else if (arg == "--volume-jitter") {
-            o.volume.jitter = true;
-        } else if (arg == "--volume-slices") {
-            o.volume.slices = parseNumber<int>(arg, value());
-            o.volume.method = sgfx::VolumeMethod::Slicing;
-        } else if (arg == "--volume-splats") {
-            o.volume.splatSpacing = parseNumber<float>(arg, value());
-            o.volume.method = sgfx::VolumeMethod::Splatting;
-        } else if (arg == "--color-target") {
-            const std::string_view v = value();
-            using Target = sgfx::RendererOptions::ColorTarget;
-            if (v != "srgb8" && v != "rgba16f" && v != "rgba32f")
-                throw UsageError("--color-target: '" + std::string(v) + "' is not srgb8, rgba16f or rgba32f");
-            o.colorTarget = v == "srgb8" ? Target::Srgb8 : v == "rgba16f" ? Target::Rgba16F : Target::Rgba32F;
-        } else if (arg == "--transparency") {
-            const std::string_view v = value();
-            if (v == "sorted")
-                o.transparency = sgfx::TransparencyMode::Sorted;
-            else if (v == "oit")
-                o.transparency = sgfx::TransparencyMode::WeightedBlended;
-            else
-                throw UsageError("--transparency: '" + std::string(v) + "' is not sorted or oit");
-        } else if (arg == "--fog-response") {
-            const std::string_view v = value();
-            if (v == "linear")
-                o.fogParameters.response = sgfx::FogResponse::Linear;
-            else if (v == "exp")
-                o.fogParameters.response = sgfx::FogResponse::Exponential;
-            else
-                throw UsageError("--fog-response: '" + std::string(v) + "' is not linear or exp");
-        } else if (arg == "--lighting") {
-            const std::string_view v = value();
-            if (v == "pixel")
-                o.lighting = sgfx::RendererOptions::Lighting::PerPixel;
-            else if (v == "vertex")
-                o.lighting = sgfx::RendererOptions::Lighting::PerVertex;
-            else
-                throw UsageError("--lighting: '" + std::string(v) + "' is not 'pixel' or 'vertex'");
-        } else if (arg == "--osg-view") {
-            o.osgView = value();
-        } else if (arg == "--lamps") {
-            o.lamps = parseNumber<int>(arg, value());
-            if (*o.lamps < 0 || *o.lamps > 100000) throw UsageError("--lamps: N must be in 0..100000");
-        } else if (!parseShadowOption(o, arg, value)) {
-            throw UsageError("unknown option '" + std::string(arg) + "'");
+    file("--out", o.out, "PNG to write (default polygon.png)");
+    file("--graph", o.graph, "also write the frame's graph (passes, resources, GPU ms) as Graphviz DOT");
+    cli.add_option_function<std::string>(
+           "--size",
+           [&o](const std::string& v) {
+               const auto x = v.find('x');
+               if (x == std::string::npos)
+                   throw CLI::ValidationError("--size", "expected WxH, got '" + v + "'");
+               o.width = integer("--size", v.substr(0, x), 1, 16384);
+               o.height = integer("--size", v.substr(x + 1), 1, 16384);
+           },
+           "image / bench / window size in pixels (default 1280x720)")
+        ->type_name("WxH");
+    cli.add_option_function<std::string>(
+           "--time",
+           [&o](const std::string& v) {
+               o.time = real("--time", v);
+               if (!(o.time >= 0.0f && o.time < 1.0f))
+                   throw CLI::ValidationError("--time", "'" + v + "': T must be in [0, 1)");
+           },
+           "camera path time of the still image, 0 <= T < 1 (default 0.1)")
+        ->type_name("T");
+    cli.add_option_function<std::string>(
+           "--look",
+           [&o](const std::string& v) {
+               const auto f = fields("--look", v, 6, "six comma-separated numbers");
+               polygon::CameraPose p;
+               p.eye = {real("--look", f[0]), real("--look", f[1]), real("--look", f[2])};
+               p.target = {real("--look", f[3]), real("--look", f[4]), real("--look", f[5])};
+               const glm::vec3 d = p.target - p.eye;
+               if (glm::length(glm::cross(d, p.up)) < 1e-6f * std::max(1.0f, glm::length(d)))
+                   throw CLI::ValidationError("--look", "'" + v +
+                                                            "': the eye must differ from the target and not "
+                                                            "look straight up or down");
+               o.look = p;
+           },
+           "still image (or every --bench frame) from eye E looking at target T instead of the camera path "
+           "(metres, Z up)")
+        ->type_name("EX,EY,EZ,TX,TY,TZ");
+    cli.add_option_function<std::string>(
+           "--crop",
+           [&o](const std::string& v) {
+               const auto f = fields("--crop", v, 5, "X,Y,W,H,Z");
+               std::array<int, 5> c{};
+               for (std::size_t k = 0; k < 5; ++k)
+                   c[k] = integer("--crop", f[k], k < 2 ? 0 : 1, k < 4 ? 1 << 20 : 16);
+               o.crop = c;
+           },
+           "write only the WxH region at (X, Y) of the image, each pixel shown as ZxZ (comparison crops; X, "
+           "Y "
+           ">= 0, W, H >= 1, Z in 1..16)")
+        ->type_name("X,Y,W,H,Z");
+    cli.add_option_function<std::string>(
+           "--channels",
+           [&o](const std::string& v) {
+               char x = 0, rest = 0;
+               if (std::sscanf(v.c_str(), "%d%c%d%c", &o.channelsX, &x, &o.channelsY, &rest) != 3 ||
+                   x != 'x' || o.channelsX < 1 || o.channelsX > 8 || o.channelsY < 1 || o.channelsY > 8)
+                   throw CLI::ValidationError("--channels", "'" + v + "' is not CxR with C and R in 1..8");
+           },
+           "split the view's frustum into CxR display channels of (W/C)x(H/R) pixels (Viewer::setChannels, "
+           "docs/multi-view.md), 1..8 each")
+        ->type_name("CxR");
+    cli.add_option(
+           "--osg-view", o.osgView,
+           "the still image through an OpenSceneGraph .view display: a panoramic or 3D spherical-mirror "
+           "projector (six cube faces warped, intensity map) of --size; setUpViewOnSingleScreen gives "
+           "the plain image")
+        ->type_name("FILE");
+}
+
+// The scene and how it is drawn.
+void addSceneOptions(CLI::App& cli, Options& o) {
+    cli.add_option_function<std::string>(
+           "--scale",
+           [&o](const std::string& v) {
+               o.scale = real("--scale", v);
+               if (!(o.scale > 0.0f && o.scale <= 16.0f))
+                   throw CLI::ValidationError("--scale", "'" + v + "': S must be in (0, 16]");
+           },
+           "scale the triangle count, 0 < S <= 16 (default 1, about 600k triangles): terrain resolution and "
+           "numbers of buildings and trees")
+        ->type_name("S");
+    cli.add_option_function<std::string>(
+           "--seed",
+           [&o](const std::string& v) {
+               o.seed = integer<std::uint64_t>("--seed", v, 0, std::numeric_limits<std::uint64_t>::max());
+           },
+           "scene seed, an unsigned integer (default 1)")
+        ->type_name("N");
+    cli.add_option_function<std::string>(
+           "--drive", [&o](const std::string& v) { o.drive = onOff("--drive", v); },
+           "the vehicle drives its loop from the flat centre over the hills, set on the ground by four "
+           "height "
+           "queries a frame (default on; parked in exports, and in --bench unless on, so its frames match "
+           "the "
+           "OpenSceneGraph peer's)")
+        ->type_name("on|off");
+    cli.add_flag_callback(
+        "--no-lod", [&o] { o.lod = false; },
+        "every object at full detail (by default distant terrain tiles drop to half and quarter resolution "
+        "and distant buildings to flat window panes; exports always hold the full detail)");
+    cli.add_flag("--many-drawables", o.manyDrawables,
+                 "the many-drawables benchmark scene: every window of every building its own drawable (about "
+                 "26,000 more drawables)");
+    cli.add_flag_callback(
+        "--no-instancing", [&o] { o.autoInstancing = false; },
+        "draw repeated meshes one by one (RendererOptions::autoInstancing off)");
+    cli.add_option_function<std::string>(
+           "--submit-triangles",
+           [&o](const std::string& v) {
+               o.submitTriangles = integer<std::uint64_t>("--submit-triangles", v, 0,
+                                                          std::numeric_limits<std::uint64_t>::max());
+           },
+           "submit queued draws every N triangles so llvmpipe rasterises while the frame is still being "
+           "drawn "
+           "(RendererOptions::submitTriangles, default 20000; 0 submits once per frame)")
+        ->type_name("N");
+    cli.add_flag("--egl", o.egl, "render headless through EGL (GPU) instead of OSMesa");
+    cli.add_option_function<std::string>(
+           "--lighting",
+           [&o](const std::string& v) {
+               o.lighting = choice<sgfx::RendererOptions::Lighting>(
+                   "--lighting", v,
+                   {{"pixel", sgfx::RendererOptions::Lighting::PerPixel},
+                    {"vertex", sgfx::RendererOptions::Lighting::PerVertex}},
+                   "'pixel' or 'vertex'");
+           },
+           "per-pixel Blinn-Phong (default) or per-vertex (Gouraud) lighting")
+        ->type_name("pixel|vertex");
+    cli.add_option_function<std::string>(
+           "--lamps", [&o](const std::string& v) { o.lamps = integer("--lamps", v, 0, 100000); },
+           "dusk (a low, dim sun and a faint sky) with N street lamps along the roads, 0..100000: spot "
+           "lights "
+           "with a range (the light list's benchmark)")
+        ->type_name("N");
+    cli.add_option_function<std::string>(
+           "--frames",
+           [&o](const std::string& v) {
+               o.windowFrames = integer("--frames", v, 1L, std::numeric_limits<long>::max());
+           },
+           "with --window: close after N frames (scripted runs)")
+        ->type_name("N");
+    cli.add_flag("--count-fragments", o.countFragments,
+                 "with --bench: also count fragments that pass the depth test (an occlusion query per frame, "
+                 "which itself costs a little time)");
+    cli.add_option_function<std::string>(
+           "--color-target",
+           [&o](const std::string& v) {
+               using Target = sgfx::RendererOptions::ColorTarget;
+               o.colorTarget = choice<Target>(
+                   "--color-target", v,
+                   {{"srgb8", Target::Srgb8}, {"rgba16f", Target::Rgba16F}, {"rgba32f", Target::Rgba32F}},
+                   "srgb8, rgba16f or rgba32f");
+           },
+           "the view's colour target (default srgb8); a float target keeps the small opacities of many "
+           "blended "
+           "slices unrounded (splats accumulate in a float target of their own)")
+        ->type_name("srgb8|rgba16f|rgba32f");
+}
+
+// Fog and anti-aliasing. The preset comes before --fog-density and --fog-falloff, which override
+// it whatever their order on the command line (CLI11 runs the options in the order set up here).
+void addFogOptions(CLI::App& cli, Options& o) {
+    const char* group = "effects";
+    cli.add_option_function<std::string>(
+           "--fog",
+           [&o](const std::string& v) {
+               o.fog = choice<std::optional<sgfx::FogMode>>("--fog", v,
+                                                            {{"off", std::nullopt},
+                                                             {"forward", sgfx::FogMode::Forward},
+                                                             {"deferred", sgfx::FogMode::Forward},
+                                                             {"split", sgfx::FogMode::ForwardSplit},
+                                                             {"post", sgfx::FogMode::PostProcess}},
+                                                            "off, forward, deferred, split or post");
+               o.fogDeferOpaque = v == "deferred";
+           },
+           "height fog over the whole scene (default forward): in every material (forward), forward with the "
+           "opaque items' fog in one pass after them where exact (deferred), the paper's depth pre-pass "
+           "split "
+           "(split) or its full-screen post-process (post)")
+        ->type_name("off|forward|deferred|split|post")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--fog-preset",
+           [&o](const std::string& v) {
+               const sgfx::FogParameters keep = o.fogParameters; // response and sky stay as chosen
+               o.fogParameters = choice<sgfx::FogParameters>(
+                   "--fog-preset", v,
+                   {{"solid", sgfx::FogParameters::solid()}, {"ground", sgfx::FogParameters::ground()}},
+                   "solid or ground");
+               o.fogParameters.response = keep.response;
+               o.fogParameters.sky = keep.sky;
+           },
+           "the paper's figure 1 parameters: solid (rho0 = 1e-4, b = 1e-4) or ground fog (rho0 = 1e-3, b = "
+           "4.5e-3, default)")
+        ->type_name("solid|ground")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--fog-density",
+           [&o](const std::string& v) { o.fogParameters.density = real("--fog-density", v); },
+           "density rho0 per metre at height 0 (overrides the preset)")
+        ->type_name("R")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--fog-falloff",
+           [&o](const std::string& v) { o.fogParameters.falloff = real("--fog-falloff", v); },
+           "falloff b per metre (overrides the preset)")
+        ->type_name("B")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--fog-response",
+           [&o](const std::string& v) {
+               o.fogParameters.response = choice<sgfx::FogResponse>(
+                   "--fog-response", v,
+                   {{"linear", sgfx::FogResponse::Linear}, {"exp", sgfx::FogResponse::Exponential}},
+                   "linear or exp");
+           },
+           "k = clamp(F, 0, 1) as in the paper, or 1 - e^-F (default)")
+        ->type_name("linear|exp")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--fog-sky",
+           [&o](const std::string& v) {
+               o.fogParameters.sky = choice<sgfx::FogSky>("--fog-sky", v,
+                                                          {{"off", sgfx::FogSky::Off},
+                                                           {"far", sgfx::FogSky::FarPlane},
+                                                           {"distance", sgfx::FogSky::Distance}},
+                                                          "off, far or distance");
+           },
+           "fog on pixels without geometry: none, to the far plane, or along the ray to 100 km (default)")
+        ->type_name("off|far|distance")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--aa",
+           [&o](const std::string& v) {
+               try {
+                   o.aa = sgfx::AntiAliasing::parse(v);
+               } catch (const std::invalid_argument& e) {
+                   throw CLI::ValidationError("--aa", e.what());
+               }
+           },
+           "anti-aliasing of the camera (default none; msaa = msaa4; smaa = high preset on luma, "
+           "smaa[-t2x][-PRESET][-luma|-colour|-depth]): none, msaa, msaa2, msaa4, msaa8, ssaa2, ssaa3, "
+           "ssaa4, "
+           "fxaa, fxaa-low, fxaa-high, taa, smaa, smaa-low, smaa-medium, smaa-ultra, smaa-colour, "
+           "smaa-depth, "
+           "smaa-t2x; TAA converges over 16 frames, SMAA T2x over 2: --bench and --frames show it, a still "
+           "renders 16 frames first")
+        ->type_name("MODE")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--transparency",
+           [&o](const std::string& v) {
+               o.transparency =
+                   choice<sgfx::TransparencyMode>("--transparency", v,
+                                                  {{"sorted", sgfx::TransparencyMode::Sorted},
+                                                   {"oit", sgfx::TransparencyMode::WeightedBlended}},
+                                                  "sorted or oit");
+           },
+           "how the glass (two panes and a closed cabin) is blended: sorted back to front (default) or "
+           "weighted blended order-independent transparency")
+        ->type_name("sorted|oit")
+        ->group(group);
+}
+
+// Ambient occlusion; the AO parameters' validate() checks the numbers after the parse.
+void addAoOptions(CLI::App& cli, Options& o) {
+    const char* group = "effects";
+    cli.add_option_function<std::string>(
+           "--ao", [&o](const std::string& v) { o.ao = onOff("--ao", v); },
+           "screen-space ambient occlusion on the ambient light (default off)")
+        ->type_name("off|on")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--ao-samples",
+           [&o](const std::string& v) {
+               o.aoParameters.samples = integer("--ao-samples", v, std::numeric_limits<int>::min(),
+                                                std::numeric_limits<int>::max());
+           },
+           "samples per pixel, 8..64 (default 32)")
+        ->type_name("M")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--ao-radius", [&o](const std::string& v) { o.aoParameters.radius = real("--ao-radius", v); },
+           "kernel radius in metres (default 0.5)")
+        ->type_name("R")
+        ->group(group);
+    cli.add_flag_callback(
+           "--ao-half", [&o] { o.aoParameters.halfResolution = true; },
+           "compute the occlusion at half resolution")
+        ->group(group);
+    cli.add_flag_callback(
+           "--ao-temporal", [&o] { o.aoParameters.temporal = true; },
+           "half resolution, 8 taps a frame accumulated over frames")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--ao-normals",
+           [&o](const std::string& v) {
+               o.aoParameters.normals = choice<sgfx::AoNormals>(
+                   "--ao-normals", v,
+                   {{"gbuffer", sgfx::AoNormals::GBuffer}, {"depth", sgfx::AoNormals::FromDepth}},
+                   "gbuffer or depth");
+           },
+           "normals from a G-buffer pre-pass (default) or rebuilt from the depth pre-pass")
+        ->type_name("gbuffer|depth")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--ao-debug",
+           [&o](const std::string& v) {
+               o.aoParameters.debugView = choice<sgfx::AoDebugView>(
+                   "--ao-debug", v,
+                   {{"raw", sgfx::AoDebugView::Raw}, {"blurred", sgfx::AoDebugView::Blurred}},
+                   "raw or blurred");
+           },
+           "show the occlusion map instead of the scene")
+        ->type_name("raw|blurred")
+        ->group(group);
+}
+
+// Rain, the sky and the environment light.
+void addSkyOptions(CLI::App& cli, Options& o) {
+    const char* group = "effects";
+    cli.add_flag(
+           "--rain", o.rain,
+           "rain: GPU particles (streaked tetrahedra) falling from 20 m above the camera over an 80 x 80 m "
+           "area that follows it, lit and fogged with the scene")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--rain-count",
+           [&o](const std::string& v) {
+               o.rainCount =
+                   integer<std::uint32_t>("--rain-count", v, 1, sgfx::ParticleSystemNode::kMaxCapacity);
+           },
+           "raindrops, 1..16777216 (default 200000)")
+        ->type_name("N")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--sky", [&o](const std::string& v) { o.skyHours = float(demo::number("--sky", v, 0, 24)); },
+           "a physically based sky (Rayleigh and Mie scattering) at local solar time HOURS (0..24, latitude "
+           "45°, midsummer); the scene's sun follows it and the fog takes the sky's horizon colour")
+        ->type_name("HOURS")
+        ->group(group);
+    cli.add_flag("--sky-direct", o.skyDirect, "integrate the sky per pixel instead of through its view table")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--env",
+           [&o](const std::string& v) { o.env = v == "none" ? std::nullopt : std::optional<std::string>(v); },
+           "image-based light instead of the flat sky ambient: the sky's (--sky's, or one for the scene's "
+           "sun "
+           "when the sky is not drawn) or a panorama file (.hdr, .png, .jpg, twice as wide as high, Z up); "
+           "default none")
+        ->type_name("sky|none|FILE")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--env-intensity",
+           [&o](const std::string& v) { o.envIntensity = float(demo::number("--env-intensity", v, 0, 1e6)); },
+           "scales the environment's light (default 1)")
+        ->type_name("X")
+        ->group(group);
+}
+
+// The smoke cloud and the Gaussian splats; the volume's validate() checks the numbers.
+void addVolumeOptions(CLI::App& cli, Options& o) {
+    const char* group = "effects";
+    const int intMin = std::numeric_limits<int>::min(), intMax = std::numeric_limits<int>::max();
+    cli.add_flag(
+           "--smoke", o.smoke,
+           "a raymarched smoke cloud (noise density, single scattering of the sun) over the road ahead of "
+           "the camera")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--volume-steps",
+           [&o, intMin, intMax](const std::string& v) {
+               o.volume.steps = integer("--volume-steps", v, intMin, intMax);
+           },
+           "raymarch steps per ray, 1..4096 (default 64)")
+        ->type_name("N")
+        ->group(group);
+    cli.add_flag_callback(
+           "--volume-half", [&o] { o.volume.halfResolution = true; },
+           "march the smoke at half resolution (depth-aware upsample)")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--volume-skip",
+           [&o](const std::string& v) { o.volume.emptySpaceSkipping = onOff("--volume-skip", v); },
+           "empty-space skipping (default off)")
+        ->type_name("on|off")
+        ->group(group);
+    cli.add_flag_callback(
+           "--volume-jitter", [&o] { o.volume.jitter = true; },
+           "random start per pixel (noise instead of banding)")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--volume-slices",
+           [&o, intMin, intMax](const std::string& v) {
+               o.volume.slices = integer("--volume-slices", v, intMin, intMax);
+               o.volume.method = sgfx::VolumeMethod::Slicing;
+           },
+           "draw the smoke by slicing with N view-aligned slices instead")
+        ->type_name("N")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--volume-splats",
+           [&o](const std::string& v) {
+               o.volume.splatSpacing = real("--volume-splats", v);
+               o.volume.method = sgfx::VolumeMethod::Splatting;
+           },
+           "draw the smoke by splatting: Gaussian kernels M metres apart, sorted back to front each frame, "
+           "instead")
+        ->type_name("M")
+        ->group(group);
+    cli.add_option(
+           "--splats", o.splats,
+           "a 3D Gaussian splatting .ply (bench/splat_bench --write makes one) over the road ahead of the "
+           "camera, scaled to 6 m across")
+        ->type_name("FILE")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--splat-sort",
+           [&o](const std::string& v) {
+               o.splatSort = choice<sgfx::SplatSort>(
+                   "--splat-sort", v, {{"gpu", sgfx::SplatSort::Gpu}, {"cpu", sgfx::SplatSort::Cpu}},
+                   "gpu or cpu");
+           },
+           "the splats' depth sort every frame (default gpu: compute radix sort)")
+        ->type_name("gpu|cpu")
+        ->group(group);
+}
+
+// The sun's shadows; ShadowOptions::validate() checks them together after the parse.
+void addShadowOptions(CLI::App& cli, Options& o) {
+    const char* group = "effects";
+    cli.add_option_function<std::string>(
+           "--shadows", [&o](const std::string& v) { o.shadows = onOff("--shadows", v); },
+           "cascaded sun shadow maps: the scene's sun (--sky's) shadows the scene (rain and smoke cast "
+           "none); "
+           "the terrain only receives while the sun is above 30 degrees, where its low hills throw no shadow "
+           "worth drawing (default off)")
+        ->type_name("on|off")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--shadow-cascades",
+           [&o](const std::string& v) { o.shadow.cascades = integer("--shadow-cascades", v, 1, 4); },
+           "maps along the view, 1..4 (default 3)")
+        ->type_name("N")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--shadow-filter",
+           [&o](const std::string& v) {
+               o.shadow.filter = choice<sgfx::ShadowFilter>("--shadow-filter", v,
+                                                            {{"hard", sgfx::ShadowFilter::Hard2x2},
+                                                             {"pcf", sgfx::ShadowFilter::Pcf},
+                                                             {"pcss", sgfx::ShadowFilter::Pcss}},
+                                                            "hard, pcf or pcss");
+           },
+           "one hardware comparison, bilinear over 2x2 texels (hard), a rotated 16-tap Poisson disc (pcf, "
+           "default), or soft penumbrae that widen with the blocker's distance (pcss: the sun's angular "
+           "size)")
+        ->type_name("hard|pcf|pcss")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--shadow-map",
+           [&o](const std::string& v) {
+               o.shadow.mapSize = integer("--shadow-map", v, 256, 4096);
+               if (o.shadow.mapSize % 64 != 0)
+                   throw CLI::ValidationError("--shadow-map", "'" + v + "' is not a multiple of 64");
+           },
+           "texels per side of each cascade's map, 256..4096, a multiple of 64 (default 2048)")
+        ->type_name("N")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--shadow-distance",
+           [&o](const std::string& v) {
+               o.shadow.maxDistance = real("--shadow-distance", v);
+               if (!(o.shadow.maxDistance > 0.0f && o.shadow.maxDistance <= 1e6f))
+                   throw CLI::ValidationError("--shadow-distance", "'" + v + "': M must be in (0, 1e6]");
+           },
+           "metres of view depth shadowed, 0 < M <= 1e6 (default 200)")
+        ->type_name("M")
+        ->group(group);
+    cli.add_option_function<std::string>(
+           "--shadow-debug",
+           [&o](const std::string& v) {
+               if (v != "cascades")
+                   throw CLI::ValidationError("--shadow-debug", "'" + v + "' is not cascades");
+               o.shadow.debugView = sgfx::ShadowDebugView::Cascades;
+           },
+           "tint each pixel by the cascade that shades it (red, green, blue, yellow)")
+        ->type_name("cascades")
+        ->group(group);
+}
+
+// The checks across options and of each effect's parameters together, after the parse.
+void checkOptions(const Options& o, int modes) {
+    if (modes > 1)
+        demo::usageError("--window, --bench, --export-obj and --export-gltf are mutually exclusive");
+    if (!o.osgView.empty() && o.mode != Mode::Still) demo::usageError("--osg-view: only for the still image");
+    auto check = [](const char* options, auto&& validate) {
+        try {
+            validate();
+        } catch (const std::invalid_argument& e) {
+            demo::usageError(std::string(options) + ": " + e.what());
         }
-    }
-    if (!o.osgView.empty() && o.mode != Mode::Still) throw UsageError("--osg-view: only for the still image");
-    try {
-        o.fogParameters.validate();
-    } catch (const std::invalid_argument& e) {
-        throw UsageError(std::string("--fog-*: ") + e.what());
-    }
-    try {
-        o.aoParameters.validate();
-    } catch (const std::invalid_argument& e) {
-        throw UsageError(std::string("--ao-*: ") + e.what());
-    }
-    try {
-        o.volume.validate();
-    } catch (const std::invalid_argument& e) {
-        throw UsageError(std::string("--volume-*: ") + e.what());
-    }
-    try {
-        o.shadow.validate();
-    } catch (const std::invalid_argument& e) {
-        throw UsageError(std::string("--shadow-*: ") + e.what());
-    }
-    return o;
+    };
+    check("--fog-*", [&] { o.fogParameters.validate(); });
+    check("--ao-*", [&] { o.aoParameters.validate(); });
+    check("--volume-*", [&] { o.volume.validate(); });
+    check("--shadow-*", [&] { o.shadow.validate(); });
+}
+
+// Returns -1 when the program goes on, else its exit status (0 after --help, 2 for bad options).
+int parseArgs(int argc, char** argv, Options& o) {
+    CLI::App cli{kDescription, "polygon"};
+    cli.footer("exit status: 0 on success, 1 on a runtime error, 2 on a bad option or value");
+    demo::lastValueWins(cli);
+    int modes = 0;
+    addModeOptions(cli, o, modes);
+    addImageOptions(cli, o);
+    addSceneOptions(cli, o);
+    addFogOptions(cli, o);
+    addAoOptions(cli, o);
+    addSkyOptions(cli, o);
+    addVolumeOptions(cli, o);
+    addShadowOptions(cli, o);
+    return demo::parse(cli, argc, argv, [&] { checkOptions(o, modes); });
 }
 
 polygon::CameraPose startPose(const Options& o, float t);
@@ -1163,12 +1292,7 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
     Options options;
-    try {
-        options = parseArgs(argc, argv);
-    } catch (const UsageError& e) {
-        std::cerr << "polygon: " << e.what() << "\nTry 'polygon --help'.\n";
-        return 2;
-    }
+    if (const int status = parseArgs(argc, argv, options); status >= 0) return status;
     try {
         return run(options);
     } catch (const std::exception& e) {

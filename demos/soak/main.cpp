@@ -2,6 +2,7 @@
 // a fixed time step. Every frame is read back as linear floats and checked for NaN/Inf, and for
 // GL errors. Prints frames/s and resident memory after warm-up and at the end.
 #include "CameraPath.h"
+#include "CliParse.h"
 #include "PolygonScene.h"
 #include "ProcessMemory.h"
 
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -32,48 +34,43 @@ struct Args {
     float scale = 0.05f;
 };
 
-[[noreturn]] void usage(const std::string& why) {
-    std::fprintf(stderr,
-                 "soak: %s\nusage: soak [--frames N (default 100000)] [--size WxH (default 64x64)] "
-                 "[--scale S (default 0.05)]\n",
-                 why.c_str());
-    std::exit(2);
-}
-
-Args parse(int argc, char** argv) {
-    Args a;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (arg == "--help" || arg == "-h")
-            usage("runs the proving ground for many frames and checks each one");
-        if (i + 1 >= argc) usage(arg + " needs a value");
-        const std::string v = argv[++i];
-        try {
-            if (arg == "--frames")
-                a.frames = std::stol(v);
-            else if (arg == "--scale")
-                a.scale = std::stof(v);
-            else if (arg == "--size") {
-                const auto x = v.find('x');
-                if (x == std::string::npos) usage("--size: expected WxH, got '" + v + "'");
-                a.width = std::stoi(v.substr(0, x));
-                a.height = std::stoi(v.substr(x + 1));
-            } else
-                usage("unknown option '" + arg + "'");
-        } catch (const std::logic_error&) {
-            usage(arg + ": '" + v + "' is not a number");
-        }
-    }
-    if (a.frames < 1) usage("--frames must be at least 1");
-    if (a.width < 1 || a.height < 1 || a.width > 4096 || a.height > 4096)
-        usage("--size must be within 1..4096");
-    return a;
+// Returns -1 when the run goes on, else the exit status (0 after --help, 2 for bad options).
+int parse(int argc, char** argv, Args& a) {
+    CLI::App cli{
+        "soak: runs the proving ground for many frames and checks each one (NaN/Inf pixels, GL errors)",
+        "soak"};
+    demo::lastValueWins(cli);
+    cli.add_option("--frames", a.frames, "frames to run (default 100000)")
+        ->check(CLI::Range(1L, std::numeric_limits<long>::max()))
+        ->type_name("N");
+    cli.add_option_function<std::string>(
+           "--size",
+           [&a](const std::string& v) {
+               const auto x = v.find('x');
+               if (x == std::string::npos)
+                   throw CLI::ValidationError("--size", "expected WxH, got '" + v + "'");
+               a.width = demo::integer("--size", v.substr(0, x), 1, 4096);
+               a.height = demo::integer("--size", v.substr(x + 1), 1, 4096);
+           },
+           "image size (default 64x64)")
+        ->type_name("WxH");
+    cli.add_option_function<std::string>(
+           "--scale",
+           [&a](const std::string& v) {
+               a.scale = float(demo::number("--scale", v, 0, 16));
+               if (a.scale <= 0.0f)
+                   throw CLI::ValidationError("--scale", "'" + v + "': S must be in (0, 16]");
+           },
+           "proving ground scale, as polygon --scale (default 0.05)")
+        ->type_name("S");
+    return demo::parse(cli, argc, argv);
 }
 
 } // namespace
 
 int main(int argc, char** argv) {
-    const Args args = parse(argc, argv);
+    Args args;
+    if (const int status = parse(argc, argv, args); status >= 0) return status;
     try {
         polygon::SceneOptions so;
         so.scale = args.scale;

@@ -4,6 +4,7 @@
 // effects (plain | fog | AO | both). A click in the window, or --pick X,Y headless, tells what a
 // pixel shows: the node path, the world point and the normal (sgfx::pick).
 #include "AnimationControls.h"
+#include "CliParse.h"
 #include "Options.h"
 #include "ViewScene.h"
 
@@ -30,243 +31,277 @@
 
 namespace {
 
-const char* const kUsage = R"(usage: sgfx-view [options] FILE...
-Loads the files (.gltf .glb .obj .off .ply .stl; a .ply of 3D Gaussian splats (vertex properties
+const char* const kDescription =
+    R"(sgfx-view: look at a model under the effects. Loads the files (.gltf .glb .obj .off .ply .stl; a .ply of 3D Gaussian splats (vertex properties
 f_dc_0, opacity, scale_0, rot_0) is drawn as splats; with the OpenSceneGraph bridge also .osgt .osgb
 .osg .ive .flt and the other formats osgDB reads, images found through OSG_FILE_PATH). With a
 display (DISPLAY or WAYLAND_DISPLAY) it opens a window; otherwise, or with --headless or --out, it
-renders a PNG.
-  --out PNG          output image (default sgfx-view.png); implies --headless
-  --headless         render to the PNG even when a display exists
-  --window           open a window or fail (exit 1) when none can be opened
-  --size WxH         window size (default 1280x720), or image size per panel (512x384)
-  --fog RHO|auto|on|off
-                     height fog: density per metre at the model's base (auto or on: the
-                     model's centre half hidden), falling off over the model's height; off: none
-  --fog-mode MODE    forward (default), split (seed 2's pre-pass) or post (seed 1's post-process)
-  --ao               screen-space ambient occlusion (radius a tenth of the model's size)
-  --aa MODE          anti-aliasing: none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low,
-                     fxaa-high, taa, smaa, smaa-t2x, smaa[-t2x][-low|-medium|-high|-ultra]
-                     [-luma|-colour|-depth]
-  --weather KIND     none, rain or snow particles over the model
-  --sky HOURS        physical sky and sun at this solar time (0..24)
-  --env SOURCE       image-based light: sky (default: the sky of --sky's time, drawn or not),
-                     none, or a panorama file (.hdr, .png, .jpg; twice as wide as high, Z up)
-  --env-intensity X  scales the environment's light (default 1)
-  --shadows [on|off] the sun's shadows (cascaded shadow maps over 20 model radii of view
-                     depth; default off, a bare --shadows is on)
-  --shadow-filter F  hard (one hardware comparison, 2x2 bilinear), pcf (a rotated 16-tap
-                     Poisson disc, default) or pcss (penumbrae widen with the blocker's distance)
-  --shadow-debug cascades
-                     tint each pixel by the shadow cascade that shades it
-  --compare          four panels side by side: plain, fog, AO, fog + AO (headless)
-  --pick X,Y         headless: print what pixel (X, Y) of the image shows (pixels from its
-                     top-left corner, fractions allowed): the node path, the world point and the
-                     normal, then exit without rendering
-  --yaw DEG          camera azimuth around the model (default 30)
-  --pitch DEG        camera elevation (default 25)
-  --crease DEG       glTF normals made for primitives without them: smooth below DEG (default flat)
-  --no-ground        no ground plane under the model
-  --keep-y-up        do not turn glTF's Y up into Z up
-  --time SECONDS     the pose at this time (>= 0) of the animation (--animation's, or the
-                     first), paused there; headless, the summary line names both. Times past
-                     the end loop
-  --animation NAME|INDEX
-                     the animation to play: an integer is an index, else a name (an unknown
-                     one is an error listing the files' animations)
-  --list-animations  print each animation's index, name, duration and channels, then exit
-  --bench N          headless: time N frames (after 3 warm-up frames, each ended by glFinish)
-                     and print a BENCH line (median_ms=...) like polygon --bench's; with --out
-                     the last frame is also written (as osg_view --frames writes its own)
-  --orbit            with --bench: the orbit camera of bench/foreign_table.sh (eye at 1.5 times
-                     the bounding radius, 30 degrees elevation, 60 degree vertical field of
-                     view, the azimuth advancing 360/N degrees a frame from --yaw)
-  --auto-lod [PX]    levels of detail made at load for every mesh (GltfOptions::autoLod), each
-                     level within PX pixels (default 1) of full detail where it is drawn
-  --occlusion        with --bench: conservative occlusion culling of opaque items
-                     (RendererOptions::occlusionCulling); the BENCH line adds the culled share
-  --self-test N      window: N frames of scripted input (both cameras, every toggle, a resize,
-                     a screenshot to --out's name), then exit
-Window keys: left click pick (the panel shows the node path, point and normal),
+renders a PNG.)";
+
+const char* const kFooter = R"(Window keys: left click pick (the panel shows the node path, point and normal),
   left drag orbit/look, right drag zoom, middle drag pan, wheel zoom (fly: speed),
   WASD move, Q/E down/up, Shift fast, V orbit/fly, H home, F fog, O AO, M anti-aliasing, R weather,
   K sky, G ground, L shadows, Space play/pause, N next animation, F1 panel, F12 or P screenshot,
   Esc quit; drop files on the window to load them. The panel's Animation section has the
   timeline: the animation, play/pause, a time slider to scrub, the speed and loop or clamp.
 Exit status: 0 written, 1 a file failed to load or render, 2 bad options (an unknown animation
-too).
-)";
+too).)";
 
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+using demo::number;
+
+// What the command line gave beyond the options' values, for the checks after the parse.
+struct Given {
+    bool size = false;
+    std::vector<std::string> files; // taken as an optional value (--auto-lod FILE, --shadows FILE)
 };
 
-float number(const std::string& option, const std::string& text, float lo, float hi) {
-    char* end = nullptr;
-    const float v = std::strtof(text.c_str(), &end);
-    if (text.empty() || *end || !std::isfinite(v) || v < lo || v > hi)
-        throw UsageError(option + ": '" + text + "' is not a number in [" + std::to_string(lo) + ", " +
-                         std::to_string(hi) + "]");
-    return v;
+using demo::choice;
+
+void addOutputOptions(CLI::App& cli, view::Options& o, Given& given) {
+    cli.add_option("files", o.files, "the model files")->type_name("FILE");
+    cli.add_option_function<std::string>(
+           "--out", [&](const std::string& v) { o.out = v, o.outGiven = true; },
+           "output image (default sgfx-view.png); implies --headless")
+        ->type_name("PNG");
+    cli.add_flag("--headless", o.headless, "render to the PNG even when a display exists");
+    cli.add_flag("--window", o.window, "open a window or fail (exit 1) when none can be opened");
+    cli.add_option_function<std::string>(
+           "--size",
+           [&](const std::string& v) {
+               const auto x = v.find('x');
+               if (x == std::string::npos) throw CLI::ValidationError("--size", "'" + v + "' is not WxH");
+               o.width = int(number("--size", v.substr(0, x), 16, 4096));
+               o.height = int(number("--size", v.substr(x + 1), 16, 4096));
+               given.size = true;
+           },
+           "window size (default 1280x720), or image size per panel (512x384)")
+        ->type_name("WxH");
+    cli.add_flag("--compare", o.compare, "four panels side by side: plain, fog, AO, fog + AO (headless)");
+    cli.add_option_function<std::string>(
+           "--pick",
+           [&](const std::string& v) {
+               const auto comma = v.find(',');
+               if (comma == std::string::npos) throw CLI::ValidationError("--pick", "'" + v + "' is not X,Y");
+               o.pick = glm::dvec2(number("--pick", v.substr(0, comma), 0, 65536),
+                                   number("--pick", v.substr(comma + 1), 0, 65536));
+           },
+           "headless: print what pixel (X, Y) of the image shows (pixels from its top-left corner, "
+           "fractions allowed): the node path, the world point and the normal, then exit without rendering")
+        ->type_name("X,Y");
+    cli.add_option_function<int>(
+           "--self-test", [&](int n) { o.selfTestFrames = n, o.window = true; },
+           "window: N frames of scripted input (both cameras, every toggle, a resize, a screenshot to "
+           "--out's name), then exit")
+        ->check(CLI::Range(4, 100000))
+        ->type_name("N");
 }
 
-view::Options parse(int argc, char** argv) {
-    view::Options o;
-    view::Settings& s = o.settings;
-    bool autoFog = false, sizeGiven = false;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        auto value = [&] {
-            if (i + 1 >= argc) throw UsageError(arg + " needs a value");
-            return std::string(argv[++i]);
-        };
-        if (arg == "-h" || arg == "--help") {
-            std::cout << kUsage;
-            std::exit(0);
-        } else if (arg == "--out") {
-            o.out = value();
-            o.outGiven = true;
-        } else if (arg == "--headless") {
-            o.headless = true;
-        } else if (arg == "--window") {
-            o.window = true;
-        } else if (arg == "--size") {
-            const std::string v = value();
-            const auto x = v.find('x');
-            if (x == std::string::npos) throw UsageError("--size: '" + v + "' is not WxH");
-            o.width = int(number("--size", v.substr(0, x), 16, 4096));
-            o.height = int(number("--size", v.substr(x + 1), 16, 4096));
-            sizeGiven = true;
-        } else if (arg == "--fog") {
-            const std::string v = value();
-            s.fog = v != "off";
-            autoFog = v == "auto" || v == "on";
-            s.fogDensity = autoFog || !s.fog ? 0.0f : number("--fog", v, 0.0f, 1e6f);
-        } else if (arg == "--fog-mode") {
-            const std::string v = value();
-            if (v == "forward")
-                s.fogMode = sgfx::FogMode::Forward;
-            else if (v == "split")
-                s.fogMode = sgfx::FogMode::ForwardSplit;
-            else if (v == "post")
-                s.fogMode = sgfx::FogMode::PostProcess;
-            else
-                throw UsageError("--fog-mode: '" + v + "' is not forward, split or post");
-        } else if (arg == "--ao") {
-            s.ao = true;
-        } else if (arg == "--aa") {
-            try {
-                s.antiAliasing = sgfx::AntiAliasing::parse(value());
-            } catch (const std::invalid_argument& e) {
-                throw UsageError(std::string("--aa: ") + e.what());
-            }
-        } else if (arg == "--weather") {
-            const std::string v = value();
-            if (v == "none")
-                s.weather = view::Weather::None;
-            else if (v == "rain")
-                s.weather = view::Weather::Rain;
-            else if (v == "snow")
-                s.weather = view::Weather::Snow;
-            else
-                throw UsageError("--weather: '" + v + "' is not none, rain or snow");
-        } else if (arg == "--sky") {
-            s.sky = true;
-            s.skyHours = number(arg, value(), 0.0f, 24.0f);
-        } else if (arg == "--env") {
-            const std::string v = value();
-            s.env = v == "none"  ? view::EnvSource::None
-                    : v == "sky" ? view::EnvSource::Sky
-                                 : view::EnvSource::File;
-            s.envFile = s.env == view::EnvSource::File ? v : std::string();
-        } else if (arg == "--env-intensity") {
-            s.envIntensity = number(arg, value(), 0.0f, 1e6f);
-        } else if (arg == "--shadows") {
-            // An optional on|off: a bare --shadows is on.
-            const bool given = i + 1 < argc && (std::string_view(argv[i + 1]) == "on" ||
-                                                std::string_view(argv[i + 1]) == "off");
-            s.shadows = !given || std::string_view(argv[++i]) == "on";
-        } else if (arg == "--shadow-filter") {
-            const std::string v = value();
-            if (v == "hard")
-                s.shadowFilter = sgfx::ShadowFilter::Hard2x2;
-            else if (v == "pcf")
-                s.shadowFilter = sgfx::ShadowFilter::Pcf;
-            else if (v == "pcss")
-                s.shadowFilter = sgfx::ShadowFilter::Pcss;
-            else
-                throw UsageError("--shadow-filter: '" + v + "' is not hard, pcf or pcss");
-        } else if (arg == "--shadow-debug") {
-            const std::string v = value();
-            if (v != "cascades") throw UsageError("--shadow-debug: '" + v + "' is not cascades");
-            s.shadowCascades = true;
-        } else if (arg == "--compare") {
-            o.compare = true;
-        } else if (arg == "--pick") {
-            const std::string v = value();
-            const auto comma = v.find(',');
-            if (comma == std::string::npos) throw UsageError("--pick: '" + v + "' is not X,Y");
-            o.pick = glm::dvec2(number(arg, v.substr(0, comma), 0.0f, 65536.0f),
-                                number(arg, v.substr(comma + 1), 0.0f, 65536.0f));
-        } else if (arg == "--yaw") {
-            o.yaw = number(arg, value(), -360.0f, 360.0f);
-        } else if (arg == "--pitch") {
-            o.pitch = number(arg, value(), -89.0f, 89.0f);
-        } else if (arg == "--crease") {
-            o.crease = number(arg, value(), 0.0f, 180.0f);
-        } else if (arg == "--no-ground") {
-            s.ground = false;
-        } else if (arg == "--keep-y-up") {
-            o.keepYUp = true;
-        } else if (arg == "--time") {
-            const std::string v = value();
-            char* end = nullptr;
-            const double t = std::strtod(v.c_str(), &end);
-            if (v.empty() || *end || !std::isfinite(t) || t < 0.0)
-                throw UsageError("--time: '" + v + "' is not a time in seconds (finite, >= 0)");
-            o.time = t;
-        } else if (arg == "--animation") {
-            o.animation = value();
-            if (o.animation->empty()) throw UsageError("--animation needs a name or an index");
-        } else if (arg == "--list-animations") {
-            o.listAnimations = true;
-        } else if (arg == "--bench") {
-            o.benchFrames = int(number(arg, value(), 1, 100000));
-        } else if (arg == "--orbit") {
-            o.orbit = true;
-        } else if (arg == "--occlusion") {
-            o.occlusion = true;
-        } else if (arg == "--auto-lod") {
-            o.autoLodPixels = 1.0f;
-            if (i + 1 < argc && !std::string_view(argv[i + 1]).starts_with("--") &&
-                std::isdigit(static_cast<unsigned char>(argv[i + 1][0])))
-                o.autoLodPixels = number(arg, value(), 0.01f, 100.0f);
-        } else if (arg == "--self-test") {
-            o.selfTestFrames = int(number(arg, value(), 4, 100000));
-            o.window = true;
-        } else if (arg.starts_with("--")) {
-            throw UsageError("unknown option " + arg);
-        } else {
-            o.files.push_back(arg);
-        }
-    }
-    if (o.files.empty()) throw UsageError("no model file given");
+void addFogAndLightOptions(CLI::App& cli, view::Settings& s) {
+    cli.add_option_function<std::string>(
+           "--fog",
+           [&](const std::string& v) {
+               s.fog = v != "off";
+               const bool autoFog = v == "auto" || v == "on"; // density 0: the model-scaled preset's own
+               s.fogDensity = autoFog || !s.fog ? 0.0f : float(number("--fog", v, 0.0, 1e6));
+           },
+           "height fog: density per metre at the model's base (auto or on: the model's centre half "
+           "hidden), falling off over the model's height; off: none")
+        ->type_name("RHO|auto|on|off");
+    cli.add_option_function<std::string>(
+           "--fog-mode",
+           [&](const std::string& v) {
+               s.fogMode = choice<sgfx::FogMode>("--fog-mode", v,
+                                                 {{"forward", sgfx::FogMode::Forward},
+                                                  {"split", sgfx::FogMode::ForwardSplit},
+                                                  {"post", sgfx::FogMode::PostProcess}},
+                                                 "forward, split or post");
+           },
+           "forward (default), split (seed 2's pre-pass) or post (seed 1's post-process)")
+        ->type_name("MODE");
+    cli.add_option_function<std::string>(
+           "--sky",
+           [&](const std::string& v) { s.sky = true, s.skyHours = float(number("--sky", v, 0, 24)); },
+           "physical sky and sun at this solar time (0..24)")
+        ->type_name("HOURS");
+    cli.add_option_function<std::string>(
+           "--env",
+           [&](const std::string& v) {
+               s.env = v == "none"  ? view::EnvSource::None
+                       : v == "sky" ? view::EnvSource::Sky
+                                    : view::EnvSource::File;
+               s.envFile = s.env == view::EnvSource::File ? v : std::string();
+           },
+           "image-based light: sky (default: the sky of --sky's time, drawn or not), none, or a panorama "
+           "file (.hdr, .png, .jpg; twice as wide as high, Z up)")
+        ->type_name("SOURCE");
+    cli.add_option_function<std::string>(
+           "--env-intensity",
+           [&](const std::string& v) { s.envIntensity = float(number("--env-intensity", v, 0, 1e6)); },
+           "scales the environment's light (default 1)")
+        ->type_name("X");
+    cli.add_flag_callback(
+        "--no-ground", [&] { s.ground = false; }, "no ground plane under the model");
+}
+
+void addEffectOptions(CLI::App& cli, view::Settings& s, Given& given) {
+    cli.add_flag("--ao", s.ao, "screen-space ambient occlusion (radius a tenth of the model's size)");
+    cli.add_option_function<std::string>(
+           "--aa",
+           [&](const std::string& v) {
+               try {
+                   s.antiAliasing = sgfx::AntiAliasing::parse(v);
+               } catch (const std::invalid_argument& e) {
+                   throw CLI::ValidationError("--aa", e.what());
+               }
+           },
+           "anti-aliasing: none, msaa, msaa1..msaa8, ssaa2..ssaa4, fxaa, fxaa-low, fxaa-high, taa, smaa, "
+           "smaa-t2x, smaa[-t2x][-low|-medium|-high|-ultra][-luma|-colour|-depth]")
+        ->type_name("MODE");
+    cli.add_option_function<std::string>(
+           "--weather",
+           [&](const std::string& v) {
+               s.weather = choice<view::Weather>("--weather", v,
+                                                 {{"none", view::Weather::None},
+                                                  {"rain", view::Weather::Rain},
+                                                  {"snow", view::Weather::Snow}},
+                                                 "none, rain or snow");
+           },
+           "none, rain or snow particles over the model")
+        ->type_name("KIND");
+    // An optional on|off: a bare --shadows is on; anything else after it is a model file.
+    cli.add_option_function<std::string>(
+           "--shadows",
+           [&](const std::string& v) {
+               s.shadows = v != "off";
+               if (!v.empty() && v != "on" && v != "off") given.files.push_back(v);
+           },
+           "the sun's shadows (cascaded shadow maps over 20 model radii of view depth; default off, a "
+           "bare --shadows is on)")
+        ->expected(0, 1)
+        ->type_name("[on|off]");
+    cli.add_option_function<std::string>(
+           "--shadow-filter",
+           [&](const std::string& v) {
+               s.shadowFilter = choice<sgfx::ShadowFilter>("--shadow-filter", v,
+                                                           {{"hard", sgfx::ShadowFilter::Hard2x2},
+                                                            {"pcf", sgfx::ShadowFilter::Pcf},
+                                                            {"pcss", sgfx::ShadowFilter::Pcss}},
+                                                           "hard, pcf or pcss");
+           },
+           "hard (one hardware comparison, 2x2 bilinear), pcf (a rotated 16-tap Poisson disc, default) or "
+           "pcss (penumbrae widen with the blocker's distance)")
+        ->type_name("F");
+    cli.add_option_function<std::string>(
+           "--shadow-debug",
+           [&](const std::string& v) {
+               if (v != "cascades")
+                   throw CLI::ValidationError("--shadow-debug", "'" + v + "' is not cascades");
+               s.shadowCascades = true;
+           },
+           "cascades: tint each pixel by the shadow cascade that shades it")
+        ->type_name("cascades");
+}
+
+void addModelOptions(CLI::App& cli, view::Options& o, Given& given) {
+    auto angle = [&](const char* name, float& out, double lo, double hi, const char* what) {
+        cli.add_option_function<std::string>(
+               name, [&out, name, lo, hi](const std::string& v) { out = float(number(name, v, lo, hi)); },
+               what)
+            ->type_name("DEG");
+    };
+    angle("--yaw", o.yaw, -360, 360, "camera azimuth around the model (default 30)");
+    angle("--pitch", o.pitch, -89, 89, "camera elevation (default 25)");
+    angle("--crease", o.crease, 0, 180,
+          "glTF normals made for primitives without them: smooth below DEG (default flat)");
+    cli.add_flag("--keep-y-up", o.keepYUp, "do not turn glTF's Y up into Z up");
+    cli.add_option_function<std::string>(
+           "--time",
+           [&](const std::string& v) {
+               char* end = nullptr;
+               const double t = std::strtod(v.c_str(), &end);
+               if (v.empty() || *end || !std::isfinite(t) || t < 0.0)
+                   throw CLI::ValidationError("--time",
+                                              "'" + v + "' is not a time in seconds (finite, >= 0)");
+               o.time = t;
+           },
+           "the pose at this time (>= 0) of the animation (--animation's, or the first), paused there; "
+           "headless, the summary line names both. Times past the end loop")
+        ->type_name("SECONDS");
+    cli.add_option_function<std::string>(
+           "--animation",
+           [&](const std::string& v) {
+               if (v.empty()) throw CLI::ValidationError("--animation needs a name or an index");
+               o.animation = v;
+           },
+           "the animation to play: an integer is an index, else a name (an unknown one is an error "
+           "listing the files' animations)")
+        ->type_name("NAME|INDEX");
+    cli.add_flag("--list-animations", o.listAnimations,
+                 "print each animation's index, name, duration and channels, then exit");
+    // An optional number: a bare --auto-lod is 1 pixel; a value not a number is a model file.
+    cli.add_option_function<std::string>(
+           "--auto-lod",
+           [&](const std::string& v) {
+               const bool isNumber = !v.empty() && std::isdigit(static_cast<unsigned char>(v[0]));
+               o.autoLodPixels = isNumber ? float(number("--auto-lod", v, 0.01, 100)) : 1.0f;
+               if (!isNumber && !v.empty()) given.files.push_back(v);
+           },
+           "levels of detail made at load for every mesh (GltfOptions::autoLod), each level within PX pixels "
+           "(default 1) of full detail where it is drawn")
+        ->expected(0, 1)
+        ->type_name("[PX]");
+}
+
+void addBenchOptions(CLI::App& cli, view::Options& o) {
+    cli.add_option(
+           "--bench", o.benchFrames,
+           "headless: time N frames (after 3 warm-up frames, each ended by glFinish) and print a BENCH "
+           "line (median_ms=...) like polygon --bench's; with --out the last frame is also written (as "
+           "osg_view --frames writes its own)")
+        ->check(CLI::Range(1, 100000))
+        ->type_name("N");
+    cli.add_flag(
+        "--orbit", o.orbit,
+        "with --bench: the orbit camera of bench/foreign_table.sh (eye at 1.5 times the bounding "
+        "radius, 30 degrees elevation, 60 degree vertical field of view, the azimuth advancing 360/N "
+        "degrees a frame from --yaw)");
+    cli.add_flag("--occlusion", o.occlusion,
+                 "with --bench: conservative occlusion culling of opaque items "
+                 "(RendererOptions::occlusionCulling); the BENCH line adds the culled share");
+}
+
+// The checks across options, after the parse; then what the options imply.
+void checkOptions(view::Options& o, Given& given) {
+    o.files.insert(o.files.end(), given.files.begin(), given.files.end());
+    if (o.files.empty()) demo::usageError("no model file given");
     if (o.window && (o.headless || o.compare || o.pick))
-        throw UsageError("--window and --self-test cannot go with --headless, --compare or --pick");
-    if (o.pick && o.compare) throw UsageError("--pick cannot go with --compare");
+        demo::usageError("--window and --self-test cannot go with --headless, --compare or --pick");
+    if (o.pick && o.compare) demo::usageError("--pick cannot go with --compare");
     if (o.pick && (o.pick->x > o.width || o.pick->y > o.height))
-        throw UsageError("--pick: the pixel is outside the " + std::to_string(o.width) + "x" +
+        demo::usageError("--pick: the pixel is outside the " + std::to_string(o.width) + "x" +
                          std::to_string(o.height) + " image");
-    if (o.orbit && !o.benchFrames) throw UsageError("--orbit needs --bench N");
-    if (o.occlusion && !o.benchFrames) throw UsageError("--occlusion needs --bench N");
+    if (o.orbit && !o.benchFrames) demo::usageError("--orbit needs --bench N");
+    if (o.occlusion && !o.benchFrames) demo::usageError("--occlusion needs --bench N");
     if (o.benchFrames && (o.window || o.compare || o.pick))
-        throw UsageError("--bench cannot go with --window, --self-test, --compare or --pick");
+        demo::usageError("--bench cannot go with --window, --self-test, --compare or --pick");
     if (o.pick || o.benchFrames) o.headless = true;
     if (o.outGiven && !o.window) o.headless = true;
     if (o.compare) o.headless = true;
-    if (!o.headless && !sizeGiven) o.width = 1280, o.height = 720; // a window's default
-    (void)autoFog; // density 0 means the model-scaled preset's own
-    return o;
+    if (!o.headless && !given.size) o.width = 1280, o.height = 720; // a window's default
+}
+
+// Returns -1 when the program goes on, else its exit status (0 after --help, 2 for bad options).
+int parse(int argc, char** argv, view::Options& o) {
+    CLI::App cli{kDescription, "sgfx-view"};
+    cli.footer(kFooter);
+    demo::lastValueWins(cli);
+    Given given;
+    addOutputOptions(cli, o, given);
+    addFogAndLightOptions(cli, o.settings);
+    addEffectOptions(cli, o.settings, given);
+    addModelOptions(cli, o, given);
+    addBenchOptions(cli, o);
+    return demo::parse(cli, argc, argv, [&] { checkOptions(o, given); });
 }
 
 // The headless camera: homed on the model from the options' yaw and pitch, clip planes around it.
@@ -430,12 +465,7 @@ sgfx::NodePtr view::loadFiles(const std::vector<std::string>& files, const Optio
 
 int main(int argc, char** argv) {
     view::Options o;
-    try {
-        o = parse(argc, argv);
-    } catch (const UsageError& e) {
-        std::fprintf(stderr, "sgfx-view: %s\n%s", e.what(), kUsage);
-        return 2;
-    }
+    if (const int status = parse(argc, argv, o); status >= 0) return status;
     try {
         const auto start = std::chrono::steady_clock::now();
         view::ViewScene scene;

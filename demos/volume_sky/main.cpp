@@ -7,6 +7,8 @@
 //
 // Defaults: 7,10,13,18.5 hours, 320x180 per panel, volume_sky.png. --no-volume and --no-sky give
 // the "before" images of the docs (scripts/effect-figures.sh).
+#include "CliParse.h"
+
 #include <sgfx/nodes/sky/SkyMath.h>
 #include <sgfx/nodes/sky/SkyNode.h>
 #include <sgfx/nodes/volume/VolumeNode.h>
@@ -34,60 +36,58 @@ struct Options {
     bool volume = true, sky = true;
 };
 
-float number(const std::string& option, const std::string& text, float lo, float hi) {
-    char* end = nullptr;
-    const float v = std::strtof(text.c_str(), &end);
-    if (text.empty() || *end || !(v >= lo && v <= hi))
-        throw std::invalid_argument(option + ": '" + text + "' is not a number in [" + std::to_string(lo) +
-                                    ", " + std::to_string(hi) + "]");
-    return v;
-}
-
-Options parse(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto value = [&] {
-            if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-            return std::string(argv[++i]);
-        };
-        if (a == "--hours") {
-            o.hours.clear();
-            std::stringstream list(value());
-            for (std::string h; std::getline(list, h, ',');)
-                o.hours.push_back(number(a, h, 0.0f, 24.0f));
-            if (o.hours.empty() || o.hours.size() > 8)
-                throw std::invalid_argument("--hours: give 1 to 8 times");
-        } else if (a == "--size") {
-            const std::string v = value();
-            const auto x = v.find('x');
-            if (x == std::string::npos) throw std::invalid_argument("--size: '" + v + "' is not WxH");
-            o.width = int(number(a, v.substr(0, x), 16, 2048));
-            o.height = int(number(a, v.substr(x + 1), 16, 2048));
-        } else if (a == "--out") {
-            o.out = value();
-        } else if (a == "--method") {
-            const std::string v = value();
-            if (v == "raymarch")
-                o.method = sgfx::VolumeMethod::Raymarch;
-            else if (v == "slicing")
-                o.method = sgfx::VolumeMethod::Slicing;
-            else if (v == "splatting")
-                o.method = sgfx::VolumeMethod::Splatting;
-            else
-                throw std::invalid_argument("--method: '" + v + "' is not raymarch, slicing or splatting");
-        } else if (a == "--splat-spacing") {
-            o.splatSpacing = number(a, value(), 0.25f, 100.0f);
-        } else if (a == "--no-volume") {
-            o.volume = false;
-        } else if (a == "--no-sky") {
-            o.sky = false;
-        } else {
-            throw std::invalid_argument("unknown argument " + a +
-                                        " (see the header of demos/volume_sky/main.cpp)");
-        }
-    }
-    return o;
+// Returns -1 when the program goes on, else its exit status (0 after --help, 2 for bad options).
+int parse(int argc, char** argv, Options& o) {
+    CLI::App cli{
+        "volume_sky: a smoke cloud over a small town under the physical sky, one panel per time of day",
+        "volume_sky"};
+    demo::lastValueWins(cli);
+    cli.add_option_function<std::string>(
+           "--hours",
+           [&o](const std::string& v) {
+               o.hours.clear();
+               std::stringstream list(v);
+               for (std::string h; std::getline(list, h, ',');)
+                   o.hours.push_back(float(demo::number("--hours", h, 0, 24)));
+               if (o.hours.empty() || o.hours.size() > 8)
+                   throw CLI::ValidationError("--hours", "'" + v + "': give 1 to 8 times");
+           },
+           "solar times of the panels, 0..24 (default 7,10,13,18.5)")
+        ->type_name("H[,H...]");
+    cli.add_option_function<std::string>(
+           "--size",
+           [&o](const std::string& v) {
+               const auto x = v.find('x');
+               if (x == std::string::npos) throw CLI::ValidationError("--size", "'" + v + "' is not WxH");
+               o.width = int(demo::number("--size", v.substr(0, x), 16, 2048));
+               o.height = int(demo::number("--size", v.substr(x + 1), 16, 2048));
+           },
+           "size of each panel (default 320x180)")
+        ->type_name("WxH");
+    cli.add_option("--out", o.out, "PNG to write (default volume_sky.png)")->type_name("PNG");
+    cli.add_option_function<std::string>(
+           "--method",
+           [&o](const std::string& v) {
+               o.method = demo::choice<sgfx::VolumeMethod>("--method", v,
+                                                           {{"raymarch", sgfx::VolumeMethod::Raymarch},
+                                                            {"slicing", sgfx::VolumeMethod::Slicing},
+                                                            {"splatting", sgfx::VolumeMethod::Splatting}},
+                                                           "raymarch, slicing or splatting");
+           },
+           "how the cloud is drawn (default raymarch)")
+        ->type_name("raymarch|slicing|splatting");
+    cli.add_option_function<std::string>(
+           "--splat-spacing",
+           [&o](const std::string& v) {
+               o.splatSpacing = float(demo::number("--splat-spacing", v, 0.25, 100));
+           },
+           "metres between the splatted kernels, 0.25..100 (default 2)")
+        ->type_name("M");
+    cli.add_flag_callback(
+        "--no-volume", [&o] { o.volume = false; }, "no smoke cloud (the docs' before image)");
+    cli.add_flag_callback(
+        "--no-sky", [&o] { o.sky = false; }, "no physical sky (the docs' before image)");
+    return demo::parse(cli, argc, argv);
 }
 
 // A plain with a few blocks of houses: something for the cloud to drift over and hide.
@@ -120,12 +120,7 @@ sgfx::NodePtr town() {
 
 int main(int argc, char** argv) {
     Options o;
-    try {
-        o = parse(argc, argv);
-    } catch (const std::invalid_argument& e) {
-        std::fprintf(stderr, "volume_sky: %s\n", e.what());
-        return 2;
-    }
+    if (const int status = parse(argc, argv, o); status >= 0) return status;
     try {
         auto sun = sgfx::Light::create(sgfx::LightType::Directional);
         auto ambient = sgfx::Light::create(sgfx::LightType::Ambient);
