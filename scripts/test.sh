@@ -44,10 +44,12 @@ if [ "${SGFX_SKIP_TSAN:-0}" != 1 ]; then
   # ThreadSanitizer over the scene queries: two threads query while the viewer draws
   # (tests/query_threads_test.cpp). Only Mesa's own threads are suppressed (tests/sanitizers/tsan.supp).
   cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGFX_TSAN=ON -DSGFX_BUILD_BENCH=OFF
-  cmake --build build-tsan -j "$jobs" --target test_query_threads test_query
+  cmake --build build-tsan -j "$jobs" --target test_query_threads test_query test_auto_lod
   export TSAN_OPTIONS=halt_on_error=1:suppressions=$root/tests/sanitizers/tsan.supp
   build-tsan/tests/test_query_threads
   build-tsan/tests/test_query
+  # addAutoLods on four threads (loaders/src/ParallelFor.h): the same LODs as on one.
+  build-tsan/tests/test_auto_lod --gtest_filter='AutoLod.ThreadsMakeTheSameLods:AutoLod.ParallelFor*'
 fi
 
 if [ "${SGFX_SKIP_FUZZ:-0}" != 1 ]; then
