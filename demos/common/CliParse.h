@@ -55,17 +55,19 @@ inline bool onOff(const std::string& option, const std::string& v) {
     return choice<bool>(option, v, {{"on", true}, {"off", false}}, "on or off");
 }
 
-// --size WxH, each in [lo, hi].
-inline CLI::Option* addSize(CLI::App& app, int& width, int& height, int lo, int hi, const std::string& what) {
+// --size WxH, each in [lo, hi]; `given`, when not null, is set when the option is.
+inline CLI::Option* addSize(CLI::App& app, int& width, int& height, int lo, int hi, const std::string& what,
+                            bool* given = nullptr) {
     return app
         .add_option_function<std::string>(
             "--size",
-            [&width, &height, lo, hi](const std::string& v) {
+            [&width, &height, lo, hi, given](const std::string& v) {
                 const auto x = v.find('x');
                 if (x == std::string::npos)
                     throw CLI::ValidationError("--size", "expected WxH, got '" + v + "'");
                 width = integer("--size", v.substr(0, x), lo, hi);
                 height = integer("--size", v.substr(x + 1), lo, hi);
+                if (given) *given = true;
             },
             what)
         ->type_name("WxH");

@@ -64,17 +64,7 @@ void addSceneOptions(CLI::App& cli, Options& o) {
            },
            "particles (default 0: the preset's own)")
         ->type_name("N");
-    cli.add_option_function<std::string>(
-           "--size",
-           [&o](const std::string& v) {
-               const auto x = v.find('x');
-               if (x == std::string::npos)
-                   throw CLI::ValidationError("--size", "expected WxH, got '" + v + "'");
-               o.width = demo::integer("--size", v.substr(0, x), 1, 8192);
-               o.height = demo::integer("--size", v.substr(x + 1), 1, 8192);
-           },
-           "image size (default 640x360)")
-        ->type_name("WxH");
+    demo::addSize(cli, o.width, o.height, 1, 8192, "image size (default 640x360)");
     cli.add_option("--out", o.out, "PNG to write (default particles.png)")->type_name("FILE");
     cli.add_option("--bench", o.bench,
                    "step and draw the cloud scene N frames after warm-up; print a PARTICLES line")

@@ -209,17 +209,8 @@ void addImageOptions(CLI::App& cli, Options& o) {
     };
     file("--out", o.out, "PNG to write (default polygon.png)");
     file("--graph", o.graph, "also write the frame's graph (passes, resources, GPU ms) as Graphviz DOT");
-    cli.add_option_function<std::string>(
-           "--size",
-           [&o](const std::string& v) {
-               const auto x = v.find('x');
-               if (x == std::string::npos)
-                   throw CLI::ValidationError("--size", "expected WxH, got '" + v + "'");
-               o.width = integer("--size", v.substr(0, x), 1, 16384);
-               o.height = integer("--size", v.substr(x + 1), 1, 16384);
-           },
-           "image / bench / window size in pixels (default 1280x720)")
-        ->type_name("WxH");
+    demo::addSize(cli, o.width, o.height, 1, 16384,
+                  "image / bench / window size in pixels (default 1280x720)");
     cli.add_option_function<std::string>(
            "--time",
            [&o](const std::string& v) {

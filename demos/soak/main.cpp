@@ -43,17 +43,7 @@ int parse(int argc, char** argv, Args& a) {
     cli.add_option("--frames", a.frames, "frames to run (default 100000)")
         ->check(CLI::Range(1L, std::numeric_limits<long>::max()))
         ->type_name("N");
-    cli.add_option_function<std::string>(
-           "--size",
-           [&a](const std::string& v) {
-               const auto x = v.find('x');
-               if (x == std::string::npos)
-                   throw CLI::ValidationError("--size", "expected WxH, got '" + v + "'");
-               a.width = demo::integer("--size", v.substr(0, x), 1, 4096);
-               a.height = demo::integer("--size", v.substr(x + 1), 1, 4096);
-           },
-           "image size (default 64x64)")
-        ->type_name("WxH");
+    demo::addSize(cli, a.width, a.height, 1, 4096, "image size (default 64x64)");
     cli.add_option_function<std::string>(
            "--scale",
            [&a](const std::string& v) {

@@ -65,17 +65,8 @@ void addOutputOptions(CLI::App& cli, view::Options& o, Given& given) {
         ->type_name("PNG");
     cli.add_flag("--headless", o.headless, "render to the PNG even when a display exists");
     cli.add_flag("--window", o.window, "open a window or fail (exit 1) when none can be opened");
-    cli.add_option_function<std::string>(
-           "--size",
-           [&](const std::string& v) {
-               const auto x = v.find('x');
-               if (x == std::string::npos) throw CLI::ValidationError("--size", "'" + v + "' is not WxH");
-               o.width = int(number("--size", v.substr(0, x), 16, 4096));
-               o.height = int(number("--size", v.substr(x + 1), 16, 4096));
-               given.size = true;
-           },
-           "window size (default 1280x720), or image size per panel (512x384)")
-        ->type_name("WxH");
+    demo::addSize(cli, o.width, o.height, 16, 4096,
+                  "window size (default 1280x720), or image size per panel (512x384)", &given.size);
     cli.add_flag("--compare", o.compare, "four panels side by side: plain, fog, AO, fog + AO (headless)");
     cli.add_option_function<std::string>(
            "--pick",

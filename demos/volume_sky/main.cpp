@@ -54,16 +54,7 @@ int parse(int argc, char** argv, Options& o) {
            },
            "solar times of the panels, 0..24 (default 7,10,13,18.5)")
         ->type_name("H[,H...]");
-    cli.add_option_function<std::string>(
-           "--size",
-           [&o](const std::string& v) {
-               const auto x = v.find('x');
-               if (x == std::string::npos) throw CLI::ValidationError("--size", "'" + v + "' is not WxH");
-               o.width = int(demo::number("--size", v.substr(0, x), 16, 2048));
-               o.height = int(demo::number("--size", v.substr(x + 1), 16, 2048));
-           },
-           "size of each panel (default 320x180)")
-        ->type_name("WxH");
+    demo::addSize(cli, o.width, o.height, 16, 2048, "size of each panel (default 320x180)");
     cli.add_option("--out", o.out, "PNG to write (default volume_sky.png)")->type_name("PNG");
     cli.add_option_function<std::string>(
            "--method",
