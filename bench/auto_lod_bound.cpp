@@ -35,7 +35,9 @@ void collect(const sgfx::NodePtr& n, std::vector<std::shared_ptr<sgfx::Geometry>
 } // namespace
 
 int main(int argc, char** argv) {
-    if (argc < 2) {
+    const bool usageOk = argc == 2 || (argc == 3 && std::string(argv[2]) == "--sample") ||
+                         (argc == 4 && std::string(argv[2]) == "--mesh" && argv[3][0] != '\0');
+    if (!usageOk) {
         std::fprintf(stderr, "usage: auto_lod_bound FILE [--sample | --mesh NAME]\n");
         return 2;
     }

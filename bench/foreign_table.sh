@@ -8,8 +8,8 @@
 # sgfx-view's ground plane, at two sizes, fog off and on (sgfx: its height fog hiding half of the
 # model's centre; OSG: EXP2 fog of the density that does the same from the orbit's distance).
 # A third sgfx series loads the glTF with levels of detail made at load (`--auto-lod`: every mesh
-# simplified, each level within a pixel of full detail). Every round runs all twelve programs once (interleaved, so machine drift hits all of them), malloc
-# pinned (common.sh). Ratios are medians of the per-round ratios, not ratios of medians.
+# simplified, each level within a pixel of full detail). Every round runs all twelve programs once
+# (interleaved, so machine drift hits all of them), malloc pinned (common.sh). Ratios are medians of the per-round ratios, not ratios of medians.
 #
 # Columns: ms/frame (median over rounds of each run's median), x OSG; per-pixel cost: the frame
 # time's growth from the small to the large size over the added pixels, ns/pixel, and its ratio;

@@ -389,6 +389,19 @@ TEST(AutoLod, ThreadsMakeTheSameLods) {
             EXPECT_EQ(la->range(c).maxPixels, lb->range(c).maxPixels) << "mesh " << i << " level " << c;
         }
     }
+    // makeErrorLod alone bounds a large level's two sides on two threads unless threads is 1.
+    const auto big = bumpySphere();
+    AutoLodOptions alone = one, two = one;
+    two.threads = 2;
+    std::vector<AutoLodLevel> l1, l2;
+    ASSERT_TRUE(makeErrorLod(big, alone, &l1));
+    ASSERT_TRUE(makeErrorLod(big, two, &l2));
+    ASSERT_EQ(l1.size(), l2.size());
+    ASSERT_GE(big->triangleCount() + l1[0].geometry->triangleCount(), 4096u); // the two-thread size
+    for (std::size_t i = 0; i < l1.size(); ++i) {
+        EXPECT_EQ(l1[i].measuredError, l2[i].measuredError) << "level " << i;
+        EXPECT_EQ(l1[i].geometry->indices, l2[i].geometry->indices) << "level " << i;
+    }
 }
 
 // The loader's thread spreader: every job once, and a job's exception comes back to the caller.

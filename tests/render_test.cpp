@@ -241,7 +241,7 @@ TEST(Contexts, OsmesaDrawableTakesTheSizeAskedFor) {
         glViewport(0, 0, w, h);
         glClearColor(red, 0.5f, 0.25f, 1.0f);
         glClear(GL_COLOR_BUFFER_BIT);
-        unsigned char px[4] = {};
+        unsigned char px[4] = {77, 77, 77, 77}; // neither value a clear writes: a read that misses fails
         glReadPixels(w - 1, h - 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, px);
         return int(px[0]);
     };

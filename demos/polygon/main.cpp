@@ -475,8 +475,7 @@ void addAoOptions(CLI::App& cli, Options& o) {
     cli.add_option_function<std::string>(
            "--ao-samples",
            [&o](const std::string& v) {
-               o.aoParameters.samples = integer("--ao-samples", v, std::numeric_limits<int>::min(),
-                                                std::numeric_limits<int>::max());
+               o.aoParameters.samples = integer("--ao-samples", v, 8, 64); // AmbientOcclusionNode's range
            },
            "samples per pixel, 8..64 (default 32)")
         ->type_name("M")
@@ -563,7 +562,6 @@ void addSkyOptions(CLI::App& cli, Options& o) {
 // The smoke cloud and the Gaussian splats; the volume's validate() checks the numbers.
 void addVolumeOptions(CLI::App& cli, Options& o) {
     const char* group = "effects";
-    const int intMin = std::numeric_limits<int>::min(), intMax = std::numeric_limits<int>::max();
     cli.add_flag(
            "--smoke", o.smoke,
            "a raymarched smoke cloud (noise density, single scattering of the sun) over the road ahead of "
@@ -571,8 +569,8 @@ void addVolumeOptions(CLI::App& cli, Options& o) {
         ->group(group);
     cli.add_option_function<std::string>(
            "--volume-steps",
-           [&o, intMin, intMax](const std::string& v) {
-               o.volume.steps = integer("--volume-steps", v, intMin, intMax);
+           [&o](const std::string& v) {
+               o.volume.steps = integer("--volume-steps", v, 1, 4096); // VolumeNode's range
            },
            "raymarch steps per ray, 1..4096 (default 64)")
         ->type_name("N")
@@ -593,11 +591,11 @@ void addVolumeOptions(CLI::App& cli, Options& o) {
         ->group(group);
     cli.add_option_function<std::string>(
            "--volume-slices",
-           [&o, intMin, intMax](const std::string& v) {
-               o.volume.slices = integer("--volume-slices", v, intMin, intMax);
+           [&o](const std::string& v) {
+               o.volume.slices = integer("--volume-slices", v, 2, 4096);
                o.volume.method = sgfx::VolumeMethod::Slicing;
            },
-           "draw the smoke by slicing with N view-aligned slices instead")
+           "draw the smoke by slicing with N view-aligned slices instead, 2..4096")
         ->type_name("N")
         ->group(group);
     cli.add_option_function<std::string>(

@@ -229,11 +229,14 @@ void addModelOptions(CLI::App& cli, view::Options& o, Given& given) {
         ->type_name("NAME|INDEX");
     cli.add_flag("--list-animations", o.listAnimations,
                  "print each animation's index, name, duration and channels, then exit");
-    // An optional number: a bare --auto-lod is 1 pixel; a value not a number is a model file.
+    // An optional number: a bare --auto-lod is 1 pixel; a value that is not wholly a number (such as
+    // 2CylinderEngine.glb) is a model file.
     cli.add_option_function<std::string>(
            "--auto-lod",
            [&](const std::string& v) {
-               const bool isNumber = !v.empty() && std::isdigit(static_cast<unsigned char>(v[0]));
+               char* end = nullptr;
+               std::strtod(v.c_str(), &end);
+               const bool isNumber = !v.empty() && *end == '\0';
                o.autoLodPixels = isNumber ? float(number("--auto-lod", v, 0.01, 100)) : 1.0f;
                if (!isNumber && !v.empty()) given.files.push_back(v);
            },

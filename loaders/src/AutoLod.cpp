@@ -9,10 +9,11 @@
 #include <sgfx/TriangleBvh.h>
 
 #include <algorithm>
-#include <numeric>
 #include <array>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <thread>
 #include <unordered_map>
@@ -571,6 +572,7 @@ struct BoundExtras {
     float floor = 0.0f;                                               ///< refine no piece below this
     const std::vector<std::uint32_t>*aToB = nullptr, *bToA = nullptr; ///< vertices at identical positions
     HausdorffBoundStats* stats = nullptr;
+    bool secondThread = true; ///< a large pair may run one side on a second thread
 };
 
 float bound(const Geometry& a, const Geometry& b, float relativeSlack, float absoluteSlack,
@@ -587,13 +589,29 @@ float bound(const Geometry& a, const Geometry& b, float relativeSlack, float abs
     const float lower = std::max(ab.prepare(a), ba.prepare(b));
     ab.share(lower), ba.share(lower);
     float hab = 0.0f, hba = 0.0f;
-    if (a.triangleCount() + b.triangleCount() >= 4096) {
-        std::thread other([&] { hba = ba.run(b); });
-        hab = ab.run(a);
-        other.join();
-    } else {
-        hab = ab.run(a), hba = ba.run(b);
+    std::thread other;
+    std::exception_ptr otherError;
+    if (x.secondThread && a.triangleCount() + b.triangleCount() >= 4096) {
+        try {
+            other = std::thread([&] {
+                try {
+                    hba = ba.run(b);
+                } catch (...) {
+                    otherError = std::current_exception();
+                }
+            });
+        } catch (...) { // no thread to be had: both sides on this one
+        }
     }
+    try {
+        hab = ab.run(a);
+        if (!other.joinable()) hba = ba.run(b);
+    } catch (...) {
+        if (other.joinable()) other.join();
+        throw;
+    }
+    if (other.joinable()) other.join();
+    if (otherError) std::rethrow_exception(otherError);
     if (x.stats) {
         *x.stats = ab.stats();
         x.stats->add(ba.stats());
@@ -661,8 +679,8 @@ std::vector<AutoLodLevel> simplifiedLevels(const Geometry& full, const AutoLodOp
         // A coarser level's error is rounded up to the finer one's (makeErrorLod): below that, any
         // bound is as good as the exact value.
         const float floor = levels.empty() ? 0.0f : levels.back().measuredError;
-        level.measuredError =
-            bound(*level.geometry, full, 0.1f, absSlack, {floor, &toFull, &toLevel, &level.boundStats});
+        level.measuredError = bound(*level.geometry, full, 0.1f, absSlack,
+                                    {floor, &toFull, &toLevel, &level.boundStats, o.threads != 1});
         levels.push_back(std::move(level));
     }
     return levels;
@@ -731,7 +749,8 @@ std::shared_ptr<LOD> makeErrorLod(const std::shared_ptr<Geometry>& full, const A
 
 std::size_t addAutoLods(Node& root, const AutoLodOptions& o) {
     // Where each distinct mesh is drawn, found first; the LODs are then made in parallel (each
-    // mesh's work only reads that mesh) and put in place here, on the caller's thread.
+    // job touches only its own mesh: its parent list, bound and BVH caches; one job per distinct
+    // mesh) and put in place here, on the caller's thread.
     struct Place {
         Group* group;
         std::size_t child, mesh;
@@ -761,8 +780,11 @@ std::size_t addAutoLods(Node& root, const AutoLodOptions& o) {
         return meshes[a]->elementCount() > meshes[b]->elementCount();
     });
     std::vector<std::shared_ptr<LOD>> lods(meshes.size());
-    detail::parallelFor(order.size(), o.threads,
-                        [&](std::size_t k) { lods[order[k]] = makeErrorLod(meshes[order[k]], o); });
+    const unsigned threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    AutoLodOptions perMesh = o;
+    if (threads > 1 && meshes.size() > 1) perMesh.threads = 1; // the pool's threads are all it uses
+    detail::parallelFor(order.size(), threads,
+                        [&](std::size_t k) { lods[order[k]] = makeErrorLod(meshes[order[k]], perMesh); });
     for (const Place& p : places)
         if (lods[p.mesh]) p.group->replaceChild(p.child, lods[p.mesh]);
     return std::size_t(std::count_if(lods.begin(), lods.end(), [](const auto& l) { return l != nullptr; }));

@@ -43,7 +43,7 @@ template <class Job> void parallelFor(std::size_t n, unsigned threads, Job&& job
     for (std::size_t t = 1; t < count; ++t) {
         try {
             pool.emplace_back(worker);
-        } catch (const std::system_error&) { // no more threads to be had: fewer do the work
+        } catch (...) { // no more threads to be had (system_error, bad_alloc): fewer do the work
             break;
         }
     }

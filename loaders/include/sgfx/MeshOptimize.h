@@ -58,8 +58,9 @@ struct SGFX_API AutoLodOptions {
     float focalPixels = 500.0f;
     /// Keep the mesh's open border where it is, so meshes that meet there do not crack apart.
     bool lockBorder = true;
-    /// Threads addAutoLods spreads the meshes over (0: std::thread::hardware_concurrency()). The
-    /// LODs are the same for any count.
+    /// The most threads the work uses at once (0: std::thread::hardware_concurrency()): addAutoLods
+    /// spreads the meshes over them; makeErrorLod alone bounds a large level's two sides on two
+    /// unless this is 1. The LODs are the same for any count.
     unsigned threads = 0;
 };
 
