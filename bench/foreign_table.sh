@@ -91,21 +91,20 @@ stamp "$build"
 echo
 echo "Foreign content: the proving ground exported at full detail ($scene; ${export_flags[*]:-default scale}), sgfx loading the glTF (metallic-roughness; sgfx-view flags: ${SGFX_VIEW_FLAGS:-none}), OSG the OBJ (osg_view flags: ${OSG_VIEW_FLAGS:-none}), orbit camera, $frames frames a run, $rounds interleaved rounds."
 echo
-echo "| size | fog | sgfx ms | OSG ms | sgfx × OSG |"
-echo "|---|---|---:|---:|---:|"
-for s in L S; do
-  size=$large; [ $s = S ] && size=$small
-  for f in off on; do pair_row "$size | $f" "sgfx_${s}_${f}" "osg_${s}_${f}"; done
-done
+# frame_table SERIES LABEL: the series' frames against OSG's, both sizes, fog off and on.
+frame_table() {
+  echo "| size | fog | $2 ms | OSG ms | $2 × OSG |"
+  echo "|---|---|---:|---:|---:|"
+  for s in L S; do
+    size=$large; [ $s = S ] && size=$small
+    for f in off on; do pair_row "$size | $f" "${1}_${s}_${f}" "osg_${s}_${f}"; done
+  done
+}
+frame_table sgfx sgfx
 echo
 echo "The same with levels of detail made at load (sgfx-view --auto-lod: GltfOptions::autoLod, 1 pixel); load time (median): $(median "${lod_load[@]}") ms with them, $(median "${sgfx_load[@]}") ms without."
 echo
-echo "| size | fog | sgfx+LOD ms | OSG ms | sgfx+LOD × OSG |"
-echo "|---|---|---:|---:|---:|"
-for s in L S; do
-  size=$large; [ $s = S ] && size=$small
-  for f in off on; do pair_row "$size | $f" "lod_${s}_${f}" "osg_${s}_${f}"; done
-done
+frame_table lod sgfx+LOD
 echo
 echo "Per-pixel cost: (ms at $large − ms at $small) / $dpx added pixels, per round; medians."
 echo

@@ -22,8 +22,7 @@ int main(int argc, char** argv) {
                  "occlusion, the raw and blurred occlusion maps), four PNGs",
                  "ao_figure"};
     demo::lastValueWins(cli);
-    cli.add_option("--out-dir", dir, "folder of the PNGs (default .)")->type_name("DIR");
-    demo::addSize(cli, width, height, 1, 4096, "image size, 1..4096 each (default 480x320)");
+    demo::addFigureOptions(cli, dir, width, height);
     if (const int status = demo::parse(cli, argc, argv); status >= 0) return status;
     try {
         auto plane = sgfx::shapes::quad(60, 60);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <sstream>
@@ -71,6 +72,12 @@ inline CLI::Option* addSize(CLI::App& app, int& width, int& height, int lo, int 
             },
             what)
         ->type_name("WxH");
+}
+
+// The figure programs' common options: --out-dir DIR and --size WxH (1..4096, default 480x320).
+inline void addFigureOptions(CLI::App& app, std::filesystem::path& dir, int& width, int& height) {
+    app.add_option("--out-dir", dir, "folder of the PNGs (default .)")->type_name("DIR");
+    addSize(app, width, height, 1, 4096, "image size, 1..4096 each (default 480x320)");
 }
 
 // A repeated option takes its last value, as the demos' hand-written parsers did (scripts pass

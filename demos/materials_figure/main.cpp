@@ -116,8 +116,7 @@ int main(int argc, char** argv) {
                  "transmissive glTF model)",
                  "materials_figure"};
     demo::lastValueWins(cli);
-    cli.add_option("--out-dir", dir, "folder of the PNGs (default .)")->type_name("DIR");
-    demo::addSize(cli, width, height, 1, 4096, "image size, 1..4096 each (default 480x320)");
+    demo::addFigureOptions(cli, dir, width, height);
     cli.add_option("--transmission-model", transmissionModel,
                    "a glTF model with KHR_materials_transmission for the transmission pair (none by default)")
         ->type_name("FILE");
