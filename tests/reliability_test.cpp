@@ -1812,6 +1812,33 @@ TEST(Submission, FlushingWhileDrawingDrawsTheSameImage) {
     }
 }
 
+// RendererOptions::submitsPerFrame caps the submissions a frame from the last frame's triangles,
+// never submits more often than submitTriangles asks, and FrameStats::submissions counts them.
+TEST(Submission, SubmitsPerFrameCapsTheCount) {
+    SmallProvingGround ground;
+    Viewer& v = *ground.viewer;
+    ground.at(1, 3);
+    RendererOptions& o = v.renderer().options();
+    o.submitTriangles = 100;
+    o.submitsPerFrame = 0;
+    v.frame();
+    const std::size_t triangles = v.stats().triangles;
+    ASSERT_GT(triangles, 2000u);
+    // Uncapped: one before the first item past every 100 triangles (items end past the mark).
+    EXPECT_GT(v.stats().submissions, 3u);
+    EXPECT_LE(v.stats().submissions, triangles / 100);
+    o.submitsPerFrame = 3;
+    v.frame(); // the interval comes from the frame before: triangles / 3
+    EXPECT_GE(v.stats().submissions, 1u);
+    EXPECT_LE(v.stats().submissions, 3u);
+    o.submitTriangles = triangles * 2; // longer than the cap's interval: it wins
+    v.frame();
+    EXPECT_EQ(v.stats().submissions, 0u);
+    o.submitTriangles = 0; // none at all, whatever the cap
+    v.frame();
+    EXPECT_EQ(v.stats().submissions, 0u);
+}
+
 TEST(Culling, NeverDropsAVisibleObjectOnTheProvingGround) {
     SmallProvingGround ground;
     auto& v = ground.viewer;

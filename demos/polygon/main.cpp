@@ -88,6 +88,7 @@ struct Options {
     bool manyDrawables = false;
     bool autoInstancing = true;
     std::uint64_t submitTriangles = sgfx::RendererOptions{}.submitTriangles;
+    std::uint32_t submitsPerFrame = sgfx::RendererOptions{}.submitsPerFrame;
     int benchFrames = 0;
     bool egl = false;
     sgfx::RendererOptions::Lighting lighting = sgfx::RendererOptions::Lighting::PerPixel;
@@ -315,6 +316,15 @@ void addSceneOptions(CLI::App& cli, Options& o) {
            "submit queued draws every N triangles so llvmpipe rasterises while the frame is still being "
            "drawn "
            "(RendererOptions::submitTriangles, default 20000; 0 submits once per frame)")
+        ->type_name("N");
+    cli.add_option_function<std::string>(
+           "--submits-per-frame",
+           [&o](const std::string& v) {
+               o.submitsPerFrame = integer<std::uint32_t>("--submits-per-frame", v, 0,
+                                                          std::numeric_limits<std::uint32_t>::max());
+           },
+           "at most about N of those submissions a frame (RendererOptions::submitsPerFrame, default 4; "
+           "0: no limit)")
         ->type_name("N");
     cli.add_flag("--egl", o.egl, "render headless through EGL (GPU) instead of OSMesa");
     cli.add_option_function<std::string>(
@@ -866,6 +876,7 @@ std::unique_ptr<sgfx::Viewer> makeHeadlessViewer(const Options& o) {
     viewer->renderer().options().lighting = o.lighting;
     viewer->renderer().options().autoInstancing = o.autoInstancing;
     viewer->renderer().options().submitTriangles = o.submitTriangles;
+    viewer->renderer().options().submitsPerFrame = o.submitsPerFrame;
     viewer->renderer().options().countFragments = o.countFragments;
     viewer->renderer().options().colorTarget = o.colorTarget;
     viewer->camera()->setAntiAliasing(o.aa);
@@ -1094,6 +1105,7 @@ int runWindow(const Options& o, const polygon::PolygonScene& scene) {
     viewer.renderer().options().lighting = o.lighting;
     viewer.renderer().options().autoInstancing = o.autoInstancing;
     viewer.renderer().options().submitTriangles = o.submitTriangles;
+    viewer.renderer().options().submitsPerFrame = o.submitsPerFrame;
     viewer.renderer().options().colorTarget = o.colorTarget;
     viewer.camera()->setAntiAliasing(o.aa);
     setupCamera(o, viewer, startPose(o, o.time));

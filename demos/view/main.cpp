@@ -346,7 +346,7 @@ int runBench(const view::Options& o, view::ViewScene& scene, double loadMs) {
         glFinish();
     }
     std::vector<double> ms;
-    double triangles = 0, drawCalls = 0, culled = 0, items = 0;
+    double triangles = 0, drawCalls = 0, culled = 0, items = 0, submissions = 0;
     for (int i = 0; i < o.benchFrames; ++i) {
         pose(i);
         const auto t0 = clock::now();
@@ -357,6 +357,7 @@ int runBench(const view::Options& o, view::ViewScene& scene, double loadMs) {
         drawCalls += double(viewer->stats().drawCalls);
         culled += double(viewer->stats().occlusionCulled);
         items += double(viewer->stats().items);
+        submissions += double(viewer->stats().submissions);
     }
     for (const std::string& e : viewer->renderer().takeGlErrors())
         std::fprintf(stderr, "sgfx-view: GL: %s\n", e.c_str());
@@ -364,10 +365,11 @@ int runBench(const view::Options& o, view::ViewScene& scene, double loadMs) {
     const double n = double(o.benchFrames), mean = std::accumulate(ms.begin(), ms.end(), 0.0) / n;
     std::printf(
         "BENCH sgfx ms_per_frame=%.3f fps=%.2f frames=%d median_ms=%.3f triangles=%.0f draw_calls=%.1f "
-        "size=%dx%d camera=%s fog=%d occlusion_culled=%.3f load_ms=%.0f context=%s renderer=%s\n",
+        "size=%dx%d camera=%s fog=%d occlusion_culled=%.3f load_ms=%.0f submissions=%.1f context=%s "
+        "renderer=%s\n",
         mean, 1000.0 / mean, o.benchFrames, median(ms), triangles / n, drawCalls / n, o.width, o.height,
         o.orbit ? "orbit" : "home", int(o.settings.fog), items > 0 ? culled / items : 0.0, loadMs,
-        std::string(viewer->context().kind()).c_str(), viewer->context().renderer().c_str());
+        submissions / n, std::string(viewer->context().kind()).c_str(), viewer->context().renderer().c_str());
     return 0;
 }
 

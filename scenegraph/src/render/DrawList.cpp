@@ -219,10 +219,11 @@ std::size_t Renderer::DrawList::batchLength(std::span<const RenderItem> items) c
 }
 
 void Renderer::DrawList::submitIfDue() {
-    const std::uint64_t every = r.options_.submitTriangles;
+    const std::uint64_t every = s.submitEvery;
     if (every && r.stats_.triangles - s.submittedTriangles >= every) {
         glFlush(); // llvmpipe's threads rasterise what is binned while this thread goes on
         s.submittedTriangles = r.stats_.triangles;
+        ++r.stats_.submissions;
     }
 }
 

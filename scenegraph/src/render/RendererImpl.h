@@ -95,6 +95,8 @@ struct Renderer::Impl {
     render::LightList lightList;
     std::vector<glm::mat4> batchScratch;
     std::uint64_t submittedTriangles = 0; // FrameStats::triangles at the last glFlush
+    std::uint64_t submitEvery = 0;        // this frame's interval (RendererOptions::submitsPerFrame)
+    std::uint64_t lastFrameTriangles = 0;
     gl::VertexArrayObject emptyVao;       // full-screen passes take their vertices from gl_VertexID
     render::DebugLog log;
     gl::StateCache cache;              // every real change is counted as a state change

@@ -87,6 +87,10 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     const auto t0 = clock::now();
     stats_ = {};
     impl_->submittedTriangles = 0;
+    impl_->submitEvery = options_.submitTriangles;
+    if (options_.submitTriangles && options_.submitsPerFrame)
+        impl_->submitEvery =
+            std::max<std::uint64_t>(impl_->submitEvery, impl_->lastFrameTriangles / options_.submitsPerFrame);
     frame_.time = time;
     frame_.frameNumber = frameNumber;
     // Forget the targets of render-to-texture cameras that no longer exist.
@@ -103,6 +107,7 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     impl_->graphs.clear();
     impl_->passViewBlocksUsed = 0;
     renderView(camera, impl_->scene, queue_, plan_, 0);
+    impl_->lastFrameTriangles = stats_.triangles;
     impl_->log.stage = "outside a frame";
     impl_->timers.collect(stats_.passTimes);
     if (options_.glErrors.value_or(impl_->glErrorsDefault) == RendererOptions::GlErrorPolicy::Throw) {
