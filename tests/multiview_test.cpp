@@ -593,3 +593,31 @@ TEST(Multiview, BadChannelsLeaksAndResizes) {
     EXPECT_EQ(v->capture().width, 40);
     EXPECT_EQ(counts(), single); // textures, framebuffers, buffers...: as before the channels
 }
+
+// RendererOptions::submitsPerFrame counts each channel's own last frame: a channel that sees 40
+// panels is capped by its own triangles, not by those of the channel drawn just before it (none),
+// and Viewer::stats() sums the channels' submissions.
+TEST(Multiview, SubmissionCapPerChannel) {
+    auto root = Group::create();
+    auto white = Material::create();
+    for (int i = 0; i < 40; ++i)
+        root->addChild(
+            panel(0.2f, 0.2f, upright(-2.0f + 0.1f * float(i), 5.0f + 0.05f * float(i), 0.0f), white));
+    auto v = viewerAt(1, 1, {0, 0, 0}, {0, 1, 0});
+    const OffAxisFrustum f = OffAxisFrustum::fromAngles(-30, 30, -20, 20, 0.1f, 200.0f);
+    v->setChannels({channel("front", f, {0, 0, kW, kH}), channel("back", f, {kW, 0, kW, kH}, yaw(180.0f))});
+    v->setSceneData(root);
+    RendererOptions& o = v->renderer().options();
+    o.submitTriangles = 4;
+    o.submitsPerFrame = 2;
+    v->frame(0.0);
+    ASSERT_GE(v->channelStats(0).triangles, 80u);
+    EXPECT_EQ(v->channelStats(1).triangles, 0u);
+    EXPECT_GE(v->channelStats(0).submissions, 10u); // no last frame yet: every 4 triangles
+    v->frame(0.0);
+    EXPECT_GE(v->channelStats(0).submissions, 1u);
+    EXPECT_LE(v->channelStats(0).submissions, 2u);
+    EXPECT_EQ(v->channelStats(1).submissions, 0u);
+    EXPECT_EQ(v->stats().submissions, v->channelStats(0).submissions + v->channelStats(1).submissions);
+    expectNoGlErrors(*v);
+}

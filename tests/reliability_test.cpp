@@ -1798,6 +1798,7 @@ struct SmallProvingGround {
 TEST(Submission, FlushingWhileDrawingDrawsTheSameImage) {
     SmallProvingGround ground;
     Viewer& v = *ground.viewer;
+    v.renderer().options().submitsPerFrame = 0; // the intervals below exactly, uncapped
     for (int i = 0; i < 3; ++i) {
         ground.at(i, 3);
         v.renderer().options().submitTriangles = 0;

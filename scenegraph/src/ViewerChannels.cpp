@@ -24,6 +24,9 @@ void addStats(FrameStats& total, const FrameStats& s) {
     total.passTimes.insert(total.passTimes.end(), s.passTimes.begin(), s.passTimes.end());
     total.fragments += s.fragments;
     total.geometryPasses += s.geometryPasses;
+    total.occlusionTested += s.occlusionTested;
+    total.occlusionCulled += s.occlusionCulled;
+    total.submissions += s.submissions;
     total.cullMs += s.cullMs;
     total.drawMs += s.drawMs;
 }

@@ -148,7 +148,8 @@ struct SGFX_API RendererOptions {
     /// unaffected; on tile-based mobile GPUs a flush can force tiles out, so set 0 there.
     std::uint64_t submitTriangles = 20000;
     /// At most about this many of those submissions a frame (0: no limit): the interval grows to
-    /// the last frame's triangles over this number when that is longer. Each submission has a
+    /// the camera's last frame's triangles over this number when that is longer (a camera's first
+    /// frame is not capped; each display channel counts its own). Each submission has a
     /// fixed cost on llvmpipe (its scene is set up again: every state, in every bin); the foreign
     /// city's 590,000 triangles in 4,300 draws paid it 30 times a frame, about 10 ms at 320×180
     /// (docs/performance.md, "Submissions").

@@ -81,16 +81,26 @@ private:
     gl::QueryObject fragments_; // RendererOptions::countFragments, over the main pass
 };
 
+Renderer::Impl::LastFrame& Renderer::Impl::startSubmissions(const Camera& view,
+                                                            const RendererOptions& options) {
+    std::erase_if(lastFrames, [](const auto& e) { return e.second.tracked && e.second.owner.expired(); });
+    LastFrame& last = lastFrames[&view];
+    if (const std::weak_ptr<const Node> self = view.weak_from_this();
+        !self.expired() && (last.owner.owner_before(self) || self.owner_before(last.owner)))
+        last = {self, true, 0}; // a new camera at this address
+    submittedTriangles = 0;
+    submitEvery = options.submitTriangles;
+    if (options.submitTriangles && options.submitsPerFrame)
+        submitEvery = std::max<std::uint64_t>(submitEvery, last.triangles / options.submitsPerFrame);
+    return last;
+}
+
 void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     using clock = std::chrono::steady_clock;
     context_.assertOwnerThread();
     const auto t0 = clock::now();
     stats_ = {};
-    impl_->submittedTriangles = 0;
-    impl_->submitEvery = options_.submitTriangles;
-    if (options_.submitTriangles && options_.submitsPerFrame)
-        impl_->submitEvery =
-            std::max<std::uint64_t>(impl_->submitEvery, impl_->lastFrameTriangles / options_.submitsPerFrame);
+    Impl::LastFrame& last = impl_->startSubmissions(camera, options_);
     frame_.time = time;
     frame_.frameNumber = frameNumber;
     // Forget the targets of render-to-texture cameras that no longer exist.
@@ -107,7 +117,7 @@ void Renderer::render(Camera& camera, double time, std::uint64_t frameNumber) {
     impl_->graphs.clear();
     impl_->passViewBlocksUsed = 0;
     renderView(camera, impl_->scene, queue_, plan_, 0);
-    impl_->lastFrameTriangles = stats_.triangles;
+    last.triangles = stats_.triangles;
     impl_->log.stage = "outside a frame";
     impl_->timers.collect(stats_.passTimes);
     if (options_.glErrors.value_or(impl_->glErrorsDefault) == RendererOptions::GlErrorPolicy::Throw) {
