@@ -53,7 +53,22 @@ using demo::number;
 struct Given {
     bool size = false;
     std::vector<std::string> files; // taken as an optional value (--auto-lod FILE, --shadows FILE)
+    std::vector<std::string> args;  // the command line, for the files' order
 };
+
+// The files in command-line order, those taken as an optional value among the others (they load,
+// and name their errors, in that order); a file only in a form such as --auto-lod=FILE goes last.
+std::vector<std::string> inArgumentOrder(std::vector<std::string> pool,
+                                         const std::vector<std::string>& args) {
+    std::vector<std::string> out;
+    for (const std::string& a : args)
+        if (const auto it = std::find(pool.begin(), pool.end(), a); it != pool.end()) {
+            out.push_back(std::move(*it));
+            pool.erase(it);
+        }
+    out.insert(out.end(), pool.begin(), pool.end());
+    return out;
+}
 
 using demo::choice;
 
@@ -267,6 +282,7 @@ void addBenchOptions(CLI::App& cli, view::Options& o) {
 // The checks across options, after the parse; then what the options imply.
 void checkOptions(view::Options& o, Given& given) {
     o.files.insert(o.files.end(), given.files.begin(), given.files.end());
+    o.files = inArgumentOrder(std::move(o.files), given.args);
     if (o.files.empty()) demo::usageError("no model file given");
     if (o.window && (o.headless || o.compare || o.pick))
         demo::usageError("--window and --self-test cannot go with --headless, --compare or --pick");
@@ -290,6 +306,7 @@ int parse(int argc, char** argv, view::Options& o) {
     cli.footer(kFooter);
     demo::lastValueWins(cli);
     Given given;
+    given.args.assign(argv + 1, argv + argc);
     addOutputOptions(cli, o, given);
     addFogAndLightOptions(cli, o.settings);
     addEffectOptions(cli, o.settings, given);
