@@ -56,16 +56,19 @@ struct Given {
     std::vector<std::string> args;  // the command line, for the files' order
 };
 
-// The files in command-line order, those taken as an optional value among the others (they load,
-// and name their errors, in that order); a file only in a form such as --auto-lod=FILE goes last.
+// The files in command-line order, those taken as an optional value (--auto-lod FILE or
+// --auto-lod=FILE) among the others: they load, and name their errors, in that order.
 std::vector<std::string> inArgumentOrder(std::vector<std::string> pool,
                                          const std::vector<std::string>& args) {
     std::vector<std::string> out;
-    for (const std::string& a : args)
+    for (std::string a : args) {
+        for (const std::string_view option : {"--auto-lod=", "--shadows="})
+            if (a.starts_with(option)) a.erase(0, option.size());
         if (const auto it = std::find(pool.begin(), pool.end(), a); it != pool.end()) {
             out.push_back(std::move(*it));
             pool.erase(it);
         }
+    }
     out.insert(out.end(), pool.begin(), pool.end());
     return out;
 }

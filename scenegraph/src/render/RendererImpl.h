@@ -96,14 +96,14 @@ struct Renderer::Impl {
     std::vector<glm::mat4> batchScratch;
     std::uint64_t submittedTriangles = 0; // FrameStats::triangles at the last glFlush
     std::uint64_t submitEvery = 0;        // this frame's interval (RendererOptions::submitsPerFrame)
-    // Triangles of each camera's last frame (display channels render once per channel a frame);
-    // a camera not owned by a shared_ptr keeps its entry (tracked false) while its address does.
+    // Triangles of each camera's last frame (display channels render once per channel a frame).
+    // Cameras not owned by a shared_ptr share one count: nothing says when they are gone.
     struct LastFrame {
         std::weak_ptr<const Node> owner;
-        bool tracked = false;
         std::uint64_t triangles = 0;
     };
     std::unordered_map<const Camera*, LastFrame> lastFrames;
+    LastFrame untrackedLastFrame;
     // This frame's submission interval for `view`; its entry, to record the frame's triangles.
     LastFrame& startSubmissions(const Camera& view, const RendererOptions& options);
     gl::VertexArrayObject emptyVao;       // full-screen passes take their vertices from gl_VertexID

@@ -83,11 +83,10 @@ private:
 
 Renderer::Impl::LastFrame& Renderer::Impl::startSubmissions(const Camera& view,
                                                             const RendererOptions& options) {
-    std::erase_if(lastFrames, [](const auto& e) { return e.second.tracked && e.second.owner.expired(); });
-    LastFrame& last = lastFrames[&view];
-    if (const std::weak_ptr<const Node> self = view.weak_from_this();
-        !self.expired() && (last.owner.owner_before(self) || self.owner_before(last.owner)))
-        last = {self, true, 0}; // a new camera at this address
+    std::erase_if(lastFrames, [](const auto& e) { return e.second.owner.expired(); });
+    const std::weak_ptr<const Node> self = view.weak_from_this();
+    LastFrame& last = self.expired() ? untrackedLastFrame : lastFrames[&view];
+    if (!self.expired() && last.owner.expired()) last.owner = self; // first seen
     submittedTriangles = 0;
     submitEvery = options.submitTriangles;
     if (options.submitTriangles && options.submitsPerFrame)
