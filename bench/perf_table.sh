@@ -2,7 +2,8 @@
 # Every performance table in one command, each starting with common.sh's stamp (date, git
 # revision, renderer): the cull traversal (cull_table.sh), the frame time (frame_table.sh), the
 # foreign-content orbit (foreign_table.sh, issue 24's yardstick), the scene queries
-# (query_table.sh), particles (particles_table.sh), ambient occlusion (ao_table.sh), fog
+# (query_table.sh), particles (particles_table.sh) and their step's floor (particle_floor_table.sh),
+# ambient occlusion (ao_table.sh), fog
 # (fog_table.sh) and the one-line frame comparison (compare_osg.sh at 1280x720). Every figure
 # comes from interleaved runs with the same malloc pins on both sides.
 #
@@ -11,7 +12,7 @@
 # alone and named on stderr). A failing table (e.g. cull_table.sh's queued-count check) is
 # reported and makes the script exit 1 after the others ran.
 # Usage: bench/perf_table.sh [--write] [BUILD_DIR] [ROUNDS] [FRAMES] [TABLES...]
-#   TABLES: any of cull frame foreign query particles ao fog compare (default all); OUT_DIR:
+#   TABLES: any of cull frame foreign query particles floor ao fog compare (default all); OUT_DIR:
 #   $PERF_OUT, or a fresh temporary folder (named on stderr).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -19,11 +20,12 @@ root=$(dirname "$here")
 write=0; [ "${1:-}" = --write ] && { write=1; shift; }
 build=${1:-build}; rounds=${2:-3}; frames=${3:-30}
 shift $(($# < 3 ? $# : 3))
-tables=("$@"); [ ${#tables[@]} -gt 0 ] || tables=(cull frame foreign query particles ao fog compare)
+tables=("$@"); [ ${#tables[@]} -gt 0 ] || tables=(cull frame foreign query particles floor ao fog compare)
 out=${PERF_OUT:-$(mktemp -d -t perf-tables.XXXXXX)}; mkdir -p "$out"
 echo "perf_table: tables in $out" >&2
 declare -A page=([cull]=docs/performance.md [frame]=docs/performance.md [foreign]=docs/performance.md
-  [query]=docs/benchmark-queries.md [particles]=docs/effects/particles.md [ao]=docs/effects/ao.md
+  [query]=docs/benchmark-queries.md [particles]=docs/effects/particles.md
+  [floor]=docs/effects/particles.md [ao]=docs/effects/ao.md
   [fog]=docs/effects/fog.md [compare]=docs/performance.md)
 # table NAME: runs the table's script with this command's rounds and frames.
 table() {
@@ -33,10 +35,11 @@ table() {
     foreign) "$here/foreign_table.sh" "$build" "$rounds" "$frames" ;;
     query) "$here/query_table.sh" "$build" "$rounds" ;;
     particles) "$here/particles_table.sh" "$build" "$rounds" ;;
+    floor) "$here/particle_floor_table.sh" "$build" "$rounds" ;;
     ao) "$here/ao_table.sh" "$build" "$rounds" ;;
     fog) "$here/fog_table.sh" "$build" "$rounds" ;;
     compare) "$here/compare_osg.sh" "$build" 1280x720 "$frames" "$rounds" ;;
-    *) echo "perf_table: unknown table '$1' (cull frame foreign query particles ao fog compare)" >&2; return 2 ;;
+    *) echo "perf_table: unknown table '$1' (cull frame foreign query particles floor ao fog compare)" >&2; return 2 ;;
   esac
 }
 # splice NAME FILE: puts FILE between NAME's markers in its page.
