@@ -4,6 +4,7 @@
 #include <sgfx/nodes/fog/FogMath.h>
 
 #include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -145,4 +146,98 @@ TEST(FogMath, ResponsesFollowTheSeedAndBeerLambert) {
     EXPECT_NEAR((1 - fog::amount(a, fog::Response::Exponential, 1.0)) *
                     (1 - fog::amount(b, fog::Response::Exponential, 1.0)),
                 1 - fog::amount(whole, fog::Response::Exponential, 1.0), 1e-12);
+}
+
+// elevationRange against brute force: the elevations of a 201×201 grid of pixel rays and of 2000
+// rays along each image edge, over cameras that look up, down, level, straight at the zenith and
+// the nadir, rolled, off-axis and orthographic. The range holds every sampled ray and is no wider
+// than the samples' own range plus what the sampling can miss.
+TEST(FogMath, ElevationRangeHoldsEveryPixelRayAndNoMore) {
+    const glm::dvec3 up(0, 0, 1);
+    struct View {
+        const char* name;
+        glm::dmat4 projection, view;
+    };
+    const auto persp = [](double fovyDeg, double aspect) {
+        return glm::perspective(glm::radians(fovyDeg), aspect, 0.5, 3000.0);
+    };
+    const auto look = [](glm::dvec3 eye, glm::dvec3 at, glm::dvec3 u) { return glm::lookAt(eye, at, u); };
+    const glm::dvec3 eye(3, -4, 25);
+    const View views[] = {
+        {"level", persp(60, 1.5), look(eye, eye + glm::dvec3(0, 1, 0), up)},
+        {"down 30", persp(60, 16.0 / 9.0), look(eye, eye + glm::dvec3(0, 1, -0.577), up)},
+        {"down 80", persp(60, 1.0), look(eye, eye + glm::dvec3(0.1, 0.17, -1), up)},
+        {"up 50", persp(40, 2.0), look(eye, eye + glm::dvec3(1, 0, 1.19), up)},
+        {"zenith", persp(60, 1.3), look(eye, eye + glm::dvec3(0, 0, 1), {0, 1, 0})},
+        {"nadir", persp(90, 1.0), look(eye, eye + glm::dvec3(0, 0, -1), {1, 0, 0})},
+        {"near zenith", persp(60, 1.0), look(eye, eye + glm::dvec3(0.3, 0, 1), {0, 1, 0})},
+        {"rolled", persp(70, 1.7),
+         look(eye, eye + glm::dvec3(0, 1, 0.2), glm::normalize(glm::dvec3(0.6, 0, 1)))},
+        {"wide", persp(150, 3.0), look(eye, eye + glm::dvec3(0, 1, 0.3), up)},
+        {"off-axis", glm::frustum(-0.2, 0.9, -0.1, 0.6, 0.5, 3000.0),
+         look(eye, eye + glm::dvec3(1, 1, -0.4), up)},
+        {"ortho", glm::ortho(-50.0, 50.0, -30.0, 30.0, 0.5, 3000.0),
+         look(eye, eye + glm::dvec3(0, 1, -0.5), up)},
+    };
+    for (const View& v : views) {
+        const glm::dmat4 inv = glm::inverse(v.projection * v.view);
+        const glm::dvec3 camera = glm::inverse(v.view)[3];
+        const glm::dvec2 range = fog::elevationRange(inv, camera, up);
+        const auto elevation = [&](double x, double y) {
+            const glm::dvec4 p = inv * glm::dvec4(x, y, 1, 1);
+            return glm::dot(glm::normalize(glm::dvec3(p) / p.w - camera), up);
+        };
+        double lo = 1, hi = -1;
+        const auto sample = [&](double x, double y) {
+            const double e = elevation(x, y);
+            lo = std::min(lo, e), hi = std::max(hi, e);
+        };
+        for (int j = 0; j <= 200; ++j)
+            for (int i = 0; i <= 200; ++i)
+                sample(-1 + i / 100.0, -1 + j / 100.0);
+        for (int i = 0; i <= 2000; ++i) {
+            const double t = -1 + i / 1000.0;
+            sample(t, -1), sample(t, 1), sample(-1, t), sample(1, t);
+        }
+        EXPECT_LE(range.x, lo + 1e-12) << v.name;
+        EXPECT_GE(range.y, hi - 1e-12) << v.name;
+        // A grid step of 1/100 of the half-image misses at most about 2e-4 of elevation near an
+        // interior extreme (quadratic there).
+        EXPECT_GE(range.x, lo - 2e-4) << v.name;
+        EXPECT_LE(range.y, hi + 2e-4) << v.name;
+    }
+}
+
+// skyAmountRange against brute force: over intervals of elevation anywhere in [−1, 1], every
+// sampled k lies in the range, and the range is no wider than the samples' (so the peak where a
+// diving ray's end reaches the held density is found, not guessed). The tiny densities keep k off
+// its saturation, where the peak shows: k falls on both sides of it.
+TEST(FogMath, SkyAmountRangeHoldsEverySampledElevation) {
+    const double distance = 1e5;
+    int peaksInside = 0;
+    for (double rho0 : {1e-30, 1e-26, 1e-4, 1e-2})
+        for (double b : {0.0, 1e-4, 0.05})
+            for (double h : {-20.0, 0.0, 30.0, 5000.0})
+                for (auto r : {fog::Response::Linear, fog::Response::Exponential})
+                    for (glm::dvec2 interval :
+                         {glm::dvec2(-1, 1), glm::dvec2(-1, -0.5), glm::dvec2(-0.2, 0.1), glm::dvec2(0.05, 1),
+                          glm::dvec2(-0.02, -0.005)}) {
+                        const glm::dvec2 range = fog::skyAmountRange(rho0, b, h, interval, distance, r, 0.9);
+                        double lo = 2.0, hi = -1.0;
+                        for (int i = 0; i <= 20000; ++i) {
+                            const double e = interval.x + (interval.y - interval.x) * i / 20000.0;
+                            const double k = fog::skyAmount(rho0, b, h, e, distance, r, 0.9);
+                            lo = std::min(lo, k), hi = std::max(hi, k);
+                        }
+                        const double tolerance = 1e-12 + 1e-9 * hi;
+                        EXPECT_LE(range.x, lo + tolerance) << rho0 << " " << b << " " << h;
+                        EXPECT_GE(range.y, hi - tolerance) << rho0 << " " << b << " " << h;
+                        EXPECT_GE(range.x, lo - 1e-3 * (hi - lo) - tolerance) << rho0 << " " << b << " " << h;
+                        EXPECT_LE(range.y, hi + 1e-3 * (hi - lo) + tolerance) << rho0 << " " << b << " " << h;
+                        const double peak = b > 0 ? (-fog::kMaxExponent / b - h) / distance : 2.0;
+                        if (peak > interval.x && peak < interval.y &&
+                            hi > 2.0 * fog::skyAmount(rho0, b, h, interval.x, distance, r, 0.9))
+                            ++peaksInside;
+                    }
+    EXPECT_GT(peaksInside, 0) << "no interval showed the held density's peak";
 }

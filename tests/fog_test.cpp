@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 using namespace sgfx;
@@ -465,6 +466,112 @@ TEST(FogSky, OffLeavesTheClearColourAndFarPlaneFogsToTheFarPlane) {
                     << "," << pixelAt(img, x, y)[2];
             }
         }
+}
+
+// Whether the last frame ran a pass of this name (RendererOptions::timePasses on).
+bool ranPass(Viewer& v, const std::string& name) {
+    const auto& times = v.renderer().stats().passTimes;
+    return std::any_of(times.begin(), times.end(), [&](const auto& t) { return t.name == name; });
+}
+
+// Looking steeply down from 40 m, every sky direction in view points under the horizon into fog
+// that saturates at maxOpacity = 0.6: k is the same for every sky pixel, and the main pass's clear
+// paints it (FogNode::setClearSky). The image equals the one the "fog sky" pass draws within 1 LSB
+// and the closed form within 2; the pass does not run. Looking up, k varies and the pass runs.
+TEST(FogSky, AUniformSkyIsPaintedByTheClearExactly) {
+    FogParameters p = testFog(FogResponse::Exponential);
+    p.maxOpacity = 0.6f;
+    const glm::vec3 ground(0.2f, 0.5f, 0.1f);
+    Image images[2];
+    for (bool clearSky : {true, false}) {
+        auto v = perspectiveViewer({0, 0, 40}, {0, 20, 0});
+        v->renderer().options().timePasses = true;
+        auto fogNode = fogOn(p, kInMaterials);
+        fogNode->setClearSky(clearSky);
+        fogNode->addChild(panel(30, 30, glm::translate(glm::mat4(1.0f), {0, 20, 0}), flatMaterial(ground)));
+        v->setSceneData(fogNode);
+        v->frame();
+        expectNoGlErrors(*v);
+        EXPECT_EQ(ranPass(*v, "fog sky"), !clearSky) << "clearSky " << clearSky;
+        images[clearSky] = v->capture();
+        const Camera& cam = *v->camera();
+        for (auto [x, y] : {std::pair{2, 2}, std::pair{kSize - 3, 4}, std::pair{3, kSize - 3}}) {
+            const Ray r = rayThrough(cam, x + 0.5, y + 0.5);
+            ASSERT_LT(r.dir.z, -0.5); // under the horizon: the sky rule's ray dives into the fog
+            const double k = kOf(p, r.origin, r.origin + r.dir * double(p.skyDistance));
+            ASSERT_NEAR(k, 0.6, 1e-6); // maxOpacity, a float
+            EXPECT_LE(channelError(images[clearSky], x, y,
+                                   mixd(glm::dvec3(cam.clearColor), glm::dvec3(p.color), k)),
+                      2)
+                << "clearSky " << clearSky << " pixel " << x << "," << y;
+        }
+    }
+    int worst = 0;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x)
+            for (int c = 0; c < 4; ++c)
+                worst = std::max(worst, std::abs(pixelAt(images[0], x, y)[c] - pixelAt(images[1], x, y)[c]));
+    EXPECT_LE(worst, 1);
+
+    auto up = perspectiveViewer({0, 0, 8}, {0, 60, 20});
+    up->renderer().options().timePasses = true;
+    auto fogNode = fogOn(p, kInMaterials);
+    fogNode->addChild(panel(1, 1, glm::translate(glm::mat4(1.0f), {0, 5, 0}), flatMaterial(ground)));
+    up->setSceneData(fogNode);
+    up->frame();
+    EXPECT_TRUE(ranPass(*up, "fog sky")) << "k varies over a sky that rises out of the fog";
+}
+
+// The same uniform sky, but the panel does not write depth: its pixels stay at the far plane, so
+// the sky rule fogs them again over the panel's own fog (what the pass does and the clear could
+// not). The pass runs and the panel's centre is mix(mix(panel, fog, k_panel), fog, k_sky).
+TEST(FogSky, TheClearIsNotUsedWhereItCouldDifferFromThePass) {
+    FogParameters p = testFog(FogResponse::Exponential);
+    p.maxOpacity = 0.6f;
+    auto v = perspectiveViewer({0, 0, 40}, {0, 20, 0});
+    v->renderer().options().timePasses = true;
+    auto fogNode = fogOn(p, kInMaterials);
+    const glm::vec3 colour(0.9f, 0.2f, 0.1f);
+    auto quad = panel(30, 30, glm::translate(glm::mat4(1.0f), {0, 20, 0}), flatMaterial(colour));
+    quad->getOrCreateStateSet().depth.set(DepthState{.test = true, .write = false});
+    fogNode->addChild(quad);
+    v->setSceneData(fogNode);
+    v->frame();
+    expectNoGlErrors(*v);
+    EXPECT_TRUE(ranPass(*v, "fog sky"));
+    const Image img = v->capture();
+    const Camera& cam = *v->camera();
+    const Ray r = rayThrough(cam, kSize / 2 + 0.5, kSize / 2 + 0.5);
+    const glm::dvec3 onPanel = r.origin + r.dir * (-r.origin.z / r.dir.z);
+    ASSERT_LT(std::abs(onPanel.y - 20.0), 10.0);
+    const double kPanel = kOf(p, r.origin, onPanel),
+                 kSky = kOf(p, r.origin, r.origin + r.dir * double(p.skyDistance));
+    const glm::dvec3 expected =
+        mixd(mixd(glm::dvec3(colour), glm::dvec3(p.color), kPanel), glm::dvec3(p.color), kSky);
+    EXPECT_LE(channelError(img, kSize / 2, kSize / 2, expected), 2)
+        << "k panel " << kPanel << " k sky " << kSky;
+
+    // Neither may the clear stand in for the pass where an opaque-bin item blends over what is
+    // there, where the view keeps last frame's depth, or where the fog colour lies outside [0, 1]
+    // (the target clamps the blend's inputs, the clear only its result).
+    for (int variant = 0; variant < 3; ++variant) {
+        auto view = perspectiveViewer({0, 0, 40}, {0, 20, 0});
+        view->renderer().options().timePasses = true;
+        FogParameters q = p;
+        if (variant == 2) q.color = {1.5f, 0.8f, 0.9f};
+        auto node = fogOn(q, kInMaterials);
+        auto item = panel(30, 30, glm::translate(glm::mat4(1.0f), {0, 20, 0}), flatMaterial(colour));
+        if (variant == 0) {
+            item->getOrCreateStateSet().blend.set(BlendMode::Alpha);
+            item->getOrCreateStateSet().renderBin.set(RenderBin::Opaque);
+        }
+        if (variant == 1) view->camera()->clearDepthEnabled = false;
+        node->addChild(item);
+        view->setSceneData(node);
+        view->frame();
+        expectNoGlErrors(*view);
+        EXPECT_TRUE(ranPass(*view, "fog sky")) << "variant " << variant;
+    }
 }
 
 // A lit scene of every kind of opaque item (lit material, alpha-masked, foreign shader) with

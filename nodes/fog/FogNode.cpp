@@ -294,8 +294,52 @@ void FogNode::setupFrame(FrameSetup& f) const {
     const bool sky = parameters_.sky != FogSky::Off && f.once("fog sky");
     if (deferred)
         addOpaquePass(f, sky);
-    else if (sky)
+    else if (sky && !paintSkyWithClear(f))
         addSkyPass(f);
+}
+
+// The sky pass's result as the main pass's clear colour where that is exact (setClearSky): the
+// pixels at the far plane after the opaque items then hold the camera's clear colour c, and the
+// pass would blend (fog colour, k) over it: rgb = mix(c, fog, k), alpha = k + c.a·(1 − k).
+// Exact needs: the view clears colour and depth (a pixel at depth 1 holds c), every opaque item
+// is a plain geometry (a drawable may set its own depth state in its draw) drawn unblended with
+// the default depth state (nothing colours a pixel it leaves at the far plane), no pass of this
+// phase before the fog's, and colours in [0, 1] (a normalised target clamps the blend's inputs
+// and the clear's result, which differ outside it).
+bool FogNode::paintSkyWithClear(FrameSetup& f) const {
+    const ViewInfo& v = f.view();
+    if (!clearSky_ || !v.clearsColour || !v.clearsDepth || parameters_.sky != FogSky::Distance) return false;
+    for (const FrameSetup::DeclaredPass& p : f.passes())
+        if (p.phase == PassPhase::AfterOpaque) return false;
+    for (const RenderItem& it : f.queue().opaque) {
+        if (it.drawable || !it.state || it.state->blendMode() != BlendMode::Off) return false;
+        const DepthState d = it.state->depth.value.value_or(DepthState{});
+        if (!d.test || !d.write || d.func != CompareFunc::Less) return false;
+    }
+    const glm::dvec4 c(v.clearColour), fogColour(glm::dvec3(parameters_.color), 1.0);
+    for (int i = 0; i < 4; ++i)
+        if (!(c[i] >= 0.0 && c[i] <= 1.0 && fogColour[i] >= 0.0 && fogColour[i] <= 1.0)) return false;
+    const glm::dmat4 viewMatrix(v.view);
+    const glm::dvec3 eye(glm::inverse(viewMatrix)[3]);
+    const glm::dvec3 up(parameters_.up);
+    // Two pixels' margin: anti-aliasing's jitter moves the rays by under one.
+    const double extent = 1.0 + 4.0 / std::max(1, std::min(v.drawSize.x, v.drawSize.y));
+    const glm::dvec2 elevation =
+        fog::elevationRange(glm::inverse(glm::dmat4(v.projection) * viewMatrix), eye, up, extent);
+    const FogParameters& p = parameters_;
+    const double eyeHeight = fog::heightOf(eye, up, double(p.referenceHeight));
+    const auto response =
+        p.response == FogResponse::Linear ? fog::Response::Linear : fog::Response::Exponential;
+    const glm::dvec2 k = fog::skyAmountRange(p.density, p.falloff, eyeHeight, elevation, p.skyDistance,
+                                             response, p.maxOpacity);
+    double step = 0.0; // the most a unit of k moves a channel
+    for (int i = 0; i < 4; ++i)
+        step = std::max(step, std::abs(fogColour[i] - c[i]));
+    if (!((k.y - k.x) * step <= 1e-4)) return false;
+    const double kSky = 0.5 * (k.x + k.y);
+    f.setClearColour(glm::vec4(glm::vec3(glm::mix(glm::dvec3(c), glm::dvec3(p.color), kSky)),
+                               float(kSky + c.a * (1.0 - kSky))));
+    return true;
 }
 
 // The view's queue and draw target are the ones setupFrame saw: the choice is the same.

@@ -5,6 +5,7 @@
 #include "sgfx/Renderer.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <stdexcept>
 #include <string>
@@ -109,6 +110,15 @@ void FrameSetup::offscreenTargetInMainPass(std::string name, const TextureDesc& 
                                    "' is asked for twice with different descriptions");
         }
     mainTargets_.emplace_back(std::move(name), desc);
+}
+
+void FrameSetup::setClearColour(const glm::vec4& colour) {
+    if (!view_.clearsColour)
+        throw std::logic_error("sgfx: FrameSetup::setClearColour: this view does not clear its colour");
+    for (int i = 0; i < 4; ++i)
+        if (!std::isfinite(colour[i]))
+            throw std::logic_error("sgfx: FrameSetup::setClearColour: the colour is not finite");
+    clearColour_ = colour;
 }
 
 void FrameSetup::addPass(std::string name, PassPhase phase, Setup setup, FrameGraph::Execute execute) {

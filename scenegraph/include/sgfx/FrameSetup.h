@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <set>
 #include <span>
 #include <string>
@@ -115,6 +116,11 @@ struct SGFX_API ViewInfo {
     float fovy = 45.0f;      ///< degrees; of the nominal perspective (perspective == true)
     float aspect = 1.0f;     ///< width / height of the view
     bool perspective = true; ///< false: `projection` is some other (orthographic) matrix
+    /// Whether the main pass clears the colour, and to what (linear RGBA): what pixels no opaque
+    /// item covers hold after the opaque items.
+    bool clearsColour = true;
+    glm::vec4 clearColour{0.0f};
+    bool clearsDepth = true; ///< whether the main pass clears the depth (to 1)
 };
 
 /// A cull from a light (FrameSetup::cullForLight): the light's view and projection, and the node
@@ -168,6 +174,12 @@ public:
     /// twice for one name with the same description is one target; a different one throws.
     void offscreenTargetInMainPass(std::string name, const TextureDesc& desc);
     const std::vector<std::pair<std::string, TextureDesc>>& mainPassTargets() const { return mainTargets_; }
+    /// The main pass clears the colour to `colour` (linear RGBA) this frame instead of the
+    /// camera's clear colour: an effect that knows what every uncovered pixel will show (fog over
+    /// a uniform sky) paints it with the clear instead of a pass. Throws std::logic_error when the
+    /// view does not clear its colour (ViewInfo::clearsColour) or `colour` is not finite.
+    void setClearColour(const glm::vec4& colour);
+    const std::optional<glm::vec4>& clearColourOverride() const { return clearColour_; }
     /// Declares a pass. Passes run by phase, and in the order they were added within a phase;
     /// `setup` runs when the renderer builds the graph, `execute` when the pass is not culled.
     void addPass(std::string name, PassPhase phase, Setup setup, FrameGraph::Execute execute);
@@ -198,6 +210,7 @@ private:
     std::vector<std::string> mainReads_;
     std::vector<std::pair<std::string, TextureDesc>> mainTargets_;
     DepthNeeds depth_;
+    std::optional<glm::vec4> clearColour_;
 };
 
 } // namespace sgfx

@@ -76,6 +76,7 @@ private:
     aa::ViewState* aa_ = nullptr;
     gl::RenderTarget* draw_ = nullptr; // where the view is drawn (target_, or a larger/multisample one)
     FrameGraph graph_;
+    glm::vec4 clearColour_{0.0f};        // the camera's, or what an effect set (FrameSetup::setClearColour)
     std::vector<std::string> mainReads_; // resources drawables bind in the main pass
     std::vector<std::pair<std::string, TextureDesc>> mainTargets_; // and those they draw into
     gl::QueryObject fragments_; // RendererOptions::countFragments, over the main pass
@@ -359,6 +360,9 @@ void Renderer::View::buildGraph(int depth) {
     info.fovy = camera_.fovy();
     info.aspect = camera_.viewport.aspect();
     info.perspective = camera_.perspective();
+    info.clearsColour = camera_.clearColorEnabled;
+    info.clearColour = camera_.clearColor;
+    info.clearsDepth = camera_.clearDepthEnabled;
     if (!info.perspective) nominalOffAxis(camera_.projectionMatrix, info);
     FrameSetup setup(info, queue_, &plan_);
     for (const EffectNode* e : plan_.effects)
@@ -373,6 +377,7 @@ void Renderer::View::buildGraph(int depth) {
                               graph_.blackboard.get(resources::DrawColour));
         graph_.blackboard.put(std::string(resources::ViewDepth), graph_.blackboard.get(resources::DrawDepth));
     }
+    clearColour_ = setup.clearColourOverride().value_or(camera_.clearColor);
     mainReads_ = setup.mainPassReads();
     mainTargets_ = setup.mainPassTargets();
     declare(setup, PassPhase::Compute);
@@ -681,7 +686,7 @@ void Renderer::View::bindDrawTarget() {
 void Renderer::View::clearTarget() {
     bindDrawTarget();
     s_.cache.setDepth(DepthState{}); // depth writes on: a clear obeys the depth mask
-    const glm::vec4 cc = camera_.clearColor;
+    const glm::vec4 cc = clearColour_;
     glClearColor(cc.r, cc.g, cc.b, cc.a);
     const GLbitfield mask = (camera_.clearColorEnabled ? GL_COLOR_BUFFER_BIT : 0u) |
                             (camera_.clearDepthEnabled ? GL_DEPTH_BUFFER_BIT : 0u);

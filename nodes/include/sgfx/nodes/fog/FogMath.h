@@ -65,4 +65,79 @@ template <class T> T heightOf(const glm::vec<3, T>& p, const glm::vec<3, T>& up,
     return glm::dot(p, up) - referenceHeight;
 }
 
+/// The lowest and highest elevation dot(d̂, up) among the view directions d = far(x, y) − eye of
+/// the image rectangle (x, y) ∈ [−extent, extent]² in NDC, far(x, y) being the far-plane point
+/// that `invViewProjection` unprojects there (extent slightly above 1 covers a jittered frame).
+/// The directions of the rectangle fill a parallelogram d(u, v) = c0 + u·e1 + v·e2, u, v ∈ [0, 1]
+/// (far(x, y) is affine in x and y), so the extremes lie at a corner, at the one stationary point
+/// of an edge (the elevation along a segment of directions has one), or are ±1 where the zenith
+/// or nadir direction itself is in view. A projection whose far plane does not map the image to
+/// a parallelogram (not a perspective or orthographic matrix) gets the whole range [−1, 1].
+inline glm::dvec2 elevationRange(const glm::dmat4& invViewProjection, const glm::dvec3& eye,
+                                 const glm::dvec3& up, double extent = 1.0) {
+    const auto dir = [&](double x, double y) {
+        const glm::dvec4 p = invViewProjection * glm::dvec4(x, y, 1.0, 1.0);
+        return glm::dvec3(p) / p.w - eye;
+    };
+    const glm::dvec3 c[4] = {dir(-extent, -extent), dir(extent, -extent), dir(extent, extent),
+                             dir(-extent, extent)};
+    const glm::dvec3 fourth = c[1] + c[3] - c[0];
+    if (!(glm::length(c[2] - fourth) <= 1e-9 * (glm::length(c[2]) + glm::length(fourth)))) return {-1.0, 1.0};
+    double lo = 1.0, hi = -1.0;
+    const auto take = [&](const glm::dvec3& d) {
+        const double e = glm::dot(glm::normalize(d), up);
+        lo = std::min(lo, e), hi = std::max(hi, e);
+    };
+    for (int i = 0; i < 4; ++i) {
+        const glm::dvec3 a = c[i], e = c[(i + 1) % 4] - a;
+        take(a);
+        // d/dt of dot(a + t·e, up) / |a + t·e| vanishes where the numerator below does: linear in t.
+        const double az = glm::dot(a, up), ez = glm::dot(e, up), ae = glm::dot(a, e);
+        const double den = ez * ae - az * glm::dot(e, e);
+        if (den != 0.0) {
+            const double t = (az * ae - ez * glm::dot(a, a)) / den;
+            if (t > 0.0 && t < 1.0) take(a + t * e);
+        }
+    }
+    // c0 + u·e1 + v·e2 = λ·up: the zenith (λ > 0) or the nadir (λ < 0) inside the parallelogram.
+    const glm::dmat3 m(c[1] - c[0], c[3] - c[0], -up);
+    if (std::abs(glm::determinant(m)) > 1e-12 * glm::length(c[1] - c[0]) * glm::length(c[3] - c[0])) {
+        const glm::dvec3 s = glm::inverse(m) * -c[0];
+        if (s.x >= 0.0 && s.x <= 1.0 && s.y >= 0.0 && s.y <= 1.0) {
+            if (s.z > 0.0) hi = 1.0;
+            if (s.z < 0.0) lo = -1.0;
+        }
+    }
+    return {lo, hi};
+}
+
+/// The fog amount of the sky rule FogSky::Distance along a direction of elevation `elevation`
+/// from an eye at `eyeHeight` above the reference plane: the segment to the point `skyDistance`
+/// away.
+inline double skyAmount(double density, double falloff, double eyeHeight, double elevation,
+                        double skyDistance, Response response, double maxOpacity) {
+    const double F =
+        opticalDepth(density, falloff, eyeHeight, eyeHeight + elevation * skyDistance, skyDistance);
+    return amount(F, response, maxOpacity);
+}
+
+/// The lowest and highest skyAmount over the elevations `elevations` (x ≤ y). k falls as the
+/// elevation rises (the ray climbs into thinner fog) down to the elevation whose end point lies
+/// where the density is held (height −kMaxExponent/b): below it the end's density stays at its
+/// cap while the mean over the longer drop shrinks, so k falls there as the ray dips. k thus has
+/// one peak, at that elevation, and its range over an interval is read off the interval's ends and
+/// the peak when it lies inside.
+inline glm::dvec2 skyAmountRange(double density, double falloff, double eyeHeight, glm::dvec2 elevations,
+                                 double skyDistance, Response response, double maxOpacity) {
+    const auto k = [&](double e) {
+        return skyAmount(density, falloff, eyeHeight, e, skyDistance, response, maxOpacity);
+    };
+    double lo = std::min(k(elevations.x), k(elevations.y)), hi = std::max(k(elevations.x), k(elevations.y));
+    if (falloff > 0.0) {
+        const double peak = (-kMaxExponent / falloff - eyeHeight) / skyDistance;
+        if (peak > elevations.x && peak < elevations.y) hi = std::max(hi, k(peak));
+    }
+    return {lo, hi};
+}
+
 } // namespace sgfx::fog

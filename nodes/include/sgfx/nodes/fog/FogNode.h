@@ -95,6 +95,16 @@ public:
     void setDeferOpaque(bool allow) { deferOpaque_ = allow; }
     bool deferOpaque() const { return deferOpaque_; }
 
+    /// Forward modes: true (default) paints the sky rule's colour with the main pass's clear
+    /// instead of the "fog sky" pass where that is exact: FogSky::Distance, the view clears its
+    /// colour, every opaque item draws with the default depth state (test Less, write on; nothing
+    /// it draws can leave a pixel at the far plane), no pass runs before the fog's after the
+    /// opaque items, and k varies by under 1e-4 of the colour step over the sky directions in
+    /// view (a view that shows no sky above the fog's reach, say). On llvmpipe the pass costs a
+    /// full-screen pass over the uncovered pixels (docs/effects/fog.md, "Cost").
+    void setClearSky(bool allow) { clearSky_ = allow; }
+    bool clearSky() const { return clearSky_; }
+
     /// Sets the fog uniforms (fog_optical_depth.glsl) on any program that declares them, for a view
     /// whose eye is at `eye`.
     static void setUniforms(gl::Program& program, const FogParameters& parameters, const glm::vec3& eye);
@@ -104,6 +114,7 @@ private:
     void addSkyPass(FrameSetup& frame) const;
     void addNearestDepth(FrameSetup& frame) const;
     void addOpaquePass(FrameSetup& frame, bool sky) const;
+    bool paintSkyWithClear(FrameSetup& frame) const;
     bool canDefer(const RenderQueue& queue, int samples) const;
     FogParameters parameters_;
     FogMode mode_ = FogMode::Forward;
@@ -112,6 +123,7 @@ private:
     /// nothing), read by snippet() and applyUniforms() while the view's materials are drawn.
     mutable bool deferred_ = false;
     bool deferOpaque_ = false;
+    bool clearSky_ = true;
 };
 
 } // namespace sgfx
