@@ -417,6 +417,12 @@ int main(int argc, char** argv) {
                                      " needs a buffer texture of " +
                                      std::to_string(std::uint64_t(count) * kFloats) +
                                      " texels; this driver allows " + std::to_string(maxTexels));
+        GLint64 maxBlock = 0;
+        glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+        if (double(count) * kFloats * sizeof(float) > double(maxBlock))
+            throw std::runtime_error("particle_floor: --count " + std::to_string(count) + " needs " +
+                                     std::to_string(std::uint64_t(count) * kFloats * sizeof(float)) +
+                                     "-byte storage blocks; this driver allows " + std::to_string(maxBlock));
         b.setUp(count);
         std::printf("GL_RENDERER: %s\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
         for (int update = 0; update < 2; ++update) {

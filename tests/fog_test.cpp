@@ -2,8 +2,10 @@
 // sky pixels, fog through glass composited physically, foreign shaders, nesting, bad input.
 #include "TestUtil.h"
 
+#include <sgfx/FrameSetup.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
+#include <sgfx/RenderQueue.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/nodes/fog/FogMath.h>
@@ -14,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 using namespace sgfx;
@@ -552,9 +555,9 @@ TEST(FogSky, TheClearIsNotUsedWhereItCouldDifferFromThePass) {
         << "k panel " << kPanel << " k sky " << kSky;
 
     // Neither may the clear stand in for the pass where an opaque-bin item blends over what is
-    // there, where the view keeps last frame's depth, or where the fog colour lies outside [0, 1]
-    // (the target clamps the blend's inputs, the clear only its result).
-    for (int variant = 0; variant < 3; ++variant) {
+    // there, where the view keeps last frame's depth, or where the fog or the clear colour lies
+    // outside [0, 1] (the target clamps the blend's inputs, the clear only its result).
+    for (int variant = 0; variant < 4; ++variant) {
         auto view = perspectiveViewer({0, 0, 40}, {0, 20, 0});
         view->renderer().options().timePasses = true;
         FogParameters q = p;
@@ -566,12 +569,29 @@ TEST(FogSky, TheClearIsNotUsedWhereItCouldDifferFromThePass) {
             item->getOrCreateStateSet().renderBin.set(RenderBin::Opaque);
         }
         if (variant == 1) view->camera()->clearDepthEnabled = false;
+        if (variant == 3) view->camera()->clearColor = {0.05f, 1.2f, 0.3f, 1.0f};
         node->addChild(item);
         view->setSceneData(node);
         view->frame();
         expectNoGlErrors(*view);
         EXPECT_TRUE(ranPass(*view, "fog sky")) << "variant " << variant;
     }
+}
+
+// The override FogNode uses: refused where the view keeps its colour or the colour is not finite;
+// the last one set is the one the main pass clears to.
+TEST(FogSky, SetClearColourIsRefusedWhereItCannotHold) {
+    RenderQueue queue;
+    ViewInfo keeps;
+    keeps.clearsColour = false;
+    FrameSetup kept(keeps, queue);
+    EXPECT_THROW(kept.setClearColour(glm::vec4(0.5f)), std::logic_error);
+    EXPECT_FALSE(kept.clearColourOverride().has_value());
+    FrameSetup clears(ViewInfo{}, queue);
+    EXPECT_THROW(clears.setClearColour(glm::vec4(0.5f, std::nanf(""), 0.5f, 1.0f)), std::logic_error);
+    clears.setClearColour({0.1f, 0.2f, 0.3f, 1.0f});
+    clears.setClearColour({0.4f, 0.5f, 0.6f, 1.0f});
+    EXPECT_EQ(clears.clearColourOverride().value(), glm::vec4(0.4f, 0.5f, 0.6f, 1.0f));
 }
 
 // A lit scene of every kind of opaque item (lit material, alpha-masked, foreign shader) with

@@ -82,7 +82,8 @@ inline glm::dvec2 elevationRange(const glm::dmat4& invViewProjection, const glm:
     const glm::dvec3 c[4] = {dir(-extent, -extent), dir(extent, -extent), dir(extent, extent),
                              dir(-extent, extent)};
     const glm::dvec3 fourth = c[1] + c[3] - c[0];
-    if (!(glm::length(c[2] - fourth) <= 1e-9 * (glm::length(c[2]) + glm::length(fourth)))) return {-1.0, 1.0};
+    // Rounding leaves a perspective matrix's far quad off by ~1e-16·far/near: far above 1e-6.
+    if (!(glm::length(c[2] - fourth) <= 1e-6 * (glm::length(c[2]) + glm::length(fourth)))) return {-1.0, 1.0};
     double lo = 1.0, hi = -1.0;
     const auto take = [&](const glm::dvec3& d) {
         const double e = glm::dot(glm::normalize(d), up);
@@ -126,13 +127,16 @@ inline double skyAmount(double density, double falloff, double eyeHeight, double
 /// where the density is held (height −kMaxExponent/b): below it the end's density stays at its
 /// cap while the mean over the longer drop shrinks, so k falls there as the ray dips. k thus has
 /// one peak, at that elevation, and its range over an interval is read off the interval's ends and
-/// the peak when it lies inside.
+/// the peak when it lies inside. An eye at or below the held level sees the mean's series branch
+/// (b·|Δh| < kSeriesBelow) dip and jump back near the horizontal: no such reading holds, and the
+/// range returned is the whole [0, 1].
 inline glm::dvec2 skyAmountRange(double density, double falloff, double eyeHeight, glm::dvec2 elevations,
                                  double skyDistance, Response response, double maxOpacity) {
     const auto k = [&](double e) {
         return skyAmount(density, falloff, eyeHeight, e, skyDistance, response, maxOpacity);
     };
     double lo = std::min(k(elevations.x), k(elevations.y)), hi = std::max(k(elevations.x), k(elevations.y));
+    if (falloff > 0.0 && eyeHeight < (kSeriesBelow - kMaxExponent) / falloff) return {0.0, 1.0};
     if (falloff > 0.0) {
         const double peak = (-kMaxExponent / falloff - eyeHeight) / skyDistance;
         if (peak > elevations.x && peak < elevations.y) hi = std::max(hi, k(peak));

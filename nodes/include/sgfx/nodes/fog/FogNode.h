@@ -96,10 +96,11 @@ public:
     bool deferOpaque() const { return deferOpaque_; }
 
     /// Forward modes: true (default) paints the sky rule's colour with the main pass's clear
-    /// instead of the "fog sky" pass where that is exact: FogSky::Distance, the view clears its
-    /// colour, every opaque item draws with the default depth state (test Less, write on; nothing
-    /// it draws can leave a pixel at the far plane), no pass runs before the fog's after the
-    /// opaque items, and k varies by under 1e-4 of the colour step over the sky directions in
+    /// instead of the "fog sky" pass where that is exact: FogSky::Distance; the view clears its
+    /// colour and depth; every opaque item is a plain geometry (no drawable) drawn unblended with
+    /// the default depth state (test Less, write on: nothing it draws can leave a pixel at the
+    /// far plane); no pass runs before the fog's after the opaque items; the clear and fog colours
+    /// lie in [0, 1]; and k varies by under 1e-4 of the colour step over the sky directions in
     /// view (a view that shows no sky above the fog's reach, say). On llvmpipe the pass costs a
     /// full-screen pass over the uncovered pixels (docs/effects/fog.md, "Cost").
     void setClearSky(bool allow) { clearSky_ = allow; }
