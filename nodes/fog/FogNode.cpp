@@ -308,25 +308,25 @@ void FogNode::setupFrame(FrameSetup& f) const {
 // and the clear's result, which differ outside it).
 bool FogNode::paintSkyWithClear(FrameSetup& f) const {
     const ViewInfo& v = f.view();
-    if (!clearSky_ || !v.clearsColour || !v.clearsDepth || parameters_.sky != FogSky::Distance) return false;
-    for (const FrameSetup::DeclaredPass& p : f.passes())
-        if (p.phase == PassPhase::AfterOpaque) return false;
+    const FogParameters& p = parameters_;
+    if (!clearSky_ || !v.clearsColour || !v.clearsDepth || p.sky != FogSky::Distance) return false;
+    for (const FrameSetup::DeclaredPass& pass : f.passes())
+        if (pass.phase == PassPhase::AfterOpaque) return false;
     for (const RenderItem& it : f.queue().opaque) {
         if (it.drawable || !it.state || it.state->blendMode() != BlendMode::Off) return false;
         const DepthState d = it.state->depth.value.value_or(DepthState{});
         if (!d.test || !d.write || d.func != CompareFunc::Less) return false;
     }
-    const glm::dvec4 c(v.clearColour), fogColour(glm::dvec3(parameters_.color), 1.0);
+    const glm::dvec4 c(v.clearColour), fogColour(glm::dvec3(p.color), 1.0);
     for (int i = 0; i < 4; ++i)
         if (!(c[i] >= 0.0 && c[i] <= 1.0 && fogColour[i] >= 0.0 && fogColour[i] <= 1.0)) return false;
     const glm::dmat4 viewMatrix(v.view);
     const glm::dvec3 eye(glm::inverse(viewMatrix)[3]);
-    const glm::dvec3 up(parameters_.up);
+    const glm::dvec3 up(p.up);
     // Two pixels' margin: anti-aliasing's jitter moves the rays by under one.
     const double extent = 1.0 + 4.0 / std::max(1, std::min(v.drawSize.x, v.drawSize.y));
     const glm::dvec2 elevation =
         fog::elevationRange(glm::inverse(glm::dmat4(v.projection) * viewMatrix), eye, up, extent);
-    const FogParameters& p = parameters_;
     const double eyeHeight = fog::heightOf(eye, up, double(p.referenceHeight));
     const auto response =
         p.response == FogResponse::Linear ? fog::Response::Linear : fog::Response::Exponential;

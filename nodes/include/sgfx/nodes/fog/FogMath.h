@@ -135,13 +135,12 @@ inline glm::dvec2 skyAmountRange(double density, double falloff, double eyeHeigh
     const auto k = [&](double e) {
         return skyAmount(density, falloff, eyeHeight, e, skyDistance, response, maxOpacity);
     };
-    double lo = std::min(k(elevations.x), k(elevations.y)), hi = std::max(k(elevations.x), k(elevations.y));
     if (falloff > 0.0 && eyeHeight < (kSeriesBelow - kMaxExponent) / falloff) return {0.0, 1.0};
-    if (falloff > 0.0) {
-        const double peak = (-kMaxExponent / falloff - eyeHeight) / skyDistance;
-        if (peak > elevations.x && peak < elevations.y) hi = std::max(hi, k(peak));
-    }
-    return {lo, hi};
+    const double kLow = k(elevations.x), kHigh = k(elevations.y);
+    double hi = std::max(kLow, kHigh);
+    const double peak = falloff > 0.0 ? (-kMaxExponent / falloff - eyeHeight) / skyDistance : 2.0;
+    if (peak > elevations.x && peak < elevations.y) hi = std::max(hi, k(peak));
+    return {std::min(kLow, kHigh), hi};
 }
 
 } // namespace sgfx::fog
