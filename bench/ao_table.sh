@@ -6,7 +6,9 @@
 # llvmpipe "GPU" time is the rasterizer threads' time).
 # Configurations: m = 16, 32, 64 at full and half resolution (G-buffer normals, bilateral blur:
 # today's path), m = 32 full resolution with normals from depth ("32, depth"), and temporal
-# (half resolution, 8 taps a frame, accumulated) with normals from depth or from the G-buffer.
+# (half resolution, 8 taps a frame, accumulated) with normals from depth or from the G-buffer;
+# "floor" (`polygon --ao floor`, not in the default list): what any AO reading a depth pre-pass
+# pays before it computes anything, its half-size pass in the occlusion column.
 # Usage: bench/ao_table.sh [BUILD_DIR] [ROUNDS] [SIZE:FRAMES ...]   (default 1280x720:24 1920x1080:16)
 # AO_CONFIGS="off 32 td" picks configurations (off first; default all).
 set -euo pipefail
@@ -21,6 +23,7 @@ echo "|---|---|---|---|---|---|---|---|"
 args_of() { # the polygon arguments of configuration $1
   case $1 in
     off) echo --fog off --ao off ;;
+    floor) echo --fog off --ao floor ;;
     td) echo --fog off --ao on --ao-temporal --ao-normals depth ;;
     tg) echo --fog off --ao on --ao-temporal --ao-normals gbuffer ;;
     *d) echo --fog off --ao on --ao-samples "${1%d}" --ao-normals depth ;;
@@ -30,7 +33,7 @@ args_of() { # the polygon arguments of configuration $1
 }
 label_of() {
   case $1 in
-    off) echo off ;; td) echo "temporal, depth normals" ;; tg) echo "temporal, G-buffer normals" ;;
+    off) echo off ;; floor) echo "floor: pre-pass, a half-size pass, one read" ;; td) echo "temporal, depth normals" ;; tg) echo "temporal, G-buffer normals" ;;
     *d) echo "m=${1%d}, full, depth normals" ;; *h) echo "m=${1%h}, half" ;; *) echo "m=$1, full" ;;
   esac
 }
@@ -49,7 +52,7 @@ for entry in "${sizes[@]}"; do
       ratio[$c]+=" $(awk -v m="$m" -v o="$offms" 'BEGIN{print m/o}')"
       passes=$(grep '^PASSES' <<<"$out")
       gb[$c]+=" $(field scene_depth <<<"$passes" | head -1)"; nm[$c]+=" $(field ao_normals <<<"$passes")"
-      oc[$c]+=" $(field ao_occlusion <<<"$passes")"
+      oc[$c]+=" $(field ao_occlusion <<<"$passes") $(field ao_floor <<<"$passes")"
       bl[$c]+=" $(sum "$(field ao_blur_x <<<"$passes") $(field ao_blur_y <<<"$passes") $(field ao_accumulate <<<"$passes")")"
     done
   done

@@ -220,6 +220,17 @@ TEST_F(ComposerGl, ForeignWrapReconstructsTheWorldPosition) {
     EXPECT_GT(compared, 50);
 }
 
+TEST_F(ComposerGl, StatementCodeMayOpenWithADirective) {
+    // A statement hook's code is scoped by braces; it may still begin with a preprocessor line.
+    auto fx = std::make_shared<SnippetEffect>(
+        snippet("directive_fx", "", "#ifndef SGFX_BLEND\nsgfx_color = vec4(0.0, 1.0, 0.0, 1.0);\n#endif"));
+    fx->addChild(quad({0, 0, 0}, 2.0f));
+    root->addChild(fx);
+    ASSERT_NO_THROW(viewer->frame());
+    const glm::ivec4 p = pixelAt(viewer->capture(), 16, 16);
+    EXPECT_EQ(p, glm::ivec4(0, 255, 0, 255));
+}
+
 TEST_F(ComposerGl, CompileErrorsNameShaderSnippetAndLine) {
     // Error on line 5 of the application's fragment shader.
     const char* broken = "#version 450 core\nuniform vec3 appColor;\nlayout(location = 0) out vec4 fragOut;\n"

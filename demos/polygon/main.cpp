@@ -1,5 +1,6 @@
 // polygon: the sgfx proving ground. Renders the procedural test site headless to a PNG, flies
 // through it in a window, benchmarks the shared camera path, or exports it as OBJ.
+#include "AoFloor.h"
 #include "CameraPath.h"
 #include "CliParse.h"
 #include "PolygonScene.h"
@@ -104,6 +105,7 @@ struct Options {
     sgfx::AntiAliasing aa;
     std::optional<std::array<int, 5>> crop;
     bool ao = false;
+    bool aoFloor = false; // --ao floor: AoFloorNode instead of AmbientOcclusionNode
     sgfx::AmbientOcclusionParameters aoParameters;
     bool rain = false;
     std::uint32_t rainCount = 200000;
@@ -478,9 +480,15 @@ void addFogOptions(CLI::App& cli, Options& o) {
 void addAoOptions(CLI::App& cli, Options& o) {
     const char* group = "effects";
     cli.add_option_function<std::string>(
-           "--ao", [&o](const std::string& v) { o.ao = onOff("--ao", v); },
-           "screen-space ambient occlusion on the ambient light (default off)")
-        ->type_name("off|on")
+           "--ao",
+           [&o](const std::string& v) {
+               o.aoFloor = v == "floor";
+               o.ao = o.aoFloor || onOff("--ao", v);
+           },
+           "screen-space ambient occlusion on the ambient light (default off); floor: only what any AO "
+           "reading a depth pre-pass pays before computing anything (the pre-pass, a half-size pass, one "
+           "read per fragment), for bench/ao_table.sh")
+        ->type_name("off|on|floor")
         ->group(group);
     cli.add_option_function<std::string>(
            "--ao-samples",
@@ -857,7 +865,11 @@ sgfx::NodePtr sceneWithEffects(const Options& o, const polygon::PolygonScene& sc
     std::shared_ptr<sgfx::SkyNode> sky;
     sgfx::NodePtr world = withSkySmokeAndShadows(o, withRain(o, scene.root, std::move(camera)), scene, sky);
     world = withEnvironment(o, std::move(world), scene, sky);
-    if (o.ao) {
+    if (o.aoFloor) {
+        auto ao = polygon::AoFloorNode::create();
+        ao->addChild(world);
+        world = ao;
+    } else if (o.ao) {
         auto ao = sgfx::AmbientOcclusionNode::create(o.aoParameters);
         ao->addChild(world);
         world = ao;

@@ -123,9 +123,11 @@ std::string composeStage(std::string_view name, std::string_view src, std::span<
         for (const ShaderSnippet* s : snippets) {
             const std::string& code = s->*(hook->field);
             if (code.empty()) continue;
-            // Statement hooks get their own scope so snippets' locals never collide.
-            appendChunk(out, names, s->name + "." + std::string(hook->label),
-                        fileScope ? code : "{ " + code + "\n}");
+            // Statement hooks get their own scope so snippets' locals never collide; the braces
+            // sit on lines of their own, so code may open with a directive (#ifndef ...).
+            if (!fileScope) out += "{\n";
+            appendChunk(out, names, s->name + "." + std::string(hook->label), code);
+            if (!fileScope) out += "}\n";
         }
         out += lineDirective(line + 1, baseSource);
     }
