@@ -5,11 +5,13 @@
 #include <sgfx/FrameSetup.h>
 #include <sgfx/Geometry.h>
 #include <sgfx/Group.h>
+#include <sgfx/PassCommands.h>
 #include <sgfx/RenderQueue.h>
 #include <sgfx/ShaderComposer.h>
 #include <sgfx/Shapes.h>
 #include <sgfx/nodes/fog/FogMath.h>
 #include <sgfx/nodes/fog/FogNode.h>
+#include <sgfx/nodes/particles/ParticleSystemNode.h>
 #include <sgfx/nodes/transparency/TransparencyBin.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -525,6 +527,29 @@ TEST(FogSky, AUniformSkyIsPaintedByTheClearExactly) {
     EXPECT_TRUE(ranPass(*up, "fog sky")) << "k varies over a sky that rises out of the fog";
 }
 
+// An effect that declares a pass after the opaque items which draws nothing.
+class AfterOpaquePass : public EffectNode {
+public:
+    std::string_view kind() const override { return "after_opaque_pass"; }
+    const ShaderSnippet& snippet() const override {
+        static const ShaderSnippet s = [] {
+            ShaderSnippet sn;
+            sn.name = "after_opaque_pass";
+            return sn;
+        }();
+        return s;
+    }
+    void setupFrame(FrameSetup& f) const override {
+        struct Data {
+            ResourceId colour;
+        };
+        f.addPass<Data>(
+            "after opaque", PassPhase::AfterOpaque,
+            [](PassBuilder& b, Data& d) { d.colour = b.write(resources::ViewColour); },
+            [](PassCommands& c, const Data& d) { c.target({d.colour}); });
+    }
+};
+
 // The same uniform sky, but the panel does not write depth: its pixels stay at the far plane, so
 // the sky rule fogs them again over the panel's own fog (what the pass does and the clear could
 // not). The pass runs and the panel's centre is mix(mix(panel, fog, k_panel), fog, k_sky).
@@ -555,9 +580,11 @@ TEST(FogSky, TheClearIsNotUsedWhereItCouldDifferFromThePass) {
         << "k panel " << kPanel << " k sky " << kSky;
 
     // Neither may the clear stand in for the pass where an opaque-bin item blends over what is
-    // there, where the view keeps last frame's depth, or where the fog or the clear colour lies
-    // outside [0, 1] (the target clamps the blend's inputs, the clear only its result).
-    for (int variant = 0; variant < 4; ++variant) {
+    // there, where the view keeps last frame's depth, where the fog or the clear colour lies
+    // outside [0, 1] (the target clamps the blend's inputs, the clear only its result), where an
+    // opaque item is a drawable (it may set its own depth state in its draw), or where a pass
+    // after the opaque items runs before the fog's (it may draw over the far plane).
+    for (int variant = 0; variant < 6; ++variant) {
         auto view = perspectiveViewer({0, 0, 40}, {0, 20, 0});
         view->renderer().options().timePasses = true;
         FogParameters q = p;
@@ -571,7 +598,19 @@ TEST(FogSky, TheClearIsNotUsedWhereItCouldDifferFromThePass) {
         if (variant == 1) view->camera()->clearDepthEnabled = false;
         if (variant == 3) view->camera()->clearColor = {0.05f, 1.2f, 0.3f, 1.0f};
         node->addChild(item);
-        view->setSceneData(node);
+        if (variant == 4) { // a few unblended rain drops: an opaque-bin drawable
+            auto drops = ParticleSystemNode::rain({4.0f, 4.0f}, 64);
+            drops->getOrCreateStateSet().blend.set(BlendMode::Off);
+            drops->getOrCreateStateSet().renderBin.set(RenderBin::Opaque);
+            node->addChild(drops);
+        }
+        NodePtr scene = node;
+        if (variant == 5) { // declares an after-opaque pass before the fog below it does
+            auto outer = std::make_shared<AfterOpaquePass>();
+            outer->addChild(node);
+            scene = outer;
+        }
+        view->setSceneData(scene);
         view->frame();
         expectNoGlErrors(*view);
         EXPECT_TRUE(ranPass(*view, "fog sky")) << "variant " << variant;
