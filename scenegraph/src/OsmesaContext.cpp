@@ -53,9 +53,17 @@ void OsmesaContext::resizeDrawable(int width, int height) {
     width_ = width, height_ = height;
     try {
         makeCurrent();
-    } catch (const ContextError&) {
+    } catch (const ContextError& e) {
         width_ = oldWidth, height_ = oldHeight;
-        if (width_ > 0) makeCurrent(); // back on the old size (the memory may have moved)
+        if (width_ <= 0) throw;
+        try {
+            makeCurrent(); // back on the old size (the memory may have moved)
+        } catch (const ContextError&) {
+            width_ = height_ = 0; // bound to nothing: the next makeCurrent fails, nothing draws
+            throw ContextError(std::string(e.what()) + " at " + std::to_string(width) + "x" +
+                               std::to_string(height) + ", and again on the old size " +
+                               std::to_string(oldWidth) + "x" + std::to_string(oldHeight));
+        }
         throw;
     }
 }
