@@ -221,14 +221,17 @@ TEST_F(ComposerGl, ForeignWrapReconstructsTheWorldPosition) {
 }
 
 TEST_F(ComposerGl, StatementCodeMayOpenWithADirective) {
-    // A statement hook's code is scoped by braces; it may still begin with a preprocessor line.
+    // A statement hook's code is scoped by braces; it may still begin with a preprocessor line,
+    // on the built-in material (left) and in a foreign shader's wrap (right).
     auto fx = std::make_shared<SnippetEffect>(
         snippet("directive_fx", "", "#ifndef SGFX_BLEND\nsgfx_color = vec4(0.0, 1.0, 0.0, 1.0);\n#endif"));
-    fx->addChild(quad({0, 0, 0}, 2.0f));
+    fx->addChild(quad({-1, 0, 0}, 2.0f));
+    fx->addChild(quad({1, 0, 0}, 2.0f, ShaderProgram::create("app", kForeignVert, kForeignFrag)));
     root->addChild(fx);
     ASSERT_NO_THROW(viewer->frame());
-    const glm::ivec4 p = pixelAt(viewer->capture(), 16, 16);
-    EXPECT_EQ(p, glm::ivec4(0, 255, 0, 255));
+    const Image img = viewer->capture();
+    for (int x : {4, 27})
+        EXPECT_EQ(pixelAt(img, x, 16), glm::ivec4(0, 255, 0, 255)) << "x=" << x;
 }
 
 TEST_F(ComposerGl, CompileErrorsNameShaderSnippetAndLine) {

@@ -47,25 +47,20 @@ void OsmesaContext::resizeDrawable(int width, int height) {
     if (width < 1 || height < 1 || width > 16384 || height > 16384)
         throw std::invalid_argument("OsmesaContext::resizeDrawable: " + std::to_string(width) + "x" +
                                     std::to_string(height) + " is outside 1..16384");
+    assertOwnerThread();
+    // A larger drawable gets a new block, bound before the old one is freed: OSMesa changes
+    // nothing when it refuses, so on failure the old binding and its memory stay valid.
     const std::size_t bytes = std::size_t(width) * std::size_t(height) * 4;
-    if (buffer_.size() < bytes) buffer_.resize(bytes);
-    const int oldWidth = width_, oldHeight = height_;
+    std::vector<unsigned char> grown;
+    if (buffer_.size() < bytes) grown.resize(bytes);
+    unsigned char* memory = grown.empty() ? buffer_.data() : grown.data();
+    if (!OSMesaMakeCurrent(static_cast<OSMesaContext>(ctx_), memory, GL_UNSIGNED_BYTE, width, height))
+        throw ContextError("sgfx: OSMesa refused a " + std::to_string(width) + "x" + std::to_string(height) +
+                           " drawable; the context keeps its " + std::to_string(width_) + "x" +
+                           std::to_string(height_) + " one");
+    if (!grown.empty()) buffer_.swap(grown); // the block moves with the swap: the binding holds
     width_ = width, height_ = height;
-    try {
-        makeCurrent();
-    } catch (const ContextError& e) {
-        width_ = oldWidth, height_ = oldHeight;
-        if (width_ <= 0) throw;
-        try {
-            makeCurrent(); // back on the old size (the memory may have moved)
-        } catch (const ContextError&) {
-            width_ = height_ = 0; // bound to nothing: the next makeCurrent fails, nothing draws
-            throw ContextError(std::string(e.what()) + " at " + std::to_string(width) + "x" +
-                               std::to_string(height) + ", and again on the old size " +
-                               std::to_string(oldWidth) + "x" + std::to_string(oldHeight));
-        }
-        throw;
-    }
+    loadGl();
 }
 
 GetProcAddressFn OsmesaContext::procAddress() const {

@@ -45,6 +45,14 @@ void appendChunk(std::string& out, std::vector<std::string>& names, std::string 
     if (!text.empty() && text.back() != '\n') out += '\n';
 }
 
+// A statement hook's chunk in a scope of its own, so snippets' locals never collide; the braces
+// sit on lines of their own, so the code may open with a directive (#ifndef ...).
+void appendScoped(std::string& out, std::vector<std::string>& names, std::string name, std::string_view code) {
+    out += "{\n";
+    appendChunk(out, names, std::move(name), code);
+    out += "}\n";
+}
+
 // `void main()` of an application's shader, which the wraps rename.
 const std::regex& mainPattern() {
     static const std::regex re(R"(\bvoid\s+main\s*\(\s*(void)?\s*\))");
@@ -123,11 +131,11 @@ std::string composeStage(std::string_view name, std::string_view src, std::span<
         for (const ShaderSnippet* s : snippets) {
             const std::string& code = s->*(hook->field);
             if (code.empty()) continue;
-            // Statement hooks get their own scope so snippets' locals never collide; the braces
-            // sit on lines of their own, so code may open with a directive (#ifndef ...).
-            if (!fileScope) out += "{\n";
-            appendChunk(out, names, s->name + "." + std::string(hook->label), code);
-            if (!fileScope) out += "}\n";
+            std::string chunk = s->name + "." + std::string(hook->label);
+            if (fileScope)
+                appendChunk(out, names, std::move(chunk), code);
+            else
+                appendScoped(out, names, std::move(chunk), code);
         }
         out += lineDirective(line + 1, baseSource);
     }
@@ -437,7 +445,7 @@ ComposedProgram ShaderComposer::composeForeign(const ShaderProgram& prog,
     appendChunk(out, p.fragmentSources, "<sgfx wrapper>", wrap);
     for (const ShaderSnippet* s : snippets)
         if (!s->colorCode.empty())
-            appendChunk(out, p.fragmentSources, s->name + ".colorCode", "{ " + s->colorCode + "\n}");
+            appendScoped(out, p.fragmentSources, s->name + ".colorCode", s->colorCode);
     appendChunk(out, p.fragmentSources, "<sgfx wrapper>", "    " + output + " = sgfx_color;\n}\n");
     p.fragment = std::move(out);
     return p;
