@@ -35,11 +35,16 @@ OsmesaContext::~OsmesaContext() {
     if (ctx_) OSMesaDestroyContext(static_cast<OSMesaContext>(ctx_));
 }
 
+namespace {
+// Makes `context` current on `memory` (RGBA8, width × height); false when OSMesa refuses.
+bool bind(void* context, unsigned char* memory, int width, int height) {
+    return OSMesaMakeCurrent(static_cast<OSMesaContext>(context), memory, GL_UNSIGNED_BYTE, width, height);
+}
+} // namespace
+
 void OsmesaContext::makeCurrent() {
     assertOwnerThread();
-    if (!OSMesaMakeCurrent(static_cast<OSMesaContext>(ctx_), buffer_.data(), GL_UNSIGNED_BYTE, width_,
-                           height_))
-        throw ContextError("sgfx: OSMesaMakeCurrent failed");
+    if (!bind(ctx_, buffer_.data(), width_, height_)) throw ContextError("sgfx: OSMesaMakeCurrent failed");
     loadGl();
 }
 
@@ -54,7 +59,7 @@ void OsmesaContext::resizeDrawable(int width, int height) {
     std::vector<unsigned char> grown;
     if (buffer_.size() < bytes) grown.resize(bytes);
     unsigned char* memory = grown.empty() ? buffer_.data() : grown.data();
-    if (!OSMesaMakeCurrent(static_cast<OSMesaContext>(ctx_), memory, GL_UNSIGNED_BYTE, width, height))
+    if (!bind(ctx_, memory, width, height))
         throw ContextError("sgfx: OSMesa refused a " + std::to_string(width) + "x" + std::to_string(height) +
                            " drawable; the context keeps its " + std::to_string(width_) + "x" +
                            std::to_string(height_) + " one");
